@@ -1,0 +1,87 @@
+//! Exhaustive proofs: deterministic enumerations, each stating what it enumerated and how many
+//! cases passed. Run by `cargo test --release` (the `proofs` test target) and `geocert prove`.
+
+pub mod kernel;
+
+use serde::Serialize;
+
+/// The outcome of one exhaustive proof.
+#[derive(Clone, Debug, Serialize)]
+pub struct ProofOutcome {
+    /// Short name, e.g. `kernel.morken-vs-bernstein`.
+    pub name: String,
+    /// What was enumerated, in words.
+    pub enumerated: String,
+    /// Cases examined.
+    pub cases: usize,
+    /// Cases that passed.
+    pub passed: usize,
+    /// The first few failures, described.
+    pub failures: Vec<String>,
+    /// Wall-clock seconds of the run.
+    pub seconds: f64,
+}
+
+impl ProofOutcome {
+    /// True when every case passed and at least one case ran.
+    pub fn ok(&self) -> bool {
+        self.cases > 0 && self.passed == self.cases
+    }
+
+    /// One line: name, counts, what.
+    pub fn summary(&self) -> String {
+        format!(
+            "{}: {}/{} passed ({}) in {:.2}s{}",
+            self.name,
+            self.passed,
+            self.cases,
+            self.enumerated,
+            self.seconds,
+            if self.failures.is_empty() { String::new() } else { format!("; first failure: {}", self.failures[0]) }
+        )
+    }
+}
+
+/// Collects pass/fail counts for a proof.
+pub(crate) struct Tally {
+    name: String,
+    enumerated: String,
+    cases: usize,
+    passed: usize,
+    failures: Vec<String>,
+    start: std::time::Instant,
+}
+
+impl Tally {
+    pub(crate) fn new(name: &str, enumerated: &str) -> Tally {
+        Tally { name: name.into(), enumerated: enumerated.into(), cases: 0, passed: 0, failures: vec![], start: std::time::Instant::now() }
+    }
+    pub(crate) fn check(&mut self, ok: bool, describe: impl FnOnce() -> String) {
+        self.cases += 1;
+        if ok {
+            self.passed += 1;
+        } else if self.failures.len() < 5 {
+            self.failures.push(describe());
+        }
+    }
+    pub(crate) fn finish(self) -> ProofOutcome {
+        ProofOutcome {
+            name: self.name,
+            enumerated: self.enumerated,
+            cases: self.cases,
+            passed: self.passed,
+            failures: self.failures,
+            seconds: self.start.elapsed().as_secs_f64(),
+        }
+    }
+}
+
+/// Every proof that exists so far, in order.
+pub fn all() -> Vec<(&'static str, fn() -> ProofOutcome)> {
+    vec![
+        ("kernel.f64-rational-round-trip", kernel::f64_round_trip as fn() -> ProofOutcome),
+        ("kernel.morken-vs-bernstein", kernel::morken_vs_bernstein),
+        ("kernel.subdivision-signs", kernel::subdivision_signs),
+        ("kernel.bezier-extraction-routes", kernel::bezier_extraction_routes),
+    ]
+}

@@ -1,0 +1,87 @@
+//! Bernstein polynomials, univariate and tensor-product n-variate, in three forms:
+//!
+//! * [`Bernstein<T>`](poly::Bernstein): generic over any [`Field`](crate::num::Field) —
+//!   exact with [`Rational`](crate::num::Rational), certified with
+//!   [`Interval`](crate::num::Interval). Evaluation, subdivision, restriction,
+//!   elevation, derivative, product, power-basis conversion, face slices.
+//! * [`ScaledBernstein`](scaled::ScaledBernstein): the sign-only exact form, integer
+//!   numerators over one shared denominator; subdivision at ½ needs no gcd.
+//! * [`FastBernstein`](fast::FastBernstein): `f64` coefficients with one rigorous
+//!   forward error bound, preallocated, no allocation inside the subdivision loop.
+//!
+//! [`positivity`] proves or refutes `p > 0` on the unit box by subdivision, with
+//! checkable certificates, in all three forms.
+
+pub mod certificate;
+pub mod fast;
+pub mod poly;
+pub mod positivity;
+pub mod scaled;
+
+pub use certificate::{box_sign, BoxSign};
+pub use fast::FastBernstein;
+pub use poly::Bernstein;
+pub use positivity::{
+    prove_positive_exact, prove_positive_fast, prove_positive_filtered, verify_positive_certificate, DyadicBox,
+    Limits, PositivityVerdict,
+};
+pub use scaled::ScaledBernstein;
+
+use num_bigint::BigInt;
+use thiserror::Error;
+
+/// Errors of the Bernstein kernel.
+#[derive(Debug, Error, Clone, PartialEq, Eq)]
+pub enum BernsteinError {
+    #[error("a Bernstein polynomial needs at least one axis")]
+    NoAxes,
+    #[error("wrong coefficient count: expected {expected}, found {found}")]
+    CoefficientCount { expected: usize, found: usize },
+    #[error("axis {axis} out of range for a {dim}-variate polynomial")]
+    Axis { axis: usize, dim: usize },
+    #[error("dimension mismatch: expected {expected}, found {found}")]
+    DimensionMismatch { expected: usize, found: usize },
+    #[error("degree mismatch between operands")]
+    DegreeMismatch,
+    #[error("sub-box on axis {axis} is not an interval [a,b] with 0 ≤ a < b ≤ 1")]
+    BadBox { axis: usize },
+    #[error("split parameter must lie strictly between 0 and 1")]
+    BadParameter,
+    #[error("non-finite coefficient at index {index}")]
+    NonFinite { index: usize },
+    #[error("degree {degree} on an axis exceeds the fast path's limit of {limit}")]
+    DegreeTooHigh { degree: usize, limit: usize },
+}
+
+/// The binomial coefficient `C(n, k)` as a big integer (0 when `k > n`).
+pub fn binomial(n: usize, k: usize) -> BigInt {
+    if k > n {
+        return BigInt::from(0);
+    }
+    let k = k.min(n - k);
+    let mut acc = BigInt::from(1);
+    for i in 0..k {
+        acc = acc * BigInt::from(n - i) / BigInt::from(i + 1);
+    }
+    acc
+}
+
+/// Largest `n` for which every `C(n, k)` is below 2⁵³ and so exact in `f64`.
+pub const MAX_EXACT_BINOMIAL_F64: usize = 56;
+
+/// `C(n, k)` in `f64` by Pascal's rule (integer additions, exact for
+/// `n ≤ MAX_EXACT_BINOMIAL_F64`).
+pub fn binomial_f64(n: usize, k: usize) -> f64 {
+    if k > n {
+        return 0.0;
+    }
+    let mut row = vec![1.0f64; 1];
+    for m in 1..=n {
+        let mut next = vec![1.0f64; m + 1];
+        for j in 1..m {
+            next[j] = row[j - 1] + row[j];
+        }
+        row = next;
+    }
+    row[k]
+}

@@ -1,0 +1,401 @@
+//! Tensor-product Bernstein polynomials over the unit box, generic in the scalar.
+//!
+//! `p(t₀,…,t_{n−1}) = Σ c_{i₀…i_{n−1}} Π_a B_{i_a, d_a}(t_a)` with
+//! `B_{i,d}(t) = C(d,i) tⁱ (1−t)^{d−i}` (Farin, *Curves and Surfaces for CAGD*, ch. 5).
+//! Coefficients are stored with axis 0 varying fastest (the FFD's `u` index).
+
+use super::{binomial, BernsteinError};
+use crate::num::{Field, Rational, Sign};
+use num_bigint::BigInt;
+
+/// A tensor-product polynomial in Bernstein form on `[0,1]ⁿ`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bernstein<T> {
+    degrees: Vec<usize>,
+    coeffs: Vec<T>,
+}
+
+/// Strides of the coefficient array for the given degrees (axis 0 fastest).
+pub fn strides(degrees: &[usize]) -> Vec<usize> {
+    let mut s = Vec::with_capacity(degrees.len());
+    let mut acc = 1;
+    for &d in degrees {
+        s.push(acc);
+        acc *= d + 1;
+    }
+    s
+}
+
+/// Number of coefficients for the given degrees.
+pub fn coefficient_count(degrees: &[usize]) -> usize {
+    degrees.iter().map(|d| d + 1).product()
+}
+
+/// Multi-index of the flat position `flat` (axis 0 fastest).
+pub fn multi_index(degrees: &[usize], mut flat: usize) -> Vec<usize> {
+    degrees
+        .iter()
+        .map(|&d| {
+            let i = flat % (d + 1);
+            flat /= d + 1;
+            i
+        })
+        .collect()
+}
+
+/// Applies `f` to every line of `coeffs` along `axis`: `f(input_line, output_line)`,
+/// where output lines have length `new_len`. Returns the new coefficient array.
+pub(crate) fn map_lines<T: Clone, F>(
+    degrees: &[usize],
+    coeffs: &[T],
+    axis: usize,
+    new_len: usize,
+    fill: &T,
+    mut f: F,
+) -> Vec<T>
+where
+    F: FnMut(&[T], &mut [T]),
+{
+    let len = degrees[axis] + 1;
+    let inner: usize = degrees[..axis].iter().map(|d| d + 1).product();
+    let outer: usize = degrees[axis + 1..].iter().map(|d| d + 1).product();
+    let mut out = vec![fill.clone(); inner * new_len * outer];
+    let mut line_in: Vec<T> = Vec::with_capacity(len);
+    let mut line_out: Vec<T> = vec![fill.clone(); new_len];
+    for o in 0..outer {
+        for i in 0..inner {
+            line_in.clear();
+            for k in 0..len {
+                line_in.push(coeffs[i + inner * (k + len * o)].clone());
+            }
+            f(&line_in, &mut line_out);
+            for (k, v) in line_out.iter().enumerate() {
+                out[i + inner * (k + new_len * o)] = v.clone();
+            }
+        }
+    }
+    out
+}
+
+/// One-dimensional de Casteljau subdivision of `b` at `t`: returns the control
+/// values of the pieces on `[0,t]` and `[t,1]` (Farin, eq. 4.x "subdivision").
+pub fn de_casteljau_split<T: Field>(b: &[T], t: &T) -> (Vec<T>, Vec<T>) {
+    let n = b.len();
+    let one_minus_t = T::one().sub(t);
+    let mut work = b.to_vec();
+    let mut left = Vec::with_capacity(n);
+    let mut right = vec![T::zero(); n];
+    left.push(work[0].clone());
+    right[n - 1] = work[n - 1].clone();
+    for r in 1..n {
+        for i in 0..n - r {
+            work[i] = one_minus_t.mul(&work[i]).add(&t.mul(&work[i + 1]));
+        }
+        left.push(work[0].clone());
+        right[n - 1 - r] = work[n - 1 - r].clone();
+    }
+    (left, right)
+}
+
+/// The value of a 1-D Bernstein polynomial at `t` by de Casteljau's algorithm.
+pub fn de_casteljau_eval<T: Field>(b: &[T], t: &T) -> T {
+    let one_minus_t = T::one().sub(t);
+    let mut work = b.to_vec();
+    let n = b.len();
+    for r in 1..n {
+        for i in 0..n - r {
+            work[i] = one_minus_t.mul(&work[i]).add(&t.mul(&work[i + 1]));
+        }
+    }
+    work[0].clone()
+}
+
+fn ratio<T: Field>(n: BigInt, d: BigInt) -> T {
+    T::from_rational(&Rational::new(n, d))
+}
+
+impl<T: Field> Bernstein<T> {
+    /// A polynomial from degrees and coefficients (axis 0 fastest).
+    pub fn new(degrees: Vec<usize>, coeffs: Vec<T>) -> Result<Self, BernsteinError> {
+        if degrees.is_empty() {
+            return Err(BernsteinError::NoAxes);
+        }
+        let expected = coefficient_count(&degrees);
+        if coeffs.len() != expected {
+            return Err(BernsteinError::CoefficientCount { expected, found: coeffs.len() });
+        }
+        Ok(Bernstein { degrees, coeffs })
+    }
+
+    /// The constant polynomial `c` with the given degrees (all coefficients `c`).
+    pub fn constant(degrees: Vec<usize>, c: T) -> Self {
+        let n = coefficient_count(&degrees);
+        Bernstein { degrees, coeffs: vec![c; n] }
+    }
+
+    pub fn degrees(&self) -> &[usize] {
+        &self.degrees
+    }
+
+    pub fn coeffs(&self) -> &[T] {
+        &self.coeffs
+    }
+
+    pub fn dim(&self) -> usize {
+        self.degrees.len()
+    }
+
+    /// The coefficient at a multi-index.
+    pub fn coeff(&self, index: &[usize]) -> &T {
+        let s = strides(&self.degrees);
+        &self.coeffs[index.iter().zip(&s).map(|(i, s)| i * s).sum::<usize>()]
+    }
+
+    /// Converts every coefficient with `f` (e.g. exact to interval).
+    pub fn map<U: Field>(&self, f: impl Fn(&T) -> U) -> Bernstein<U> {
+        Bernstein { degrees: self.degrees.clone(), coeffs: self.coeffs.iter().map(f).collect() }
+    }
+
+    fn check_axis(&self, axis: usize) -> Result<(), BernsteinError> {
+        if axis >= self.dim() {
+            Err(BernsteinError::Axis { axis, dim: self.dim() })
+        } else {
+            Ok(())
+        }
+    }
+
+    /// Evaluates along one axis at `t`, leaving degree 0 on that axis.
+    pub fn eval_axis(&self, axis: usize, t: &T) -> Result<Self, BernsteinError> {
+        self.check_axis(axis)?;
+        let coeffs = map_lines(&self.degrees, &self.coeffs, axis, 1, &T::zero(), |line, out| {
+            out[0] = de_casteljau_eval(line, t);
+        });
+        let mut degrees = self.degrees.clone();
+        degrees[axis] = 0;
+        Ok(Bernstein { degrees, coeffs })
+    }
+
+    /// The value at a point of the unit box, by de Casteljau along each axis.
+    pub fn eval(&self, point: &[T]) -> Result<T, BernsteinError> {
+        if point.len() != self.dim() {
+            return Err(BernsteinError::DimensionMismatch { expected: self.dim(), found: point.len() });
+        }
+        let mut p = self.clone();
+        for (axis, t) in point.iter().enumerate() {
+            p = p.eval_axis(axis, t)?;
+        }
+        Ok(p.coeffs[0].clone())
+    }
+
+    /// de Casteljau subdivision at `t` along `axis`: the pieces on `[0,t]` and `[t,1]`,
+    /// each reparametrised to `[0,1]`.
+    pub fn split(&self, axis: usize, t: &T) -> Result<(Self, Self), BernsteinError> {
+        self.check_axis(axis)?;
+        let len = self.degrees[axis] + 1;
+        let mut rights: Vec<Vec<T>> = Vec::new();
+        let left = map_lines(&self.degrees, &self.coeffs, axis, len, &T::zero(), |line, out| {
+            let (l, r) = de_casteljau_split(line, t);
+            out.clone_from_slice(&l);
+            rights.push(r);
+        });
+        let mut it = rights.into_iter();
+        let right = map_lines(&self.degrees, &self.coeffs, axis, len, &T::zero(), |_, out| {
+            out.clone_from_slice(&it.next().expect("one right line per left line"));
+        });
+        Ok((
+            Bernstein { degrees: self.degrees.clone(), coeffs: left },
+            Bernstein { degrees: self.degrees.clone(), coeffs: right },
+        ))
+    }
+
+    /// The polynomial restricted to the sub-box `Π [a_k, b_k] ⊂ [0,1]ⁿ`, reparametrised to `[0,1]ⁿ`.
+    pub fn restrict(&self, sub_box: &[(T, T)]) -> Result<Self, BernsteinError> {
+        if sub_box.len() != self.dim() {
+            return Err(BernsteinError::DimensionMismatch { expected: self.dim(), found: sub_box.len() });
+        }
+        let mut p = self.clone();
+        for (axis, (a, b)) in sub_box.iter().enumerate() {
+            let a_ok = a.sign() != Sign::Negative;
+            let ba = b.sub(a).sign();
+            let b_le_1 = T::one().sub(b).sign() != Sign::Negative;
+            if !(a_ok && ba == Sign::Positive && b_le_1) {
+                return Err(BernsteinError::BadBox { axis });
+            }
+            // Keep [0, b], then [a/b, 1] of that.
+            if T::one().sub(b).sign() != Sign::Zero {
+                p = p.split(axis, b)?.0;
+            }
+            if a.sign() != Sign::Zero {
+                let t = a.div(b);
+                p = p.split(axis, &t)?.1;
+            }
+        }
+        Ok(p)
+    }
+
+    /// Degree elevation by `by` along `axis`: the same polynomial with degree `d + by`
+    /// (Farin, "degree elevation": `b'_i = Σ_j b_j C(d,j) C(by,i−j) / C(d+by,i)`).
+    pub fn elevate(&self, axis: usize, by: usize) -> Result<Self, BernsteinError> {
+        self.check_axis(axis)?;
+        let d = self.degrees[axis];
+        let e = d + by;
+        let coeffs = map_lines(&self.degrees, &self.coeffs, axis, e + 1, &T::zero(), |line, out| {
+            for (i, o) in out.iter_mut().enumerate() {
+                let mut acc = T::zero();
+                for (j, bj) in line.iter().enumerate() {
+                    if i >= j && i - j <= by {
+                        let w: T = ratio(binomial(d, j) * binomial(by, i - j), binomial(e, i));
+                        acc = acc.add(&w.mul(bj));
+                    }
+                }
+                *o = acc;
+            }
+        });
+        let mut degrees = self.degrees.clone();
+        degrees[axis] = e;
+        Ok(Bernstein { degrees, coeffs })
+    }
+
+    /// The partial derivative along `axis` on the unit box: `d Σ (b_{i+1} − b_i) B_{i,d−1}`.
+    /// A degree-0 axis gives the zero polynomial of degree 0 there.
+    pub fn derivative(&self, axis: usize) -> Result<Self, BernsteinError> {
+        self.check_axis(axis)?;
+        let d = self.degrees[axis];
+        let new_len = d.max(1);
+        let coeffs = map_lines(&self.degrees, &self.coeffs, axis, new_len, &T::zero(), |line, out| {
+            if d == 0 {
+                out[0] = T::zero();
+            } else {
+                for i in 0..d {
+                    out[i] = line[i + 1].sub(&line[i]).mul_int(d as i64);
+                }
+            }
+        });
+        let mut degrees = self.degrees.clone();
+        degrees[axis] = d.saturating_sub(1);
+        Ok(Bernstein { degrees, coeffs })
+    }
+
+    /// The product: degrees add per axis and
+    /// `c_k = Σ_{i+j=k} a_i b_j C(m,i) C(n,j) / C(m+n,k)` per axis (Farin, "products").
+    pub fn product(&self, other: &Self) -> Result<Self, BernsteinError> {
+        if other.dim() != self.dim() {
+            return Err(BernsteinError::DimensionMismatch { expected: self.dim(), found: other.dim() });
+        }
+        let degrees: Vec<usize> = self.degrees.iter().zip(&other.degrees).map(|(a, b)| a + b).collect();
+        let n = self.dim();
+        // Per-axis weight tables w[a][i][j] = C(m,i) C(n,j) / C(m+n,i+j).
+        let weights: Vec<Vec<Vec<T>>> = (0..n)
+            .map(|a| {
+                let (m, q) = (self.degrees[a], other.degrees[a]);
+                (0..=m)
+                    .map(|i| {
+                        (0..=q).map(|j| ratio(binomial(m, i) * binomial(q, j), binomial(m + q, i + j))).collect()
+                    })
+                    .collect()
+            })
+            .collect();
+        let mut out = vec![T::zero(); coefficient_count(&degrees)];
+        let out_strides = strides(&degrees);
+        for (fi, a) in self.coeffs.iter().enumerate() {
+            let ii = multi_index(&self.degrees, fi);
+            for (fj, b) in other.coeffs.iter().enumerate() {
+                let jj = multi_index(&other.degrees, fj);
+                let mut w = a.mul(b);
+                let mut k = 0;
+                for ax in 0..n {
+                    w = w.mul(&weights[ax][ii[ax]][jj[ax]]);
+                    k += (ii[ax] + jj[ax]) * out_strides[ax];
+                }
+                out[k] = out[k].add(&w);
+            }
+        }
+        Ok(Bernstein { degrees, coeffs: out })
+    }
+
+    /// Sum of two polynomials of equal degrees.
+    pub fn add(&self, other: &Self) -> Result<Self, BernsteinError> {
+        if self.degrees != other.degrees {
+            return Err(BernsteinError::DegreeMismatch);
+        }
+        Ok(Bernstein {
+            degrees: self.degrees.clone(),
+            coeffs: self.coeffs.iter().zip(&other.coeffs).map(|(a, b)| a.add(b)).collect(),
+        })
+    }
+
+    /// Every coefficient times `k`.
+    pub fn scale(&self, k: &T) -> Self {
+        self.map(|c| c.mul(k))
+    }
+
+    /// Converts power-basis coefficients `a` (`p = Σ a_j Π t_a^{j_a}`, same layout and
+    /// degrees) to Bernstein form: per axis `b_i = Σ_{j≤i} C(i,j)/C(d,j) a_j`.
+    pub fn from_power(degrees: Vec<usize>, power: Vec<T>) -> Result<Self, BernsteinError> {
+        let mut p = Bernstein::new(degrees, power)?;
+        for axis in 0..p.dim() {
+            let d = p.degrees[axis];
+            p.coeffs = map_lines(&p.degrees, &p.coeffs, axis, d + 1, &T::zero(), |line, out| {
+                for (i, o) in out.iter_mut().enumerate() {
+                    let mut acc = T::zero();
+                    for (j, aj) in line.iter().enumerate().take(i + 1) {
+                        acc = acc.add(&aj.mul(&ratio(binomial(i, j), binomial(d, j))));
+                    }
+                    *o = acc;
+                }
+            });
+        }
+        Ok(p)
+    }
+
+    /// The power-basis coefficients: per axis `a_j = C(d,j) Σ_{i≤j} (−1)^{j−i} C(j,i) b_i`.
+    pub fn to_power(&self) -> Vec<T> {
+        let mut coeffs = self.coeffs.clone();
+        for axis in 0..self.dim() {
+            let d = self.degrees[axis];
+            coeffs = map_lines(&self.degrees, &coeffs, axis, d + 1, &T::zero(), |line, out| {
+                for (j, o) in out.iter_mut().enumerate() {
+                    let mut acc = T::zero();
+                    for (i, bi) in line.iter().enumerate().take(j + 1) {
+                        let w = ratio::<T>(binomial(d, j) * binomial(j, i), BigInt::from(1));
+                        let term = bi.mul(&w);
+                        acc = if (j - i) % 2 == 0 { acc.add(&term) } else { acc.sub(&term) };
+                    }
+                    *o = acc;
+                }
+            });
+        }
+        coeffs
+    }
+
+    /// The boundary slice `t_axis = 0` (`upper = false`) or `t_axis = 1`: an (n−1)-variate
+    /// polynomial whose coefficients are the face's coefficients. For a 1-D polynomial the
+    /// result is the 1-D constant at that end (degree 0).
+    pub fn face(&self, axis: usize, upper: bool) -> Result<Self, BernsteinError> {
+        self.check_axis(axis)?;
+        let d = self.degrees[axis];
+        let coeffs = map_lines(&self.degrees, &self.coeffs, axis, 1, &T::zero(), |line, out| {
+            out[0] = if upper { line[d].clone() } else { line[0].clone() };
+        });
+        let mut degrees = self.degrees.clone();
+        if self.dim() == 1 {
+            degrees[0] = 0;
+        } else {
+            degrees.remove(axis);
+        }
+        Ok(Bernstein { degrees, coeffs })
+    }
+
+    /// The coefficient at a vertex of the box: it equals the polynomial's value there.
+    /// `corner` holds one bit per axis (bit a set: `t_a = 1`).
+    pub fn vertex_coeff(&self, corner: usize) -> &T {
+        let s = strides(&self.degrees);
+        let mut k = 0;
+        for (a, &d) in self.degrees.iter().enumerate() {
+            if corner >> a & 1 == 1 {
+                k += d * s[a];
+            }
+        }
+        &self.coeffs[k]
+    }
+}

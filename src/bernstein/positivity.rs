@@ -1,0 +1,419 @@
+//! Proving `p > 0` on the unit box by subdivision, with certificates.
+//!
+//! Each box is subdivided at ½ along every axis (an octree for trivariate polynomials,
+//! as in Gain & Dodgson §6, step 4) until its coefficients decide: all positive proves the
+//! box (convex-hull property), a vertex coefficient `≤ 0` is the value of `p` at that vertex
+//! and refutes positivity with a rational witness point. Zero counts as failure.
+//!
+//! Three routes: [`prove_positive_exact`] (sign-only integers, no `f64` anywhere),
+//! [`prove_positive_fast`] (`f64` with certified bounds; says `Uncertain` when they do not
+//! decide) and [`prove_positive_filtered`] (fast first, exact on the uncertain boxes only).
+//! [`verify_positive_certificate`] and [`verify_witness`] re-check the evidence with the
+//! generic rational kernel, a code path independent of the integer and `f64` engines.
+
+use super::fast::FastBernstein;
+use super::poly::Bernstein;
+use super::scaled::ScaledBernstein;
+use crate::num::{rational_to_f64, Field, Rational, Sign};
+use num_bigint::BigInt;
+use num_traits::{One, Zero};
+use serde::{Deserialize, Serialize};
+use std::collections::HashSet;
+use std::time::{Duration, Instant};
+use thiserror::Error;
+
+/// A dyadic box `Π [index_a / 2^level, (index_a + 1) / 2^level]` of the unit box.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, PartialOrd, Ord)]
+pub struct DyadicBox {
+    pub level: u32,
+    pub index: Vec<u64>,
+}
+
+impl DyadicBox {
+    /// The whole unit box in `dim` dimensions.
+    pub fn root(dim: usize) -> DyadicBox {
+        DyadicBox { level: 0, index: vec![0; dim] }
+    }
+
+    /// Child `c` (bit a set: upper half along axis a).
+    pub fn child(&self, c: usize) -> DyadicBox {
+        DyadicBox {
+            level: self.level + 1,
+            index: self.index.iter().enumerate().map(|(a, &i)| 2 * i + (c >> a & 1) as u64).collect(),
+        }
+    }
+
+    /// The parent box (None for the root).
+    pub fn parent(&self) -> Option<DyadicBox> {
+        (self.level > 0).then(|| DyadicBox { level: self.level - 1, index: self.index.iter().map(|i| i / 2).collect() })
+    }
+
+    /// True when the box is well formed (indices inside the unit box).
+    pub fn is_valid(&self) -> bool {
+        self.level < 63 && self.index.iter().all(|&i| i < (1u64 << self.level))
+    }
+
+    /// The interval `[lo, hi]` on each axis, exactly.
+    pub fn bounds(&self) -> Vec<(Rational, Rational)> {
+        let den = BigInt::one() << self.level as usize;
+        self.index
+            .iter()
+            .map(|&i| (Rational::new(BigInt::from(i), den.clone()), Rational::new(BigInt::from(i + 1), den.clone())))
+            .collect()
+    }
+
+    /// The vertex `corner` (bit a set: upper end on axis a), exactly.
+    pub fn vertex(&self, corner: usize) -> Vec<Rational> {
+        self.bounds().into_iter().enumerate().map(|(a, (lo, hi))| if corner >> a & 1 == 1 { hi } else { lo }).collect()
+    }
+}
+
+/// Explicit limits for the subdivision (exact arithmetic can explode).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// Deepest subdivision level (the root is level 0).
+    pub max_depth: u32,
+    /// Most boxes examined in one run.
+    pub max_boxes: usize,
+    /// Wall-clock budget.
+    pub time_limit: Option<Duration>,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits { max_depth: 12, max_boxes: 1_000_000, time_limit: None }
+    }
+}
+
+/// Which limit stopped a run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum LimitHit {
+    Depth,
+    Boxes,
+    Time,
+}
+
+/// The value of `p` at a witness point.
+#[derive(Clone, Debug, PartialEq)]
+pub enum WitnessValue {
+    /// Known exactly.
+    Exact(Rational),
+    /// Certified `≤` this (non-positive) `f64`; the fast path does not know it exactly.
+    AtMost(f64),
+}
+
+/// The outcome of a positivity proof, with its evidence.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PositivityVerdict {
+    /// `p > 0` on the whole box: every leaf box has all coefficients positive.
+    Positive { leaves: Vec<DyadicBox> },
+    /// `p(witness) ≤ 0`.
+    NotPositive { witness: Vec<Rational>, value: WitnessValue },
+    /// A limit was hit before a decision: `at` is the undecided box, `lower_bound` a certified
+    /// lower bound of `p` there (its smallest coefficient, rounded down).
+    Undecided { limit: LimitHit, at: DyadicBox, lower_bound: f64 },
+    /// Fast path only: rounding error left these boxes undecided; `proven` are the leaves it
+    /// did prove positive. Hand `boxes` to the exact path.
+    Uncertain { boxes: Vec<DyadicBox>, proven: Vec<DyadicBox> },
+}
+
+struct Budget {
+    limits: Limits,
+    start: Instant,
+    boxes: usize,
+}
+
+impl Budget {
+    fn new(limits: Limits) -> Budget {
+        Budget { limits, start: Instant::now(), boxes: 0 }
+    }
+    /// Counts a box; returns the limit that is now exceeded, if any.
+    fn tick(&mut self) -> Option<LimitHit> {
+        self.boxes += 1;
+        if self.boxes > self.limits.max_boxes {
+            return Some(LimitHit::Boxes);
+        }
+        if let Some(t) = self.limits.time_limit {
+            if self.boxes % 64 == 0 && self.start.elapsed() > t {
+                return Some(LimitHit::Time);
+            }
+        }
+        None
+    }
+}
+
+fn round_down(r: &Rational) -> f64 {
+    let x = rational_to_f64(r);
+    if &crate::num::rational_from_f64(x, "bound").unwrap_or_else(|_| r.clone()) > r {
+        x.next_down()
+    } else {
+        x
+    }
+}
+
+/// Splits along every axis at ½: the 2^n children, child c in position c.
+fn split_all_scaled(p: &ScaledBernstein) -> Vec<ScaledBernstein> {
+    let mut parts = vec![p.clone()];
+    for axis in 0..p.degrees().len() {
+        let mut next = Vec::with_capacity(parts.len() * 2);
+        for q in &parts {
+            let (l, r) = q.split_half(axis).expect("axis in range");
+            next.push(l);
+            next.push(r);
+        }
+        parts = next;
+    }
+    // parts is ordered with the last axis as the lowest bit; reorder so bit a = axis a.
+    let n = p.degrees().len();
+    let mut out = vec![None; parts.len()];
+    for (pos, mut q) in parts.into_iter().enumerate() {
+        let mut c = 0;
+        for a in 0..n {
+            if pos >> (n - 1 - a) & 1 == 1 {
+                c |= 1 << a;
+            }
+        }
+        q.normalise_twos();
+        out[c] = Some(q);
+    }
+    out.into_iter().map(|q| q.expect("every child filled")).collect()
+}
+
+/// Restricts a scaled polynomial to a dyadic box by halving along its index bits.
+fn restrict_scaled(p: &ScaledBernstein, b: &DyadicBox) -> ScaledBernstein {
+    let mut q = p.clone();
+    for bit in (0..b.level).rev() {
+        for (axis, &i) in b.index.iter().enumerate() {
+            let (l, r) = q.split_half(axis).expect("axis in range");
+            q = if i >> bit & 1 == 1 { r } else { l };
+        }
+        q.normalise_twos();
+    }
+    q
+}
+
+/// Exact necessary-and-sufficient positivity test on `start` (use [`DyadicBox::root`] for the
+/// whole box), in sign-only integer arithmetic; never touches `f64` for a decision.
+pub fn prove_positive_exact(p: &Bernstein<Rational>, limits: Limits) -> PositivityVerdict {
+    let root = DyadicBox::root(p.dim());
+    let scaled = ScaledBernstein::from_rational(p);
+    let mut budget = Budget::new(limits);
+    exact_from(&scaled, root, &mut budget)
+}
+
+fn exact_from(p: &ScaledBernstein, start: DyadicBox, budget: &mut Budget) -> PositivityVerdict {
+    let n = start.index.len();
+    let mut leaves = Vec::new();
+    let mut stack = vec![(start, p.clone())];
+    while let Some((b, q)) = stack.pop() {
+        for corner in 0..1usize << n {
+            let k = q.vertex_index(corner);
+            if q.coeff_sign(k) != Sign::Positive {
+                return PositivityVerdict::NotPositive { witness: b.vertex(corner), value: WitnessValue::Exact(q.coeff_value(k)) };
+            }
+        }
+        if q.all_positive() {
+            leaves.push(b);
+            continue;
+        }
+        let limit = if b.level >= budget.limits.max_depth { Some(LimitHit::Depth) } else { budget.tick() };
+        if let Some(limit) = limit {
+            let lower_bound = round_down(&q.coeff_value(q.argmin()));
+            return PositivityVerdict::Undecided { limit, at: b, lower_bound };
+        }
+        let children = split_all_scaled(&q);
+        // Push the child with the smallest coefficient last so it is explored first.
+        let mut order: Vec<usize> = (0..children.len()).collect();
+        let mins: Vec<Rational> = children.iter().map(|c| c.coeff_value(c.argmin())).collect();
+        order.sort_by(|&x, &y| mins[y].cmp(&mins[x]));
+        let mut children: Vec<Option<ScaledBernstein>> = children.into_iter().map(Some).collect();
+        for c in order {
+            stack.push((b.child(c), children[c].take().expect("each child once")));
+        }
+    }
+    PositivityVerdict::Positive { leaves }
+}
+
+/// The fast path: `f64` subdivision with certified error bounds. Certified verdicts are
+/// `Positive`, `NotPositive` (with `WitnessValue::AtMost`) and `Undecided`; otherwise
+/// `Uncertain` with the boxes the exact path must finish.
+pub fn prove_positive_fast(p: &FastBernstein, limits: Limits) -> PositivityVerdict {
+    let n = p.degrees().len();
+    let mut budget = Budget::new(limits);
+    let mut leaves = Vec::new();
+    let mut uncertain = Vec::new();
+    let mut pool: Vec<FastBernstein> = Vec::new();
+    let mut stack = vec![(DyadicBox::root(n), p.clone())];
+    while let Some((b, q)) = stack.pop() {
+        let mut vertex_uncertain = false;
+        for corner in 0..1usize << n {
+            let k = q.vertex_index(corner);
+            match q.coeff_sign(k) {
+                Sign::Negative | Sign::Zero => {
+                    let bound = (q.coeffs()[k] + q.err()).next_up();
+                    return PositivityVerdict::NotPositive { witness: b.vertex(corner), value: WitnessValue::AtMost(bound.min(0.0)) };
+                }
+                Sign::Uncertain => vertex_uncertain = true,
+                Sign::Positive => {}
+            }
+        }
+        if !vertex_uncertain && (0..q.coeffs().len()).all(|k| q.coeff_sign(k) == Sign::Positive) {
+            leaves.push(b);
+            pool.push(q);
+            continue;
+        }
+        let any_uncertain = vertex_uncertain || (0..q.coeffs().len()).any(|k| q.coeff_sign(k) == Sign::Uncertain);
+        if vertex_uncertain {
+            uncertain.push(b);
+            pool.push(q);
+            continue;
+        }
+        let limit = if b.level >= budget.limits.max_depth { Some(LimitHit::Depth) } else { budget.tick() };
+        if let Some(limit) = limit {
+            if any_uncertain {
+                uncertain.push(b);
+                pool.push(q);
+                continue;
+            }
+            let min = q.coeffs().iter().fold(f64::INFINITY, |m, &c| m.min(c));
+            return PositivityVerdict::Undecided { limit, at: b, lower_bound: (min - q.err()).next_down() };
+        }
+        // Split along every axis into 2^n children without allocating in steady state.
+        let mut parts: Vec<(usize, FastBernstein)> = vec![(0, q)];
+        for axis in 0..n {
+            let mut next = Vec::with_capacity(parts.len() * 2);
+            for (c, part) in parts {
+                let mut l = pool.pop().unwrap_or_else(|| part.buffer_like());
+                let mut r = pool.pop().unwrap_or_else(|| part.buffer_like());
+                part.split_half_into(axis, &mut l, &mut r);
+                pool.push(part);
+                next.push((c, l));
+                next.push((c | 1 << axis, r));
+            }
+            parts = next;
+        }
+        for (c, part) in parts {
+            stack.push((b.child(c), part));
+        }
+    }
+    if uncertain.is_empty() {
+        PositivityVerdict::Positive { leaves }
+    } else {
+        PositivityVerdict::Uncertain { boxes: uncertain, proven: leaves }
+    }
+}
+
+/// Fast first, then the exact path on each box the fast path left uncertain. The verdict is
+/// exact: it never depends on an uncertified `f64` decision.
+pub fn prove_positive_filtered(p: &Bernstein<Rational>, limits: Limits) -> PositivityVerdict {
+    let fast = match FastBernstein::from_rational(p) {
+        Ok(f) => prove_positive_fast(&f, limits),
+        Err(_) => PositivityVerdict::Uncertain { boxes: vec![DyadicBox::root(p.dim())], proven: vec![] },
+    };
+    match fast {
+        PositivityVerdict::Uncertain { boxes, mut proven } => {
+            let scaled = ScaledBernstein::from_rational(p);
+            let mut budget = Budget::new(limits);
+            for b in boxes {
+                let sub = restrict_scaled(&scaled, &b);
+                match exact_from(&sub, b.clone(), &mut budget) {
+                    // `exact_from` labels boxes and witnesses globally (children of `b`).
+                    PositivityVerdict::Positive { leaves } => proven.extend(leaves),
+                    verdict @ (PositivityVerdict::NotPositive { .. } | PositivityVerdict::Undecided { .. }) => {
+                        return verdict;
+                    }
+                    PositivityVerdict::Uncertain { .. } => unreachable!("the exact path is never uncertain"),
+                }
+            }
+            PositivityVerdict::Positive { leaves: proven }
+        }
+        PositivityVerdict::NotPositive { witness, .. } => {
+            // Recover the exact value at the witness (cheap: one evaluation).
+            let value = p.eval(&witness).expect("witness has the polynomial's dimension");
+            PositivityVerdict::NotPositive { witness, value: WitnessValue::Exact(value) }
+        }
+        other => other,
+    }
+}
+
+/// Why a certificate was refused.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum CertificateError {
+    #[error("leaf {index} is not a valid box of the unit {dim}-cube")]
+    BadLeaf { index: usize, dim: usize },
+    #[error("leaves {a} and {b} overlap")]
+    Overlap { a: usize, b: usize },
+    #[error("the leaves cover {covered} of the unit box, not all of it")]
+    NotCovering { covered: String },
+    #[error("leaf {index} has a coefficient that is not positive: {coeff}")]
+    NotPositiveLeaf { index: usize, coeff: String },
+    #[error("the witness point lies outside the unit box or has the wrong dimension")]
+    BadWitness,
+    #[error("the polynomial's value at the witness is {value}, which is positive")]
+    WitnessPositive { value: String },
+    #[error("the claimed witness value {claimed} differs from the exact value {exact}")]
+    WitnessValueMismatch { claimed: String, exact: String },
+}
+
+/// Re-checks a `Positive` certificate with the generic rational kernel: the leaves are valid,
+/// pairwise non-overlapping dyadic boxes whose volumes sum to 1 (so they tile the box), and on
+/// each leaf every Bernstein coefficient of `p` is positive. Returns the number of leaves.
+pub fn verify_positive_certificate(p: &Bernstein<Rational>, leaves: &[DyadicBox]) -> Result<usize, CertificateError> {
+    let dim = p.dim();
+    let mut seen: HashSet<&DyadicBox> = HashSet::new();
+    for (i, l) in leaves.iter().enumerate() {
+        if l.index.len() != dim || !l.is_valid() {
+            return Err(CertificateError::BadLeaf { index: i, dim });
+        }
+        if !seen.insert(l) {
+            let a = leaves.iter().position(|x| x == l).unwrap_or(0);
+            return Err(CertificateError::Overlap { a, b: i });
+        }
+    }
+    // Dyadic boxes overlap iff one contains the other: check no ancestor of a leaf is a leaf.
+    for (i, l) in leaves.iter().enumerate() {
+        let mut cur = l.parent();
+        while let Some(anc) = cur {
+            if seen.contains(&anc) {
+                let a = leaves.iter().position(|x| x == &anc).unwrap_or(0);
+                return Err(CertificateError::Overlap { a, b: i });
+            }
+            cur = anc.parent();
+        }
+    }
+    let mut volume = <Rational as Zero>::zero();
+    for l in leaves {
+        volume += Rational::new(BigInt::one(), BigInt::one() << (l.level as usize * dim));
+    }
+    if !volume.is_one() {
+        return Err(CertificateError::NotCovering { covered: crate::num::rational_to_string(&volume) });
+    }
+    for (i, l) in leaves.iter().enumerate() {
+        let sub = p.restrict(&l.bounds()).map_err(|_| CertificateError::BadLeaf { index: i, dim })?;
+        if let Some(c) = sub.coeffs().iter().find(|c| c.sign() != Sign::Positive) {
+            return Err(CertificateError::NotPositiveLeaf { index: i, coeff: crate::num::rational_to_string(c) });
+        }
+    }
+    Ok(leaves.len())
+}
+
+/// Re-checks a `NotPositive` witness: the point lies in the unit box and `p(point) ≤ 0`,
+/// evaluated exactly; a claimed exact value must match. Returns the exact value.
+pub fn verify_witness(p: &Bernstein<Rational>, witness: &[Rational], claimed: Option<&Rational>) -> Result<Rational, CertificateError> {
+    if witness.len() != p.dim() || witness.iter().any(|t| t.sign() == Sign::Negative || t > &<Rational as One>::one()) {
+        return Err(CertificateError::BadWitness);
+    }
+    let value = p.eval(witness).map_err(|_| CertificateError::BadWitness)?;
+    if value.sign() == Sign::Positive {
+        return Err(CertificateError::WitnessPositive { value: crate::num::rational_to_string(&value) });
+    }
+    if let Some(c) = claimed {
+        if c != &value {
+            return Err(CertificateError::WitnessValueMismatch {
+                claimed: crate::num::rational_to_string(c),
+                exact: crate::num::rational_to_string(&value),
+            });
+        }
+    }
+    Ok(value)
+}

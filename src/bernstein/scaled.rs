@@ -1,0 +1,191 @@
+//! The sign-only exact form: integer numerators over one shared positive denominator.
+//!
+//! `p = (1/den) Σ num_i B_i`. Subdividing at ½ with de Casteljau and multiplying every
+//! coefficient by `2^d` keeps the numerators integers and leaves every sign unchanged,
+//! so no gcd is ever computed (NOTES.md, "Exact arithmetic"). The denominator is
+//! tracked exactly, so values (witnesses) can still be recovered as rationals.
+
+use super::{poly::map_lines, BernsteinError};
+use super::poly::{coefficient_count, strides, Bernstein};
+use crate::num::{Rational, Sign};
+use num_bigint::{BigInt, Sign as BigSign};
+use num_integer::Integer;
+use num_traits::{One, Zero};
+
+/// A tensor Bernstein polynomial as integer numerators over a shared denominator.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScaledBernstein {
+    degrees: Vec<usize>,
+    num: Vec<BigInt>,
+    den: BigInt,
+}
+
+fn sign_of(b: &BigInt) -> Sign {
+    match b.sign() {
+        BigSign::Minus => Sign::Negative,
+        BigSign::NoSign => Sign::Zero,
+        BigSign::Plus => Sign::Positive,
+    }
+}
+
+impl ScaledBernstein {
+    /// Brings a rational polynomial to the common denominator (the lcm of its denominators).
+    pub fn from_rational(p: &Bernstein<Rational>) -> Self {
+        let mut den = BigInt::one();
+        for c in p.coeffs() {
+            den = den.lcm(c.denom());
+        }
+        let num = p.coeffs().iter().map(|c| c.numer() * (&den / c.denom())).collect();
+        ScaledBernstein { degrees: p.degrees().to_vec(), num, den }
+    }
+
+    /// Integer numerators with denominator 1.
+    pub fn from_integers(degrees: Vec<usize>, num: Vec<BigInt>) -> Result<Self, BernsteinError> {
+        let expected = coefficient_count(&degrees);
+        if num.len() != expected {
+            return Err(BernsteinError::CoefficientCount { expected, found: num.len() });
+        }
+        Ok(ScaledBernstein { degrees, num, den: BigInt::one() })
+    }
+
+    /// The same polynomial with rational coefficients.
+    pub fn to_rational(&self) -> Bernstein<Rational> {
+        let coeffs = self.num.iter().map(|n| Rational::new(n.clone(), self.den.clone())).collect();
+        Bernstein::new(self.degrees.clone(), coeffs).expect("counts match by construction")
+    }
+
+    pub fn degrees(&self) -> &[usize] {
+        &self.degrees
+    }
+
+    pub fn numerators(&self) -> &[BigInt] {
+        &self.num
+    }
+
+    pub fn denominator(&self) -> &BigInt {
+        &self.den
+    }
+
+    /// The exact value of coefficient `k`.
+    pub fn coeff_value(&self, k: usize) -> Rational {
+        Rational::new(self.num[k].clone(), self.den.clone())
+    }
+
+    /// The exact sign of coefficient `k` (the denominator is positive).
+    pub fn coeff_sign(&self, k: usize) -> Sign {
+        sign_of(&self.num[k])
+    }
+
+    /// Flat index of the vertex coefficient at `corner` (bit a set: `t_a = 1`).
+    pub fn vertex_index(&self, corner: usize) -> usize {
+        let s = strides(&self.degrees);
+        self.degrees.iter().enumerate().filter(|(a, _)| corner >> a & 1 == 1).map(|(a, &d)| d * s[a]).sum()
+    }
+
+    /// True when every numerator is positive (so `p > 0` on the box).
+    pub fn all_positive(&self) -> bool {
+        self.num.iter().all(|n| n.sign() == BigSign::Plus)
+    }
+
+    /// Index of the smallest coefficient.
+    pub fn argmin(&self) -> usize {
+        let mut best = 0;
+        for (k, n) in self.num.iter().enumerate() {
+            if n < &self.num[best] {
+                best = k;
+            }
+        }
+        best
+    }
+
+    /// de Casteljau at ½ along `axis` in integers: returns the halves on `[0,½]` and `[½,1]`,
+    /// each with denominator `den · 2^d`.
+    pub fn split_half(&self, axis: usize) -> Result<(Self, Self), BernsteinError> {
+        self.split_generic(axis, &BigInt::one(), &BigInt::from(2))
+    }
+
+    /// de Casteljau at `t = p/q` (`0 < p < q`) along `axis` in integers: every level computes
+    /// `(q−p)·b_i + p·b_{i+1}` and the halves are rescaled by powers of `q`.
+    pub fn split(&self, axis: usize, p: &BigInt, q: &BigInt) -> Result<(Self, Self), BernsteinError> {
+        if !(p.sign() == BigSign::Plus && p < q) {
+            return Err(BernsteinError::BadParameter);
+        }
+        self.split_generic(axis, p, q)
+    }
+
+    fn split_generic(&self, axis: usize, p: &BigInt, q: &BigInt) -> Result<(Self, Self), BernsteinError> {
+        if axis >= self.degrees.len() {
+            return Err(BernsteinError::Axis { axis, dim: self.degrees.len() });
+        }
+        let d = self.degrees[axis];
+        let len = d + 1;
+        let half = p == &BigInt::one() && q == &BigInt::from(2);
+        let qmp = q - p;
+        // q^k for k = 0..=d
+        let mut qpow = vec![BigInt::one()];
+        for k in 1..=d {
+            let next = &qpow[k - 1] * q;
+            qpow.push(next);
+        }
+        let mut rights: Vec<Vec<BigInt>> = Vec::new();
+        let left = map_lines(&self.degrees, &self.num, axis, len, &BigInt::zero(), |line, out| {
+            // w_i^(r) = q^r · (true level-r value) · den
+            let mut work = line.to_vec();
+            let mut right = vec![BigInt::zero(); len];
+            out[0] = work[0].clone();
+            right[d] = work[d].clone();
+            for r in 1..len {
+                for i in 0..len - r {
+                    work[i] = if half { &work[i] + &work[i + 1] } else { &qmp * &work[i] + p * &work[i + 1] };
+                }
+                out[r] = work[0].clone();
+                right[d - r] = work[d - r].clone();
+            }
+            // Scale to the common denominator q^d.
+            for (r, o) in out.iter_mut().enumerate() {
+                *o = scale_pow(o, half, &qpow, d - r);
+            }
+            for (j, v) in right.iter_mut().enumerate() {
+                // right[j] is at level d − j.
+                *v = scale_pow(v, half, &qpow, j);
+            }
+            rights.push(right);
+        });
+        let mut it = rights.into_iter();
+        let right = map_lines(&self.degrees, &self.num, axis, len, &BigInt::zero(), |_, out| {
+            out.clone_from_slice(&it.next().expect("one right line per left line"));
+        });
+        let den = &self.den * &qpow[d];
+        Ok((
+            ScaledBernstein { degrees: self.degrees.clone(), num: left, den: den.clone() },
+            ScaledBernstein { degrees: self.degrees.clone(), num: right, den },
+        ))
+    }
+
+    /// Divides numerators and denominator by their common power of two (keeps sizes down;
+    /// optional, signs are unaffected).
+    pub fn normalise_twos(&mut self) {
+        let mut tz = self.den.trailing_zeros().unwrap_or(0);
+        for n in &self.num {
+            if let Some(z) = n.trailing_zeros() {
+                tz = tz.min(z);
+            }
+        }
+        if tz > 0 {
+            for n in &mut self.num {
+                *n = &*n >> tz as usize;
+            }
+            self.den = &self.den >> tz as usize;
+        }
+    }
+}
+
+fn scale_pow(v: &BigInt, half: bool, qpow: &[BigInt], k: usize) -> BigInt {
+    if k == 0 {
+        v.clone()
+    } else if half {
+        v << k
+    } else {
+        v * &qpow[k]
+    }
+}

@@ -1,0 +1,40 @@
+//! B-splines: knot vectors, Cox–de Boor evaluation, derivatives, Boehm knot insertion, the
+//! Oslo algorithm, conversion to Bézier pieces, blossoms, tensor-product splines, and Mørken
+//! products (the exact B-spline coefficients of a product of splines).
+//!
+//! Conventions (de Boor, *A Practical Guide to Splines*): a spline of degree `p` on knots
+//! `s_0 ≤ … ≤ s_{n+p}` with coefficients `c_0 … c_{n−1}` is `Σ c_i N_{i,p}`, `N_{i,p}` supported
+//! on `[s_i, s_{i+p+1}]`; its domain is `[s_p, s_n]`.
+
+pub mod morken;
+pub mod spline;
+pub mod tensor;
+
+pub use morken::{morken_product, product_knots};
+pub use spline::Spline;
+pub use tensor::{BezierCell, TensorSpline};
+
+use thiserror::Error;
+
+/// Errors of the B-spline kernel.
+#[derive(Debug, Error, Clone, PartialEq, Eq)]
+pub enum BsplineError {
+    #[error("knot vector is not non-decreasing at position {index}")]
+    KnotsNotSorted { index: usize },
+    #[error("degree {degree} with {knots} knots needs {expected} coefficients, found {found}")]
+    CoefficientCount { degree: usize, knots: usize, expected: usize, found: usize },
+    #[error("the spline's domain [s_p, s_n] is empty")]
+    EmptyDomain,
+    #[error("parameter outside the domain")]
+    OutsideDomain,
+    #[error("knot {what} must lie strictly inside the domain")]
+    KnotOutsideDomain { what: String },
+    #[error("factors live on different domains (factor {factor})")]
+    DomainMismatch { factor: usize },
+    #[error("no factors given")]
+    NoFactors,
+    #[error("dimension mismatch: expected {expected}, found {found}")]
+    DimensionMismatch { expected: usize, found: usize },
+    #[error("Bernstein kernel: {0}")]
+    Bernstein(#[from] crate::bernstein::BernsteinError),
+}

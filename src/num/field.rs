@@ -1,0 +1,158 @@
+//! The [`Field`] trait: write an algorithm once, run it exactly or in `f64`.
+//!
+//! `BigRational` is not `Copy`, so every operation takes references and returns
+//! a new value. Implemented for [`Rational`] (exact), [`Interval`] (certified
+//! `f64`) and plain `f64` (fast, uncertified: use only where no sign is decided).
+
+use super::{interval::Interval, rational::rational_sign, Rational, Sign};
+use num_bigint::BigInt;
+use num_traits::{One, Zero};
+
+/// Field operations, sign and conversion for a scalar type.
+pub trait Field: Clone + std::fmt::Debug + Send + Sync {
+    fn zero() -> Self;
+    fn one() -> Self;
+    /// The exact value `n / d` (`d ≠ 0`), or the tightest enclosure the type has.
+    fn from_ratio(n: i64, d: i64) -> Self;
+    /// The rational `r`, exactly or enclosed.
+    fn from_rational(r: &Rational) -> Self;
+    fn add(&self, o: &Self) -> Self;
+    fn sub(&self, o: &Self) -> Self;
+    fn mul(&self, o: &Self) -> Self;
+    /// Division; the caller guarantees a nonzero divisor in exact types.
+    fn div(&self, o: &Self) -> Self;
+    fn neg(&self) -> Self;
+    /// The sign: exact types never say `Uncertain`.
+    fn sign(&self) -> Sign;
+    /// A nearby `f64` (the nearest for exact types, the midpoint for intervals).
+    fn approx(&self) -> f64;
+    /// True when the value is exactly zero.
+    fn is_exact_zero(&self) -> bool {
+        self.sign() == Sign::Zero
+    }
+    /// `self · n` for a small integer `n`.
+    fn mul_int(&self, n: i64) -> Self {
+        self.mul(&Self::from_ratio(n, 1))
+    }
+}
+
+impl Field for Rational {
+    fn zero() -> Self {
+        Zero::zero()
+    }
+    fn one() -> Self {
+        One::one()
+    }
+    fn from_ratio(n: i64, d: i64) -> Self {
+        Rational::new(BigInt::from(n), BigInt::from(d))
+    }
+    fn from_rational(r: &Rational) -> Self {
+        r.clone()
+    }
+    fn add(&self, o: &Self) -> Self {
+        self + o
+    }
+    fn sub(&self, o: &Self) -> Self {
+        self - o
+    }
+    fn mul(&self, o: &Self) -> Self {
+        self * o
+    }
+    fn div(&self, o: &Self) -> Self {
+        self / o
+    }
+    fn neg(&self) -> Self {
+        -self
+    }
+    fn sign(&self) -> Sign {
+        rational_sign(self)
+    }
+    fn approx(&self) -> f64 {
+        super::rational_to_f64(self)
+    }
+    fn mul_int(&self, n: i64) -> Self {
+        Rational::new(self.numer() * BigInt::from(n), self.denom().clone())
+    }
+}
+
+impl Field for Interval {
+    fn zero() -> Self {
+        Interval::point(0.0)
+    }
+    fn one() -> Self {
+        Interval::point(1.0)
+    }
+    fn from_ratio(n: i64, d: i64) -> Self {
+        Interval::from_rational(&Rational::new(BigInt::from(n), BigInt::from(d)))
+    }
+    fn from_rational(r: &Rational) -> Self {
+        Interval::from_rational(r)
+    }
+    fn add(&self, o: &Self) -> Self {
+        Interval::add(*self, *o)
+    }
+    fn sub(&self, o: &Self) -> Self {
+        Interval::sub(*self, *o)
+    }
+    fn mul(&self, o: &Self) -> Self {
+        Interval::mul(*self, *o)
+    }
+    fn div(&self, o: &Self) -> Self {
+        Interval::div(*self, *o)
+    }
+    fn neg(&self) -> Self {
+        Interval::neg(*self)
+    }
+    fn sign(&self) -> Sign {
+        Interval::sign(self)
+    }
+    fn approx(&self) -> f64 {
+        self.mid()
+    }
+}
+
+/// Plain `f64`: fast and uncertified. Its `sign` is the sign of the rounded value,
+/// so it must not be used for certified decisions.
+impl Field for f64 {
+    fn zero() -> Self {
+        0.0
+    }
+    fn one() -> Self {
+        1.0
+    }
+    fn from_ratio(n: i64, d: i64) -> Self {
+        n as f64 / d as f64
+    }
+    fn from_rational(r: &Rational) -> Self {
+        super::rational_to_f64(r)
+    }
+    fn add(&self, o: &Self) -> Self {
+        self + o
+    }
+    fn sub(&self, o: &Self) -> Self {
+        self - o
+    }
+    fn mul(&self, o: &Self) -> Self {
+        self * o
+    }
+    fn div(&self, o: &Self) -> Self {
+        self / o
+    }
+    fn neg(&self) -> Self {
+        -self
+    }
+    fn sign(&self) -> Sign {
+        if *self > 0.0 {
+            Sign::Positive
+        } else if *self < 0.0 {
+            Sign::Negative
+        } else if *self == 0.0 {
+            Sign::Zero
+        } else {
+            Sign::Uncertain
+        }
+    }
+    fn approx(&self) -> f64 {
+        *self
+    }
+}

@@ -1,0 +1,157 @@
+//! Certified `f64`: outward-rounded intervals and forward error constants.
+//!
+//! Every operation computes in the default round-to-nearest mode and then widens
+//! the result by one ulp in each direction (`f64::next_down` / `f64::next_up`).
+//! Round-to-nearest is within half an ulp of the exact result, so the widened
+//! interval contains it. The FPU rounding mode is never changed.
+
+use super::{rational_from_f64, Rational, Sign};
+
+/// The unit roundoff of binary64, `u = 2⁻⁵³`.
+pub const UNIT_ROUNDOFF: f64 = 1.0 / 9_007_199_254_740_992.0;
+
+/// `γₙ = n·u / (1 − n·u)` (Higham, *Accuracy and Stability of Numerical Algorithms*, §3.1),
+/// rounded up; bounds the relative error of `n` chained roundings.
+pub fn gamma(n: u32) -> f64 {
+    let nu = n as f64 * UNIT_ROUNDOFF;
+    (nu / (1.0 - nu)).next_up()
+}
+
+/// A closed interval `[lo, hi]` of reals, guaranteed to contain the exact value
+/// it stands for. Empty and NaN intervals are never produced from finite inputs;
+/// overflow yields infinite bounds, which stay sound (and make signs `Uncertain`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interval {
+    pub lo: f64,
+    pub hi: f64,
+}
+
+impl Interval {
+    /// The point interval `[x, x]` (exact: `x` is the value).
+    pub fn point(x: f64) -> Interval {
+        Interval { lo: x, hi: x }
+    }
+
+    /// `[lo, hi]`; the caller asserts `lo ≤ hi`.
+    pub fn new(lo: f64, hi: f64) -> Interval {
+        debug_assert!(lo <= hi || lo.is_nan() || hi.is_nan());
+        Interval { lo, hi }
+    }
+
+    /// The tightest interval of `f64` that contains the rational `r`.
+    pub fn from_rational(r: &Rational) -> Interval {
+        let x = super::rational_to_f64(r);
+        let exact = rational_from_f64(x, "interval").ok();
+        match exact {
+            Some(e) if &e == r => Interval::point(x),
+            _ => Interval { lo: x.next_down(), hi: x.next_up() },
+        }
+    }
+
+    fn widen(lo: f64, hi: f64) -> Interval {
+        Interval { lo: lo.next_down(), hi: hi.next_up() }
+    }
+
+    pub fn add(self, o: Interval) -> Interval {
+        let lo = self.lo + o.lo;
+        let hi = self.hi + o.hi;
+        Interval::widen(lo, hi)
+    }
+
+    pub fn sub(self, o: Interval) -> Interval {
+        Interval::widen(self.lo - o.hi, self.hi - o.lo)
+    }
+
+    pub fn neg(self) -> Interval {
+        Interval { lo: -self.hi, hi: -self.lo }
+    }
+
+    pub fn mul(self, o: Interval) -> Interval {
+        let p = [self.lo * o.lo, self.lo * o.hi, self.hi * o.lo, self.hi * o.hi];
+        // 0·∞ gives NaN: treat it as the whole line, which is sound.
+        if p.iter().any(|v| v.is_nan()) {
+            return Interval { lo: f64::NEG_INFINITY, hi: f64::INFINITY };
+        }
+        let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        Interval::widen(lo, hi)
+    }
+
+    /// Division; a divisor interval containing 0 gives the whole line.
+    pub fn div(self, o: Interval) -> Interval {
+        if o.lo <= 0.0 && o.hi >= 0.0 {
+            return Interval { lo: f64::NEG_INFINITY, hi: f64::INFINITY };
+        }
+        let inv = Interval::widen(1.0 / o.hi, 1.0 / o.lo);
+        self.mul(inv)
+    }
+
+    /// Multiplication by an exactly known scalar.
+    pub fn scale(self, k: f64) -> Interval {
+        self.mul(Interval::point(k))
+    }
+
+    /// True when the interval contains the rational `r` (exact comparison).
+    pub fn contains(&self, r: &Rational) -> bool {
+        let lo = rational_from_f64(self.lo, "lo");
+        let hi = rational_from_f64(self.hi, "hi");
+        let above = match lo {
+            Ok(l) => &l <= r,
+            Err(_) => self.lo == f64::NEG_INFINITY,
+        };
+        let below = match hi {
+            Ok(h) => r <= &h,
+            Err(_) => self.hi == f64::INFINITY,
+        };
+        above && below
+    }
+
+    /// The certified sign: known only when the interval excludes zero, or is exactly `[0,0]`.
+    pub fn sign(&self) -> Sign {
+        if self.lo > 0.0 {
+            Sign::Positive
+        } else if self.hi < 0.0 {
+            Sign::Negative
+        } else if self.lo == 0.0 && self.hi == 0.0 {
+            Sign::Zero
+        } else {
+            Sign::Uncertain
+        }
+    }
+
+    pub fn mid(&self) -> f64 {
+        0.5 * self.lo + 0.5 * self.hi
+    }
+
+    pub fn width(&self) -> f64 {
+        self.hi - self.lo
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn contains_exact_results() {
+        let a = Interval::point(0.1);
+        let b = Interval::point(0.2);
+        let s = a.add(b);
+        let exact = rational_from_f64(0.1, "a").unwrap() + rational_from_f64(0.2, "b").unwrap();
+        assert!(s.contains(&exact));
+        let p = a.mul(b);
+        let exact = rational_from_f64(0.1, "a").unwrap() * rational_from_f64(0.2, "b").unwrap();
+        assert!(p.contains(&exact));
+        assert_eq!(Interval::new(-1e-300, 1.0).sign(), Sign::Uncertain);
+        assert_eq!(Interval::new(1e-300, 1.0).sign(), Sign::Positive);
+        assert_eq!(Interval::point(0.0).sign(), Sign::Zero);
+    }
+
+    #[test]
+    fn negative_lower_bounds_stay_negative() {
+        // The class of bug NOTES.md describes: a negative lower bound rounded upward.
+        let a = Interval::point(-1e-310);
+        let s = a.add(Interval::point(-1e-310));
+        assert!(s.lo < 0.0 && s.lo <= -2e-310);
+    }
+}

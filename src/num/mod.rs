@@ -1,0 +1,78 @@
+//! The scalar layer: exact rationals, the sign-only integer form, certified
+//! `f64` signs, and the [`Field`] trait that lets an algorithm be written once.
+//!
+//! * [`Rational`] is `num_rational::BigRational`, gcd-normalised, never wrong.
+//! * [`rational`] converts losslessly from `f64` (every finite `f64` is a dyadic
+//!   rational), rounds back to the nearest `f64`, and parses `"p/q"` and
+//!   decimal strings.
+//! * [`interval`] holds [`Interval`], outward-rounded `f64` intervals built with
+//!   `f64::next_up`/`next_down` (the FPU rounding mode is never touched), and the
+//!   forward error constant [`gamma`].
+//! * [`Sign`] is the four-valued sign every certified decision returns.
+
+pub mod field;
+pub mod interval;
+pub mod rational;
+
+pub use field::Field;
+pub use interval::{gamma, Interval, UNIT_ROUNDOFF};
+pub use rational::{
+    parse_rational, rational_from_f64, rational_to_f64, rational_to_string, Rational,
+};
+
+use thiserror::Error;
+
+/// The sign of a quantity as far as it is known.
+///
+/// Exact paths only ever produce `Negative`, `Zero` or `Positive`; certified
+/// floating-point paths say `Uncertain` when their error bound straddles zero.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+pub enum Sign {
+    Negative,
+    Zero,
+    Positive,
+    Uncertain,
+}
+
+impl Sign {
+    /// The sign of an integer-like ordering against zero.
+    pub fn of_ordering(o: std::cmp::Ordering) -> Sign {
+        match o {
+            std::cmp::Ordering::Less => Sign::Negative,
+            std::cmp::Ordering::Equal => Sign::Zero,
+            std::cmp::Ordering::Greater => Sign::Positive,
+        }
+    }
+
+    /// True when the sign is known (not `Uncertain`).
+    pub fn is_certain(self) -> bool {
+        self != Sign::Uncertain
+    }
+
+    /// The product of two signs (`Uncertain` absorbs unless the other is `Zero`).
+    pub fn mul(self, other: Sign) -> Sign {
+        use Sign::*;
+        match (self, other) {
+            (Zero, _) | (_, Zero) => Zero,
+            (Uncertain, _) | (_, Uncertain) => Uncertain,
+            (a, b) if a == b => Positive,
+            _ => Negative,
+        }
+    }
+
+    /// True when a certain sign disagrees with `exact` (an `Uncertain` never contradicts).
+    pub fn contradicts(self, exact: Sign) -> bool {
+        self.is_certain() && self != exact
+    }
+}
+
+/// Errors of the scalar layer.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum NumError {
+    #[error("non-finite number {value} ({what}): only finite values are accepted")]
+    NonFinite { what: String, value: f64 },
+    #[error("cannot parse {text:?} as a rational number ({why})")]
+    Parse { text: String, why: String },
+    #[error("zero denominator in {text:?}")]
+    ZeroDenominator { text: String },
+}

@@ -1,0 +1,251 @@
+//! Exact rationals and lossless conversions.
+
+use super::NumError;
+use num_bigint::{BigInt, Sign as BigSign};
+use num_integer::Integer;
+use num_rational::BigRational;
+use num_traits::{One, Signed, ToPrimitive, Zero};
+
+/// The exact scalar of every reference path.
+pub type Rational = BigRational;
+
+/// Converts a finite `f64` to the rational it denotes, exactly.
+///
+/// Every finite `f64` is `m · 2^e` with an integer `m` (IEEE 754 binary64), so
+/// the conversion is lossless. NaN and infinities are a typed error naming `what`.
+pub fn rational_from_f64(x: f64, what: &str) -> Result<Rational, NumError> {
+    if !x.is_finite() {
+        return Err(NumError::NonFinite { what: what.to_string(), value: x });
+    }
+    if x == 0.0 {
+        return Ok(Rational::zero());
+    }
+    let bits = x.to_bits();
+    let negative = bits >> 63 == 1;
+    let exp_bits = ((bits >> 52) & 0x7ff) as i64;
+    let frac = bits & ((1u64 << 52) - 1);
+    // Subnormals have exponent field 0 and no hidden bit.
+    let (mant, exp) = if exp_bits == 0 { (frac, -1074) } else { (frac | (1u64 << 52), exp_bits - 1075) };
+    let mut m = BigInt::from(mant);
+    if negative {
+        m = -m;
+    }
+    Ok(if exp >= 0 {
+        Rational::from_integer(m << (exp as usize))
+    } else {
+        Rational::new(m, BigInt::one() << ((-exp) as usize))
+    })
+}
+
+/// Rounds a rational to the nearest `f64` (ties to even); overflows go to ±infinity.
+///
+/// Correctly rounded: the quotient is computed with 2 guard bits beyond the
+/// 53-bit significand and a sticky bit from the remainder.
+pub fn rational_to_f64(r: &Rational) -> f64 {
+    if r.is_zero() {
+        return 0.0;
+    }
+    let negative = r.is_negative();
+    let n = r.numer().abs();
+    let d = r.denom().abs();
+    // Choose a shift s so that q = floor(n·2^s / d) has exactly 55 bits.
+    let nb = n.bits() as i64;
+    let db = d.bits() as i64;
+    let mut s = 55 - (nb - db);
+    let (mut q, mut rem) = shifted_div(&n, &d, s);
+    while q.bits() > 55 {
+        s -= 1;
+        let qr = shifted_div(&n, &d, s);
+        q = qr.0;
+        rem = qr.1;
+    }
+    while q.bits() < 55 {
+        s += 1;
+        let qr = shifted_div(&n, &d, s);
+        q = qr.0;
+        rem = qr.1;
+    }
+    // value = (q + rem/d) · 2^-s with q in [2^54, 2^55).
+    let sticky = !rem.is_zero();
+    let q = q.to_u64().expect("55-bit quotient fits in u64");
+    // Unbiased exponent of the leading bit: 54 - s.
+    let lead_exp = 54 - s;
+    let value = if lead_exp < -1022 {
+        // Subnormal range: keep fewer significand bits.
+        let keep = 53 - (-1022 - lead_exp); // bits of precision left
+        if keep <= 0 {
+            // Below half the smallest subnormal (or exactly at it): round to 0 or min subnormal.
+            let half_min = -1075i64; // 2^-1075 is half of the smallest subnormal
+            if lead_exp < half_min || (lead_exp == half_min && !sticky && q == 1u64 << 54) {
+                0.0
+            } else {
+                f64::from_bits(1)
+            }
+        } else {
+            round_bits(q, sticky, (55 - keep) as u32, -1074)
+        }
+    } else if lead_exp > 1023 {
+        f64::INFINITY
+    } else {
+        round_bits(q, sticky, 2, lead_exp - 52)
+    };
+    if negative {
+        -value
+    } else {
+        value
+    }
+}
+
+/// Rounds the 55-bit `q` (plus `sticky`) by dropping `drop` low bits, ties to even,
+/// and scales by `2^unit_exp` per unit of the kept part.
+fn round_bits(q: u64, sticky: bool, drop: u32, unit_exp: i64) -> f64 {
+    let kept = q >> drop;
+    let rest = q & ((1u64 << drop) - 1);
+    let half = 1u64 << (drop - 1);
+    let round_up = rest > half || (rest == half && (sticky || kept & 1 == 1));
+    let kept = if round_up { kept + 1 } else { kept };
+    // kept < 2^54, exactly representable; ldexp via powi is exact for powers of two in range.
+    ldexp(kept as f64, unit_exp)
+}
+
+/// `m · 2^e` computed exactly when the result is representable.
+fn ldexp(m: f64, e: i64) -> f64 {
+    let mut v = m;
+    let mut e = e;
+    while e > 1000 {
+        v *= 2f64.powi(1000);
+        e -= 1000;
+    }
+    while e < -1000 {
+        // Multiply in two steps to avoid double rounding: m has at most 54 bits
+        // and the final result is the correctly rounded kept value, so while
+        // intermediate values stay normal these steps are exact.
+        v *= 2f64.powi(-1000);
+        e += 1000;
+    }
+    v * 2f64.powi(e as i32)
+}
+
+fn shifted_div(n: &BigInt, d: &BigInt, s: i64) -> (BigInt, BigInt) {
+    if s >= 0 {
+        (n << (s as usize)).div_rem(d)
+    } else {
+        n.div_rem(&(d << ((-s) as usize)))
+    }
+}
+
+/// Parses `"p/q"`, an integer, or a decimal with optional exponent (`"-1.25e-3"`), exactly.
+pub fn parse_rational(text: &str) -> Result<Rational, NumError> {
+    let t = text.trim();
+    let err = |why: &str| NumError::Parse { text: text.to_string(), why: why.to_string() };
+    if t.is_empty() {
+        return Err(err("empty"));
+    }
+    if let Some((p, q)) = t.split_once('/') {
+        let p = parse_integer(p.trim()).ok_or_else(|| err("numerator is not an integer"))?;
+        let q = parse_integer(q.trim()).ok_or_else(|| err("denominator is not an integer"))?;
+        if q.is_zero() {
+            return Err(NumError::ZeroDenominator { text: text.to_string() });
+        }
+        return Ok(Rational::new(p, q));
+    }
+    let lower = t.to_ascii_lowercase();
+    if lower.contains("nan") || lower.contains("inf") {
+        return Err(err("non-finite values are not accepted"));
+    }
+    let (mantissa, exponent) = match lower.split_once('e') {
+        Some((m, e)) => (m, e.parse::<i64>().map_err(|_| err("bad exponent"))?),
+        None => (lower.as_str(), 0),
+    };
+    if exponent.abs() > 100_000 {
+        return Err(err("exponent out of range (|e| > 100000)"));
+    }
+    let (negative, digits) = match mantissa.strip_prefix('-') {
+        Some(rest) => (true, rest),
+        None => (false, mantissa.strip_prefix('+').unwrap_or(mantissa)),
+    };
+    let (int_part, frac_part) = digits.split_once('.').unwrap_or((digits, ""));
+    if int_part.is_empty() && frac_part.is_empty() {
+        return Err(err("no digits"));
+    }
+    if !int_part.chars().chain(frac_part.chars()).all(|c| c.is_ascii_digit()) {
+        return Err(err("unexpected character"));
+    }
+    let all: String = format!("{int_part}{frac_part}");
+    let mut m: BigInt = if all.is_empty() { BigInt::zero() } else { all.parse().map_err(|_| err("bad digits"))? };
+    if negative {
+        m = -m;
+    }
+    let scale = exponent - frac_part.len() as i64;
+    let ten = BigInt::from(10);
+    Ok(if scale >= 0 {
+        Rational::from_integer(m * num_traits::pow(ten, scale as usize))
+    } else {
+        Rational::new(m, num_traits::pow(ten, (-scale) as usize))
+    })
+}
+
+fn parse_integer(s: &str) -> Option<BigInt> {
+    let digits = s.strip_prefix(['-', '+']).unwrap_or(s);
+    if digits.is_empty() || !digits.chars().all(|c| c.is_ascii_digit()) {
+        return None;
+    }
+    s.parse().ok()
+}
+
+/// Formats a rational as `"p/q"`, or `"p"` when it is an integer.
+pub fn rational_to_string(r: &Rational) -> String {
+    if r.denom().is_one() {
+        r.numer().to_string()
+    } else {
+        format!("{}/{}", r.numer(), r.denom())
+    }
+}
+
+/// The exact sign of a rational.
+pub fn rational_sign(r: &Rational) -> super::Sign {
+    match r.numer().sign() {
+        BigSign::Minus => super::Sign::Negative,
+        BigSign::NoSign => super::Sign::Zero,
+        BigSign::Plus => super::Sign::Positive,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn f64_round_trip_exact() {
+        for &x in &[0.1, -3.5, 1e-300, 5e-324, f64::MAX, f64::MIN_POSITIVE, 2.0f64.powi(-1060), 123456.789] {
+            let r = rational_from_f64(x, "x").unwrap();
+            assert_eq!(rational_to_f64(&r), x, "{x}");
+        }
+        assert!(rational_from_f64(f64::NAN, "x").is_err());
+        assert!(rational_from_f64(f64::INFINITY, "x").is_err());
+    }
+
+    #[test]
+    fn nearest_rounding() {
+        let third = Rational::new(1.into(), 3.into());
+        assert_eq!(rational_to_f64(&third), 1.0 / 3.0);
+        let r = parse_rational("0.1").unwrap();
+        assert_eq!(rational_to_f64(&r), 0.1);
+        // 1 + 2^-53 is a tie between 1 and 1 + 2^-52: ties to even gives 1.
+        let tie = Rational::one() + Rational::new(1.into(), BigInt::one() << 53usize);
+        assert_eq!(rational_to_f64(&tie), 1.0);
+        let above = tie + Rational::new(1.into(), BigInt::one() << 80usize);
+        assert_eq!(rational_to_f64(&above), 1.0 + f64::EPSILON);
+    }
+
+    #[test]
+    fn parsing() {
+        assert_eq!(parse_rational("-3/6").unwrap(), Rational::new((-1).into(), 2.into()));
+        assert_eq!(parse_rational("1.25e-1").unwrap(), Rational::new(1.into(), 8.into()));
+        assert_eq!(parse_rational("-.5").unwrap(), Rational::new((-1).into(), 2.into()));
+        assert_eq!(parse_rational("12E2").unwrap(), Rational::from_integer(1200.into()));
+        for bad in ["", "1/0", "abc", "1.2.3", "nan", "inf", "1/x", "--1", "."] {
+            assert!(parse_rational(bad).is_err(), "{bad}");
+        }
+    }
+}

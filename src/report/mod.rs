@@ -1,0 +1,1 @@
+//! Turns run results into the published Markdown reports.

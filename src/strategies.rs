@@ -1,0 +1,85 @@
+//! Proptest strategies for other crates' property tests (feature `proptest`).
+//!
+//! ```
+//! use geocert::strategies::{bernstein_poly, small_rational};
+//! use proptest::prelude::*;
+//!
+//! proptest! {
+//!     #[test]
+//!     fn split_halves_agree(p in bernstein_poly(vec![3, 2], 20), t in small_rational(1, 7)) {
+//!         // … compare your own Bernstein code against geocert's here …
+//!         let _ = (p, t);
+//!     }
+//! }
+//! ```
+
+use crate::bernstein::Bernstein;
+use crate::bspline::Spline;
+use crate::num::Rational;
+use num_bigint::BigInt;
+use proptest::prelude::*;
+use proptest::strategy::BoxedStrategy;
+
+/// Rationals `n/d` with `|n| ≤ max_num`, `1 ≤ d ≤ max_den`.
+pub type RationalStrategy = BoxedStrategy<Rational>;
+/// Bernstein polynomials with rational coefficients.
+pub type BernsteinStrategy = BoxedStrategy<Bernstein<Rational>>;
+/// Univariate B-splines with rational knots and coefficients.
+pub type SplineStrategy = BoxedStrategy<Spline<Rational>>;
+
+/// `n/d` with `|n| ≤ max_num` and `1 ≤ d ≤ max_den`.
+pub fn small_rational(max_num: i64, max_den: i64) -> RationalStrategy {
+    (-max_num..=max_num, 1..=max_den.max(1)).prop_map(|(n, d)| Rational::new(BigInt::from(n), BigInt::from(d))).boxed()
+}
+
+/// A value within `2⁻⁵⁰ … 2⁻⁴⁰` of zero, either sign, or exactly zero: the near-degenerate
+/// inputs that break floating-point sign decisions.
+pub fn near_zero_rational() -> RationalStrategy {
+    prop_oneof![
+        Just(Rational::from_integer(BigInt::from(0))),
+        (40u32..=50, any::<bool>(), 1i64..8).prop_map(|(e, neg, k)| {
+            let v = Rational::new(BigInt::from(if neg { -k } else { k }), BigInt::from(1) << e as usize);
+            v
+        }),
+    ]
+    .boxed()
+}
+
+/// Bernstein polynomials of the given degrees with coefficients `n/d`, `|n| ≤ max_num`, `d ≤ 16`;
+/// one in four has coefficients perturbed by `2⁻⁴⁰ … 2⁻⁵⁰` around zero.
+pub fn bernstein_poly(degrees: Vec<usize>, max_num: i64) -> BernsteinStrategy {
+    let count: usize = degrees.iter().map(|d| d + 1).product();
+    let coeff = prop_oneof![3 => small_rational(max_num, 16), 1 => near_zero_rational()];
+    proptest::collection::vec(coeff, count)
+        .prop_map(move |c| Bernstein::new(degrees.clone(), c).expect("count matches"))
+        .boxed()
+}
+
+/// A univariate spline of degree `≤ max_degree` on `[0, 1]`: clamped ends, up to 3 interior
+/// breakpoints from `{1/4, 1/3, 1/2, 3/4}` with multiplicities up to the degree.
+pub fn spline(max_degree: usize) -> SplineStrategy {
+    (0..=max_degree, proptest::collection::vec((0usize..4, 1usize..=3), 0..=3))
+        .prop_flat_map(|(p, interior)| {
+            let cands = [(1, 4), (1, 3), (1, 2), (3, 4)];
+            let mut knots: Vec<Rational> = vec![Rational::from_integer(0.into()); p + 1];
+            let mut seen = Vec::new();
+            let mut sorted = interior.clone();
+            sorted.sort();
+            for (c, m) in sorted {
+                if seen.contains(&c) {
+                    continue;
+                }
+                seen.push(c);
+                let (a, b) = cands[c];
+                for _ in 0..m.min(p.max(1)) {
+                    knots.push(Rational::new(a.into(), b.into()));
+                }
+            }
+            knots.sort();
+            knots.extend(vec![Rational::from_integer(1.into()); p + 1]);
+            let n = knots.len() - p - 1;
+            proptest::collection::vec(small_rational(20, 6), n)
+                .prop_map(move |c| Spline::new(p, knots.clone(), c).expect("valid by construction"))
+        })
+        .boxed()
+}

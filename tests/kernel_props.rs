@@ -1,0 +1,293 @@
+//! Property tests of the scalar, Bernstein and B-spline kernel: exact identities in rational
+//! arithmetic, and the fast path checked against the exact one.
+
+use geocert::bernstein::positivity::{verify_witness, WitnessValue};
+use geocert::bernstein::{
+    prove_positive_exact, prove_positive_fast, prove_positive_filtered, verify_positive_certificate, Bernstein,
+    FastBernstein, Limits, PositivityVerdict, ScaledBernstein,
+};
+use geocert::bspline::{morken_product, Spline};
+use geocert::num::{rational_from_f64, rational_to_f64, Field, Interval, Rational, Sign};
+use geocert::strategies::{bernstein_poly, spline};
+use num_traits::Signed;
+use num_bigint::BigInt;
+use proptest::prelude::*;
+
+fn q(n: i64, d: i64) -> Rational {
+    Rational::new(BigInt::from(n), BigInt::from(d))
+}
+
+fn unit_param() -> impl Strategy<Value = Rational> {
+    (1i64..=15, 16i64..=17).prop_map(|(n, d)| q(n, d))
+}
+
+fn point(dim: usize) -> impl Strategy<Value = Vec<Rational>> {
+    proptest::collection::vec((0i64..=12).prop_map(|n| q(n, 12)), dim)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, .. ProptestConfig::default() })]
+
+    #[test]
+    fn f64_rational_round_trip(bits in any::<u64>()) {
+        let x = f64::from_bits(bits);
+        if x.is_finite() {
+            let r = rational_from_f64(x, "x").unwrap();
+            prop_assert_eq!(rational_to_f64(&r), x);
+        } else {
+            prop_assert!(rational_from_f64(x, "x").is_err());
+        }
+    }
+
+    #[test]
+    fn nearest_f64_is_nearest(n in any::<i64>(), d in 1i64..i64::MAX) {
+        let r = q(n, d);
+        let x = rational_to_f64(&r);
+        let ex = rational_from_f64(x, "x").unwrap();
+        let err = (&ex - &r).abs();
+        for y in [x.next_up(), x.next_down()] {
+            let ey = rational_from_f64(y, "y").unwrap();
+            prop_assert!(err <= (&ey - &r).abs());
+        }
+    }
+
+    #[test]
+    fn intervals_enclose(a in any::<i32>(), b in 1i32..i32::MAX, c in any::<i32>(), d in 1i32..i32::MAX) {
+        let (x, y) = (q(a as i64, b as i64), q(c as i64, d as i64));
+        let (ix, iy) = (Interval::from_rational(&x), Interval::from_rational(&y));
+        prop_assert!(ix.add(iy).contains(&(&x + &y)));
+        prop_assert!(ix.sub(iy).contains(&(&x - &y)));
+        prop_assert!(ix.mul(iy).contains(&(&x * &y)));
+        if y != q(0, 1) {
+            prop_assert!(ix.div(iy).contains(&(&x / &y)));
+        }
+    }
+
+    #[test]
+    fn split_halves_reevaluate(p in bernstein_poly(vec![3, 2], 20), t in unit_param(), s in point(2), axis in 0usize..2) {
+        let (l, r) = p.split(axis, &t).unwrap();
+        let mut pl = s.clone();
+        pl[axis] = &s[axis] * &t;
+        prop_assert_eq!(l.eval(&s).unwrap(), p.eval(&pl).unwrap());
+        let mut pr = s.clone();
+        pr[axis] = &t + &s[axis] * (q(1, 1) - &t);
+        prop_assert_eq!(r.eval(&s).unwrap(), p.eval(&pr).unwrap());
+    }
+
+    #[test]
+    fn restrict_matches_eval(p in bernstein_poly(vec![2, 3], 20), a in 0i64..6, w in 1i64..6, s in point(2)) {
+        let b = vec![(q(a, 12), q(a + w, 12)), (q(w, 12), q(12, 12))];
+        let sub = p.restrict(&b).unwrap();
+        let x: Vec<Rational> = s.iter().zip(&b).map(|(t, (lo, hi))| lo + t * (hi - lo)).collect();
+        prop_assert_eq!(sub.eval(&s).unwrap(), p.eval(&x).unwrap());
+    }
+
+    #[test]
+    fn elevation_preserves(p in bernstein_poly(vec![2, 1], 20), by in 1usize..4, s in point(2)) {
+        let e = p.elevate(1, by).unwrap().elevate(0, 1).unwrap();
+        prop_assert_eq!(e.eval(&s).unwrap(), p.eval(&s).unwrap());
+    }
+
+    #[test]
+    fn power_basis_round_trip_and_derivative(p in bernstein_poly(vec![4], 20)) {
+        let power = p.to_power();
+        let back = Bernstein::from_power(vec![4], power.clone()).unwrap();
+        prop_assert_eq!(&back, &p);
+        // d/dt Σ a_j t^j = Σ j a_j t^{j-1}
+        let dpow: Vec<Rational> = (1..power.len()).map(|j| &power[j] * Rational::from_integer(BigInt::from(j))).collect();
+        prop_assert_eq!(p.derivative(0).unwrap().to_power(), dpow);
+    }
+
+    #[test]
+    fn product_evaluates_to_product(a in bernstein_poly(vec![2, 1], 10), b in bernstein_poly(vec![1, 3], 10), s in point(2)) {
+        let c = a.product(&b).unwrap();
+        prop_assert_eq!(c.eval(&s).unwrap(), a.eval(&s).unwrap() * b.eval(&s).unwrap());
+    }
+
+    #[test]
+    fn faces_are_slices(p in bernstein_poly(vec![2, 3], 20), s in point(1), upper in any::<bool>()) {
+        let f = p.face(0, upper).unwrap();
+        let t = if upper { q(1, 1) } else { q(0, 1) };
+        prop_assert_eq!(f.eval(&s).unwrap(), p.eval(&[t, s[0].clone()]).unwrap());
+    }
+
+    #[test]
+    fn scaled_split_is_exact(p in bernstein_poly(vec![3, 2], 20), num in 1i64..7, axis in 0usize..2) {
+        let sp = ScaledBernstein::from_rational(&p);
+        let (l, r) = sp.split_half(axis).unwrap();
+        let (el, er) = p.split(axis, &q(1, 2)).unwrap();
+        prop_assert_eq!(l.to_rational(), el);
+        prop_assert_eq!(r.to_rational(), er);
+        let (l, r) = sp.split(axis, &BigInt::from(num), &BigInt::from(7)).unwrap();
+        let (el, er) = p.split(axis, &q(num, 7)).unwrap();
+        prop_assert_eq!(l.to_rational(), el);
+        prop_assert_eq!(r.to_rational(), er);
+    }
+
+    #[test]
+    fn fast_split_within_bound_and_signs_certified(p in bernstein_poly(vec![5, 3], 20), axis in 0usize..2, depth in 1usize..6) {
+        let mut f = FastBernstein::from_rational(&p).unwrap();
+        let mut e = p.clone();
+        for _ in 0..depth {
+            let (mut l, mut r) = (f.buffer_like(), f.buffer_like());
+            f.split_half_into(axis, &mut l, &mut r);
+            f = r;
+            e = e.split(axis, &q(1, 2)).unwrap().1;
+        }
+        let err = rational_from_f64(f.err(), "err").unwrap();
+        for (k, (c, x)) in f.coeffs().iter().zip(e.coeffs()).enumerate() {
+            let c = rational_from_f64(*c, "c").unwrap();
+            prop_assert!((&c - x).abs() <= err);
+            let s = f.coeff_sign(k);
+            prop_assert!(!s.contradicts(x.sign()), "certified {:?} vs exact {:?}", s, x.sign());
+        }
+    }
+
+    #[test]
+    fn fast_product_within_bound(a in bernstein_poly(vec![2, 3], 10), b in bernstein_poly(vec![3, 3], 10)) {
+        let fa = FastBernstein::from_rational(&a).unwrap();
+        let fb = FastBernstein::from_rational(&b).unwrap();
+        let fc = fa.product(&fb).unwrap();
+        let c = a.product(&b).unwrap();
+        let err = rational_from_f64(fc.err(), "err").unwrap();
+        for (x, y) in fc.coeffs().iter().zip(c.coeffs()) {
+            prop_assert!((rational_from_f64(*x, "x").unwrap() - y).abs() <= err);
+        }
+    }
+
+    #[test]
+    fn positivity_routes_agree_and_certify(p in bernstein_poly(vec![2, 2], 12), shift in 0i64..12) {
+        // Shift up so that roughly half the cases are positive.
+        let p = p.map(|c| c + q(shift, 2));
+        let limits = Limits { max_depth: 8, ..Limits::default() };
+        let exact = prove_positive_exact(&p, limits);
+        let fast = prove_positive_fast(&FastBernstein::from_rational(&p).unwrap(), limits);
+        let filtered = prove_positive_filtered(&p, limits);
+        check_verdict(&p, &exact)?;
+        check_verdict(&p, &filtered)?;
+        let class = |v: &PositivityVerdict| match v {
+            PositivityVerdict::Positive { .. } => Sign::Positive,
+            PositivityVerdict::NotPositive { .. } => Sign::Negative,
+            _ => Sign::Uncertain,
+        };
+        // Certified verdicts never contradict each other.
+        prop_assert!(!class(&fast).contradicts(class(&exact)) || class(&exact) == Sign::Uncertain);
+        prop_assert!(!class(&filtered).contradicts(class(&exact)) || class(&exact) == Sign::Uncertain);
+        if let PositivityVerdict::Positive { leaves } = &fast {
+            prop_assert!(verify_positive_certificate(&p, leaves).is_ok());
+        }
+        if let PositivityVerdict::NotPositive { witness, value: WitnessValue::AtMost(b) } = &fast {
+            let v = verify_witness(&p, witness, None);
+            prop_assert!(v.is_ok());
+            prop_assert!(v.unwrap() <= rational_from_f64(*b, "b").unwrap());
+        }
+    }
+
+    #[test]
+    fn knot_insertion_preserves(s in spline(4), x in (1i64..11).prop_map(|n| q(n, 11)), y in point(1)) {
+        let b = s.insert_knot(&x).unwrap();
+        prop_assert_eq!(b.eval(&y[0]).unwrap(), s.eval(&y[0]).unwrap());
+        let o = s.insert_knots(&[x.clone(), q(1, 5), x.clone()]).unwrap();
+        prop_assert_eq!(o.eval(&y[0]).unwrap(), s.eval(&y[0]).unwrap());
+        // Oslo equals repeated Boehm on every B-spline with non-empty support (a degree-0
+        // B-spline on a repeated knot is identically zero and its coefficient is arbitrary).
+        let mut bb = s.clone();
+        for k in [x.clone(), q(1, 5), x.clone()] {
+            bb = bb.insert_knot(&k).unwrap();
+        }
+        prop_assert_eq!(o.knots(), bb.knots());
+        let p = o.degree();
+        for j in 0..o.coeffs().len() {
+            if o.knots()[j] < o.knots()[j + p + 1] {
+                prop_assert_eq!(&o.coeffs()[j], &bb.coeffs()[j]);
+            }
+        }
+    }
+
+    #[test]
+    fn bezier_routes_agree(s in spline(4), y in (1i64..12).prop_map(|n| vec![q(n, 12)])) {
+        // Interior points of each piece: a degree-0 spline jumps at its breakpoints.
+        let a = s.bezier_pieces();
+        let b = s.bezier_pieces_by_insertion().unwrap();
+        prop_assert_eq!(&a, &b);
+        for (lo, hi, ctrl) in &a {
+            let x = lo + &y[0] * (hi - lo);
+            let p = Bernstein::new(vec![s.degree()], ctrl.clone()).unwrap();
+            prop_assert_eq!(p.eval(&y).unwrap(), s.eval(&x).unwrap());
+        }
+    }
+
+    #[test]
+    fn spline_derivative_matches_bezier_derivative(s in spline(4), y in (1i64..12).prop_map(|n| vec![q(n, 12)])) {
+        // Interior points only: at a breakpoint the derivative may jump.
+        let d = s.derivative();
+        for (lo, hi, ctrl) in s.bezier_pieces() {
+            let p = Bernstein::new(vec![s.degree()], ctrl).unwrap().derivative(0).unwrap();
+            let x = &lo + &y[0] * (&hi - &lo);
+            // Chain rule: d/dx = (1/(hi−lo)) d/dt.
+            let want = p.eval(&y).unwrap() / (&hi - &lo);
+            prop_assert_eq!(d.eval(&x).unwrap(), want);
+        }
+    }
+
+    #[test]
+    fn morken_product_is_exact(f in spline(3), g in spline(3), h in spline(2), y in point(1)) {
+        let prod = morken_product(&[&f, &g, &h]).unwrap();
+        let x = &y[0];
+        prop_assert_eq!(prod.eval(x).unwrap(), f.eval(x).unwrap() * g.eval(x).unwrap() * h.eval(x).unwrap());
+        // Route B: per interval, Bernstein products of the factors' Bézier pieces.
+        for (lo, hi, ctrl) in prod.bezier_pieces() {
+            let piece = |s: &Spline<Rational>| {
+                let mu = s.find_span(&lo).unwrap();
+                Bernstein::new(vec![s.degree()], s.bezier_on(mu, &lo, &hi)).unwrap()
+            };
+            let b = piece(&f).product(&piece(&g)).unwrap().product(&piece(&h)).unwrap();
+            prop_assert_eq!(b.coeffs(), &ctrl[..]);
+        }
+    }
+}
+
+fn check_verdict(p: &Bernstein<Rational>, v: &PositivityVerdict) -> Result<(), TestCaseError> {
+    match v {
+        PositivityVerdict::Positive { leaves } => {
+            prop_assert!(verify_positive_certificate(p, leaves).is_ok(), "certificate refused");
+        }
+        PositivityVerdict::NotPositive { witness, value } => {
+            let claimed = match value {
+                WitnessValue::Exact(r) => Some(r),
+                WitnessValue::AtMost(_) => None,
+            };
+            prop_assert!(verify_witness(p, witness, claimed).is_ok(), "witness refused");
+        }
+        PositivityVerdict::Undecided { .. } => {}
+        PositivityVerdict::Uncertain { .. } => prop_assert!(false, "exact routes are never uncertain"),
+    }
+    Ok(())
+}
+
+#[test]
+fn positive_and_negative_examples() {
+    // (t − ½)² + 1/1000 > 0 — needs subdivision; (t − ½)² touches zero at ½ — not positive.
+    let sq = Bernstein::from_power(vec![2], vec![q(1, 4), q(-1, 1), q(1, 1)]).unwrap();
+    let eps = Bernstein::constant(vec![2], q(1, 1000));
+    let pos = sq.add(&eps).unwrap();
+    match prove_positive_exact(&pos, Limits::default()) {
+        PositivityVerdict::Positive { leaves } => {
+            assert!(leaves.len() > 1);
+            assert_eq!(verify_positive_certificate(&pos, &leaves), Ok(leaves.len()));
+        }
+        other => panic!("expected positive, got {other:?}"),
+    }
+    match prove_positive_exact(&sq, Limits::default()) {
+        PositivityVerdict::NotPositive { witness, value } => {
+            assert_eq!(witness, vec![q(1, 2)]);
+            assert_eq!(value, WitnessValue::Exact(q(0, 1)));
+        }
+        other => panic!("expected a witness, got {other:?}"),
+    }
+    // A certificate with a missing leaf is refused.
+    if let PositivityVerdict::Positive { mut leaves } = prove_positive_exact(&pos, Limits::default()) {
+        leaves.pop();
+        assert!(verify_positive_certificate(&pos, &leaves).is_err());
+    }
+}

@@ -76,12 +76,36 @@ impl Tally {
     }
 }
 
+/// A small deterministic generator (64-bit LCG, Knuth's MMIX constants) so proofs enumerate the
+/// same cases on every machine.
+pub(crate) struct Lcg(u64);
+
+impl Lcg {
+    pub(crate) fn new(seed: u64) -> Lcg {
+        Lcg(seed)
+    }
+    pub(crate) fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 >> 11
+    }
+    /// An integer in `[-m, m]`.
+    pub(crate) fn int(&mut self, m: i64) -> i64 {
+        (self.next() % (2 * m as u64 + 1)) as i64 - m
+    }
+    /// `n/d` with `|n| ≤ max_num`, `1 ≤ d ≤ max_den`.
+    pub(crate) fn rational(&mut self, max_num: i64, max_den: i64) -> crate::num::Rational {
+        let n = self.int(max_num);
+        let d = 1 + (self.next() % max_den as u64) as i64;
+        crate::num::Rational::new(n.into(), d.into())
+    }
+}
+
 /// Every proof that exists so far, in order.
 pub fn all() -> Vec<(&'static str, fn() -> ProofOutcome)> {
     vec![
         ("kernel.f64-rational-round-trip", kernel::f64_round_trip as fn() -> ProofOutcome),
         ("kernel.morken-vs-bernstein", kernel::morken_vs_bernstein),
         ("kernel.subdivision-signs", kernel::subdivision_signs),
-        ("kernel.bezier-extraction-routes", kernel::bezier_extraction_routes),
+        ("kernel.tensor-bezier-cells", kernel::bezier_extraction_routes),
     ]
 }

@@ -14,6 +14,7 @@
 
 pub mod certificate;
 pub mod fast;
+pub mod io;
 pub mod poly;
 pub mod positivity;
 pub mod scaled;

@@ -1,1 +1,179 @@
-fn main(){}
+//! The geocert command-line tool: parses arguments, calls the library, prints.
+
+use clap::{Parser, Subcommand, ValueEnum};
+use geocert::bernstein::io::{certificate_for, poly_from_json, verify_certificate_file, CertificateFile};
+use geocert::bernstein::positivity::WitnessValue;
+use geocert::bernstein::{prove_positive_exact, prove_positive_fast, prove_positive_filtered, FastBernstein, Limits, PositivityVerdict};
+use geocert::num::rational_to_string;
+use geocert::report::{self, campaign, RunMeta};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "geocert", version, about = "Exact-arithmetic verification and reference engine for geometric algorithms")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run every exhaustive proof and the exact-vs-fast campaign; write reports/.
+    Prove {
+        /// Where to write the reports.
+        #[arg(long, default_value = "reports")]
+        out: PathBuf,
+        /// Print a JSON summary on stdout.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Prove or refute p > 0 on the unit box for a Bernstein polynomial given as JSON.
+    Positivity {
+        /// `{"degrees": [..], "coeffs": [..]}`; coefficients are JSON numbers (exact f64) or "p/q" strings.
+        file: PathBuf,
+        #[arg(long, value_enum, default_value_t = PathKind::Filtered)]
+        path: PathKind,
+        #[arg(long, default_value_t = 12)]
+        max_depth: u32,
+        /// Write the certificate here (only for decided verdicts).
+        #[arg(long)]
+        cert: Option<PathBuf>,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Re-check a positivity certificate independently.
+    VerifyCert { file: PathBuf },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum PathKind {
+    Exact,
+    Fast,
+    Filtered,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<ExitCode, String> {
+    match cli.command {
+        Command::Prove { out, json } => prove(out, json),
+        Command::Positivity { file, path, max_depth, cert, json } => positivity(file, path, max_depth, cert, json),
+        Command::VerifyCert { file } => {
+            let text = std::fs::read_to_string(&file).map_err(|e| format!("{}: {e}", file.display()))?;
+            let c: CertificateFile = serde_json::from_str(&text).map_err(|e| format!("{}: not a certificate: {e}", file.display()))?;
+            match verify_certificate_file(&c) {
+                Ok(msg) => {
+                    println!("valid: {msg}");
+                    Ok(ExitCode::SUCCESS)
+                }
+                Err(e) => {
+                    println!("invalid: {e}");
+                    Ok(ExitCode::from(1))
+                }
+            }
+        }
+    }
+}
+
+fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
+    let meta = RunMeta::collect();
+    let proofs = geocert::proofs::all();
+    let bar = ProgressBar::new(proofs.len() as u64 + 2);
+    bar.set_style(ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").map_err(|e| e.to_string())?);
+    let mut outcomes = Vec::new();
+    for (name, proof) in proofs {
+        bar.set_message(name);
+        outcomes.push(proof());
+        bar.inc(1);
+    }
+    bar.set_message("exact-vs-fast campaign");
+    let camp = campaign::kernel_campaign(2026, 300, &[3, 3, 3], 8);
+    bar.inc(1);
+    bar.set_message("subdivision timing");
+    let timing = campaign::subdivision_timing(9, 10, 5);
+    bar.inc(1);
+    bar.finish_and_clear();
+    let written = report::write_kernel_report(&out, &meta, &outcomes, &camp, &timing).map_err(|e| format!("writing {}: {e}", out.display()))?;
+    let ok = outcomes.iter().all(|o| o.ok()) && camp.contradictions == 0 && camp.certificates_refused == 0 && timing.leaf_signs_agree;
+    if json {
+        let v = serde_json::json!({"ok": ok, "proofs": outcomes, "campaign": camp, "timing": timing,
+            "reports": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>()});
+        println!("{}", serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?);
+    } else {
+        for o in &outcomes {
+            println!("{}", o.summary());
+        }
+        println!(
+            "campaign: {} polynomials, {} contradictions, {} certificates refused, fast uncertain {}",
+            camp.cases, camp.contradictions, camp.certificates_refused, camp.fast_uncertain
+        );
+        println!(
+            "subdivision tree (degree {}, depth {}): BigRational {:.2} ms, integers {:.2} ms ({:.0}×), f64 {:.3} ms",
+            timing.degree, timing.depth, timing.rational_ms, timing.scaled_ms, timing.rational_ms / timing.scaled_ms, timing.fast_ms
+        );
+        for p in &written {
+            println!("wrote {}", p.display());
+        }
+    }
+    Ok(if ok { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}
+
+fn positivity(file: PathBuf, path: PathKind, max_depth: u32, cert: Option<PathBuf>, json: bool) -> Result<ExitCode, String> {
+    let text = std::fs::read_to_string(&file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let value: serde_json::Value = serde_json::from_str(&text).map_err(|e| format!("{}: not valid JSON: {e}", file.display()))?;
+    let p = poly_from_json(&value).map_err(|e| format!("{}: {e}", file.display()))?;
+    let limits = Limits { max_depth, ..Limits::default() };
+    let verdict = match path {
+        PathKind::Exact => prove_positive_exact(&p, limits),
+        PathKind::Fast => match FastBernstein::from_rational(&p) {
+            Ok(f) => prove_positive_fast(&f, limits),
+            Err(e) => return Err(format!("{}: fast path: {e}", file.display())),
+        },
+        PathKind::Filtered => prove_positive_filtered(&p, limits),
+    };
+    let (name, detail) = match &verdict {
+        PositivityVerdict::Positive { leaves } => ("positive", serde_json::json!({"leaves": leaves.len()})),
+        PositivityVerdict::NotPositive { witness, value } => (
+            "not_positive",
+            serde_json::json!({
+                "witness": witness.iter().map(rational_to_string).collect::<Vec<_>>(),
+                "value": match value { WitnessValue::Exact(r) => rational_to_string(r), WitnessValue::AtMost(b) => format!("<= {b:e}") },
+            }),
+        ),
+        PositivityVerdict::Undecided { limit, at, lower_bound } => {
+            ("undecided", serde_json::json!({"limit": limit, "box": at, "lower_bound": lower_bound}))
+        }
+        PositivityVerdict::Uncertain { boxes, .. } => ("uncertain", serde_json::json!({"uncertain_boxes": boxes.len()})),
+    };
+    if let Some(cp) = cert {
+        match certificate_for(&p, &verdict) {
+            Some(c) => {
+                let s = serde_json::to_string_pretty(&c).map_err(|e| e.to_string())?;
+                std::fs::write(&cp, s).map_err(|e| format!("{}: {e}", cp.display()))?;
+            }
+            None => eprintln!("note: a {name} verdict has no certificate; nothing written to {}", cp.display()),
+        }
+    }
+    if json {
+        let mut v = serde_json::json!({"verdict": name});
+        if let (Some(o), Some(d)) = (v.as_object_mut(), detail.as_object()) {
+            for (k, x) in d {
+                o.insert(k.clone(), x.clone());
+            }
+        }
+        println!("{v}");
+    } else {
+        println!("{name}: {detail}");
+    }
+    Ok(ExitCode::SUCCESS)
+}

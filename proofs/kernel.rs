@@ -3,8 +3,8 @@
 use super::{Lcg, ProofOutcome, Tally};
 use crate::bernstein::positivity::{verify_witness, WitnessValue};
 use crate::bernstein::{
-    prove_positive_exact, prove_positive_fast, prove_positive_filtered, verify_positive_certificate, Bernstein,
-    FastBernstein, Limits, PositivityVerdict,
+    prove_positive_exact, prove_positive_fast, prove_positive_filtered,
+    verify_positive_certificate, Bernstein, FastBernstein, Limits, PositivityVerdict,
 };
 use crate::bspline::{morken_product, Spline, TensorSpline};
 use crate::num::{rational_from_f64, rational_to_f64, Rational, Sign};
@@ -23,20 +23,33 @@ pub fn f64_round_trip() -> ProofOutcome {
         "kernel.f64-rational-round-trip",
         "2047 exponent fields × 8 mantissa patterns × 2 signs: round trip, and ties at each successor midpoint",
     );
-    let mantissas = [0u64, 1, 2, 3, 1 << 51, (1 << 52) - 1, (1 << 52) - 2, 0x5555_5555_5555];
+    let mantissas = [
+        0u64,
+        1,
+        2,
+        3,
+        1 << 51,
+        (1 << 52) - 1,
+        (1 << 52) - 2,
+        0x5555_5555_5555,
+    ];
     for e in 0u64..2047 {
         for &m in &mantissas {
             for sign in [0u64, 1] {
                 let x = f64::from_bits(sign << 63 | e << 52 | m);
                 let r = rational_from_f64(x, "x").expect("finite");
                 let back = rational_to_f64(&r);
-                t.check(back == x || (x == 0.0 && back == 0.0), || format!("{x:e} came back as {back:e}"));
+                t.check(back == x || (x == 0.0 && back == 0.0), || {
+                    format!("{x:e} came back as {back:e}")
+                });
                 if x > 0.0 && x < f64::MAX {
                     let y = x.next_up();
                     let mid = (&r + rational_from_f64(y, "y").expect("finite")) / q(2, 1);
                     let even = if x.to_bits() & 1 == 0 { x } else { y };
                     let got = rational_to_f64(&mid);
-                    t.check(got == even, || format!("midpoint of {x:e} and its successor rounded to {got:e}"));
+                    t.check(got == even, || {
+                        format!("midpoint of {x:e} and its successor rounded to {got:e}")
+                    });
                 }
             }
         }
@@ -47,9 +60,9 @@ pub fn f64_round_trip() -> ProofOutcome {
 /// A clamped spline on [0,1] with interior breakpoints 1/3 and 1/2 of the given multiplicities.
 fn clamped(p: usize, m13: usize, m12: usize, rng: &mut Lcg) -> Spline<Rational> {
     let mut knots = vec![q(0, 1); p + 1];
-    knots.extend(std::iter::repeat(q(1, 3)).take(m13));
-    knots.extend(std::iter::repeat(q(1, 2)).take(m12));
-    knots.extend(std::iter::repeat(q(1, 1)).take(p + 1));
+    knots.extend(std::iter::repeat_n(q(1, 3), m13));
+    knots.extend(std::iter::repeat_n(q(1, 2), m12));
+    knots.extend(std::iter::repeat_n(q(1, 1), p + 1));
     let n = knots.len() - p - 1;
     let coeffs = (0..n).map(|_| rng.rational(9, 5)).collect();
     Spline::new(p, knots, coeffs).expect("valid by construction")
@@ -98,7 +111,11 @@ pub fn morken_vs_bernstein() -> ProofOutcome {
                         for b2 in 0..=d2 {
                             let f = clamped(d1, a1, b1, &mut rng);
                             let g = clamped(d2, a2, b2, &mut rng);
-                            compare_routes(&mut t, &[&f, &g], &format!("deg ({d1},{d2}) mult ({a1},{b1}),({a2},{b2})"));
+                            compare_routes(
+                                &mut t,
+                                &[&f, &g],
+                                &format!("deg ({d1},{d2}) mult ({a1},{b1}),({a2},{b2})"),
+                            );
                         }
                     }
                 }
@@ -110,19 +127,32 @@ pub fn morken_vs_bernstein() -> ProofOutcome {
         for m in 0..8usize {
             let ms: Vec<usize> = (0..3).map(|i| (m >> i & 1) * ds[i]).collect();
             // Eight multiplicity patterns per degree triple (0 or full degree per factor).
-            let fs: Vec<Spline<Rational>> = (0..3).map(|i| clamped(ds[i], 0, ms[i], &mut rng)).collect();
-            compare_routes(&mut t, &[&fs[0], &fs[1], &fs[2]], &format!("deg {ds:?} mult {ms:?}"));
+            let fs: Vec<Spline<Rational>> =
+                (0..3).map(|i| clamped(ds[i], 0, ms[i], &mut rng)).collect();
+            compare_routes(
+                &mut t,
+                &[&fs[0], &fs[1], &fs[2]],
+                &format!("deg {ds:?} mult {ms:?}"),
+            );
         }
     }
     for order in 2..=5usize {
         for cells in 1..=3usize {
             // A uniform order-l spline with l + cells − 1 coefficients; its derivative has order l−1.
             let l = order;
-            let coeffs = |rng: &mut Lcg| (0..l + cells - 1).map(|_| rng.rational(9, 4)).collect::<Vec<_>>();
+            let coeffs = |rng: &mut Lcg| {
+                (0..l + cells - 1)
+                    .map(|_| rng.rational(9, 4))
+                    .collect::<Vec<_>>()
+            };
             let x = Spline::uniform(l - 1, coeffs(&mut rng)).expect("valid");
             let y = Spline::uniform(l - 1, coeffs(&mut rng)).expect("valid");
             let dx = x.derivative();
-            compare_routes(&mut t, &[&dx, &x, &y], &format!("uniform order {l}, {cells} cells"));
+            compare_routes(
+                &mut t,
+                &[&dx, &x, &y],
+                &format!("uniform order {l}, {cells} cells"),
+            );
         }
     }
     t.finish()
@@ -142,7 +172,10 @@ fn check_positivity(t: &mut Tally, p: &Bernstein<Rational>, limits: Limits) {
     let exact = prove_positive_exact(p, limits);
     let cert_ok = match &exact {
         PositivityVerdict::Positive { leaves } => verify_positive_certificate(p, leaves).is_ok(),
-        PositivityVerdict::NotPositive { witness, value: WitnessValue::Exact(v) } => verify_witness(p, witness, Some(v)).is_ok(),
+        PositivityVerdict::NotPositive {
+            witness,
+            value: WitnessValue::Exact(v),
+        } => verify_witness(p, witness, Some(v)).is_ok(),
         PositivityVerdict::Undecided { .. } => true,
         _ => false,
     };
@@ -154,7 +187,13 @@ fn check_positivity(t: &mut Tally, p: &Bernstein<Rational>, limits: Limits) {
     let filtered = prove_positive_filtered(p, limits);
     let filtered_ok = classify(&filtered) == classify(&exact);
     t.check(cert_ok && fast_ok && filtered_ok, || {
-        format!("{:?}: exact {:?}, fast {:?}, filtered {:?}", p.coeffs(), classify(&exact), fast.as_ref().map(classify), classify(&filtered))
+        format!(
+            "{:?}: exact {:?}, fast {:?}, filtered {:?}",
+            p.coeffs(),
+            classify(&exact),
+            fast.as_ref().map(classify),
+            classify(&filtered)
+        )
     });
 }
 
@@ -165,7 +204,10 @@ pub fn subdivision_signs() -> ProofOutcome {
         "kernel.subdivision-signs",
         "2401 cubics in [−3,3]⁴, 625 bilinear in [−2,2]⁴, 729 (2,1)-patches in [−1,1]⁶, 256 cubics over {−3·2⁻⁵³,0,3·2⁻⁵³,1}⁴: exact certificate re-verifies, fast never contradicts, filtered = exact",
     );
-    let limits = Limits { max_depth: 10, ..Limits::default() };
+    let limits = Limits {
+        max_depth: 10,
+        ..Limits::default()
+    };
     let grid = |n: usize, lo: i64, hi: i64| -> Vec<Vec<Rational>> {
         let base = (hi - lo + 1) as usize;
         (0..base.pow(n as u32))
@@ -184,10 +226,18 @@ pub fn subdivision_signs() -> ProofOutcome {
         check_positivity(&mut t, &Bernstein::new(vec![3], c).expect("count"), limits);
     }
     for c in grid(4, -2, 2) {
-        check_positivity(&mut t, &Bernstein::new(vec![1, 1], c).expect("count"), limits);
+        check_positivity(
+            &mut t,
+            &Bernstein::new(vec![1, 1], c).expect("count"),
+            limits,
+        );
     }
     for c in grid(6, -1, 1) {
-        check_positivity(&mut t, &Bernstein::new(vec![2, 1], c).expect("count"), limits);
+        check_positivity(
+            &mut t,
+            &Bernstein::new(vec![2, 1], c).expect("count"),
+            limits,
+        );
     }
     let tiny = Rational::new(BigInt::from(3), BigInt::one() << 53usize);
     let vals = [-tiny.clone(), q(0, 1), tiny, q(1, 1)];
@@ -211,16 +261,27 @@ pub fn bezier_extraction_routes() -> ProofOutcome {
         for cells in 0..8usize {
             let c = [1 + (cells & 1), 1 + (cells >> 1 & 1), 1 + (cells >> 2 & 1)];
             let degrees: Vec<usize> = l.iter().map(|o| o - 1).collect();
-            let knots: Vec<Vec<Rational>> = (0..3).map(|a| (0..(l[a] + c[a] - 1) + l[a]).map(|i| q(i as i64, 1)).collect()).collect();
+            let knots: Vec<Vec<Rational>> = (0..3)
+                .map(|a| {
+                    (0..(l[a] + c[a] - 1) + l[a])
+                        .map(|i| q(i as i64, 1))
+                        .collect()
+                })
+                .collect();
             let n: usize = (0..3).map(|a| l[a] + c[a] - 1).product();
             let coeffs = (0..n).map(|_| rng.rational(20, 7)).collect();
             let s = TensorSpline::new(degrees, knots, coeffs).expect("valid");
             let mut ok = true;
             for cell in s.bezier_cells() {
                 for k in 0..27usize {
-                    let local: Vec<Rational> = (0..3).map(|a| q((k / 3usize.pow(a as u32) % 3) as i64, 2)).collect();
-                    let global: Vec<Rational> =
-                        local.iter().zip(&cell.bounds).map(|(u, (lo, hi))| lo + u * (hi - lo)).collect();
+                    let local: Vec<Rational> = (0..3)
+                        .map(|a| q((k / 3usize.pow(a as u32) % 3) as i64, 2))
+                        .collect();
+                    let global: Vec<Rational> = local
+                        .iter()
+                        .zip(&cell.bounds)
+                        .map(|(u, (lo, hi))| lo + u * (hi - lo))
+                        .collect();
                     // At a cell's upper face de Boor uses the next span; both sides agree (C⁰ at least
                     // for order ≥ 2), so equality must hold everywhere.
                     ok &= cell.poly.eval(&local).expect("dim") == s.eval(&global).expect("inside");

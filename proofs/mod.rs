@@ -37,7 +37,11 @@ impl ProofOutcome {
             self.cases,
             self.enumerated,
             self.seconds,
-            if self.failures.is_empty() { String::new() } else { format!("; first failure: {}", self.failures[0]) }
+            if self.failures.is_empty() {
+                String::new()
+            } else {
+                format!("; first failure: {}", self.failures[0])
+            }
         )
     }
 }
@@ -54,7 +58,14 @@ pub(crate) struct Tally {
 
 impl Tally {
     pub(crate) fn new(name: &str, enumerated: &str) -> Tally {
-        Tally { name: name.into(), enumerated: enumerated.into(), cases: 0, passed: 0, failures: vec![], start: std::time::Instant::now() }
+        Tally {
+            name: name.into(),
+            enumerated: enumerated.into(),
+            cases: 0,
+            passed: 0,
+            failures: vec![],
+            start: std::time::Instant::now(),
+        }
     }
     pub(crate) fn check(&mut self, ok: bool, describe: impl FnOnce() -> String) {
         self.cases += 1;
@@ -85,7 +96,10 @@ impl Lcg {
         Lcg(seed)
     }
     pub(crate) fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         self.0 >> 11
     }
     /// An integer in `[-m, m]`.
@@ -100,12 +114,21 @@ impl Lcg {
     }
 }
 
+/// A proof: runs its enumeration and reports.
+pub type Proof = fn() -> ProofOutcome;
+
 /// Every proof that exists so far, in order.
-pub fn all() -> Vec<(&'static str, fn() -> ProofOutcome)> {
+pub fn all() -> Vec<(&'static str, Proof)> {
     vec![
-        ("kernel.f64-rational-round-trip", kernel::f64_round_trip as fn() -> ProofOutcome),
+        (
+            "kernel.f64-rational-round-trip",
+            kernel::f64_round_trip as fn() -> ProofOutcome,
+        ),
         ("kernel.morken-vs-bernstein", kernel::morken_vs_bernstein),
         ("kernel.subdivision-signs", kernel::subdivision_signs),
-        ("kernel.tensor-bezier-cells", kernel::bezier_extraction_routes),
+        (
+            "kernel.tensor-bezier-cells",
+            kernel::bezier_extraction_routes,
+        ),
     ]
 }

@@ -1,16 +1,24 @@
 //! Proptest strategies for other crates' property tests (feature `proptest`).
 //!
-//! ```
-//! use geocert::strategies::{bernstein_poly, small_rational};
-//! use proptest::prelude::*;
+//! In a test suite use them inside `proptest! { … }`; here the runner is driven directly:
 //!
-//! proptest! {
-//!     #[test]
-//!     fn split_halves_agree(p in bernstein_poly(vec![3, 2], 20), t in small_rational(1, 7)) {
-//!         // … compare your own Bernstein code against geocert's here …
-//!         let _ = (p, t);
-//!     }
-//! }
+//! ```
+//! use geocert::strategies::bernstein_poly;
+//! use geocert::num::Rational;
+//! use proptest::test_runner::TestRunner;
+//!
+//! let half = Rational::new(1.into(), 2.into());
+//! TestRunner::default()
+//!     .run(&bernstein_poly(vec![3, 2], 20), |p| {
+//!         // Compare your own subdivision against geocert's: the halves meet at t = ½.
+//!         let (left, right) = p.split(0, &half).unwrap();
+//!         let y = Rational::new(1.into(), 3.into());
+//!         let one = Rational::new(1.into(), 1.into());
+//!         let zero = Rational::new(0.into(), 1.into());
+//!         assert_eq!(left.eval(&[one, y.clone()]).unwrap(), right.eval(&[zero, y]).unwrap());
+//!         Ok(())
+//!     })
+//!     .unwrap();
 //! ```
 
 use crate::bernstein::Bernstein;
@@ -29,7 +37,9 @@ pub type SplineStrategy = BoxedStrategy<Spline<Rational>>;
 
 /// `n/d` with `|n| ≤ max_num` and `1 ≤ d ≤ max_den`.
 pub fn small_rational(max_num: i64, max_den: i64) -> RationalStrategy {
-    (-max_num..=max_num, 1..=max_den.max(1)).prop_map(|(n, d)| Rational::new(BigInt::from(n), BigInt::from(d))).boxed()
+    (-max_num..=max_num, 1..=max_den.max(1))
+        .prop_map(|(n, d)| Rational::new(BigInt::from(n), BigInt::from(d)))
+        .boxed()
 }
 
 /// A value within `2⁻⁵⁰ … 2⁻⁴⁰` of zero, either sign, or exactly zero: the near-degenerate
@@ -38,8 +48,10 @@ pub fn near_zero_rational() -> RationalStrategy {
     prop_oneof![
         Just(Rational::from_integer(BigInt::from(0))),
         (40u32..=50, any::<bool>(), 1i64..8).prop_map(|(e, neg, k)| {
-            let v = Rational::new(BigInt::from(if neg { -k } else { k }), BigInt::from(1) << e as usize);
-            v
+            Rational::new(
+                BigInt::from(if neg { -k } else { k }),
+                BigInt::from(1) << e as usize,
+            )
         }),
     ]
     .boxed()
@@ -58,7 +70,10 @@ pub fn bernstein_poly(degrees: Vec<usize>, max_num: i64) -> BernsteinStrategy {
 /// A univariate spline of degree `≤ max_degree` on `[0, 1]`: clamped ends, up to 3 interior
 /// breakpoints from `{1/4, 1/3, 1/2, 3/4}` with multiplicities up to the degree.
 pub fn spline(max_degree: usize) -> SplineStrategy {
-    (0..=max_degree, proptest::collection::vec((0usize..4, 1usize..=3), 0..=3))
+    (
+        0..=max_degree,
+        proptest::collection::vec((0usize..4, 1usize..=3), 0..=3),
+    )
         .prop_flat_map(|(p, interior)| {
             let cands = [(1, 4), (1, 3), (1, 2), (3, 4)];
             let mut knots: Vec<Rational> = vec![Rational::from_integer(0.into()); p + 1];

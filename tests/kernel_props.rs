@@ -3,14 +3,15 @@
 
 use geocert::bernstein::positivity::{verify_witness, WitnessValue};
 use geocert::bernstein::{
-    prove_positive_exact, prove_positive_fast, prove_positive_filtered, verify_positive_certificate, Bernstein,
-    FastBernstein, Limits, PositivityVerdict, ScaledBernstein,
+    prove_positive_exact, prove_positive_fast, prove_positive_filtered,
+    verify_positive_certificate, Bernstein, FastBernstein, Limits, PositivityVerdict,
+    ScaledBernstein,
 };
 use geocert::bspline::{morken_product, Spline};
 use geocert::num::{rational_from_f64, rational_to_f64, Field, Interval, Rational, Sign};
 use geocert::strategies::{bernstein_poly, spline};
-use num_traits::Signed;
 use num_bigint::BigInt;
+use num_traits::Signed;
 use proptest::prelude::*;
 
 fn q(n: i64, d: i64) -> Rational {
@@ -55,11 +56,11 @@ proptest! {
     fn intervals_enclose(a in any::<i32>(), b in 1i32..i32::MAX, c in any::<i32>(), d in 1i32..i32::MAX) {
         let (x, y) = (q(a as i64, b as i64), q(c as i64, d as i64));
         let (ix, iy) = (Interval::from_rational(&x), Interval::from_rational(&y));
-        prop_assert!(ix.add(iy).contains(&(&x + &y)));
-        prop_assert!(ix.sub(iy).contains(&(&x - &y)));
-        prop_assert!(ix.mul(iy).contains(&(&x * &y)));
+        prop_assert!((ix + iy).contains(&(&x + &y)));
+        prop_assert!((ix - iy).contains(&(&x - &y)));
+        prop_assert!((ix * iy).contains(&(&x * &y)));
         if y != q(0, 1) {
-            prop_assert!(ix.div(iy).contains(&(&x / &y)));
+            prop_assert!((ix / iy).contains(&(&x / &y)));
         }
     }
 
@@ -250,17 +251,25 @@ proptest! {
 fn check_verdict(p: &Bernstein<Rational>, v: &PositivityVerdict) -> Result<(), TestCaseError> {
     match v {
         PositivityVerdict::Positive { leaves } => {
-            prop_assert!(verify_positive_certificate(p, leaves).is_ok(), "certificate refused");
+            prop_assert!(
+                verify_positive_certificate(p, leaves).is_ok(),
+                "certificate refused"
+            );
         }
         PositivityVerdict::NotPositive { witness, value } => {
             let claimed = match value {
                 WitnessValue::Exact(r) => Some(r),
                 WitnessValue::AtMost(_) => None,
             };
-            prop_assert!(verify_witness(p, witness, claimed).is_ok(), "witness refused");
+            prop_assert!(
+                verify_witness(p, witness, claimed).is_ok(),
+                "witness refused"
+            );
         }
         PositivityVerdict::Undecided { .. } => {}
-        PositivityVerdict::Uncertain { .. } => prop_assert!(false, "exact routes are never uncertain"),
+        PositivityVerdict::Uncertain { .. } => {
+            prop_assert!(false, "exact routes are never uncertain")
+        }
     }
     Ok(())
 }
@@ -286,7 +295,9 @@ fn positive_and_negative_examples() {
         other => panic!("expected a witness, got {other:?}"),
     }
     // A certificate with a missing leaf is refused.
-    if let PositivityVerdict::Positive { mut leaves } = prove_positive_exact(&pos, Limits::default()) {
+    if let PositivityVerdict::Positive { mut leaves } =
+        prove_positive_exact(&pos, Limits::default())
+    {
         leaves.pop();
         assert!(verify_positive_certificate(&pos, &leaves).is_err());
     }

@@ -26,7 +26,10 @@ pub fn box_sign<T: Field>(p: &Bernstein<T>) -> BoxSign<T> {
     for corner in 0..corners {
         let v = p.vertex_coeff(corner);
         if matches!(v.sign(), Sign::Negative | Sign::Zero) {
-            return BoxSign::NonPositiveVertex { corner, value: v.clone() };
+            return BoxSign::NonPositiveVertex {
+                corner,
+                value: v.clone(),
+            };
         }
     }
     if p.coeffs().iter().all(|c| c.sign() == Sign::Positive) {

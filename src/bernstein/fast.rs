@@ -18,7 +18,7 @@ use crate::num::{gamma, Field, Rational, Sign, UNIT_ROUNDOFF};
 pub const MAX_FAST_DEGREE: usize = 63;
 
 /// Smallest positive subnormal.
-const ETA: f64 = 4.9406564584124654e-324;
+const ETA: f64 = 5e-324;
 
 /// An `f64` tensor Bernstein polynomial with a certified error bound.
 #[derive(Clone, Debug, PartialEq)]
@@ -35,21 +35,35 @@ impl FastBernstein {
     }
 
     /// Coefficients known to within `err` of the exact ones.
-    pub fn with_error(degrees: Vec<usize>, coeffs: Vec<f64>, err: f64) -> Result<Self, BernsteinError> {
+    pub fn with_error(
+        degrees: Vec<usize>,
+        coeffs: Vec<f64>,
+        err: f64,
+    ) -> Result<Self, BernsteinError> {
         let expected = coefficient_count(&degrees);
         if coeffs.len() != expected {
-            return Err(BernsteinError::CoefficientCount { expected, found: coeffs.len() });
+            return Err(BernsteinError::CoefficientCount {
+                expected,
+                found: coeffs.len(),
+            });
         }
         if let Some(&d) = degrees.iter().find(|&&d| d > MAX_FAST_DEGREE) {
-            return Err(BernsteinError::DegreeTooHigh { degree: d, limit: MAX_FAST_DEGREE });
+            return Err(BernsteinError::DegreeTooHigh {
+                degree: d,
+                limit: MAX_FAST_DEGREE,
+            });
         }
         if let Some(index) = coeffs.iter().position(|c| !c.is_finite()) {
             return Err(BernsteinError::NonFinite { index });
         }
-        if !(err >= 0.0) {
+        if err.is_nan() || err < 0.0 {
             return Err(BernsteinError::NonFinite { index: usize::MAX });
         }
-        Ok(FastBernstein { degrees, coeffs, err })
+        Ok(FastBernstein {
+            degrees,
+            coeffs,
+            err,
+        })
     }
 
     /// Rounds an exact polynomial to nearest; the bound covers the rounding.
@@ -57,9 +71,15 @@ impl FastBernstein {
         let coeffs: Vec<f64> = p.coeffs().iter().map(|c| c.approx()).collect();
         // Round-to-nearest errs by at most u·|c| (normal range) or half a subnormal step.
         let m = coeffs.iter().fold(0.0f64, |m, c| m.max(c.abs()));
-        let err = if m.is_finite() { (2.0 * UNIT_ROUNDOFF * m + ETA).next_up() } else { f64::INFINITY };
+        let err = if m.is_finite() {
+            (2.0 * UNIT_ROUNDOFF * m + ETA).next_up()
+        } else {
+            f64::INFINITY
+        };
         if !m.is_finite() {
-            return Err(BernsteinError::NonFinite { index: coeffs.iter().position(|c| !c.is_finite()).unwrap_or(0) });
+            return Err(BernsteinError::NonFinite {
+                index: coeffs.iter().position(|c| !c.is_finite()).unwrap_or(0),
+            });
         }
         Self::with_error(p.degrees().to_vec(), coeffs, err)
     }
@@ -99,17 +119,31 @@ impl FastBernstein {
     /// Flat index of the vertex coefficient at `corner` (bit a set: `t_a = 1`).
     pub fn vertex_index(&self, corner: usize) -> usize {
         let s = strides(&self.degrees);
-        self.degrees.iter().enumerate().filter(|(a, _)| corner >> a & 1 == 1).map(|(a, &d)| d * s[a]).sum()
+        self.degrees
+            .iter()
+            .enumerate()
+            .filter(|(a, _)| corner >> a & 1 == 1)
+            .map(|(a, &d)| d * s[a])
+            .sum()
     }
 
     /// An empty buffer of the same shape, for [`split_half_into`](Self::split_half_into).
     pub fn buffer_like(&self) -> FastBernstein {
-        FastBernstein { degrees: self.degrees.clone(), coeffs: vec![0.0; self.coeffs.len()], err: 0.0 }
+        FastBernstein {
+            degrees: self.degrees.clone(),
+            coeffs: vec![0.0; self.coeffs.len()],
+            err: 0.0,
+        }
     }
 
     /// de Casteljau at ½ along `axis`, writing the halves into `left` and `right`
     /// (buffers of the same shape, e.g. from [`buffer_like`](Self::buffer_like)). Allocation-free.
-    pub fn split_half_into(&self, axis: usize, left: &mut FastBernstein, right: &mut FastBernstein) {
+    pub fn split_half_into(
+        &self,
+        axis: usize,
+        left: &mut FastBernstein,
+        right: &mut FastBernstein,
+    ) {
         let d = self.degrees[axis];
         let len = d + 1;
         let inner: usize = self.degrees[..axis].iter().map(|d| d + 1).product();
@@ -123,10 +157,10 @@ impl FastBernstein {
         for o in 0..outer {
             for i in 0..inner {
                 let base = i + inner * len * o;
-                for k in 0..len {
+                for (k, w) in work.iter_mut().enumerate().take(len) {
                     let v = self.coeffs[base + inner * k];
                     max_abs = max_abs.max(v.abs());
-                    work[k] = v;
+                    *w = v;
                 }
                 left.coeffs[base] = work[0];
                 right.coeffs[base + inner * d] = work[d];
@@ -140,7 +174,9 @@ impl FastBernstein {
             }
         }
         let dd = d as f64;
-        let err = (self.err + 2.0 * dd * UNIT_ROUNDOFF * (max_abs + self.err) + 2.0 * dd * ETA).next_up().next_up();
+        let err = (self.err + 2.0 * dd * UNIT_ROUNDOFF * (max_abs + self.err) + 2.0 * dd * ETA)
+            .next_up()
+            .next_up();
         left.err = err;
         right.err = err;
     }
@@ -148,7 +184,11 @@ impl FastBernstein {
     /// The exact polynomial these coefficients stand for lies within `err`; this returns
     /// the coefficients as rationals (exact values of the stored `f64`s).
     pub fn to_rational_coeffs(&self) -> Bernstein<Rational> {
-        let coeffs = self.coeffs.iter().map(|&c| crate::num::rational_from_f64(c, "coefficient").expect("finite by invariant")).collect();
+        let coeffs = self
+            .coeffs
+            .iter()
+            .map(|&c| crate::num::rational_from_f64(c, "coefficient").expect("finite by invariant"))
+            .collect();
         Bernstein::new(self.degrees.clone(), coeffs).expect("counts match")
     }
 
@@ -158,15 +198,28 @@ impl FastBernstein {
     /// largest number of terms summed into one coefficient (weights per axis sum to 1).
     pub fn product(&self, other: &FastBernstein) -> Result<FastBernstein, BernsteinError> {
         if self.degrees.len() != other.degrees.len() {
-            return Err(BernsteinError::DimensionMismatch { expected: self.degrees.len(), found: other.degrees.len() });
+            return Err(BernsteinError::DimensionMismatch {
+                expected: self.degrees.len(),
+                found: other.degrees.len(),
+            });
         }
         let n = self.degrees.len();
-        let degrees: Vec<usize> = self.degrees.iter().zip(&other.degrees).map(|(a, b)| a + b).collect();
+        let degrees: Vec<usize> = self
+            .degrees
+            .iter()
+            .zip(&other.degrees)
+            .map(|(a, b)| a + b)
+            .collect();
         if let Some(&d) = degrees.iter().find(|&&d| d > MAX_EXACT_BINOMIAL_F64) {
-            return Err(BernsteinError::DegreeTooHigh { degree: d, limit: MAX_EXACT_BINOMIAL_F64 });
+            return Err(BernsteinError::DegreeTooHigh {
+                degree: d,
+                limit: MAX_EXACT_BINOMIAL_F64,
+            });
         }
         let top = degrees.iter().copied().max().unwrap_or(0);
-        let bin: Vec<Vec<f64>> = (0..=top).map(|m| (0..=m).map(|k| binomial_f64(m, k)).collect()).collect();
+        let bin: Vec<Vec<f64>> = (0..=top)
+            .map(|m| (0..=m).map(|k| binomial_f64(m, k)).collect())
+            .collect();
         let so = strides(&degrees);
         let mut out = vec![0.0f64; coefficient_count(&degrees)];
         let mut terms = 1usize;
@@ -209,11 +262,18 @@ impl FastBernstein {
         // Each term carries n+1 multiplication roundings and 2n weight roundings (the weight
         // is a rounded quotient of exact binomials); then one summation chain of T terms.
         let g = gamma((terms + 3 * n + 4) as u32);
-        let err = ((ma * eb + mb * ea + ea * eb) * (1.0 + gamma(1)) + g * ma * mb + (terms as f64) * 4.0 * ETA).next_up();
+        let err = ((ma * eb + mb * ea + ea * eb) * (1.0 + gamma(1))
+            + g * ma * mb
+            + (terms as f64) * 4.0 * ETA)
+            .next_up();
         if !err.is_finite() || out.iter().any(|c| !c.is_finite()) {
             return Err(BernsteinError::NonFinite { index: 0 });
         }
-        Ok(FastBernstein { degrees, coeffs: out, err })
+        Ok(FastBernstein {
+            degrees,
+            coeffs: out,
+            err,
+        })
     }
 }
 

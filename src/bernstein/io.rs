@@ -29,18 +29,28 @@ pub enum InputError {
 pub fn parse_number(v: &Value) -> Result<Rational, String> {
     match v {
         Value::Number(n) => {
-            let x = n.as_f64().ok_or_else(|| "number out of range".to_string())?;
+            let x = n
+                .as_f64()
+                .ok_or_else(|| "number out of range".to_string())?;
             rational_from_f64(x, "number").map_err(|e| e.to_string())
         }
         Value::String(s) => parse_rational(s).map_err(|e| e.to_string()),
-        other => Err(format!("expected a number or a \"p/q\" string, found {other}")),
+        other => Err(format!(
+            "expected a number or a \"p/q\" string, found {other}"
+        )),
     }
 }
 
 /// Parses a polynomial from a JSON value.
 pub fn poly_from_json(v: &Value) -> Result<Bernstein<Rational>, InputError> {
-    let field = |f: &str, why: &str| InputError::Field { field: f.into(), why: why.into() };
-    let degrees = v.get("degrees").and_then(Value::as_array).ok_or_else(|| field("degrees", "missing or not an array"))?;
+    let field = |f: &str, why: &str| InputError::Field {
+        field: f.into(),
+        why: why.into(),
+    };
+    let degrees = v
+        .get("degrees")
+        .and_then(Value::as_array)
+        .ok_or_else(|| field("degrees", "missing or not an array"))?;
     let degrees: Vec<usize> = degrees
         .iter()
         .map(|d| d.as_u64().filter(|&d| d <= 60).map(|d| d as usize))
@@ -49,11 +59,23 @@ pub fn poly_from_json(v: &Value) -> Result<Bernstein<Rational>, InputError> {
     if degrees.is_empty() || degrees.len() > 8 {
         return Err(field("degrees", "between 1 and 8 axes"));
     }
-    let count = degrees.iter().try_fold(1usize, |acc, d| acc.checked_mul(d + 1)).filter(|&c| c <= 1 << 20);
+    let count = degrees
+        .iter()
+        .try_fold(1usize, |acc, d| acc.checked_mul(d + 1))
+        .filter(|&c| c <= 1 << 20);
     let count = count.ok_or_else(|| field("degrees", "more than 2^20 coefficients"))?;
-    let coeffs = v.get("coeffs").and_then(Value::as_array).ok_or_else(|| field("coeffs", "missing or not an array"))?;
+    let coeffs = v
+        .get("coeffs")
+        .and_then(Value::as_array)
+        .ok_or_else(|| field("coeffs", "missing or not an array"))?;
     if coeffs.len() != count {
-        return Err(field("coeffs", &format!("expected {count} coefficients for degrees {degrees:?}, found {}", coeffs.len())));
+        return Err(field(
+            "coeffs",
+            &format!(
+                "expected {count} coefficients for degrees {degrees:?}, found {}",
+                coeffs.len()
+            ),
+        ));
     }
     let coeffs = coeffs
         .iter()
@@ -126,7 +148,10 @@ pub enum VerifyError {
 /// Re-checks a certificate file from scratch with the generic rational kernel.
 pub fn verify_certificate_file(c: &CertificateFile) -> Result<String, VerifyError> {
     let p = poly_from_json(&c.polynomial)?;
-    let missing = |f: &str| InputError::Field { field: f.into(), why: "missing".into() };
+    let missing = |f: &str| InputError::Field {
+        field: f.into(),
+        why: "missing".into(),
+    };
     match c.verdict.as_str() {
         "positive" => {
             let leaves = c.leaves.as_ref().ok_or_else(|| missing("leaves"))?;
@@ -138,14 +163,26 @@ pub fn verify_certificate_file(c: &CertificateFile) -> Result<String, VerifyErro
             let point = w
                 .iter()
                 .enumerate()
-                .map(|(i, s)| parse_rational(s).map_err(|e| InputError::Coefficient { index: i, why: e.to_string() }))
+                .map(|(i, s)| {
+                    parse_rational(s).map_err(|e| InputError::Coefficient {
+                        index: i,
+                        why: e.to_string(),
+                    })
+                })
                 .collect::<Result<Vec<_>, _>>()?;
             let claimed = match &c.value {
-                Some(s) => Some(parse_rational(s).map_err(|e| InputError::Field { field: "value".into(), why: e.to_string() })?),
+                Some(s) => Some(parse_rational(s).map_err(|e| InputError::Field {
+                    field: "value".into(),
+                    why: e.to_string(),
+                })?),
                 None => None,
             };
             let v = verify_witness(&p, &point, claimed.as_ref())?;
-            Ok(format!("not positive: p({}) = {} ≤ 0", w.join(", "), rational_to_string(&v)))
+            Ok(format!(
+                "not positive: p({}) = {} ≤ 0",
+                w.join(", "),
+                rational_to_string(&v)
+            ))
         }
         other => Err(VerifyError::Verdict(other.to_string())),
     }

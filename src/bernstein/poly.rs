@@ -122,7 +122,10 @@ impl<T: Field> Bernstein<T> {
         }
         let expected = coefficient_count(&degrees);
         if coeffs.len() != expected {
-            return Err(BernsteinError::CoefficientCount { expected, found: coeffs.len() });
+            return Err(BernsteinError::CoefficientCount {
+                expected,
+                found: coeffs.len(),
+            });
         }
         Ok(Bernstein { degrees, coeffs })
     }
@@ -130,7 +133,10 @@ impl<T: Field> Bernstein<T> {
     /// The constant polynomial `c` with the given degrees (all coefficients `c`).
     pub fn constant(degrees: Vec<usize>, c: T) -> Self {
         let n = coefficient_count(&degrees);
-        Bernstein { degrees, coeffs: vec![c; n] }
+        Bernstein {
+            degrees,
+            coeffs: vec![c; n],
+        }
     }
 
     pub fn degrees(&self) -> &[usize] {
@@ -153,12 +159,18 @@ impl<T: Field> Bernstein<T> {
 
     /// Converts every coefficient with `f` (e.g. exact to interval).
     pub fn map<U: Field>(&self, f: impl Fn(&T) -> U) -> Bernstein<U> {
-        Bernstein { degrees: self.degrees.clone(), coeffs: self.coeffs.iter().map(f).collect() }
+        Bernstein {
+            degrees: self.degrees.clone(),
+            coeffs: self.coeffs.iter().map(f).collect(),
+        }
     }
 
     fn check_axis(&self, axis: usize) -> Result<(), BernsteinError> {
         if axis >= self.dim() {
-            Err(BernsteinError::Axis { axis, dim: self.dim() })
+            Err(BernsteinError::Axis {
+                axis,
+                dim: self.dim(),
+            })
         } else {
             Ok(())
         }
@@ -167,9 +179,16 @@ impl<T: Field> Bernstein<T> {
     /// Evaluates along one axis at `t`, leaving degree 0 on that axis.
     pub fn eval_axis(&self, axis: usize, t: &T) -> Result<Self, BernsteinError> {
         self.check_axis(axis)?;
-        let coeffs = map_lines(&self.degrees, &self.coeffs, axis, 1, &T::zero(), |line, out| {
-            out[0] = de_casteljau_eval(line, t);
-        });
+        let coeffs = map_lines(
+            &self.degrees,
+            &self.coeffs,
+            axis,
+            1,
+            &T::zero(),
+            |line, out| {
+                out[0] = de_casteljau_eval(line, t);
+            },
+        );
         let mut degrees = self.degrees.clone();
         degrees[axis] = 0;
         Ok(Bernstein { degrees, coeffs })
@@ -178,7 +197,10 @@ impl<T: Field> Bernstein<T> {
     /// The value at a point of the unit box, by de Casteljau along each axis.
     pub fn eval(&self, point: &[T]) -> Result<T, BernsteinError> {
         if point.len() != self.dim() {
-            return Err(BernsteinError::DimensionMismatch { expected: self.dim(), found: point.len() });
+            return Err(BernsteinError::DimensionMismatch {
+                expected: self.dim(),
+                found: point.len(),
+            });
         }
         let mut p = self.clone();
         for (axis, t) in point.iter().enumerate() {
@@ -193,25 +215,48 @@ impl<T: Field> Bernstein<T> {
         self.check_axis(axis)?;
         let len = self.degrees[axis] + 1;
         let mut rights: Vec<Vec<T>> = Vec::new();
-        let left = map_lines(&self.degrees, &self.coeffs, axis, len, &T::zero(), |line, out| {
-            let (l, r) = de_casteljau_split(line, t);
-            out.clone_from_slice(&l);
-            rights.push(r);
-        });
+        let left = map_lines(
+            &self.degrees,
+            &self.coeffs,
+            axis,
+            len,
+            &T::zero(),
+            |line, out| {
+                let (l, r) = de_casteljau_split(line, t);
+                out.clone_from_slice(&l);
+                rights.push(r);
+            },
+        );
         let mut it = rights.into_iter();
-        let right = map_lines(&self.degrees, &self.coeffs, axis, len, &T::zero(), |_, out| {
-            out.clone_from_slice(&it.next().expect("one right line per left line"));
-        });
+        let right = map_lines(
+            &self.degrees,
+            &self.coeffs,
+            axis,
+            len,
+            &T::zero(),
+            |_, out| {
+                out.clone_from_slice(&it.next().expect("one right line per left line"));
+            },
+        );
         Ok((
-            Bernstein { degrees: self.degrees.clone(), coeffs: left },
-            Bernstein { degrees: self.degrees.clone(), coeffs: right },
+            Bernstein {
+                degrees: self.degrees.clone(),
+                coeffs: left,
+            },
+            Bernstein {
+                degrees: self.degrees.clone(),
+                coeffs: right,
+            },
         ))
     }
 
     /// The polynomial restricted to the sub-box `Π [a_k, b_k] ⊂ [0,1]ⁿ`, reparametrised to `[0,1]ⁿ`.
     pub fn restrict(&self, sub_box: &[(T, T)]) -> Result<Self, BernsteinError> {
         if sub_box.len() != self.dim() {
-            return Err(BernsteinError::DimensionMismatch { expected: self.dim(), found: sub_box.len() });
+            return Err(BernsteinError::DimensionMismatch {
+                expected: self.dim(),
+                found: sub_box.len(),
+            });
         }
         let mut p = self.clone();
         for (axis, (a, b)) in sub_box.iter().enumerate() {
@@ -239,18 +284,25 @@ impl<T: Field> Bernstein<T> {
         self.check_axis(axis)?;
         let d = self.degrees[axis];
         let e = d + by;
-        let coeffs = map_lines(&self.degrees, &self.coeffs, axis, e + 1, &T::zero(), |line, out| {
-            for (i, o) in out.iter_mut().enumerate() {
-                let mut acc = T::zero();
-                for (j, bj) in line.iter().enumerate() {
-                    if i >= j && i - j <= by {
-                        let w: T = ratio(binomial(d, j) * binomial(by, i - j), binomial(e, i));
-                        acc = acc.add(&w.mul(bj));
+        let coeffs = map_lines(
+            &self.degrees,
+            &self.coeffs,
+            axis,
+            e + 1,
+            &T::zero(),
+            |line, out| {
+                for (i, o) in out.iter_mut().enumerate() {
+                    let mut acc = T::zero();
+                    for (j, bj) in line.iter().enumerate() {
+                        if i >= j && i - j <= by {
+                            let w: T = ratio(binomial(d, j) * binomial(by, i - j), binomial(e, i));
+                            acc = acc.add(&w.mul(bj));
+                        }
                     }
+                    *o = acc;
                 }
-                *o = acc;
-            }
-        });
+            },
+        );
         let mut degrees = self.degrees.clone();
         degrees[axis] = e;
         Ok(Bernstein { degrees, coeffs })
@@ -262,15 +314,22 @@ impl<T: Field> Bernstein<T> {
         self.check_axis(axis)?;
         let d = self.degrees[axis];
         let new_len = d.max(1);
-        let coeffs = map_lines(&self.degrees, &self.coeffs, axis, new_len, &T::zero(), |line, out| {
-            if d == 0 {
-                out[0] = T::zero();
-            } else {
-                for i in 0..d {
-                    out[i] = line[i + 1].sub(&line[i]).mul_int(d as i64);
+        let coeffs = map_lines(
+            &self.degrees,
+            &self.coeffs,
+            axis,
+            new_len,
+            &T::zero(),
+            |line, out| {
+                if d == 0 {
+                    out[0] = T::zero();
+                } else {
+                    for i in 0..d {
+                        out[i] = line[i + 1].sub(&line[i]).mul_int(d as i64);
+                    }
                 }
-            }
-        });
+            },
+        );
         let mut degrees = self.degrees.clone();
         degrees[axis] = d.saturating_sub(1);
         Ok(Bernstein { degrees, coeffs })
@@ -280,9 +339,17 @@ impl<T: Field> Bernstein<T> {
     /// `c_k = Σ_{i+j=k} a_i b_j C(m,i) C(n,j) / C(m+n,k)` per axis (Farin, "products").
     pub fn product(&self, other: &Self) -> Result<Self, BernsteinError> {
         if other.dim() != self.dim() {
-            return Err(BernsteinError::DimensionMismatch { expected: self.dim(), found: other.dim() });
+            return Err(BernsteinError::DimensionMismatch {
+                expected: self.dim(),
+                found: other.dim(),
+            });
         }
-        let degrees: Vec<usize> = self.degrees.iter().zip(&other.degrees).map(|(a, b)| a + b).collect();
+        let degrees: Vec<usize> = self
+            .degrees
+            .iter()
+            .zip(&other.degrees)
+            .map(|(a, b)| a + b)
+            .collect();
         let n = self.dim();
         // Per-axis weight tables w[a][i][j] = C(m,i) C(n,j) / C(m+n,i+j).
         let weights: Vec<Vec<Vec<T>>> = (0..n)
@@ -290,7 +357,9 @@ impl<T: Field> Bernstein<T> {
                 let (m, q) = (self.degrees[a], other.degrees[a]);
                 (0..=m)
                     .map(|i| {
-                        (0..=q).map(|j| ratio(binomial(m, i) * binomial(q, j), binomial(m + q, i + j))).collect()
+                        (0..=q)
+                            .map(|j| ratio(binomial(m, i) * binomial(q, j), binomial(m + q, i + j)))
+                            .collect()
                     })
                     .collect()
             })
@@ -310,7 +379,10 @@ impl<T: Field> Bernstein<T> {
                 out[k] = out[k].add(&w);
             }
         }
-        Ok(Bernstein { degrees, coeffs: out })
+        Ok(Bernstein {
+            degrees,
+            coeffs: out,
+        })
     }
 
     /// Sum of two polynomials of equal degrees.
@@ -320,7 +392,12 @@ impl<T: Field> Bernstein<T> {
         }
         Ok(Bernstein {
             degrees: self.degrees.clone(),
-            coeffs: self.coeffs.iter().zip(&other.coeffs).map(|(a, b)| a.add(b)).collect(),
+            coeffs: self
+                .coeffs
+                .iter()
+                .zip(&other.coeffs)
+                .map(|(a, b)| a.add(b))
+                .collect(),
         })
     }
 
@@ -335,15 +412,22 @@ impl<T: Field> Bernstein<T> {
         let mut p = Bernstein::new(degrees, power)?;
         for axis in 0..p.dim() {
             let d = p.degrees[axis];
-            p.coeffs = map_lines(&p.degrees, &p.coeffs, axis, d + 1, &T::zero(), |line, out| {
-                for (i, o) in out.iter_mut().enumerate() {
-                    let mut acc = T::zero();
-                    for (j, aj) in line.iter().enumerate().take(i + 1) {
-                        acc = acc.add(&aj.mul(&ratio(binomial(i, j), binomial(d, j))));
+            p.coeffs = map_lines(
+                &p.degrees,
+                &p.coeffs,
+                axis,
+                d + 1,
+                &T::zero(),
+                |line, out| {
+                    for (i, o) in out.iter_mut().enumerate() {
+                        let mut acc = T::zero();
+                        for (j, aj) in line.iter().enumerate().take(i + 1) {
+                            acc = acc.add(&aj.mul(&ratio(binomial(i, j), binomial(d, j))));
+                        }
+                        *o = acc;
                     }
-                    *o = acc;
-                }
-            });
+                },
+            );
         }
         Ok(p)
     }
@@ -353,17 +437,28 @@ impl<T: Field> Bernstein<T> {
         let mut coeffs = self.coeffs.clone();
         for axis in 0..self.dim() {
             let d = self.degrees[axis];
-            coeffs = map_lines(&self.degrees, &coeffs, axis, d + 1, &T::zero(), |line, out| {
-                for (j, o) in out.iter_mut().enumerate() {
-                    let mut acc = T::zero();
-                    for (i, bi) in line.iter().enumerate().take(j + 1) {
-                        let w = ratio::<T>(binomial(d, j) * binomial(j, i), BigInt::from(1));
-                        let term = bi.mul(&w);
-                        acc = if (j - i) % 2 == 0 { acc.add(&term) } else { acc.sub(&term) };
+            coeffs = map_lines(
+                &self.degrees,
+                &coeffs,
+                axis,
+                d + 1,
+                &T::zero(),
+                |line, out| {
+                    for (j, o) in out.iter_mut().enumerate() {
+                        let mut acc = T::zero();
+                        for (i, bi) in line.iter().enumerate().take(j + 1) {
+                            let w = ratio::<T>(binomial(d, j) * binomial(j, i), BigInt::from(1));
+                            let term = bi.mul(&w);
+                            acc = if (j - i) % 2 == 0 {
+                                acc.add(&term)
+                            } else {
+                                acc.sub(&term)
+                            };
+                        }
+                        *o = acc;
                     }
-                    *o = acc;
-                }
-            });
+                },
+            );
         }
         coeffs
     }
@@ -374,9 +469,20 @@ impl<T: Field> Bernstein<T> {
     pub fn face(&self, axis: usize, upper: bool) -> Result<Self, BernsteinError> {
         self.check_axis(axis)?;
         let d = self.degrees[axis];
-        let coeffs = map_lines(&self.degrees, &self.coeffs, axis, 1, &T::zero(), |line, out| {
-            out[0] = if upper { line[d].clone() } else { line[0].clone() };
-        });
+        let coeffs = map_lines(
+            &self.degrees,
+            &self.coeffs,
+            axis,
+            1,
+            &T::zero(),
+            |line, out| {
+                out[0] = if upper {
+                    line[d].clone()
+                } else {
+                    line[0].clone()
+                };
+            },
+        );
         let mut degrees = self.degrees.clone();
         if self.dim() == 1 {
             degrees[0] = 0;

@@ -32,20 +32,31 @@ pub struct DyadicBox {
 impl DyadicBox {
     /// The whole unit box in `dim` dimensions.
     pub fn root(dim: usize) -> DyadicBox {
-        DyadicBox { level: 0, index: vec![0; dim] }
+        DyadicBox {
+            level: 0,
+            index: vec![0; dim],
+        }
     }
 
     /// Child `c` (bit a set: upper half along axis a).
     pub fn child(&self, c: usize) -> DyadicBox {
         DyadicBox {
             level: self.level + 1,
-            index: self.index.iter().enumerate().map(|(a, &i)| 2 * i + (c >> a & 1) as u64).collect(),
+            index: self
+                .index
+                .iter()
+                .enumerate()
+                .map(|(a, &i)| 2 * i + (c >> a & 1) as u64)
+                .collect(),
         }
     }
 
     /// The parent box (None for the root).
     pub fn parent(&self) -> Option<DyadicBox> {
-        (self.level > 0).then(|| DyadicBox { level: self.level - 1, index: self.index.iter().map(|i| i / 2).collect() })
+        (self.level > 0).then(|| DyadicBox {
+            level: self.level - 1,
+            index: self.index.iter().map(|i| i / 2).collect(),
+        })
     }
 
     /// True when the box is well formed (indices inside the unit box).
@@ -58,13 +69,22 @@ impl DyadicBox {
         let den = BigInt::one() << self.level as usize;
         self.index
             .iter()
-            .map(|&i| (Rational::new(BigInt::from(i), den.clone()), Rational::new(BigInt::from(i + 1), den.clone())))
+            .map(|&i| {
+                (
+                    Rational::new(BigInt::from(i), den.clone()),
+                    Rational::new(BigInt::from(i + 1), den.clone()),
+                )
+            })
             .collect()
     }
 
     /// The vertex `corner` (bit a set: upper end on axis a), exactly.
     pub fn vertex(&self, corner: usize) -> Vec<Rational> {
-        self.bounds().into_iter().enumerate().map(|(a, (lo, hi))| if corner >> a & 1 == 1 { hi } else { lo }).collect()
+        self.bounds()
+            .into_iter()
+            .enumerate()
+            .map(|(a, (lo, hi))| if corner >> a & 1 == 1 { hi } else { lo })
+            .collect()
     }
 }
 
@@ -81,7 +101,11 @@ pub struct Limits {
 
 impl Default for Limits {
     fn default() -> Self {
-        Limits { max_depth: 12, max_boxes: 1_000_000, time_limit: None }
+        Limits {
+            max_depth: 12,
+            max_boxes: 1_000_000,
+            time_limit: None,
+        }
     }
 }
 
@@ -108,13 +132,23 @@ pub enum PositivityVerdict {
     /// `p > 0` on the whole box: every leaf box has all coefficients positive.
     Positive { leaves: Vec<DyadicBox> },
     /// `p(witness) ≤ 0`.
-    NotPositive { witness: Vec<Rational>, value: WitnessValue },
+    NotPositive {
+        witness: Vec<Rational>,
+        value: WitnessValue,
+    },
     /// A limit was hit before a decision: `at` is the undecided box, `lower_bound` a certified
     /// lower bound of `p` there (its smallest coefficient, rounded down).
-    Undecided { limit: LimitHit, at: DyadicBox, lower_bound: f64 },
+    Undecided {
+        limit: LimitHit,
+        at: DyadicBox,
+        lower_bound: f64,
+    },
     /// Fast path only: rounding error left these boxes undecided; `proven` are the leaves it
     /// did prove positive. Hand `boxes` to the exact path.
-    Uncertain { boxes: Vec<DyadicBox>, proven: Vec<DyadicBox> },
+    Uncertain {
+        boxes: Vec<DyadicBox>,
+        proven: Vec<DyadicBox>,
+    },
 }
 
 struct Budget {
@@ -125,7 +159,11 @@ struct Budget {
 
 impl Budget {
     fn new(limits: Limits) -> Budget {
-        Budget { limits, start: Instant::now(), boxes: 0 }
+        Budget {
+            limits,
+            start: Instant::now(),
+            boxes: 0,
+        }
     }
     /// Counts a box; returns the limit that is now exceeded, if any.
     fn tick(&mut self) -> Option<LimitHit> {
@@ -176,7 +214,9 @@ fn split_all_scaled(p: &ScaledBernstein) -> Vec<ScaledBernstein> {
         q.normalise_twos();
         out[c] = Some(q);
     }
-    out.into_iter().map(|q| q.expect("every child filled")).collect()
+    out.into_iter()
+        .map(|q| q.expect("every child filled"))
+        .collect()
 }
 
 /// Restricts a scaled polynomial to a dyadic box by halving along its index bits.
@@ -209,17 +249,28 @@ fn exact_from(p: &ScaledBernstein, start: DyadicBox, budget: &mut Budget) -> Pos
         for corner in 0..1usize << n {
             let k = q.vertex_index(corner);
             if q.coeff_sign(k) != Sign::Positive {
-                return PositivityVerdict::NotPositive { witness: b.vertex(corner), value: WitnessValue::Exact(q.coeff_value(k)) };
+                return PositivityVerdict::NotPositive {
+                    witness: b.vertex(corner),
+                    value: WitnessValue::Exact(q.coeff_value(k)),
+                };
             }
         }
         if q.all_positive() {
             leaves.push(b);
             continue;
         }
-        let limit = if b.level >= budget.limits.max_depth { Some(LimitHit::Depth) } else { budget.tick() };
+        let limit = if b.level >= budget.limits.max_depth {
+            Some(LimitHit::Depth)
+        } else {
+            budget.tick()
+        };
         if let Some(limit) = limit {
             let lower_bound = round_down(&q.coeff_value(q.argmin()));
-            return PositivityVerdict::Undecided { limit, at: b, lower_bound };
+            return PositivityVerdict::Undecided {
+                limit,
+                at: b,
+                lower_bound,
+            };
         }
         let children = split_all_scaled(&q);
         // Push the child with the smallest coefficient last so it is explored first.
@@ -251,7 +302,10 @@ pub fn prove_positive_fast(p: &FastBernstein, limits: Limits) -> PositivityVerdi
             match q.coeff_sign(k) {
                 Sign::Negative | Sign::Zero => {
                     let bound = (q.coeffs()[k] + q.err()).next_up();
-                    return PositivityVerdict::NotPositive { witness: b.vertex(corner), value: WitnessValue::AtMost(bound.min(0.0)) };
+                    return PositivityVerdict::NotPositive {
+                        witness: b.vertex(corner),
+                        value: WitnessValue::AtMost(bound.min(0.0)),
+                    };
                 }
                 Sign::Uncertain => vertex_uncertain = true,
                 Sign::Positive => {}
@@ -262,13 +316,18 @@ pub fn prove_positive_fast(p: &FastBernstein, limits: Limits) -> PositivityVerdi
             pool.push(q);
             continue;
         }
-        let any_uncertain = vertex_uncertain || (0..q.coeffs().len()).any(|k| q.coeff_sign(k) == Sign::Uncertain);
+        let any_uncertain =
+            vertex_uncertain || (0..q.coeffs().len()).any(|k| q.coeff_sign(k) == Sign::Uncertain);
         if vertex_uncertain {
             uncertain.push(b);
             pool.push(q);
             continue;
         }
-        let limit = if b.level >= budget.limits.max_depth { Some(LimitHit::Depth) } else { budget.tick() };
+        let limit = if b.level >= budget.limits.max_depth {
+            Some(LimitHit::Depth)
+        } else {
+            budget.tick()
+        };
         if let Some(limit) = limit {
             if any_uncertain {
                 uncertain.push(b);
@@ -276,7 +335,11 @@ pub fn prove_positive_fast(p: &FastBernstein, limits: Limits) -> PositivityVerdi
                 continue;
             }
             let min = q.coeffs().iter().fold(f64::INFINITY, |m, &c| m.min(c));
-            return PositivityVerdict::Undecided { limit, at: b, lower_bound: (min - q.err()).next_down() };
+            return PositivityVerdict::Undecided {
+                limit,
+                at: b,
+                lower_bound: (min - q.err()).next_down(),
+            };
         }
         // Split along every axis into 2^n children without allocating in steady state.
         let mut parts: Vec<(usize, FastBernstein)> = vec![(0, q)];
@@ -299,7 +362,10 @@ pub fn prove_positive_fast(p: &FastBernstein, limits: Limits) -> PositivityVerdi
     if uncertain.is_empty() {
         PositivityVerdict::Positive { leaves }
     } else {
-        PositivityVerdict::Uncertain { boxes: uncertain, proven: leaves }
+        PositivityVerdict::Uncertain {
+            boxes: uncertain,
+            proven: leaves,
+        }
     }
 }
 
@@ -308,7 +374,10 @@ pub fn prove_positive_fast(p: &FastBernstein, limits: Limits) -> PositivityVerdi
 pub fn prove_positive_filtered(p: &Bernstein<Rational>, limits: Limits) -> PositivityVerdict {
     let fast = match FastBernstein::from_rational(p) {
         Ok(f) => prove_positive_fast(&f, limits),
-        Err(_) => PositivityVerdict::Uncertain { boxes: vec![DyadicBox::root(p.dim())], proven: vec![] },
+        Err(_) => PositivityVerdict::Uncertain {
+            boxes: vec![DyadicBox::root(p.dim())],
+            proven: vec![],
+        },
     };
     match fast {
         PositivityVerdict::Uncertain { boxes, mut proven } => {
@@ -319,18 +388,26 @@ pub fn prove_positive_filtered(p: &Bernstein<Rational>, limits: Limits) -> Posit
                 match exact_from(&sub, b.clone(), &mut budget) {
                     // `exact_from` labels boxes and witnesses globally (children of `b`).
                     PositivityVerdict::Positive { leaves } => proven.extend(leaves),
-                    verdict @ (PositivityVerdict::NotPositive { .. } | PositivityVerdict::Undecided { .. }) => {
+                    verdict @ (PositivityVerdict::NotPositive { .. }
+                    | PositivityVerdict::Undecided { .. }) => {
                         return verdict;
                     }
-                    PositivityVerdict::Uncertain { .. } => unreachable!("the exact path is never uncertain"),
+                    PositivityVerdict::Uncertain { .. } => {
+                        unreachable!("the exact path is never uncertain")
+                    }
                 }
             }
             PositivityVerdict::Positive { leaves: proven }
         }
         PositivityVerdict::NotPositive { witness, .. } => {
             // Recover the exact value at the witness (cheap: one evaluation).
-            let value = p.eval(&witness).expect("witness has the polynomial's dimension");
-            PositivityVerdict::NotPositive { witness, value: WitnessValue::Exact(value) }
+            let value = p
+                .eval(&witness)
+                .expect("witness has the polynomial's dimension");
+            PositivityVerdict::NotPositive {
+                witness,
+                value: WitnessValue::Exact(value),
+            }
         }
         other => other,
     }
@@ -358,7 +435,10 @@ pub enum CertificateError {
 /// Re-checks a `Positive` certificate with the generic rational kernel: the leaves are valid,
 /// pairwise non-overlapping dyadic boxes whose volumes sum to 1 (so they tile the box), and on
 /// each leaf every Bernstein coefficient of `p` is positive. Returns the number of leaves.
-pub fn verify_positive_certificate(p: &Bernstein<Rational>, leaves: &[DyadicBox]) -> Result<usize, CertificateError> {
+pub fn verify_positive_certificate(
+    p: &Bernstein<Rational>,
+    leaves: &[DyadicBox],
+) -> Result<usize, CertificateError> {
     let dim = p.dim();
     let mut seen: HashSet<&DyadicBox> = HashSet::new();
     for (i, l) in leaves.iter().enumerate() {
@@ -386,12 +466,19 @@ pub fn verify_positive_certificate(p: &Bernstein<Rational>, leaves: &[DyadicBox]
         volume += Rational::new(BigInt::one(), BigInt::one() << (l.level as usize * dim));
     }
     if !volume.is_one() {
-        return Err(CertificateError::NotCovering { covered: crate::num::rational_to_string(&volume) });
+        return Err(CertificateError::NotCovering {
+            covered: crate::num::rational_to_string(&volume),
+        });
     }
     for (i, l) in leaves.iter().enumerate() {
-        let sub = p.restrict(&l.bounds()).map_err(|_| CertificateError::BadLeaf { index: i, dim })?;
+        let sub = p
+            .restrict(&l.bounds())
+            .map_err(|_| CertificateError::BadLeaf { index: i, dim })?;
         if let Some(c) = sub.coeffs().iter().find(|c| c.sign() != Sign::Positive) {
-            return Err(CertificateError::NotPositiveLeaf { index: i, coeff: crate::num::rational_to_string(c) });
+            return Err(CertificateError::NotPositiveLeaf {
+                index: i,
+                coeff: crate::num::rational_to_string(c),
+            });
         }
     }
     Ok(leaves.len())
@@ -399,13 +486,23 @@ pub fn verify_positive_certificate(p: &Bernstein<Rational>, leaves: &[DyadicBox]
 
 /// Re-checks a `NotPositive` witness: the point lies in the unit box and `p(point) ≤ 0`,
 /// evaluated exactly; a claimed exact value must match. Returns the exact value.
-pub fn verify_witness(p: &Bernstein<Rational>, witness: &[Rational], claimed: Option<&Rational>) -> Result<Rational, CertificateError> {
-    if witness.len() != p.dim() || witness.iter().any(|t| t.sign() == Sign::Negative || t > &<Rational as One>::one()) {
+pub fn verify_witness(
+    p: &Bernstein<Rational>,
+    witness: &[Rational],
+    claimed: Option<&Rational>,
+) -> Result<Rational, CertificateError> {
+    if witness.len() != p.dim()
+        || witness
+            .iter()
+            .any(|t| t.sign() == Sign::Negative || t > &<Rational as One>::one())
+    {
         return Err(CertificateError::BadWitness);
     }
     let value = p.eval(witness).map_err(|_| CertificateError::BadWitness)?;
     if value.sign() == Sign::Positive {
-        return Err(CertificateError::WitnessPositive { value: crate::num::rational_to_string(&value) });
+        return Err(CertificateError::WitnessPositive {
+            value: crate::num::rational_to_string(&value),
+        });
     }
     if let Some(c) = claimed {
         if c != &value {

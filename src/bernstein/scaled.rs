@@ -5,8 +5,8 @@
 //! so no gcd is ever computed (NOTES.md, "Exact arithmetic"). The denominator is
 //! tracked exactly, so values (witnesses) can still be recovered as rationals.
 
-use super::{poly::map_lines, BernsteinError};
 use super::poly::{coefficient_count, strides, Bernstein};
+use super::{poly::map_lines, BernsteinError};
 use crate::num::{Rational, Sign};
 use num_bigint::{BigInt, Sign as BigSign};
 use num_integer::Integer;
@@ -35,22 +35,41 @@ impl ScaledBernstein {
         for c in p.coeffs() {
             den = den.lcm(c.denom());
         }
-        let num = p.coeffs().iter().map(|c| c.numer() * (&den / c.denom())).collect();
-        ScaledBernstein { degrees: p.degrees().to_vec(), num, den }
+        let num = p
+            .coeffs()
+            .iter()
+            .map(|c| c.numer() * (&den / c.denom()))
+            .collect();
+        ScaledBernstein {
+            degrees: p.degrees().to_vec(),
+            num,
+            den,
+        }
     }
 
     /// Integer numerators with denominator 1.
     pub fn from_integers(degrees: Vec<usize>, num: Vec<BigInt>) -> Result<Self, BernsteinError> {
         let expected = coefficient_count(&degrees);
         if num.len() != expected {
-            return Err(BernsteinError::CoefficientCount { expected, found: num.len() });
+            return Err(BernsteinError::CoefficientCount {
+                expected,
+                found: num.len(),
+            });
         }
-        Ok(ScaledBernstein { degrees, num, den: BigInt::one() })
+        Ok(ScaledBernstein {
+            degrees,
+            num,
+            den: BigInt::one(),
+        })
     }
 
     /// The same polynomial with rational coefficients.
     pub fn to_rational(&self) -> Bernstein<Rational> {
-        let coeffs = self.num.iter().map(|n| Rational::new(n.clone(), self.den.clone())).collect();
+        let coeffs = self
+            .num
+            .iter()
+            .map(|n| Rational::new(n.clone(), self.den.clone()))
+            .collect();
         Bernstein::new(self.degrees.clone(), coeffs).expect("counts match by construction")
     }
 
@@ -79,7 +98,12 @@ impl ScaledBernstein {
     /// Flat index of the vertex coefficient at `corner` (bit a set: `t_a = 1`).
     pub fn vertex_index(&self, corner: usize) -> usize {
         let s = strides(&self.degrees);
-        self.degrees.iter().enumerate().filter(|(a, _)| corner >> a & 1 == 1).map(|(a, &d)| d * s[a]).sum()
+        self.degrees
+            .iter()
+            .enumerate()
+            .filter(|(a, _)| corner >> a & 1 == 1)
+            .map(|(a, &d)| d * s[a])
+            .sum()
     }
 
     /// True when every numerator is positive (so `p > 0` on the box).
@@ -106,16 +130,29 @@ impl ScaledBernstein {
 
     /// de Casteljau at `t = p/q` (`0 < p < q`) along `axis` in integers: every level computes
     /// `(q−p)·b_i + p·b_{i+1}` and the halves are rescaled by powers of `q`.
-    pub fn split(&self, axis: usize, p: &BigInt, q: &BigInt) -> Result<(Self, Self), BernsteinError> {
+    pub fn split(
+        &self,
+        axis: usize,
+        p: &BigInt,
+        q: &BigInt,
+    ) -> Result<(Self, Self), BernsteinError> {
         if !(p.sign() == BigSign::Plus && p < q) {
             return Err(BernsteinError::BadParameter);
         }
         self.split_generic(axis, p, q)
     }
 
-    fn split_generic(&self, axis: usize, p: &BigInt, q: &BigInt) -> Result<(Self, Self), BernsteinError> {
+    fn split_generic(
+        &self,
+        axis: usize,
+        p: &BigInt,
+        q: &BigInt,
+    ) -> Result<(Self, Self), BernsteinError> {
         if axis >= self.degrees.len() {
-            return Err(BernsteinError::Axis { axis, dim: self.degrees.len() });
+            return Err(BernsteinError::Axis {
+                axis,
+                dim: self.degrees.len(),
+            });
         }
         let d = self.degrees[axis];
         let len = d + 1;
@@ -128,37 +165,63 @@ impl ScaledBernstein {
             qpow.push(next);
         }
         let mut rights: Vec<Vec<BigInt>> = Vec::new();
-        let left = map_lines(&self.degrees, &self.num, axis, len, &BigInt::zero(), |line, out| {
-            // w_i^(r) = q^r · (true level-r value) · den
-            let mut work = line.to_vec();
-            let mut right = vec![BigInt::zero(); len];
-            out[0] = work[0].clone();
-            right[d] = work[d].clone();
-            for r in 1..len {
-                for i in 0..len - r {
-                    work[i] = if half { &work[i] + &work[i + 1] } else { &qmp * &work[i] + p * &work[i + 1] };
+        let left = map_lines(
+            &self.degrees,
+            &self.num,
+            axis,
+            len,
+            &BigInt::zero(),
+            |line, out| {
+                // w_i^(r) = q^r · (true level-r value) · den
+                let mut work = line.to_vec();
+                let mut right = vec![BigInt::zero(); len];
+                out[0] = work[0].clone();
+                right[d] = work[d].clone();
+                for r in 1..len {
+                    for i in 0..len - r {
+                        work[i] = if half {
+                            &work[i] + &work[i + 1]
+                        } else {
+                            &qmp * &work[i] + p * &work[i + 1]
+                        };
+                    }
+                    out[r] = work[0].clone();
+                    right[d - r] = work[d - r].clone();
                 }
-                out[r] = work[0].clone();
-                right[d - r] = work[d - r].clone();
-            }
-            // Scale to the common denominator q^d.
-            for (r, o) in out.iter_mut().enumerate() {
-                *o = scale_pow(o, half, &qpow, d - r);
-            }
-            for (j, v) in right.iter_mut().enumerate() {
-                // right[j] is at level d − j.
-                *v = scale_pow(v, half, &qpow, j);
-            }
-            rights.push(right);
-        });
+                // Scale to the common denominator q^d.
+                for (r, o) in out.iter_mut().enumerate() {
+                    *o = scale_pow(o, half, &qpow, d - r);
+                }
+                for (j, v) in right.iter_mut().enumerate() {
+                    // right[j] is at level d − j.
+                    *v = scale_pow(v, half, &qpow, j);
+                }
+                rights.push(right);
+            },
+        );
         let mut it = rights.into_iter();
-        let right = map_lines(&self.degrees, &self.num, axis, len, &BigInt::zero(), |_, out| {
-            out.clone_from_slice(&it.next().expect("one right line per left line"));
-        });
+        let right = map_lines(
+            &self.degrees,
+            &self.num,
+            axis,
+            len,
+            &BigInt::zero(),
+            |_, out| {
+                out.clone_from_slice(&it.next().expect("one right line per left line"));
+            },
+        );
         let den = &self.den * &qpow[d];
         Ok((
-            ScaledBernstein { degrees: self.degrees.clone(), num: left, den: den.clone() },
-            ScaledBernstein { degrees: self.degrees.clone(), num: right, den },
+            ScaledBernstein {
+                degrees: self.degrees.clone(),
+                num: left,
+                den: den.clone(),
+            },
+            ScaledBernstein {
+                degrees: self.degrees.clone(),
+                num: right,
+                den,
+            },
         ))
     }
 

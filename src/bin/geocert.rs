@@ -1,9 +1,14 @@
 //! The geocert command-line tool: parses arguments, calls the library, prints.
 
 use clap::{Parser, Subcommand, ValueEnum};
-use geocert::bernstein::io::{certificate_for, poly_from_json, verify_certificate_file, CertificateFile};
+use geocert::bernstein::io::{
+    certificate_for, poly_from_json, verify_certificate_file, CertificateFile,
+};
 use geocert::bernstein::positivity::WitnessValue;
-use geocert::bernstein::{prove_positive_exact, prove_positive_fast, prove_positive_filtered, FastBernstein, Limits, PositivityVerdict};
+use geocert::bernstein::{
+    prove_positive_exact, prove_positive_fast, prove_positive_filtered, FastBernstein, Limits,
+    PositivityVerdict,
+};
 use geocert::num::rational_to_string;
 use geocert::report::{self, campaign, RunMeta};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -11,7 +16,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "geocert", version, about = "Exact-arithmetic verification and reference engine for geometric algorithms")]
+#[command(
+    name = "geocert",
+    version,
+    about = "Exact-arithmetic verification and reference engine for geometric algorithms"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -67,10 +76,18 @@ fn main() -> ExitCode {
 fn run(cli: Cli) -> Result<ExitCode, String> {
     match cli.command {
         Command::Prove { out, json } => prove(out, json),
-        Command::Positivity { file, path, max_depth, cert, json } => positivity(file, path, max_depth, cert, json),
+        Command::Positivity {
+            file,
+            path,
+            max_depth,
+            cert,
+            json,
+        } => positivity(file, path, max_depth, cert, json),
         Command::VerifyCert { file } => {
-            let text = std::fs::read_to_string(&file).map_err(|e| format!("{}: {e}", file.display()))?;
-            let c: CertificateFile = serde_json::from_str(&text).map_err(|e| format!("{}: not a certificate: {e}", file.display()))?;
+            let text =
+                std::fs::read_to_string(&file).map_err(|e| format!("{}: {e}", file.display()))?;
+            let c: CertificateFile = serde_json::from_str(&text)
+                .map_err(|e| format!("{}: not a certificate: {e}", file.display()))?;
             match verify_certificate_file(&c) {
                 Ok(msg) => {
                     println!("valid: {msg}");
@@ -89,7 +106,9 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     let meta = RunMeta::collect();
     let proofs = geocert::proofs::all();
     let bar = ProgressBar::new(proofs.len() as u64 + 2);
-    bar.set_style(ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").map_err(|e| e.to_string())?);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").map_err(|e| e.to_string())?,
+    );
     let mut outcomes = Vec::new();
     for (name, proof) in proofs {
         bar.set_message(name);
@@ -103,12 +122,19 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     let timing = campaign::subdivision_timing(9, 10, 5);
     bar.inc(1);
     bar.finish_and_clear();
-    let written = report::write_kernel_report(&out, &meta, &outcomes, &camp, &timing).map_err(|e| format!("writing {}: {e}", out.display()))?;
-    let ok = outcomes.iter().all(|o| o.ok()) && camp.contradictions == 0 && camp.certificates_refused == 0 && timing.leaf_signs_agree;
+    let written = report::write_kernel_report(&out, &meta, &outcomes, &camp, &timing)
+        .map_err(|e| format!("writing {}: {e}", out.display()))?;
+    let ok = outcomes.iter().all(|o| o.ok())
+        && camp.contradictions == 0
+        && camp.certificates_refused == 0
+        && timing.leaf_signs_agree;
     if json {
         let v = serde_json::json!({"ok": ok, "proofs": outcomes, "campaign": camp, "timing": timing,
             "reports": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>()});
-        println!("{}", serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+        );
     } else {
         for o in &outcomes {
             println!("{}", o.summary());
@@ -125,14 +151,28 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
             println!("wrote {}", p.display());
         }
     }
-    Ok(if ok { ExitCode::SUCCESS } else { ExitCode::from(1) })
+    Ok(if ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
 }
 
-fn positivity(file: PathBuf, path: PathKind, max_depth: u32, cert: Option<PathBuf>, json: bool) -> Result<ExitCode, String> {
+fn positivity(
+    file: PathBuf,
+    path: PathKind,
+    max_depth: u32,
+    cert: Option<PathBuf>,
+    json: bool,
+) -> Result<ExitCode, String> {
     let text = std::fs::read_to_string(&file).map_err(|e| format!("{}: {e}", file.display()))?;
-    let value: serde_json::Value = serde_json::from_str(&text).map_err(|e| format!("{}: not valid JSON: {e}", file.display()))?;
+    let value: serde_json::Value = serde_json::from_str(&text)
+        .map_err(|e| format!("{}: not valid JSON: {e}", file.display()))?;
     let p = poly_from_json(&value).map_err(|e| format!("{}: {e}", file.display()))?;
-    let limits = Limits { max_depth, ..Limits::default() };
+    let limits = Limits {
+        max_depth,
+        ..Limits::default()
+    };
     let verdict = match path {
         PathKind::Exact => prove_positive_exact(&p, limits),
         PathKind::Fast => match FastBernstein::from_rational(&p) {
@@ -142,7 +182,9 @@ fn positivity(file: PathBuf, path: PathKind, max_depth: u32, cert: Option<PathBu
         PathKind::Filtered => prove_positive_filtered(&p, limits),
     };
     let (name, detail) = match &verdict {
-        PositivityVerdict::Positive { leaves } => ("positive", serde_json::json!({"leaves": leaves.len()})),
+        PositivityVerdict::Positive { leaves } => {
+            ("positive", serde_json::json!({"leaves": leaves.len()}))
+        }
         PositivityVerdict::NotPositive { witness, value } => (
             "not_positive",
             serde_json::json!({
@@ -150,10 +192,18 @@ fn positivity(file: PathBuf, path: PathKind, max_depth: u32, cert: Option<PathBu
                 "value": match value { WitnessValue::Exact(r) => rational_to_string(r), WitnessValue::AtMost(b) => format!("<= {b:e}") },
             }),
         ),
-        PositivityVerdict::Undecided { limit, at, lower_bound } => {
-            ("undecided", serde_json::json!({"limit": limit, "box": at, "lower_bound": lower_bound}))
-        }
-        PositivityVerdict::Uncertain { boxes, .. } => ("uncertain", serde_json::json!({"uncertain_boxes": boxes.len()})),
+        PositivityVerdict::Undecided {
+            limit,
+            at,
+            lower_bound,
+        } => (
+            "undecided",
+            serde_json::json!({"limit": limit, "box": at, "lower_bound": lower_bound}),
+        ),
+        PositivityVerdict::Uncertain { boxes, .. } => (
+            "uncertain",
+            serde_json::json!({"uncertain_boxes": boxes.len()}),
+        ),
     };
     if let Some(cp) = cert {
         match certificate_for(&p, &verdict) {
@@ -161,7 +211,10 @@ fn positivity(file: PathBuf, path: PathKind, max_depth: u32, cert: Option<PathBu
                 let s = serde_json::to_string_pretty(&c).map_err(|e| e.to_string())?;
                 std::fs::write(&cp, s).map_err(|e| format!("{}: {e}", cp.display()))?;
             }
-            None => eprintln!("note: a {name} verdict has no certificate; nothing written to {}", cp.display()),
+            None => eprintln!(
+                "note: a {name} verdict has no certificate; nothing written to {}",
+                cp.display()
+            ),
         }
     }
     if json {

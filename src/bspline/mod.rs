@@ -22,7 +22,12 @@ pub enum BsplineError {
     #[error("knot vector is not non-decreasing at position {index}")]
     KnotsNotSorted { index: usize },
     #[error("degree {degree} with {knots} knots needs {expected} coefficients, found {found}")]
-    CoefficientCount { degree: usize, knots: usize, expected: usize, found: usize },
+    CoefficientCount {
+        degree: usize,
+        knots: usize,
+        expected: usize,
+        found: usize,
+    },
     #[error("the spline's domain [s_p, s_n] is empty")]
     EmptyDomain,
     #[error("parameter outside the domain")]

@@ -16,7 +16,9 @@ use crate::num::Field;
 use std::collections::HashMap;
 
 /// The product knot vector for factors of the given degrees and knot vectors (same domain).
-pub fn product_knots<T: Field + PartialOrd>(factors: &[&Spline<T>]) -> Result<Vec<T>, BsplineError> {
+pub fn product_knots<T: Field + PartialOrd>(
+    factors: &[&Spline<T>],
+) -> Result<Vec<T>, BsplineError> {
     let first = factors.first().ok_or(BsplineError::NoFactors)?;
     let (a, b) = first.domain();
     for (i, f) in factors.iter().enumerate() {
@@ -38,24 +40,35 @@ pub fn product_knots<T: Field + PartialOrd>(factors: &[&Spline<T>]) -> Result<Ve
     zs.sort_by(|x, y| x.partial_cmp(y).expect("finite knots"));
     let mut knots = vec![a.clone(); big_d + 1];
     for z in zs {
-        let smooth = factors.iter().map(|f| f.degree() as i64 - f.multiplicity(&z) as i64).min().expect("non-empty");
+        let smooth = factors
+            .iter()
+            .map(|f| f.degree() as i64 - f.multiplicity(&z) as i64)
+            .min()
+            .expect("non-empty");
         let m = (big_d as i64 - smooth).clamp(0, big_d as i64 + 1) as usize;
-        knots.extend(std::iter::repeat(z).take(m));
+        knots.extend(std::iter::repeat_n(z, m));
     }
-    knots.extend(std::iter::repeat(b).take(big_d + 1));
+    knots.extend(std::iter::repeat_n(b, big_d + 1));
     Ok(knots)
 }
 
 /// The product `Π f_i` as one spline on [`product_knots`], exactly (for exact `T`).
-pub fn morken_product<T: Field + PartialOrd>(factors: &[&Spline<T>]) -> Result<Spline<T>, BsplineError> {
+pub fn morken_product<T: Field + PartialOrd>(
+    factors: &[&Spline<T>],
+) -> Result<Spline<T>, BsplineError> {
     let knots = product_knots(factors)?;
     let big_d: usize = factors.iter().map(|f| f.degree()).sum();
     let n = knots.len() - big_d - 1;
     let degrees: Vec<usize> = factors.iter().map(|f| f.degree()).collect();
     let mut coeffs = Vec::with_capacity(n);
     for k in 0..n {
-        let j = (k..=k + big_d).find(|&j| lt(&knots[j], &knots[j + 1])).expect("every B-spline has a non-empty interval");
-        let mus: Vec<usize> = factors.iter().map(|f| f.find_span(&knots[j]).expect("inside the domain")).collect();
+        let j = (k..=k + big_d)
+            .find(|&j| lt(&knots[j], &knots[j + 1]))
+            .expect("every B-spline has a non-empty interval");
+        let mus: Vec<usize> = factors
+            .iter()
+            .map(|f| f.find_span(&knots[j]).expect("inside the domain"))
+            .collect();
         let args = &knots[k + 1..k + big_d + 1];
         coeffs.push(product_blossom(factors, &mus, &degrees, args));
     }
@@ -63,7 +76,12 @@ pub fn morken_product<T: Field + PartialOrd>(factors: &[&Spline<T>]) -> Result<S
 }
 
 /// `H(args)` for the product of `factors` on the interval whose factor spans are `mus`.
-fn product_blossom<T: Field + PartialOrd>(factors: &[&Spline<T>], mus: &[usize], degrees: &[usize], args: &[T]) -> T {
+fn product_blossom<T: Field + PartialOrd>(
+    factors: &[&Spline<T>],
+    mus: &[usize],
+    degrees: &[usize],
+    args: &[T],
+) -> T {
     // Distinct values and their counts.
     let mut values: Vec<T> = Vec::new();
     let mut counts: Vec<usize> = Vec::new();
@@ -80,35 +98,44 @@ fn product_blossom<T: Field + PartialOrd>(factors: &[&Spline<T>], mus: &[usize],
     let big_d: usize = degrees.iter().sum();
     // Denominator D! / Π d_i!, numerators Π_s n_s! / Π a_{i,s}!: use exact factorial ratios.
     let fact = |n: usize| -> T { (1..=n).fold(T::one(), |acc, k| acc.mul_int(k as i64)) };
-    let total = degrees.iter().fold(fact(big_d), |acc, &d| acc.div(&fact(d)));
+    let total = degrees
+        .iter()
+        .fold(fact(big_d), |acc, &d| acc.div(&fact(d)));
     let mut memo: Vec<HashMap<Vec<usize>, T>> = vec![HashMap::new(); r];
     let mut alloc = vec![vec![0usize; values.len()]; r];
     let mut sum = T::zero();
     let mut remaining_cap: Vec<usize> = degrees.to_vec();
-    enumerate(0, 0, &counts, &mut remaining_cap, &mut alloc, &mut |alloc: &[Vec<usize>]| {
-        let mut weight = T::one();
-        for (s, &ns) in counts.iter().enumerate() {
-            weight = weight.mul(&fact(ns));
-            for a in alloc.iter() {
-                weight = weight.div(&fact(a[s]));
+    enumerate(
+        0,
+        0,
+        &counts,
+        &mut remaining_cap,
+        &mut alloc,
+        &mut |alloc: &[Vec<usize>]| {
+            let mut weight = T::one();
+            for (s, &ns) in counts.iter().enumerate() {
+                weight = weight.mul(&fact(ns));
+                for a in alloc.iter() {
+                    weight = weight.div(&fact(a[s]));
+                }
             }
-        }
-        let mut term = weight;
-        for (i, a) in alloc.iter().enumerate() {
-            let f = memo[i]
-                .entry(a.clone())
-                .or_insert_with(|| {
-                    let mut ys = Vec::with_capacity(degrees[i]);
-                    for (s, &c) in a.iter().enumerate() {
-                        ys.extend(std::iter::repeat(values[s].clone()).take(c));
-                    }
-                    factors[i].blossom(mus[i], &ys)
-                })
-                .clone();
-            term = term.mul(&f);
-        }
-        sum = sum.add(&term);
-    });
+            let mut term = weight;
+            for (i, a) in alloc.iter().enumerate() {
+                let f = memo[i]
+                    .entry(a.clone())
+                    .or_insert_with(|| {
+                        let mut ys = Vec::with_capacity(degrees[i]);
+                        for (s, &c) in a.iter().enumerate() {
+                            ys.extend(std::iter::repeat_n(values[s].clone(), c));
+                        }
+                        factors[i].blossom(mus[i], &ys)
+                    })
+                    .clone();
+                term = term.mul(&f);
+            }
+            sum = sum.add(&term);
+        },
+    );
     sum.div(&total)
 }
 

@@ -30,15 +30,23 @@ impl<T: Field + PartialOrd> Spline<T> {
                 found: coeffs.len(),
             });
         }
-        if coeffs.is_empty() || !(knots[degree] < knots[coeffs.len()]) {
+        if coeffs.is_empty()
+            || knots[degree].partial_cmp(&knots[coeffs.len()]) != Some(std::cmp::Ordering::Less)
+        {
             return Err(BsplineError::EmptyDomain);
         }
-        Ok(Spline { degree, knots, coeffs })
+        Ok(Spline {
+            degree,
+            knots,
+            coeffs,
+        })
     }
 
     /// Uniform knots `0, 1, …, n+p` (the FFD paper's uniform basis), domain `[p, n]`.
     pub fn uniform(degree: usize, coeffs: Vec<T>) -> Result<Self, BsplineError> {
-        let knots = (0..coeffs.len() + degree + 1).map(|i| T::from_ratio(i as i64, 1)).collect();
+        let knots = (0..coeffs.len() + degree + 1)
+            .map(|i| T::from_ratio(i as i64, 1))
+            .collect();
         Spline::new(degree, knots, coeffs)
     }
 
@@ -54,12 +62,17 @@ impl<T: Field + PartialOrd> Spline<T> {
 
     /// The domain `[s_p, s_n]`.
     pub fn domain(&self) -> (T, T) {
-        (self.knots[self.degree].clone(), self.knots[self.coeffs.len()].clone())
+        (
+            self.knots[self.degree].clone(),
+            self.knots[self.coeffs.len()].clone(),
+        )
     }
 
     /// The non-empty knot spans inside the domain, as indices `μ` with `s_μ < s_{μ+1}`.
     pub fn spans(&self) -> Vec<usize> {
-        (self.degree..self.coeffs.len()).filter(|&mu| self.knots[mu] < self.knots[mu + 1]).collect()
+        (self.degree..self.coeffs.len())
+            .filter(|&mu| self.knots[mu] < self.knots[mu + 1])
+            .collect()
     }
 
     /// The span `μ` with `s_μ ≤ x < s_{μ+1}` (the last span for `x = s_n`).
@@ -92,7 +105,11 @@ impl<T: Field + PartialOrd> Spline<T> {
                 let lo = &self.knots[i];
                 let hi = &self.knots[i + p + 1 - r];
                 let den = hi.sub(lo);
-                c[k] = hi.sub(y).mul(&c[k - 1]).add(&y.sub(lo).mul(&c[k])).div(&den);
+                c[k] = hi
+                    .sub(y)
+                    .mul(&c[k - 1])
+                    .add(&y.sub(lo).mul(&c[k]))
+                    .div(&den);
             }
         }
         c[p].clone()
@@ -123,7 +140,11 @@ impl<T: Field + PartialOrd> Spline<T> {
     pub fn derivative(&self) -> Spline<T> {
         let p = self.degree;
         if p == 0 {
-            return Spline { degree: 0, knots: self.knots.clone(), coeffs: vec![T::zero(); self.coeffs.len()] };
+            return Spline {
+                degree: 0,
+                knots: self.knots.clone(),
+                coeffs: vec![T::zero(); self.coeffs.len()],
+            };
         }
         let n = self.coeffs.len();
         let coeffs = (1..n)
@@ -132,11 +153,18 @@ impl<T: Field + PartialOrd> Spline<T> {
                 if den.sign() == Sign::Zero {
                     T::zero()
                 } else {
-                    self.coeffs[i].sub(&self.coeffs[i - 1]).mul_int(p as i64).div(&den)
+                    self.coeffs[i]
+                        .sub(&self.coeffs[i - 1])
+                        .mul_int(p as i64)
+                        .div(&den)
                 }
             })
             .collect();
-        Spline { degree: p - 1, knots: self.knots[1..self.knots.len() - 1].to_vec(), coeffs }
+        Spline {
+            degree: p - 1,
+            knots: self.knots[1..self.knots.len() - 1].to_vec(),
+            coeffs,
+        }
     }
 
     /// Boehm's algorithm: inserts `x` once (strictly inside the domain). The function is unchanged;
@@ -144,7 +172,9 @@ impl<T: Field + PartialOrd> Spline<T> {
     pub fn insert_knot(&self, x: &T) -> Result<Spline<T>, BsplineError> {
         let (a, b) = self.domain();
         if !(&a < x && x < &b) {
-            return Err(BsplineError::KnotOutsideDomain { what: format!("{:?}", x) });
+            return Err(BsplineError::KnotOutsideDomain {
+                what: format!("{:?}", x),
+            });
         }
         let p = self.degree;
         let mu = self.find_span(x)?;
@@ -155,14 +185,22 @@ impl<T: Field + PartialOrd> Spline<T> {
             } else if i > mu {
                 self.coeffs[i - 1].clone()
             } else {
-                let alpha = x.sub(&self.knots[i]).div(&self.knots[i + p].sub(&self.knots[i]));
-                alpha.mul(&self.coeffs[i]).add(&T::one().sub(&alpha).mul(&self.coeffs[i - 1]))
+                let alpha = x
+                    .sub(&self.knots[i])
+                    .div(&self.knots[i + p].sub(&self.knots[i]));
+                alpha
+                    .mul(&self.coeffs[i])
+                    .add(&T::one().sub(&alpha).mul(&self.coeffs[i - 1]))
             };
             coeffs.push(c);
         }
         let mut knots = self.knots.clone();
         knots.insert(mu + 1, x.clone());
-        Ok(Spline { degree: p, knots, coeffs })
+        Ok(Spline {
+            degree: p,
+            knots,
+            coeffs,
+        })
     }
 
     /// The Oslo algorithm in blossom form: inserts all of `xs` at once. Each coefficient of the
@@ -172,7 +210,9 @@ impl<T: Field + PartialOrd> Spline<T> {
         let (a, b) = self.domain();
         for x in xs {
             if !(&a < x && x < &b) {
-                return Err(BsplineError::KnotOutsideDomain { what: format!("{:?}", x) });
+                return Err(BsplineError::KnotOutsideDomain {
+                    what: format!("{:?}", x),
+                });
             }
         }
         let mut tau = self.knots.clone();
@@ -186,7 +226,11 @@ impl<T: Field + PartialOrd> Spline<T> {
                 self.blossom(mu, &tau[j + 1..j + p + 1])
             })
             .collect();
-        Ok(Spline { degree: p, knots: tau, coeffs })
+        Ok(Spline {
+            degree: p,
+            knots: tau,
+            coeffs,
+        })
     }
 
     /// A span of `self` containing a non-empty interval `[τ_k, τ_{k+1})`, `j ≤ k ≤ j+p`, of the
@@ -213,7 +257,7 @@ impl<T: Field + PartialOrd> Spline<T> {
         (0..=p)
             .map(|i| {
                 let mut args = vec![lo.clone(); p - i];
-                args.extend(std::iter::repeat(hi.clone()).take(i));
+                args.extend(std::iter::repeat_n(hi.clone(), i));
                 self.blossom(mu, &args)
             })
             .collect()
@@ -252,7 +296,11 @@ impl<T: Field + PartialOrd> Spline<T> {
             }
             i = j + 1;
         }
-        let refined = if extra.is_empty() { self.clone() } else { self.insert_knots(&extra)? };
+        let refined = if extra.is_empty() {
+            self.clone()
+        } else {
+            self.insert_knots(&extra)?
+        };
         // In the refined spline every interior breakpoint has multiplicity ≥ p, so the piece on
         // span μ has Bézier coefficients c_{μ−p..μ} once the ends are clamped too.
         let mut out = Vec::new();

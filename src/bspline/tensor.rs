@@ -24,20 +24,40 @@ pub struct BezierCell<T> {
 
 impl<T: Field + PartialOrd> TensorSpline<T> {
     /// Checks each axis as a univariate spline would be checked.
-    pub fn new(degrees: Vec<usize>, knots: Vec<Vec<T>>, coeffs: Vec<T>) -> Result<Self, BsplineError> {
+    pub fn new(
+        degrees: Vec<usize>,
+        knots: Vec<Vec<T>>,
+        coeffs: Vec<T>,
+    ) -> Result<Self, BsplineError> {
         if degrees.len() != knots.len() {
-            return Err(BsplineError::DimensionMismatch { expected: degrees.len(), found: knots.len() });
+            return Err(BsplineError::DimensionMismatch {
+                expected: degrees.len(),
+                found: knots.len(),
+            });
         }
-        let counts: Vec<usize> = degrees.iter().zip(&knots).map(|(p, k)| k.len().saturating_sub(p + 1)).collect();
+        let counts: Vec<usize> = degrees
+            .iter()
+            .zip(&knots)
+            .map(|(p, k)| k.len().saturating_sub(p + 1))
+            .collect();
         let expected: usize = counts.iter().product();
         if coeffs.len() != expected {
-            return Err(BsplineError::CoefficientCount { degree: degrees[0], knots: knots[0].len(), expected, found: coeffs.len() });
+            return Err(BsplineError::CoefficientCount {
+                degree: degrees[0],
+                knots: knots[0].len(),
+                expected,
+                found: coeffs.len(),
+            });
         }
         for (a, (&p, k)) in degrees.iter().zip(&knots).enumerate() {
             // Validate the axis with a dummy spline.
             Spline::new(p, k.clone(), vec![T::zero(); counts[a]])?;
         }
-        Ok(TensorSpline { degrees, knots, coeffs })
+        Ok(TensorSpline {
+            degrees,
+            knots,
+            coeffs,
+        })
     }
 
     pub fn degrees(&self) -> &[usize] {
@@ -55,26 +75,36 @@ impl<T: Field + PartialOrd> TensorSpline<T> {
 
     /// Coefficient counts per axis.
     pub fn counts(&self) -> Vec<usize> {
-        self.degrees.iter().zip(&self.knots).map(|(p, k)| k.len() - p - 1).collect()
+        self.degrees
+            .iter()
+            .zip(&self.knots)
+            .map(|(p, k)| k.len() - p - 1)
+            .collect()
     }
 
     fn axis_spline(&self, axis: usize, coeffs: Vec<T>) -> Spline<T> {
-        Spline::new(self.degrees[axis], self.knots[axis].clone(), coeffs).expect("validated at construction")
+        Spline::new(self.degrees[axis], self.knots[axis].clone(), coeffs)
+            .expect("validated at construction")
     }
 
     /// The value at a point, axis by axis with de Boor's algorithm.
     pub fn eval(&self, x: &[T]) -> Result<T, BsplineError> {
         if x.len() != self.dim() {
-            return Err(BsplineError::DimensionMismatch { expected: self.dim(), found: x.len() });
+            return Err(BsplineError::DimensionMismatch {
+                expected: self.dim(),
+                found: x.len(),
+            });
         }
         let mut counts = self.counts();
         let mut coeffs = self.coeffs.clone();
         for a in 0..self.dim() {
             let degs: Vec<usize> = counts.iter().map(|c| c - 1).collect();
             let mut err = None;
-            coeffs = map_lines(&degs, &coeffs, a, 1, &T::zero(), |line, out| match self.axis_spline(a, line.to_vec()).eval(&x[a]) {
-                Ok(v) => out[0] = v,
-                Err(e) => err = Some(e),
+            coeffs = map_lines(&degs, &coeffs, a, 1, &T::zero(), |line, out| {
+                match self.axis_spline(a, line.to_vec()).eval(&x[a]) {
+                    Ok(v) => out[0] = v,
+                    Err(e) => err = Some(e),
+                }
             });
             if let Some(e) = err {
                 return Err(e);
@@ -93,8 +123,11 @@ impl<T: Field + PartialOrd> TensorSpline<T> {
         let mut axis_spans: Vec<Vec<(usize, T, T)>> = Vec::new();
         for a in 0..n {
             let probe = self.axis_spline(a, vec![T::zero(); counts[a]]);
-            let spans: Vec<(usize, T, T)> =
-                probe.spans().into_iter().map(|mu| (mu, self.knots[a][mu].clone(), self.knots[a][mu + 1].clone())).collect();
+            let spans: Vec<(usize, T, T)> = probe
+                .spans()
+                .into_iter()
+                .map(|mu| (mu, self.knots[a][mu].clone(), self.knots[a][mu + 1].clone()))
+                .collect();
             let p = self.degrees[a];
             let new_len = spans.len() * (p + 1);
             let degs: Vec<usize> = counts.iter().map(|c| c - 1).collect();
@@ -139,8 +172,16 @@ impl<T: Field + PartialOrd> TensorSpline<T> {
                 local.push(coeffs[g].clone());
             }
             cells.push(BezierCell {
-                spans: cell.iter().enumerate().map(|(a, &k)| axis_spans[a][k].0).collect(),
-                bounds: cell.iter().enumerate().map(|(a, &k)| (axis_spans[a][k].1.clone(), axis_spans[a][k].2.clone())).collect(),
+                spans: cell
+                    .iter()
+                    .enumerate()
+                    .map(|(a, &k)| axis_spans[a][k].0)
+                    .collect(),
+                bounds: cell
+                    .iter()
+                    .enumerate()
+                    .map(|(a, &k)| (axis_spans[a][k].1.clone(), axis_spans[a][k].2.clone()))
+                    .collect(),
                 poly: Bernstein::new(degs, local).expect("count matches"),
             });
         }

@@ -89,19 +89,19 @@ impl Field for Interval {
         Interval::from_rational(r)
     }
     fn add(&self, o: &Self) -> Self {
-        Interval::add(*self, *o)
+        *self + *o
     }
     fn sub(&self, o: &Self) -> Self {
-        Interval::sub(*self, *o)
+        *self - *o
     }
     fn mul(&self, o: &Self) -> Self {
-        Interval::mul(*self, *o)
+        *self * *o
     }
     fn div(&self, o: &Self) -> Self {
-        Interval::div(*self, *o)
+        *self / *o
     }
     fn neg(&self) -> Self {
-        Interval::neg(*self)
+        -*self
     }
     fn sign(&self) -> Sign {
         Interval::sign(self)

@@ -44,33 +44,50 @@ impl Interval {
         let exact = rational_from_f64(x, "interval").ok();
         match exact {
             Some(e) if &e == r => Interval::point(x),
-            _ => Interval { lo: x.next_down(), hi: x.next_up() },
+            _ => Interval {
+                lo: x.next_down(),
+                hi: x.next_up(),
+            },
         }
     }
 
     fn widen(lo: f64, hi: f64) -> Interval {
-        Interval { lo: lo.next_down(), hi: hi.next_up() }
+        Interval {
+            lo: lo.next_down(),
+            hi: hi.next_up(),
+        }
     }
 
-    pub fn add(self, o: Interval) -> Interval {
+    fn add_(self, o: Interval) -> Interval {
         let lo = self.lo + o.lo;
         let hi = self.hi + o.hi;
         Interval::widen(lo, hi)
     }
 
-    pub fn sub(self, o: Interval) -> Interval {
+    fn sub_(self, o: Interval) -> Interval {
         Interval::widen(self.lo - o.hi, self.hi - o.lo)
     }
 
-    pub fn neg(self) -> Interval {
-        Interval { lo: -self.hi, hi: -self.lo }
+    fn neg_(self) -> Interval {
+        Interval {
+            lo: -self.hi,
+            hi: -self.lo,
+        }
     }
 
-    pub fn mul(self, o: Interval) -> Interval {
-        let p = [self.lo * o.lo, self.lo * o.hi, self.hi * o.lo, self.hi * o.hi];
+    fn mul_(self, o: Interval) -> Interval {
+        let p = [
+            self.lo * o.lo,
+            self.lo * o.hi,
+            self.hi * o.lo,
+            self.hi * o.hi,
+        ];
         // 0·∞ gives NaN: treat it as the whole line, which is sound.
         if p.iter().any(|v| v.is_nan()) {
-            return Interval { lo: f64::NEG_INFINITY, hi: f64::INFINITY };
+            return Interval {
+                lo: f64::NEG_INFINITY,
+                hi: f64::INFINITY,
+            };
         }
         let lo = p.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = p.iter().copied().fold(f64::NEG_INFINITY, f64::max);
@@ -78,17 +95,20 @@ impl Interval {
     }
 
     /// Division; a divisor interval containing 0 gives the whole line.
-    pub fn div(self, o: Interval) -> Interval {
+    fn div_(self, o: Interval) -> Interval {
         if o.lo <= 0.0 && o.hi >= 0.0 {
-            return Interval { lo: f64::NEG_INFINITY, hi: f64::INFINITY };
+            return Interval {
+                lo: f64::NEG_INFINITY,
+                hi: f64::INFINITY,
+            };
         }
         let inv = Interval::widen(1.0 / o.hi, 1.0 / o.lo);
-        self.mul(inv)
+        self.mul_(inv)
     }
 
     /// Multiplication by an exactly known scalar.
     pub fn scale(self, k: f64) -> Interval {
-        self.mul(Interval::point(k))
+        self.mul_(Interval::point(k))
     }
 
     /// True when the interval contains the rational `r` (exact comparison).
@@ -128,6 +148,28 @@ impl Interval {
     }
 }
 
+macro_rules! interval_op {
+    ($tr:ident, $m:ident, $imp:ident) => {
+        impl std::ops::$tr for Interval {
+            type Output = Interval;
+            fn $m(self, o: Interval) -> Interval {
+                self.$imp(o)
+            }
+        }
+    };
+}
+interval_op!(Add, add, add_);
+interval_op!(Sub, sub, sub_);
+interval_op!(Mul, mul, mul_);
+interval_op!(Div, div, div_);
+
+impl std::ops::Neg for Interval {
+    type Output = Interval;
+    fn neg(self) -> Interval {
+        self.neg_()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -136,10 +178,10 @@ mod tests {
     fn contains_exact_results() {
         let a = Interval::point(0.1);
         let b = Interval::point(0.2);
-        let s = a.add(b);
+        let s = a + b;
         let exact = rational_from_f64(0.1, "a").unwrap() + rational_from_f64(0.2, "b").unwrap();
         assert!(s.contains(&exact));
-        let p = a.mul(b);
+        let p = a * b;
         let exact = rational_from_f64(0.1, "a").unwrap() * rational_from_f64(0.2, "b").unwrap();
         assert!(p.contains(&exact));
         assert_eq!(Interval::new(-1e-300, 1.0).sign(), Sign::Uncertain);
@@ -151,7 +193,7 @@ mod tests {
     fn negative_lower_bounds_stay_negative() {
         // The class of bug NOTES.md describes: a negative lower bound rounded upward.
         let a = Interval::point(-1e-310);
-        let s = a.add(Interval::point(-1e-310));
-        assert!(s.lo < 0.0 && s.lo <= -2e-310);
+        let s = a + Interval::point(-1e-310);
+        assert!(s.lo <= -2e-310);
     }
 }

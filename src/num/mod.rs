@@ -50,7 +50,7 @@ impl Sign {
     }
 
     /// The product of two signs (`Uncertain` absorbs unless the other is `Zero`).
-    pub fn mul(self, other: Sign) -> Sign {
+    pub fn times(self, other: Sign) -> Sign {
         use Sign::*;
         match (self, other) {
             (Zero, _) | (_, Zero) => Zero,

@@ -15,7 +15,10 @@ pub type Rational = BigRational;
 /// the conversion is lossless. NaN and infinities are a typed error naming `what`.
 pub fn rational_from_f64(x: f64, what: &str) -> Result<Rational, NumError> {
     if !x.is_finite() {
-        return Err(NumError::NonFinite { what: what.to_string(), value: x });
+        return Err(NumError::NonFinite {
+            what: what.to_string(),
+            value: x,
+        });
     }
     if x == 0.0 {
         return Ok(Rational::zero());
@@ -25,7 +28,11 @@ pub fn rational_from_f64(x: f64, what: &str) -> Result<Rational, NumError> {
     let exp_bits = ((bits >> 52) & 0x7ff) as i64;
     let frac = bits & ((1u64 << 52) - 1);
     // Subnormals have exponent field 0 and no hidden bit.
-    let (mant, exp) = if exp_bits == 0 { (frac, -1074) } else { (frac | (1u64 << 52), exp_bits - 1075) };
+    let (mant, exp) = if exp_bits == 0 {
+        (frac, -1074)
+    } else {
+        (frac | (1u64 << 52), exp_bits - 1075)
+    };
     let mut m = BigInt::from(mant);
     if negative {
         m = -m;
@@ -137,7 +144,10 @@ fn shifted_div(n: &BigInt, d: &BigInt, s: i64) -> (BigInt, BigInt) {
 /// Parses `"p/q"`, an integer, or a decimal with optional exponent (`"-1.25e-3"`), exactly.
 pub fn parse_rational(text: &str) -> Result<Rational, NumError> {
     let t = text.trim();
-    let err = |why: &str| NumError::Parse { text: text.to_string(), why: why.to_string() };
+    let err = |why: &str| NumError::Parse {
+        text: text.to_string(),
+        why: why.to_string(),
+    };
     if t.is_empty() {
         return Err(err("empty"));
     }
@@ -145,7 +155,9 @@ pub fn parse_rational(text: &str) -> Result<Rational, NumError> {
         let p = parse_integer(p.trim()).ok_or_else(|| err("numerator is not an integer"))?;
         let q = parse_integer(q.trim()).ok_or_else(|| err("denominator is not an integer"))?;
         if q.is_zero() {
-            return Err(NumError::ZeroDenominator { text: text.to_string() });
+            return Err(NumError::ZeroDenominator {
+                text: text.to_string(),
+            });
         }
         return Ok(Rational::new(p, q));
     }
@@ -168,11 +180,19 @@ pub fn parse_rational(text: &str) -> Result<Rational, NumError> {
     if int_part.is_empty() && frac_part.is_empty() {
         return Err(err("no digits"));
     }
-    if !int_part.chars().chain(frac_part.chars()).all(|c| c.is_ascii_digit()) {
+    if !int_part
+        .chars()
+        .chain(frac_part.chars())
+        .all(|c| c.is_ascii_digit())
+    {
         return Err(err("unexpected character"));
     }
     let all: String = format!("{int_part}{frac_part}");
-    let mut m: BigInt = if all.is_empty() { BigInt::zero() } else { all.parse().map_err(|_| err("bad digits"))? };
+    let mut m: BigInt = if all.is_empty() {
+        BigInt::zero()
+    } else {
+        all.parse().map_err(|_| err("bad digits"))?
+    };
     if negative {
         m = -m;
     }
@@ -217,7 +237,16 @@ mod tests {
 
     #[test]
     fn f64_round_trip_exact() {
-        for &x in &[0.1, -3.5, 1e-300, 5e-324, f64::MAX, f64::MIN_POSITIVE, 2.0f64.powi(-1060), 123456.789] {
+        for &x in &[
+            0.1,
+            -3.5,
+            1e-300,
+            5e-324,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            2.0f64.powi(-1060),
+            123456.789,
+        ] {
             let r = rational_from_f64(x, "x").unwrap();
             assert_eq!(rational_to_f64(&r), x, "{x}");
         }
@@ -240,10 +269,22 @@ mod tests {
 
     #[test]
     fn parsing() {
-        assert_eq!(parse_rational("-3/6").unwrap(), Rational::new((-1).into(), 2.into()));
-        assert_eq!(parse_rational("1.25e-1").unwrap(), Rational::new(1.into(), 8.into()));
-        assert_eq!(parse_rational("-.5").unwrap(), Rational::new((-1).into(), 2.into()));
-        assert_eq!(parse_rational("12E2").unwrap(), Rational::from_integer(1200.into()));
+        assert_eq!(
+            parse_rational("-3/6").unwrap(),
+            Rational::new((-1).into(), 2.into())
+        );
+        assert_eq!(
+            parse_rational("1.25e-1").unwrap(),
+            Rational::new(1.into(), 8.into())
+        );
+        assert_eq!(
+            parse_rational("-.5").unwrap(),
+            Rational::new((-1).into(), 2.into())
+        );
+        assert_eq!(
+            parse_rational("12E2").unwrap(),
+            Rational::from_integer(1200.into())
+        );
         for bad in ["", "1/0", "abc", "1.2.3", "nan", "inf", "1/x", "--1", "."] {
             assert!(parse_rational(bad).is_err(), "{bad}");
         }

@@ -2,8 +2,9 @@
 
 use crate::bernstein::positivity::{verify_witness, WitnessValue};
 use crate::bernstein::{
-    prove_positive_exact, prove_positive_fast, prove_positive_filtered, verify_positive_certificate, Bernstein,
-    FastBernstein, Limits, PositivityVerdict, ScaledBernstein,
+    prove_positive_exact, prove_positive_fast, prove_positive_filtered,
+    verify_positive_certificate, Bernstein, FastBernstein, Limits, PositivityVerdict,
+    ScaledBernstein,
 };
 use crate::num::{Rational, Sign};
 use num_bigint::BigInt;
@@ -14,7 +15,10 @@ use std::time::Instant;
 struct Rng(u64);
 impl Rng {
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         self.0 >> 11
     }
     fn int(&mut self, m: i64) -> i64 {
@@ -86,10 +90,25 @@ fn random_poly(rng: &mut Rng, degrees: &[usize]) -> Bernstein<Rational> {
 
 /// Runs exact, fast and filtered positivity on `cases` random polynomials and re-verifies every
 /// certificate the exact and filtered routes produce.
-pub fn kernel_campaign(seed: u64, cases: usize, degrees: &[usize], max_depth: u32) -> KernelCampaign {
+pub fn kernel_campaign(
+    seed: u64,
+    cases: usize,
+    degrees: &[usize],
+    max_depth: u32,
+) -> KernelCampaign {
     let mut rng = Rng(seed);
-    let limits = Limits { max_depth, max_boxes: 200_000, time_limit: None };
-    let mut c = KernelCampaign { seed, degrees: degrees.to_vec(), max_depth, cases, ..Default::default() };
+    let limits = Limits {
+        max_depth,
+        max_boxes: 200_000,
+        time_limit: None,
+    };
+    let mut c = KernelCampaign {
+        seed,
+        degrees: degrees.to_vec(),
+        max_depth,
+        cases,
+        ..Default::default()
+    };
     let (mut te, mut tf, mut tx) = (Vec::new(), Vec::new(), Vec::new());
     for _ in 0..cases {
         let p = random_poly(&mut rng, degrees);
@@ -114,7 +133,10 @@ pub fn kernel_campaign(seed: u64, cases: usize, degrees: &[usize], max_depth: u3
             Ok(PositivityVerdict::Undecided { .. }) => c.fast_undecided += 1,
         }
         if let Ok(f) = &fast {
-            if class(f) != Sign::Uncertain && class(&exact) != Sign::Uncertain && class(f) != class(&exact) {
+            if class(f) != Sign::Uncertain
+                && class(&exact) != Sign::Uncertain
+                && class(f) != class(&exact)
+            {
                 c.contradictions += 1;
             }
         }
@@ -123,7 +145,9 @@ pub fn kernel_campaign(seed: u64, cases: usize, degrees: &[usize], max_depth: u3
         }
         for v in [&exact, &filtered] {
             let ok = match v {
-                PositivityVerdict::Positive { leaves } => verify_positive_certificate(&p, leaves).is_ok(),
+                PositivityVerdict::Positive { leaves } => {
+                    verify_positive_certificate(&p, leaves).is_ok()
+                }
                 PositivityVerdict::NotPositive { witness, value } => {
                     let claimed = match value {
                         WitnessValue::Exact(r) => Some(r),
@@ -160,7 +184,14 @@ pub struct SubdivisionTiming {
 /// The degree-`degree` polynomial used by the timing (deterministic random rationals).
 pub fn timing_poly(degree: usize) -> Bernstein<Rational> {
     let mut rng = Rng(12345);
-    let coeffs = (0..=degree).map(|_| Rational::new(BigInt::from(rng.int(1000)), BigInt::from(1 + rng.next() % 97))).collect();
+    let coeffs = (0..=degree)
+        .map(|_| {
+            Rational::new(
+                BigInt::from(rng.int(1000)),
+                BigInt::from(1 + rng.next() % 97),
+            )
+        })
+        .collect();
     Bernstein::new(vec![degree], coeffs).expect("count")
 }
 
@@ -168,7 +199,11 @@ pub fn timing_poly(degree: usize) -> Bernstein<Rational> {
 /// the work cannot be optimised away.
 pub fn tree_rational(p: &Bernstein<Rational>, depth: u32) -> i64 {
     if depth == 0 {
-        return p.coeffs().iter().filter(|c| c > &&Rational::from_integer(0.into())).count() as i64;
+        return p
+            .coeffs()
+            .iter()
+            .filter(|c| c > &&Rational::from_integer(0.into()))
+            .count() as i64;
     }
     let half = Rational::new(1.into(), 2.into());
     let (l, r) = p.split(0, &half).expect("axis 0");
@@ -178,18 +213,28 @@ pub fn tree_rational(p: &Bernstein<Rational>, depth: u32) -> i64 {
 /// The same tree in the sign-only integer form.
 pub fn tree_scaled(p: &ScaledBernstein, depth: u32) -> i64 {
     if depth == 0 {
-        return (0..p.numerators().len()).filter(|&k| p.coeff_sign(k) == Sign::Positive).count() as i64;
+        return (0..p.numerators().len())
+            .filter(|&k| p.coeff_sign(k) == Sign::Positive)
+            .count() as i64;
     }
     let (l, r) = p.split_half(0).expect("axis 0");
     tree_scaled(&l, depth - 1) + tree_scaled(&r, depth - 1)
 }
 
 /// The same tree in certified `f64` with preallocated buffers per level.
-pub fn tree_fast(p: &FastBernstein, depth: u32, bufs: &mut Vec<(FastBernstein, FastBernstein)>) -> i64 {
+pub fn tree_fast(
+    p: &FastBernstein,
+    depth: u32,
+    bufs: &mut Vec<(FastBernstein, FastBernstein)>,
+) -> i64 {
     if depth == 0 {
-        return (0..p.coeffs().len()).filter(|&k| p.coeff_sign(k) == Sign::Positive).count() as i64;
+        return (0..p.coeffs().len())
+            .filter(|&k| p.coeff_sign(k) == Sign::Positive)
+            .count() as i64;
     }
-    let (mut l, mut r) = bufs.pop().unwrap_or_else(|| (p.buffer_like(), p.buffer_like()));
+    let (mut l, mut r) = bufs
+        .pop()
+        .unwrap_or_else(|| (p.buffer_like(), p.buffer_like()));
     p.split_half_into(0, &mut l, &mut r);
     let s = tree_fast(&l, depth - 1, bufs) + tree_fast(&r, depth - 1, bufs);
     bufs.push((l, r));
@@ -216,5 +261,13 @@ pub fn subdivision_timing(degree: usize, depth: u32, runs: usize) -> Subdivision
     let (scaled_ms, b) = time(&mut || tree_scaled(&scaled, depth));
     let mut bufs = Vec::new();
     let (fast_ms, _) = time(&mut || tree_fast(&fast, depth, &mut bufs));
-    SubdivisionTiming { degree, depth, runs, rational_ms, scaled_ms, fast_ms, leaf_signs_agree: a == b }
+    SubdivisionTiming {
+        degree,
+        depth,
+        runs,
+        rational_ms,
+        scaled_ms,
+        fast_ms,
+        leaf_signs_agree: a == b,
+    }
 }

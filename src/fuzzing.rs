@@ -1,0 +1,103 @@
+//! Checks shared by the cargo-fuzz targets in `fuzz/` and the regression tests that replay
+//! their saved inputs (`tests/fuzz_regressions.rs`). Each returns `Err` with a description when
+//! a property fails; the fuzz targets panic on `Err`.
+
+use crate::bernstein::io::poly_from_json;
+use crate::bernstein::positivity::{verify_witness, WitnessValue};
+use crate::bernstein::{
+    prove_positive_exact, prove_positive_fast, verify_positive_certificate, Bernstein,
+    FastBernstein, Limits, PositivityVerdict,
+};
+use crate::num::{Rational, Sign};
+use num_bigint::BigInt;
+
+/// Decodes bytes into a small Bernstein polynomial: byte 0 picks the dimension (1–3) and
+/// degrees (0–4), the rest give coefficients `k · 2^{−e}` with `k` an `i8` and `e` from a
+/// nibble scaled up to 60 (so values straddle f64 rounding near zero).
+pub fn decode_poly(data: &[u8]) -> Option<Bernstein<Rational>> {
+    let (&head, rest) = data.split_first()?;
+    let dim = 1 + (head % 3) as usize;
+    let degrees: Vec<usize> = (0..dim)
+        .map(|a| ((head as usize >> (2 + 2 * a)) % 4) + if dim == 1 { 1 } else { 0 })
+        .collect();
+    let n: usize = degrees.iter().map(|d| d + 1).product();
+    if rest.len() < 2 * n {
+        return None;
+    }
+    let coeffs = (0..n)
+        .map(|i| {
+            let k = rest[2 * i] as i8 as i64;
+            let e = (rest[2 * i + 1] % 61) as usize;
+            Rational::new(BigInt::from(k), BigInt::from(1) << e)
+        })
+        .collect();
+    Bernstein::new(degrees, coeffs).ok()
+}
+
+fn class(v: &PositivityVerdict) -> Sign {
+    match v {
+        PositivityVerdict::Positive { .. } => Sign::Positive,
+        PositivityVerdict::NotPositive { .. } => Sign::Negative,
+        _ => Sign::Uncertain,
+    }
+}
+
+/// Differential check: the certified fast verdict never contradicts the exact one, and every
+/// certificate either route produces re-verifies; fast witness bounds are ≥ the exact value.
+pub fn check_subdivision(p: &Bernstein<Rational>) -> Result<(), String> {
+    let limits = Limits {
+        max_depth: 6,
+        max_boxes: 20_000,
+        time_limit: None,
+    };
+    let exact = prove_positive_exact(p, limits);
+    let fast = FastBernstein::from_rational(p).map_err(|e| format!("fast conversion: {e}"))?;
+    let fast = prove_positive_fast(&fast, limits);
+    if class(&fast).contradicts(class(&exact)) && class(&exact) != Sign::Uncertain {
+        return Err(format!(
+            "fast {:?} contradicts exact {:?} on {:?}",
+            class(&fast),
+            class(&exact),
+            p.coeffs()
+        ));
+    }
+    for v in [&exact, &fast] {
+        match v {
+            PositivityVerdict::Positive { leaves } => {
+                verify_positive_certificate(p, leaves)
+                    .map_err(|e| format!("certificate refused: {e}"))?;
+            }
+            PositivityVerdict::NotPositive { witness, value } => {
+                let exact_value = verify_witness(p, witness, None)
+                    .map_err(|e| format!("witness refused: {e}"))?;
+                match value {
+                    WitnessValue::Exact(r) if r != &exact_value => {
+                        return Err("witness value mismatch".into())
+                    }
+                    WitnessValue::AtMost(b) => {
+                        let b = crate::num::rational_from_f64(*b, "bound")
+                            .map_err(|e| e.to_string())?;
+                        if exact_value > b {
+                            return Err(format!(
+                                "claimed bound {b} below the exact value {exact_value}"
+                            ));
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// The polynomial JSON reader on arbitrary bytes: must return `Ok` or a typed error, never panic.
+pub fn check_poly_json(data: &[u8]) -> Result<(), String> {
+    if let Ok(text) = std::str::from_utf8(data) {
+        if let Ok(v) = serde_json::from_str::<serde_json::Value>(text) {
+            let _ = poly_from_json(&v);
+        }
+    }
+    Ok(())
+}

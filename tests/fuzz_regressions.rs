@@ -1,0 +1,39 @@
+//! Replays every saved fuzz input in `fuzz/regressions/<target>/` through the same checks the
+//! fuzz targets run, so a crash found once stays fixed.
+
+use std::path::Path;
+
+fn replay(target: &str, check: impl Fn(&[u8]) -> Result<(), String>) -> usize {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("fuzz/regressions")
+        .join(target);
+    let mut n = 0;
+    if let Ok(entries) = std::fs::read_dir(&dir) {
+        for e in entries.flatten() {
+            let data = std::fs::read(e.path()).expect("readable regression input");
+            if let Err(msg) = check(&data) {
+                panic!("{}: {msg}", e.path().display());
+            }
+            n += 1;
+        }
+    }
+    println!("{target}: replayed {n} saved inputs");
+    n
+}
+
+#[test]
+fn subdivision_signs_regressions() {
+    let n = replay(
+        "subdivision_signs",
+        |d| match geocert::fuzzing::decode_poly(d) {
+            Some(p) => geocert::fuzzing::check_subdivision(&p),
+            None => Ok(()),
+        },
+    );
+    assert!(n > 0, "the regression corpus must not be empty");
+}
+
+#[test]
+fn poly_json_regressions() {
+    replay("poly_json", geocert::fuzzing::check_poly_json);
+}

@@ -1,0 +1,138 @@
+//! The command-line tool end to end: decisions with certificates, independent re-checks, and
+//! clear errors (exit code 2, nothing written) on malformed input.
+
+use std::process::Command;
+
+fn geocert() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_geocert"))
+}
+
+fn tmp(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("geocert-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+#[test]
+fn positive_polynomial_certificate_round_trip() {
+    // (t − ½)² + 1/1000 in Bernstein form on [0,1]: coefficients 1/4+ε, −1/4+ε, 1/4+ε.
+    let poly = tmp("pos.json");
+    std::fs::write(
+        &poly,
+        r#"{"degrees":[2],"coeffs":["251/1000","-249/1000","251/1000"]}"#,
+    )
+    .unwrap();
+    let cert = tmp("pos.cert.json");
+    let out = geocert()
+        .args([
+            "positivity",
+            poly.to_str().unwrap(),
+            "--json",
+            "--cert",
+            cert.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["verdict"], "positive");
+    assert!(v["leaves"].as_u64().unwrap() > 1);
+    let out = geocert()
+        .args(["verify-cert", cert.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    // Tamper: drop a leaf; the checker must refuse.
+    let mut c: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&cert).unwrap()).unwrap();
+    c["leaves"].as_array_mut().unwrap().pop();
+    std::fs::write(&cert, c.to_string()).unwrap();
+    let out = geocert()
+        .args(["verify-cert", cert.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+}
+
+#[test]
+fn witness_for_a_touching_polynomial() {
+    let poly = tmp("touch.json");
+    std::fs::write(&poly, r#"{"degrees":[2],"coeffs":[0.25,-0.25,0.25]}"#).unwrap();
+    // The minimum is exactly 0 at t = ½: the exact routes find the witness; the certified f64
+    // route cannot tell 0 from a rounding error there and must say `uncertain`, not decide.
+    for path in ["exact", "fast", "filtered"] {
+        let out = geocert()
+            .args([
+                "positivity",
+                poly.to_str().unwrap(),
+                "--json",
+                "--path",
+                path,
+            ])
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        if path == "fast" {
+            assert!(
+                v["verdict"] == "uncertain" || v["verdict"] == "not_positive",
+                "fast said {}",
+                v["verdict"]
+            );
+            continue;
+        }
+        assert_eq!(v["verdict"], "not_positive", "path {path}");
+        assert_eq!(v["witness"][0], "1/2");
+        assert_eq!(v["value"], "0");
+    }
+}
+
+#[test]
+fn malformed_inputs_are_clear_errors() {
+    let cases = [
+        (
+            "nan.json",
+            r#"{"degrees":[1],"coeffs":["nan",1]}"#,
+            "coefficient 0",
+        ),
+        (
+            "count.json",
+            r#"{"degrees":[2],"coeffs":[1,2]}"#,
+            "expected 3 coefficients",
+        ),
+        ("degrees.json", r#"{"coeffs":[1,2]}"#, "degrees"),
+        (
+            "zero.json",
+            r#"{"degrees":[1],"coeffs":["1/0",1]}"#,
+            "zero denominator",
+        ),
+        ("json.json", r#"{"degrees":[1],"#, "not valid JSON"),
+    ];
+    for (name, text, needle) in cases {
+        let f = tmp(name);
+        std::fs::write(&f, text).unwrap();
+        let cert = tmp(&format!("{name}.cert"));
+        let out = geocert()
+            .args([
+                "positivity",
+                f.to_str().unwrap(),
+                "--cert",
+                cert.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{name}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(needle), "{name}: {err}");
+        assert!(!cert.exists(), "{name}: nothing may be written on failure");
+    }
+    let out = geocert()
+        .args(["positivity", "/nonexistent/file.json"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+}

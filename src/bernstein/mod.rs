@@ -4,9 +4,9 @@
 //!   exact with [`Rational`](crate::num::Rational), certified with
 //!   [`Interval`](crate::num::Interval). Evaluation, subdivision, restriction,
 //!   elevation, derivative, product, power-basis conversion, face slices.
-//! * [`ScaledBernstein`](scaled::ScaledBernstein): the sign-only exact form, integer
+//! * [`ScaledBernstein`]: the sign-only exact form, integer
 //!   numerators over one shared denominator; subdivision at ½ needs no gcd.
-//! * [`FastBernstein`](fast::FastBernstein): `f64` coefficients with one rigorous
+//! * [`FastBernstein`]: `f64` coefficients with one rigorous
 //!   forward error bound, preallocated, no allocation inside the subdivision loop.
 //!
 //! [`positivity`] proves or refutes `p > 0` on the unit box by subdivision, with

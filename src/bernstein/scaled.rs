@@ -124,8 +124,60 @@ impl ScaledBernstein {
 
     /// de Casteljau at ½ along `axis` in integers: returns the halves on `[0,½]` and `[½,1]`,
     /// each with denominator `den · 2^d`.
+    ///
+    /// Dedicated route: in-place additions (`a += &b` reuses the limb buffer) and shifts, one
+    /// pass over the lines, no multiplication and no gcd.
     pub fn split_half(&self, axis: usize) -> Result<(Self, Self), BernsteinError> {
-        self.split_generic(axis, &BigInt::one(), &BigInt::from(2))
+        if axis >= self.degrees.len() {
+            return Err(BernsteinError::Axis {
+                axis,
+                dim: self.degrees.len(),
+            });
+        }
+        let d = self.degrees[axis];
+        let len = d + 1;
+        let stride = strides(&self.degrees)[axis];
+        let total = self.num.len();
+        let block = stride * len;
+        let mut left = self.num.clone();
+        let mut right = self.num.clone();
+        let mut work: Vec<BigInt> = vec![BigInt::zero(); len];
+        for base in (0..total).step_by(block) {
+            for off in 0..stride {
+                let at = |i: usize| base + off + i * stride;
+                for (i, w) in work.iter_mut().enumerate() {
+                    w.clone_from(&self.num[at(i)]);
+                }
+                // Level r: w_i ← w_i + w_{i+1} (= 2^r × true de Casteljau value).
+                // left[r] = w_0 and right[d−r] = w_{d−r} at level r, both scaled by 2^(d−r)
+                // to the common denominator den·2^d.
+                left[at(0)] <<= d;
+                right[at(d)] <<= d;
+                for r in 1..len {
+                    for i in 0..len - r {
+                        let (lo, hi) = work.split_at_mut(i + 1);
+                        lo[i] += &hi[0];
+                    }
+                    left[at(r)].clone_from(&work[0]);
+                    left[at(r)] <<= d - r;
+                    right[at(d - r)].clone_from(&work[d - r]);
+                    right[at(d - r)] <<= d - r;
+                }
+            }
+        }
+        let den = &self.den << d;
+        Ok((
+            ScaledBernstein {
+                degrees: self.degrees.clone(),
+                num: left,
+                den: den.clone(),
+            },
+            ScaledBernstein {
+                degrees: self.degrees.clone(),
+                num: right,
+                den,
+            },
+        ))
     }
 
     /// de Casteljau at `t = p/q` (`0 < p < q`) along `axis` in integers: every level computes

@@ -171,7 +171,9 @@ fn classify(v: &PositivityVerdict) -> Sign {
 fn check_positivity(t: &mut Tally, p: &Bernstein<Rational>, limits: Limits) {
     let exact = prove_positive_exact(p, limits);
     let cert_ok = match &exact {
-        PositivityVerdict::Positive { leaves } => verify_positive_certificate(p, leaves).is_ok(),
+        PositivityVerdict::Positive { leaves, .. } => {
+            verify_positive_certificate(p, leaves).is_ok()
+        }
         PositivityVerdict::NotPositive {
             witness,
             value: WitnessValue::Exact(v),

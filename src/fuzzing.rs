@@ -63,7 +63,7 @@ pub fn check_subdivision(p: &Bernstein<Rational>) -> Result<(), String> {
     }
     for v in [&exact, &fast] {
         match v {
-            PositivityVerdict::Positive { leaves } => {
+            PositivityVerdict::Positive { leaves, .. } => {
                 verify_positive_certificate(p, leaves)
                     .map_err(|e| format!("certificate refused: {e}"))?;
             }

@@ -22,6 +22,7 @@
 
 pub mod bernstein;
 pub mod bspline;
+pub mod ffd;
 pub mod fuzzing;
 pub mod num;
 #[path = "../proofs/mod.rs"]

@@ -174,7 +174,7 @@ proptest! {
         // Certified verdicts never contradict each other.
         prop_assert!(!class(&fast).contradicts(class(&exact)) || class(&exact) == Sign::Uncertain);
         prop_assert!(!class(&filtered).contradicts(class(&exact)) || class(&exact) == Sign::Uncertain);
-        if let PositivityVerdict::Positive { leaves } = &fast {
+        if let PositivityVerdict::Positive { leaves, .. } = &fast {
             prop_assert!(verify_positive_certificate(&p, leaves).is_ok());
         }
         if let PositivityVerdict::NotPositive { witness, value: WitnessValue::AtMost(b) } = &fast {
@@ -250,7 +250,7 @@ proptest! {
 
 fn check_verdict(p: &Bernstein<Rational>, v: &PositivityVerdict) -> Result<(), TestCaseError> {
     match v {
-        PositivityVerdict::Positive { leaves } => {
+        PositivityVerdict::Positive { leaves, .. } => {
             prop_assert!(
                 verify_positive_certificate(p, leaves).is_ok(),
                 "certificate refused"
@@ -281,7 +281,7 @@ fn positive_and_negative_examples() {
     let eps = Bernstein::constant(vec![2], q(1, 1000));
     let pos = sq.add(&eps).unwrap();
     match prove_positive_exact(&pos, Limits::default()) {
-        PositivityVerdict::Positive { leaves } => {
+        PositivityVerdict::Positive { leaves, .. } => {
             assert!(leaves.len() > 1);
             assert_eq!(verify_positive_certificate(&pos, &leaves), Ok(leaves.len()));
         }
@@ -295,7 +295,7 @@ fn positive_and_negative_examples() {
         other => panic!("expected a witness, got {other:?}"),
     }
     // A certificate with a missing leaf is refused.
-    if let PositivityVerdict::Positive { mut leaves } =
+    if let PositivityVerdict::Positive { mut leaves, .. } =
         prove_positive_exact(&pos, Limits::default())
     {
         leaves.pop();

@@ -110,7 +110,7 @@ pub struct CertificateFile {
 pub fn certificate_for(p: &Bernstein<Rational>, v: &PositivityVerdict) -> Option<CertificateFile> {
     let polynomial = poly_to_json(p);
     match v {
-        PositivityVerdict::Positive { leaves } => Some(CertificateFile {
+        PositivityVerdict::Positive { leaves, .. } => Some(CertificateFile {
             polynomial,
             verdict: "positive".into(),
             leaves: Some(leaves.clone()),

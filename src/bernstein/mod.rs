@@ -24,7 +24,8 @@ pub use fast::FastBernstein;
 pub use poly::Bernstein;
 pub use positivity::{
     prove_positive_exact, prove_positive_fast, prove_positive_filtered,
-    verify_positive_certificate, DyadicBox, Limits, PositivityVerdict,
+    prove_positive_filtered_with, prove_positive_scaled, verify_positive_certificate, DyadicBox,
+    Limits, PositivityVerdict,
 };
 pub use scaled::ScaledBernstein;
 

@@ -130,7 +130,12 @@ pub enum WitnessValue {
 #[derive(Clone, Debug, PartialEq)]
 pub enum PositivityVerdict {
     /// `p > 0` on the whole box: every leaf box has all coefficients positive.
-    Positive { leaves: Vec<DyadicBox> },
+    /// `lower_bound` is a certified lower bound of `p` on the box: the smallest leaf
+    /// coefficient, rounded down to an `f64` (convex-hull property).
+    Positive {
+        leaves: Vec<DyadicBox>,
+        lower_bound: f64,
+    },
     /// `p(witness) ≤ 0`.
     NotPositive {
         witness: Vec<Rational>,
@@ -148,6 +153,8 @@ pub enum PositivityVerdict {
     Uncertain {
         boxes: Vec<DyadicBox>,
         proven: Vec<DyadicBox>,
+        /// Certified lower bound of `p` on the `proven` leaves.
+        proven_lower_bound: f64,
     },
 }
 
@@ -180,7 +187,7 @@ impl Budget {
     }
 }
 
-fn round_down(r: &Rational) -> f64 {
+pub(crate) fn round_down(r: &Rational) -> f64 {
     let x = rational_to_f64(r);
     if &crate::num::rational_from_f64(x, "bound").unwrap_or_else(|_| r.clone()) > r {
         x.next_down()
@@ -235,15 +242,20 @@ fn restrict_scaled(p: &ScaledBernstein, b: &DyadicBox) -> ScaledBernstein {
 /// Exact necessary-and-sufficient positivity test on `start` (use [`DyadicBox::root`] for the
 /// whole box), in sign-only integer arithmetic; never touches `f64` for a decision.
 pub fn prove_positive_exact(p: &Bernstein<Rational>, limits: Limits) -> PositivityVerdict {
-    let root = DyadicBox::root(p.dim());
-    let scaled = ScaledBernstein::from_rational(p);
+    prove_positive_scaled(&ScaledBernstein::from_rational(p), limits)
+}
+
+/// [`prove_positive_exact`] on a polynomial already in the sign-only integer form.
+pub fn prove_positive_scaled(p: &ScaledBernstein, limits: Limits) -> PositivityVerdict {
+    let root = DyadicBox::root(p.degrees().len());
     let mut budget = Budget::new(limits);
-    exact_from(&scaled, root, &mut budget)
+    exact_from(p, root, &mut budget)
 }
 
 fn exact_from(p: &ScaledBernstein, start: DyadicBox, budget: &mut Budget) -> PositivityVerdict {
     let n = start.index.len();
     let mut leaves = Vec::new();
+    let mut lowest: Option<Rational> = None;
     let mut stack = vec![(start, p.clone())];
     while let Some((b, q)) = stack.pop() {
         for corner in 0..1usize << n {
@@ -256,6 +268,10 @@ fn exact_from(p: &ScaledBernstein, start: DyadicBox, budget: &mut Budget) -> Pos
             }
         }
         if q.all_positive() {
+            let m = q.coeff_value(q.argmin());
+            if lowest.as_ref().is_none_or(|l| &m < l) {
+                lowest = Some(m);
+            }
             leaves.push(b);
             continue;
         }
@@ -282,7 +298,10 @@ fn exact_from(p: &ScaledBernstein, start: DyadicBox, budget: &mut Budget) -> Pos
             stack.push((b.child(c), children[c].take().expect("each child once")));
         }
     }
-    PositivityVerdict::Positive { leaves }
+    PositivityVerdict::Positive {
+        leaves,
+        lower_bound: lowest.map_or(f64::INFINITY, |l| round_down(&l)),
+    }
 }
 
 /// The fast path: `f64` subdivision with certified error bounds. Certified verdicts are
@@ -293,6 +312,7 @@ pub fn prove_positive_fast(p: &FastBernstein, limits: Limits) -> PositivityVerdi
     let mut budget = Budget::new(limits);
     let mut leaves = Vec::new();
     let mut uncertain = Vec::new();
+    let mut lowest = f64::INFINITY;
     let mut pool: Vec<FastBernstein> = Vec::new();
     let mut stack = vec![(DyadicBox::root(n), p.clone())];
     while let Some((b, q)) = stack.pop() {
@@ -312,6 +332,8 @@ pub fn prove_positive_fast(p: &FastBernstein, limits: Limits) -> PositivityVerdi
             }
         }
         if !vertex_uncertain && (0..q.coeffs().len()).all(|k| q.coeff_sign(k) == Sign::Positive) {
+            let min = q.coeffs().iter().fold(f64::INFINITY, |m, &c| m.min(c));
+            lowest = lowest.min((min - q.err()).next_down());
             leaves.push(b);
             pool.push(q);
             continue;
@@ -360,11 +382,15 @@ pub fn prove_positive_fast(p: &FastBernstein, limits: Limits) -> PositivityVerdi
         }
     }
     if uncertain.is_empty() {
-        PositivityVerdict::Positive { leaves }
+        PositivityVerdict::Positive {
+            leaves,
+            lower_bound: lowest,
+        }
     } else {
         PositivityVerdict::Uncertain {
             boxes: uncertain,
             proven: leaves,
+            proven_lower_bound: lowest,
         }
     }
 }
@@ -372,22 +398,57 @@ pub fn prove_positive_fast(p: &FastBernstein, limits: Limits) -> PositivityVerdi
 /// Fast first, then the exact path on each box the fast path left uncertain. The verdict is
 /// exact: it never depends on an uncertified `f64` decision.
 pub fn prove_positive_filtered(p: &Bernstein<Rational>, limits: Limits) -> PositivityVerdict {
-    let fast = match FastBernstein::from_rational(p) {
-        Ok(f) => prove_positive_fast(&f, limits),
-        Err(_) => PositivityVerdict::Uncertain {
-            boxes: vec![DyadicBox::root(p.dim())],
+    let fast = FastBernstein::from_rational(p).ok();
+    prove_positive_filtered_with(
+        fast.as_ref(),
+        || ScaledBernstein::from_rational(p),
+        |w| p.eval(w).expect("witness has the polynomial's dimension"),
+        limits,
+    )
+}
+
+/// The filtered test with the representations supplied by the caller: `fast` (if the
+/// polynomial fits the fast path), `exact()` (built only when some box is uncertain) and
+/// `value_at(witness)` (the exact value at a witness the fast path found).
+pub fn prove_positive_filtered_with(
+    fast: Option<&FastBernstein>,
+    exact: impl FnOnce() -> ScaledBernstein,
+    value_at: impl FnOnce(&[Rational]) -> Rational,
+    limits: Limits,
+) -> PositivityVerdict {
+    let fast = match fast {
+        Some(f) => prove_positive_fast(f, limits),
+        None => PositivityVerdict::Uncertain {
+            boxes: vec![],
             proven: vec![],
+            proven_lower_bound: f64::INFINITY,
         },
     };
     match fast {
-        PositivityVerdict::Uncertain { boxes, mut proven } => {
-            let scaled = ScaledBernstein::from_rational(p);
+        PositivityVerdict::Uncertain {
+            boxes,
+            mut proven,
+            proven_lower_bound,
+        } => {
+            let mut lowest = proven_lower_bound;
+            let scaled = exact();
+            let boxes = if boxes.is_empty() && proven.is_empty() {
+                vec![DyadicBox::root(scaled.degrees().len())]
+            } else {
+                boxes
+            };
             let mut budget = Budget::new(limits);
             for b in boxes {
                 let sub = restrict_scaled(&scaled, &b);
                 match exact_from(&sub, b.clone(), &mut budget) {
                     // `exact_from` labels boxes and witnesses globally (children of `b`).
-                    PositivityVerdict::Positive { leaves } => proven.extend(leaves),
+                    PositivityVerdict::Positive {
+                        leaves,
+                        lower_bound,
+                    } => {
+                        proven.extend(leaves);
+                        lowest = lowest.min(lower_bound);
+                    }
                     verdict @ (PositivityVerdict::NotPositive { .. }
                     | PositivityVerdict::Undecided { .. }) => {
                         return verdict;
@@ -397,13 +458,14 @@ pub fn prove_positive_filtered(p: &Bernstein<Rational>, limits: Limits) -> Posit
                     }
                 }
             }
-            PositivityVerdict::Positive { leaves: proven }
+            PositivityVerdict::Positive {
+                leaves: proven,
+                lower_bound: lowest,
+            }
         }
         PositivityVerdict::NotPositive { witness, .. } => {
-            // Recover the exact value at the witness (cheap: one evaluation).
-            let value = p
-                .eval(&witness)
-                .expect("witness has the polynomial's dimension");
+            // Recover the exact value at the witness (one exact evaluation).
+            let value = value_at(&witness);
             PositivityVerdict::NotPositive {
                 witness,
                 value: WitnessValue::Exact(value),

@@ -6,7 +6,7 @@
 //! tracked exactly, so values (witnesses) can still be recovered as rationals.
 
 use super::poly::{coefficient_count, strides, Bernstein};
-use super::{poly::map_lines, BernsteinError};
+use super::{binomial, poly::map_lines, BernsteinError};
 use crate::num::{Rational, Sign};
 use num_bigint::{BigInt, Sign as BigSign};
 use num_integer::Integer;
@@ -61,6 +61,164 @@ impl ScaledBernstein {
             num,
             den: BigInt::one(),
         })
+    }
+
+    /// Integer numerators over the positive denominator `den`.
+    pub fn with_denominator(
+        degrees: Vec<usize>,
+        num: Vec<BigInt>,
+        den: BigInt,
+    ) -> Result<Self, BernsteinError> {
+        let mut p = Self::from_integers(degrees, num)?;
+        if den.sign() != BigSign::Plus {
+            return Err(BernsteinError::BadParameter);
+        }
+        p.den = den;
+        Ok(p)
+    }
+
+    /// The partial derivative along `axis` on the unit box: `d (b_{i+1} − b_i)` (Farin, eq. 4.9
+    /// per axis), same denominator.
+    pub fn derivative(&self, axis: usize) -> Result<Self, BernsteinError> {
+        if axis >= self.degrees.len() {
+            return Err(BernsteinError::Axis {
+                axis,
+                dim: self.degrees.len(),
+            });
+        }
+        let d = self.degrees[axis];
+        if d == 0 {
+            let mut z = self.clone();
+            z.num.iter_mut().for_each(|n| *n = BigInt::zero());
+            return Ok(z);
+        }
+        let factor = BigInt::from(d);
+        let num = map_lines(
+            &self.degrees,
+            &self.num,
+            axis,
+            d,
+            &BigInt::zero(),
+            |line, out| {
+                for i in 0..d {
+                    out[i] = &factor * (&line[i + 1] - &line[i]);
+                }
+            },
+        );
+        let mut degrees = self.degrees.clone();
+        degrees[axis] = d - 1;
+        Ok(ScaledBernstein {
+            degrees,
+            num,
+            den: self.den.clone(),
+        })
+    }
+
+    /// The exact product in integers. With `ã_i = C(m,i) a_i`, `b̃_j = C(n,j) b_j` (per axis
+    /// products of binomials), the product's coefficient is `Σ_{i+j=k} ã_i b̃_j / C(m+n,k)`
+    /// (NOTES: Bernstein product); multiplying by `L = Π_x lcm_k C(m_x+n_x, k)` keeps every
+    /// numerator an integer: `num_k = (L / Π C(·,k)) Σ ã_i b̃_j`, `den = den_a den_b L`.
+    pub fn product(&self, other: &Self) -> Result<Self, BernsteinError> {
+        let n = self.degrees.len();
+        if other.degrees.len() != n {
+            return Err(BernsteinError::DimensionMismatch {
+                expected: n,
+                found: other.degrees.len(),
+            });
+        }
+        let degrees: Vec<usize> = (0..n).map(|x| self.degrees[x] + other.degrees[x]).collect();
+        let bin_a = binomial_weights(&self.degrees);
+        let bin_b = binomial_weights(&other.degrees);
+        let at: Vec<BigInt> = self.num.iter().zip(&bin_a).map(|(a, w)| a * w).collect();
+        let bt: Vec<BigInt> = other.num.iter().zip(&bin_b).map(|(b, w)| b * w).collect();
+        let so = strides(&degrees);
+        let mut out = vec![BigInt::zero(); coefficient_count(&degrees)];
+        // Flat offset of each multi-index of `self` / `other` in the product's layout.
+        let off_a = offsets(&self.degrees, &so);
+        let off_b = offsets(&other.degrees, &so);
+        for (a, oa) in at.iter().zip(&off_a) {
+            if a.is_zero() {
+                continue;
+            }
+            for (b, ob) in bt.iter().zip(&off_b) {
+                if !b.is_zero() {
+                    out[oa + ob] += a * b;
+                }
+            }
+        }
+        // Per axis: L_x = lcm_k C(N_x, k); coefficient k gets Π_x L_x / C(N_x, k_x).
+        let mut big_l = BigInt::one();
+        let per_axis: Vec<Vec<BigInt>> = degrees
+            .iter()
+            .map(|&nx| {
+                let row: Vec<BigInt> = (0..=nx).map(|k| binomial(nx, k)).collect();
+                let l = row.iter().fold(BigInt::one(), |acc, c| acc.lcm(c));
+                big_l *= &l;
+                row.iter().map(|c| &l / c).collect()
+            })
+            .collect();
+        for (flat, v) in out.iter_mut().enumerate() {
+            if v.is_zero() {
+                continue;
+            }
+            let mut rem = flat;
+            for (x, &nx) in degrees.iter().enumerate() {
+                let k = rem % (nx + 1);
+                rem /= nx + 1;
+                *v *= &per_axis[x][k];
+            }
+        }
+        Ok(ScaledBernstein {
+            degrees,
+            num: out,
+            den: &self.den * &other.den * big_l,
+        })
+    }
+
+    /// `self + sign · other` exactly (same degrees); equal denominators add numerators.
+    fn combine(&self, other: &Self, negate: bool) -> Result<Self, BernsteinError> {
+        if self.degrees != other.degrees {
+            return Err(BernsteinError::DegreeMismatch);
+        }
+        let (num, den) = if self.den == other.den {
+            let num = self
+                .num
+                .iter()
+                .zip(&other.num)
+                .map(|(a, b)| if negate { a - b } else { a + b })
+                .collect();
+            (num, self.den.clone())
+        } else {
+            let num = self
+                .num
+                .iter()
+                .zip(&other.num)
+                .map(|(a, b)| {
+                    let (x, y) = (a * &other.den, b * &self.den);
+                    if negate {
+                        x - y
+                    } else {
+                        x + y
+                    }
+                })
+                .collect();
+            (num, &self.den * &other.den)
+        };
+        Ok(ScaledBernstein {
+            degrees: self.degrees.clone(),
+            num,
+            den,
+        })
+    }
+
+    /// `self + other` exactly.
+    pub fn add(&self, other: &Self) -> Result<Self, BernsteinError> {
+        self.combine(other, false)
+    }
+
+    /// `self − other` exactly.
+    pub fn sub(&self, other: &Self) -> Result<Self, BernsteinError> {
+        self.combine(other, true)
     }
 
     /// The same polynomial with rational coefficients.
@@ -303,4 +461,38 @@ fn scale_pow(v: &BigInt, half: bool, qpow: &[BigInt], k: usize) -> BigInt {
     } else {
         v * &qpow[k]
     }
+}
+
+/// `Π_x C(d_x, i_x)` for every multi-index (axis 0 fastest).
+fn binomial_weights(degrees: &[usize]) -> Vec<BigInt> {
+    let rows: Vec<Vec<BigInt>> = degrees
+        .iter()
+        .map(|&d| (0..=d).map(|k| binomial(d, k)).collect())
+        .collect();
+    (0..coefficient_count(degrees))
+        .map(|flat| {
+            let mut rem = flat;
+            let mut w = BigInt::one();
+            for (x, &d) in degrees.iter().enumerate() {
+                w *= &rows[x][rem % (d + 1)];
+                rem /= d + 1;
+            }
+            w
+        })
+        .collect()
+}
+
+/// For every multi-index of `degrees`, its flat position under the strides `so`.
+fn offsets(degrees: &[usize], so: &[usize]) -> Vec<usize> {
+    (0..coefficient_count(degrees))
+        .map(|flat| {
+            let mut rem = flat;
+            let mut at = 0;
+            for (x, &d) in degrees.iter().enumerate() {
+                at += (rem % (d + 1)) * so[x];
+                rem /= d + 1;
+            }
+            at
+        })
+        .collect()
 }

@@ -182,7 +182,7 @@ fn positivity(
         PathKind::Filtered => prove_positive_filtered(&p, limits),
     };
     let (name, detail) = match &verdict {
-        PositivityVerdict::Positive { leaves } => {
+        PositivityVerdict::Positive { leaves, .. } => {
             ("positive", serde_json::json!({"leaves": leaves.len()}))
         }
         PositivityVerdict::NotPositive { witness, value } => (

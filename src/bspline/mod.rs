@@ -12,7 +12,7 @@ pub mod tensor;
 
 pub use morken::{morken_product, product_knots};
 pub use spline::Spline;
-pub use tensor::{BezierCell, TensorSpline};
+pub use tensor::{basis_product_table, BasisProductTable, BezierCell, TensorSpline};
 
 use thiserror::Error;
 

@@ -1,6 +1,6 @@
 //! Tensor-product B-splines (trivariate is the FFD's case) and their Bézier cells.
 
-use super::{BsplineError, Spline};
+use super::{morken::morken_product, morken::product_knots, BsplineError, Spline};
 use crate::bernstein::poly::{coefficient_count, map_lines};
 use crate::bernstein::Bernstein;
 use crate::num::Field;
@@ -116,6 +116,35 @@ impl<T: Field + PartialOrd> TensorSpline<T> {
 
     /// Every Bézier cell (one per combination of non-empty spans), by blossoming per axis.
     pub fn bezier_cells(&self) -> Vec<BezierCell<T>> {
+        self.cells_with(|s, spans| {
+            Ok::<_, BsplineError>(
+                spans
+                    .iter()
+                    .map(|(mu, lo, hi)| s.bezier_on(*mu, lo, hi))
+                    .collect(),
+            )
+        })
+        .expect("blossoming cannot fail")
+    }
+
+    /// Every Bézier cell by knot insertion (Oslo) along each axis: every interior breakpoint is
+    /// raised to multiplicity `p` and the pieces are read off (Farin, ch. 8; the paper's
+    /// Section 6, step 3). An independent route to [`bezier_cells`](Self::bezier_cells).
+    pub fn bezier_cells_by_insertion(&self) -> Result<Vec<BezierCell<T>>, BsplineError> {
+        self.cells_with(|s, _| {
+            Ok(s.bezier_pieces_by_insertion()?
+                .into_iter()
+                .map(|(_, _, b)| b)
+                .collect())
+        })
+    }
+
+    /// Converts every line along every axis into its Bézier pieces with `pieces`
+    /// (`(spline, spans) → one coefficient vector per span`), then cuts the net into cells.
+    fn cells_with<F>(&self, pieces: F) -> Result<Vec<BezierCell<T>>, BsplineError>
+    where
+        F: Fn(&Spline<T>, &[(usize, T, T)]) -> Result<Vec<Vec<T>>, BsplineError>,
+    {
         let n = self.dim();
         // Per axis: the spans, and for each the Bézier pieces of every line.
         let mut counts = self.counts();
@@ -131,14 +160,23 @@ impl<T: Field + PartialOrd> TensorSpline<T> {
             let p = self.degrees[a];
             let new_len = spans.len() * (p + 1);
             let degs: Vec<usize> = counts.iter().map(|c| c - 1).collect();
+            let mut err = None;
             coeffs = map_lines(&degs, &coeffs, a, new_len, &T::zero(), |line, out| {
                 let s = self.axis_spline(a, line.to_vec());
-                for (k, (mu, lo, hi)) in spans.iter().enumerate() {
-                    for (i, v) in s.bezier_on(*mu, lo, hi).into_iter().enumerate() {
-                        out[k * (p + 1) + i] = v;
+                match pieces(&s, &spans) {
+                    Ok(ps) => {
+                        for (k, piece) in ps.into_iter().enumerate() {
+                            for (i, v) in piece.into_iter().enumerate() {
+                                out[k * (p + 1) + i] = v;
+                            }
+                        }
                     }
+                    Err(e) => err = Some(e),
                 }
             });
+            if let Some(e) = err {
+                return Err(e);
+            }
             counts[a] = new_len;
             axis_spans.push(spans);
         }
@@ -185,6 +223,233 @@ impl<T: Field + PartialOrd> TensorSpline<T> {
                 poly: Bernstein::new(degs, local).expect("count matches"),
             });
         }
-        cells
+        Ok(cells)
     }
+
+    /// `self + other` (same degrees and knots), coefficient by coefficient.
+    pub fn add(&self, other: &TensorSpline<T>) -> Result<TensorSpline<T>, BsplineError> {
+        self.combine(other, |a, b| a.add(b))
+    }
+
+    /// `self − other` (same degrees and knots), coefficient by coefficient.
+    pub fn sub(&self, other: &TensorSpline<T>) -> Result<TensorSpline<T>, BsplineError> {
+        self.combine(other, |a, b| a.sub(b))
+    }
+
+    fn combine(
+        &self,
+        other: &TensorSpline<T>,
+        f: impl Fn(&T, &T) -> T,
+    ) -> Result<TensorSpline<T>, BsplineError> {
+        if self.degrees != other.degrees || self.knots != other.knots {
+            return Err(BsplineError::DomainMismatch { factor: 1 });
+        }
+        Ok(TensorSpline {
+            degrees: self.degrees.clone(),
+            knots: self.knots.clone(),
+            coeffs: self
+                .coeffs
+                .iter()
+                .zip(&other.coeffs)
+                .map(|(a, b)| f(a, b))
+                .collect(),
+        })
+    }
+
+    /// The partial derivative along `axis`: the univariate derivative
+    /// `p (c_i − c_{i−1}) / (s_{i+p} − s_i)` on every line (de Boor, ch. X, eq. (12)).
+    pub fn derivative(&self, axis: usize) -> Result<TensorSpline<T>, BsplineError> {
+        if axis >= self.dim() {
+            return Err(BsplineError::DimensionMismatch {
+                expected: self.dim(),
+                found: axis + 1,
+            });
+        }
+        let counts = self.counts();
+        let degs: Vec<usize> = counts.iter().map(|c| c - 1).collect();
+        let probe = self
+            .axis_spline(axis, vec![T::zero(); counts[axis]])
+            .derivative();
+        let new_len = probe.coeffs().len();
+        let coeffs = map_lines(
+            &degs,
+            &self.coeffs,
+            axis,
+            new_len,
+            &T::zero(),
+            |line, out| {
+                let d = self.axis_spline(axis, line.to_vec()).derivative();
+                out.clone_from_slice(d.coeffs());
+            },
+        );
+        let mut degrees = self.degrees.clone();
+        degrees[axis] = probe.degree();
+        let mut knots = self.knots.clone();
+        knots[axis] = probe.knots().to_vec();
+        TensorSpline::new(degrees, knots, coeffs)
+    }
+
+    /// The Mørken product `self · other` as one tensor spline on the per-axis product knot
+    /// vectors. Tensor-product basis functions multiply axis by axis, so
+    /// `c_o = Σ_{i,j} a_i b_j Π_x M_x[i_x, j_x](o_x)` where `M_x[i, j]` holds the Mørken
+    /// coefficients of `N_i · N_j` on axis `x` (see [`basis_product_table`]).
+    pub fn product(&self, other: &TensorSpline<T>) -> Result<TensorSpline<T>, BsplineError> {
+        let n = self.dim();
+        if other.dim() != n {
+            return Err(BsplineError::DimensionMismatch {
+                expected: n,
+                found: other.dim(),
+            });
+        }
+        let tables: Vec<BasisProductTable<T>> = (0..n)
+            .map(|x| {
+                basis_product_table(
+                    self.degrees[x],
+                    &self.knots[x],
+                    other.degrees[x],
+                    &other.knots[x],
+                )
+            })
+            .collect::<Result<_, _>>()?;
+        let (ca, cb) = (self.counts(), other.counts());
+        let cp: Vec<usize> = tables.iter().map(|t| t.count).collect();
+        let sp = strides_of(&cp);
+        let mut out = vec![T::zero(); cp.iter().product()];
+        let mut ia = vec![0usize; n];
+        for a in &self.coeffs {
+            if !a.is_exact_zero() {
+                let mut ib = vec![0usize; n];
+                for b in &other.coeffs {
+                    if !b.is_exact_zero() {
+                        let lists: Vec<&[(usize, T)]> = (0..n)
+                            .map(|x| tables[x].entries[ia[x] * cb[x] + ib[x]].as_slice())
+                            .collect();
+                        if lists.iter().all(|l| !l.is_empty()) {
+                            distribute(&a.mul(b), &lists, &sp, 0, 0, &mut out);
+                        }
+                    }
+                    step(&mut ib, &cb);
+                }
+            }
+            step(&mut ia, &ca);
+        }
+        TensorSpline::new(
+            tables.iter().map(|t| t.degree).collect(),
+            tables.into_iter().map(|t| t.knots).collect(),
+            out,
+        )
+    }
+}
+
+/// Adds `v · Π_x w_x` to `out[Σ o_x · stride_x]` for every choice of `(o_x, w_x)` in the lists.
+fn distribute<T: Field>(
+    v: &T,
+    lists: &[&[(usize, T)]],
+    strides: &[usize],
+    axis: usize,
+    at: usize,
+    out: &mut [T],
+) {
+    if axis == lists.len() {
+        out[at] = out[at].add(v);
+        return;
+    }
+    for (o, w) in lists[axis] {
+        distribute(
+            &v.mul(w),
+            lists,
+            strides,
+            axis + 1,
+            at + o * strides[axis],
+            out,
+        );
+    }
+}
+
+fn strides_of(counts: &[usize]) -> Vec<usize> {
+    let mut s = Vec::with_capacity(counts.len());
+    let mut acc = 1;
+    for &c in counts {
+        s.push(acc);
+        acc *= c;
+    }
+    s
+}
+
+/// Advances a multi-index with the given per-axis counts (axis 0 fastest).
+fn step(idx: &mut [usize], counts: &[usize]) {
+    for (i, &c) in idx.iter_mut().zip(counts) {
+        *i += 1;
+        if *i < c {
+            return;
+        }
+        *i = 0;
+    }
+}
+
+/// The Mørken products of pairs of univariate basis functions on one axis.
+#[derive(Clone, Debug)]
+pub struct BasisProductTable<T> {
+    /// Degree of the products.
+    pub degree: usize,
+    /// The product knot vector ([`product_knots`]).
+    pub knots: Vec<T>,
+    /// Number of product basis functions.
+    pub count: usize,
+    /// `entries[i · n_b + j]`: the nonzero coefficients `(o, M[i,j](o))` of `N_{i,p} · N_{j,q}`.
+    pub entries: Vec<Vec<(usize, T)>>,
+}
+
+/// Products of every pair of basis functions `N_{i,p}` (knots `s`) and `N_{j,q}` (knots `t`) as
+/// splines on the product knots, each through [`morken_product`] of unit-coefficient splines.
+pub fn basis_product_table<T: Field + PartialOrd>(
+    p: usize,
+    s: &[T],
+    q: usize,
+    t: &[T],
+) -> Result<BasisProductTable<T>, BsplineError> {
+    let na = s.len().saturating_sub(p + 1);
+    let nb = t.len().saturating_sub(q + 1);
+    let unit = |n: usize, i: usize| -> Vec<T> {
+        (0..n)
+            .map(|k| if k == i { T::one() } else { T::zero() })
+            .collect()
+    };
+    let probe_a = Spline::new(p, s.to_vec(), unit(na, 0))?;
+    let probe_b = Spline::new(q, t.to_vec(), unit(nb, 0))?;
+    let knots = product_knots(&[&probe_a, &probe_b])?;
+    let count = knots.len() - (p + q) - 1;
+    let mut entries = Vec::with_capacity(na * nb);
+    for i in 0..na {
+        let fi = Spline::new(p, s.to_vec(), unit(na, i))?;
+        for j in 0..nb {
+            // Supports [s_i, s_{i+p+1}] and [t_j, t_{j+q+1}] must overlap in an interval.
+            let lo = if s[i] > t[j] { &s[i] } else { &t[j] };
+            let hi = if s[i + p + 1] < t[j + q + 1] {
+                &s[i + p + 1]
+            } else {
+                &t[j + q + 1]
+            };
+            if !(lo < hi) {
+                entries.push(Vec::new());
+                continue;
+            }
+            let gj = Spline::new(q, t.to_vec(), unit(nb, j))?;
+            let h = morken_product(&[&fi, &gj])?;
+            entries.push(
+                h.coeffs()
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, c)| !c.is_exact_zero())
+                    .map(|(o, c)| (o, c.clone()))
+                    .collect(),
+            );
+        }
+    }
+    Ok(BasisProductTable {
+        degree: p + q,
+        knots,
+        count,
+        entries,
+    })
 }

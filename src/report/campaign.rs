@@ -145,7 +145,7 @@ pub fn kernel_campaign(
         }
         for v in [&exact, &filtered] {
             let ok = match v {
-                PositivityVerdict::Positive { leaves } => {
+                PositivityVerdict::Positive { leaves, .. } => {
                     verify_positive_certificate(&p, leaves).is_ok()
                 }
                 PositivityVerdict::NotPositive { witness, value } => {

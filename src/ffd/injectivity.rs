@@ -1,0 +1,466 @@
+//! The necessary-and-sufficient injectivity test (paper Section 6, Theorem 1): every Bézier
+//! cell of `det J` is subdivided by de Casteljau along `u`, `v`, `w` (an octree) until each
+//! leaf has all coefficients positive (`Injective`) or a vertex coefficient — the value of
+//! `det J` at that vertex — is `≤ 0` (`NotInjective`; zero is failure, Theorem 1).
+//!
+//! Paths: `exact` (sign-only integers, no `f64` anywhere), `fast` (certified `f64`, may say
+//! `Uncertain`), `filtered` (fast first, exact on the boxes the fast path left uncertain).
+//! Every decided verdict comes with a certificate that [`verify_injectivity_certificate`]
+//! re-checks through the *other* Jacobian route (Mørken products).
+
+use super::fast::{jacobian_cell_fast, JacobianWorkspace};
+use super::jacobian::{cell_point, jacobian_at, jacobian_cell_scaled, jacobian_cells_morken};
+use super::lattice::{lattice_from_value, Basis, Lattice};
+use super::FfdError;
+use crate::bernstein::positivity::{LimitHit, WitnessValue};
+use crate::bernstein::{
+    prove_positive_fast, prove_positive_filtered_with, prove_positive_scaled,
+    verify_positive_certificate, Bernstein, DyadicBox, FastBernstein, Limits, PositivityVerdict,
+};
+use crate::num::UNIT_ROUNDOFF;
+use crate::num::{parse_rational, rational_from_f64, rational_to_string, Rational, Sign};
+use serde::{Deserialize, Serialize};
+use serde_json::{json, Value};
+
+/// Which arithmetic decides.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TestPath {
+    Exact,
+    Fast,
+    Filtered,
+}
+
+impl TestPath {
+    pub fn name(self) -> &'static str {
+        match self {
+            TestPath::Exact => "exact",
+            TestPath::Fast => "fast",
+            TestPath::Filtered => "filtered",
+        }
+    }
+}
+
+/// Options of [`check_injectivity`]; `limits` apply to each cell's subdivision.
+#[derive(Clone, Copy, Debug)]
+pub struct CheckOptions {
+    pub path: TestPath,
+    pub limits: Limits,
+}
+
+impl Default for CheckOptions {
+    fn default() -> Self {
+        CheckOptions {
+            path: TestPath::Filtered,
+            limits: Limits::default(),
+        }
+    }
+}
+
+/// One cell's positivity proof: leaf boxes of the cell's unit box, and a certified lower
+/// bound of `det J` on the cell.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CellProof {
+    pub cell: [usize; 3],
+    pub leaves: Vec<DyadicBox>,
+    pub lower_bound: f64,
+}
+
+/// The verdict of the necessary-and-sufficient test, with its evidence.
+#[derive(Clone, Debug, PartialEq)]
+pub enum InjectivityVerdict {
+    /// `det J > 0` on every cell.
+    Injective { cells: Vec<CellProof> },
+    /// `det J(point) = det ≤ 0` (exact), `point` in the lattice's parameter domain.
+    NotInjective {
+        cell: [usize; 3],
+        point: [Rational; 3],
+        det: Rational,
+    },
+    /// A caller-set limit was hit on `cell` at box `at` (cell-local), where `det J ≥
+    /// lower_bound`.
+    Undecided {
+        cell: [usize; 3],
+        limit: LimitHit,
+        at: DyadicBox,
+        lower_bound: f64,
+    },
+    /// Fast path only: rounding left these boxes of `cell` undecided.
+    Uncertain {
+        cell: [usize; 3],
+        boxes: Vec<DyadicBox>,
+    },
+}
+
+impl InjectivityVerdict {
+    pub fn name(&self) -> &'static str {
+        match self {
+            InjectivityVerdict::Injective { .. } => "injective",
+            InjectivityVerdict::NotInjective { .. } => "not_injective",
+            InjectivityVerdict::Undecided { .. } => "undecided",
+            InjectivityVerdict::Uncertain { .. } => "uncertain",
+        }
+    }
+    /// `Positive` (injective), `Negative` (not injective) or `Uncertain` (no decision).
+    pub fn sign(&self) -> Sign {
+        match self {
+            InjectivityVerdict::Injective { .. } => Sign::Positive,
+            InjectivityVerdict::NotInjective { .. } => Sign::Negative,
+            _ => Sign::Uncertain,
+        }
+    }
+}
+
+/// The result of checking one lattice.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InjectivityReport {
+    pub verdict: InjectivityVerdict,
+    /// A certified lower bound of `det J` over the whole domain (leaf bounds on proven cells,
+    /// the cell's smallest Bézier coefficient elsewhere), when every cell produced one.
+    pub min_det_lower_bound: Option<Rational>,
+    /// Leaf boxes proven positive, over all cells.
+    pub leaves: usize,
+    pub path: TestPath,
+}
+
+impl InjectivityReport {
+    /// The `--json` form: `{"verdict", "witness"?, "min_det_lower_bound", "leaves", "path"}`.
+    pub fn to_json(&self) -> Value {
+        let mut v = json!({
+            "verdict": self.verdict.name(),
+            "min_det_lower_bound": self.min_det_lower_bound.as_ref().map(rational_to_string),
+            "leaves": self.leaves,
+            "path": self.path.name(),
+        });
+        match &self.verdict {
+            InjectivityVerdict::NotInjective { point, det, cell } => {
+                v["witness"] = json!({
+                    "point": point.iter().map(rational_to_string).collect::<Vec<_>>(),
+                    "det": rational_to_string(det),
+                    "cell": cell,
+                });
+            }
+            InjectivityVerdict::Undecided {
+                cell,
+                limit,
+                at,
+                lower_bound,
+            } => {
+                v["undecided"] = json!({"cell": cell, "limit": format!("{limit:?}").to_lowercase(), "box": at, "lower_bound": lower_bound});
+            }
+            InjectivityVerdict::Uncertain { cell, boxes } => {
+                v["uncertain"] = json!({"cell": cell, "boxes": boxes.len()});
+            }
+            InjectivityVerdict::Injective { .. } => {}
+        }
+        v
+    }
+}
+
+/// The `f64` Bézier net of a cell and its relative error against the exact net.
+fn net_f64(net: &[Bernstein<Rational>; 3]) -> (Vec<[f64; 3]>, f64) {
+    let mut exact = true;
+    let pts = (0..net[0].coeffs().len())
+        .map(|k| {
+            [0, 1, 2].map(|c| {
+                let r = &net[c].coeffs()[k];
+                let x = crate::num::Field::approx(r);
+                if exact && rational_from_f64(x, "x").map_or(true, |e| &e != r) {
+                    exact = false;
+                }
+                x
+            })
+        })
+        .collect();
+    // Round-to-nearest in the normal range errs by at most u relative (the fast Jacobian
+    // refuses subnormal magnitudes).
+    (pts, if exact { 0.0 } else { UNIT_ROUNDOFF })
+}
+
+/// The smallest coefficient, as a certified lower bound.
+fn fast_root_bound(f: &FastBernstein) -> f64 {
+    let m = f.coeffs().iter().fold(f64::INFINITY, |m, &c| m.min(c));
+    (m - f.err()).next_down()
+}
+
+/// Decides injectivity of `l` (Theorem 1) by the necessary-and-sufficient test.
+pub fn check_injectivity(l: &Lattice, opts: CheckOptions) -> Result<InjectivityReport, FfdError> {
+    let nets = l.bezier_nets();
+    let deg = l.order().map(|o| o - 1);
+    let mut ws = JacobianWorkspace::default();
+    let mut proofs = Vec::with_capacity(nets.len());
+    let mut bounds: Vec<Option<f64>> = Vec::with_capacity(nets.len());
+    let mut pending: Option<InjectivityVerdict> = None;
+    let mut leaves = 0usize;
+    for (c, net) in nets.iter().enumerate() {
+        let cell = l.cell_index(c);
+        let fast = || {
+            let (pts, eta) = net_f64(net);
+            jacobian_cell_fast(&pts, deg, eta, &mut JacobianWorkspace::default()).ok()
+        };
+        let verdict = match opts.path {
+            TestPath::Exact => {
+                let j = jacobian_cell_scaled(net)?;
+                prove_positive_scaled(&j, opts.limits)
+            }
+            TestPath::Fast => {
+                let (pts, eta) = net_f64(net);
+                match jacobian_cell_fast(&pts, deg, eta, &mut ws) {
+                    Ok(f) => prove_positive_fast(&f, opts.limits),
+                    Err(_) => PositivityVerdict::Uncertain {
+                        boxes: vec![DyadicBox::root(3)],
+                        proven: vec![],
+                        proven_lower_bound: f64::INFINITY,
+                    },
+                }
+            }
+            TestPath::Filtered => {
+                let (pts, eta) = net_f64(net);
+                let f = jacobian_cell_fast(&pts, deg, eta, &mut ws).ok();
+                let mut exact_err = None;
+                let v = prove_positive_filtered_with(
+                    f.as_ref(),
+                    || match jacobian_cell_scaled(net) {
+                        Ok(j) => j,
+                        Err(e) => {
+                            exact_err = Some(e);
+                            crate::bernstein::ScaledBernstein::from_rational(&net[0])
+                        }
+                    },
+                    |w| jacobian_at(l, &cell_point(cell, w)).unwrap_or_default(),
+                    opts.limits,
+                );
+                if let Some(e) = exact_err {
+                    return Err(e);
+                }
+                v
+            }
+        };
+        match verdict {
+            PositivityVerdict::Positive {
+                leaves: ls,
+                lower_bound,
+            } => {
+                leaves += ls.len();
+                bounds.push(Some(lower_bound));
+                proofs.push(CellProof {
+                    cell,
+                    leaves: ls,
+                    lower_bound,
+                });
+            }
+            PositivityVerdict::NotPositive { witness, value } => {
+                let point = cell_point(cell, &witness);
+                let det = match value {
+                    WitnessValue::Exact(v) if opts.path == TestPath::Exact => v,
+                    _ => jacobian_at(l, &point)?,
+                };
+                // Bounds of the remaining cells (root coefficients) for min_det_lower_bound.
+                for net in &nets[c..] {
+                    bounds.push(match opts.path {
+                        TestPath::Exact => {
+                            let j = jacobian_cell_scaled(net)?;
+                            let k = j.argmin();
+                            Some(crate::bernstein::positivity::round_down(&j.coeff_value(k)))
+                        }
+                        _ => fast().map(|f| fast_root_bound(&f)),
+                    });
+                }
+                let min = bounds
+                    .iter()
+                    .try_fold(f64::INFINITY, |m, b| b.map(|b| m.min(b)));
+                return Ok(InjectivityReport {
+                    verdict: InjectivityVerdict::NotInjective { cell, point, det },
+                    min_det_lower_bound: min.and_then(|m| rational_from_f64(m, "bound").ok()),
+                    leaves,
+                    path: opts.path,
+                });
+            }
+            PositivityVerdict::Undecided {
+                limit,
+                at,
+                lower_bound,
+            } => {
+                bounds.push(Some(lower_bound));
+                pending.get_or_insert(InjectivityVerdict::Undecided {
+                    cell,
+                    limit,
+                    at,
+                    lower_bound,
+                });
+            }
+            PositivityVerdict::Uncertain { boxes, proven, .. } => {
+                leaves += proven.len();
+                bounds.push(fast().map(|f| fast_root_bound(&f)));
+                pending.get_or_insert(InjectivityVerdict::Uncertain { cell, boxes });
+            }
+        }
+    }
+    let min = bounds
+        .iter()
+        .try_fold(f64::INFINITY, |m, b| b.map(|b| m.min(b)));
+    Ok(InjectivityReport {
+        verdict: pending.unwrap_or(InjectivityVerdict::Injective { cells: proofs }),
+        min_det_lower_bound: min.and_then(|m| rational_from_f64(m, "bound").ok()),
+        leaves,
+        path: opts.path,
+    })
+}
+
+/// One cell's leaves in a certificate file.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct CellLeaves {
+    pub cell: [usize; 3],
+    pub leaves: Vec<DyadicBox>,
+}
+
+/// A witness in a certificate file (exact strings).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct WitnessFile {
+    pub point: Vec<String>,
+    pub det: String,
+}
+
+/// An injectivity certificate as written to disk.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct InjectivityCertificate {
+    /// Always `"geocert/ffd-injectivity"`.
+    pub kind: String,
+    pub lattice: Value,
+    /// `"injective"` or `"not_injective"`.
+    pub verdict: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cells: Option<Vec<CellLeaves>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub witness: Option<WitnessFile>,
+}
+
+/// The kind tag of injectivity certificates.
+pub const CERTIFICATE_KIND: &str = "geocert/ffd-injectivity";
+
+impl InjectivityCertificate {
+    /// The certificate of a decided verdict (`None` for undecided or uncertain ones).
+    pub fn from_report(l: &Lattice, r: &InjectivityReport) -> Option<InjectivityCertificate> {
+        let base = |verdict: &str| InjectivityCertificate {
+            kind: CERTIFICATE_KIND.into(),
+            lattice: l.to_json(),
+            verdict: verdict.into(),
+            cells: None,
+            witness: None,
+        };
+        match &r.verdict {
+            InjectivityVerdict::Injective { cells } => Some(InjectivityCertificate {
+                cells: Some(
+                    cells
+                        .iter()
+                        .map(|p| CellLeaves {
+                            cell: p.cell,
+                            leaves: p.leaves.clone(),
+                        })
+                        .collect(),
+                ),
+                ..base("injective")
+            }),
+            InjectivityVerdict::NotInjective { point, det, .. } => Some(InjectivityCertificate {
+                witness: Some(WitnessFile {
+                    point: point.iter().map(rational_to_string).collect(),
+                    det: rational_to_string(det),
+                }),
+                ..base("not_injective")
+            }),
+            _ => None,
+        }
+    }
+}
+
+/// Re-checks a certificate independently of the code that produced it: the Jacobian's Bézier
+/// cells come from the Mørken route ([`jacobian_cells_morken`]), the leaves must tile each
+/// cell with every restricted coefficient positive, and a witness is re-evaluated exactly
+/// from the derivative splines. Returns a one-line summary.
+pub fn verify_injectivity_certificate(c: &InjectivityCertificate) -> Result<String, FfdError> {
+    let refuse = |why: String| FfdError::Certificate(why);
+    if c.kind != CERTIFICATE_KIND {
+        return Err(refuse(format!(
+            "kind is {:?}, expected {CERTIFICATE_KIND:?}",
+            c.kind
+        )));
+    }
+    let l = lattice_from_value(&c.lattice)?;
+    match c.verdict.as_str() {
+        "injective" => {
+            let cells = c
+                .cells
+                .as_ref()
+                .ok_or_else(|| refuse("injective certificate without `cells`".into()))?;
+            let polys = jacobian_cells_morken(&l)?;
+            if cells.len() != polys.len() {
+                return Err(refuse(format!(
+                    "{} cells certified, the lattice has {}",
+                    cells.len(),
+                    polys.len()
+                )));
+            }
+            let mut seen = vec![false; polys.len()];
+            let mut total = 0;
+            for cl in cells {
+                let [i, j, k] = cl.cell;
+                let dims = l.cells();
+                if i >= dims[0] || j >= dims[1] || k >= dims[2] {
+                    return Err(refuse(format!("cell {:?} outside the lattice", cl.cell)));
+                }
+                let flat = i + dims[0] * (j + dims[1] * k);
+                if std::mem::replace(&mut seen[flat], true) {
+                    return Err(refuse(format!("cell {:?} certified twice", cl.cell)));
+                }
+                total += verify_positive_certificate(&polys[flat], &cl.leaves)
+                    .map_err(|e| refuse(format!("cell {:?}: {e}", cl.cell)))?;
+            }
+            Ok(format!(
+                "injective: det J > 0 on all {} cells ({} basis), {total} leaf boxes, every \
+                 coefficient positive (Jacobian recomputed by Mørken products)",
+                polys.len(),
+                match l.basis() {
+                    Basis::Bspline => "B-spline",
+                    Basis::Bezier => "Bézier",
+                }
+            ))
+        }
+        "not_injective" => {
+            let w = c
+                .witness
+                .as_ref()
+                .ok_or_else(|| refuse("not_injective certificate without `witness`".into()))?;
+            if w.point.len() != 3 {
+                return Err(refuse("witness point needs 3 coordinates".into()));
+            }
+            let mut point: [Rational; 3] = Default::default();
+            for (a, s) in w.point.iter().enumerate() {
+                point[a] =
+                    parse_rational(s).map_err(|e| refuse(format!("witness point[{a}]: {e}")))?;
+            }
+            let claimed =
+                parse_rational(&w.det).map_err(|e| refuse(format!("witness det: {e}")))?;
+            let det = jacobian_at(&l, &point)?;
+            if det != claimed {
+                return Err(refuse(format!(
+                    "det J at the witness is {}, the certificate claims {}",
+                    rational_to_string(&det),
+                    w.det
+                )));
+            }
+            if det > Rational::default() {
+                return Err(refuse(format!(
+                    "det J at the witness is {} > 0",
+                    rational_to_string(&det)
+                )));
+            }
+            Ok(format!(
+                "not injective: det J({}) = {} ≤ 0",
+                w.point.join(", "),
+                w.det
+            ))
+        }
+        other => Err(refuse(format!(
+            "unknown verdict {other:?} (expected \"injective\" or \"not_injective\")"
+        ))),
+    }
+}

@@ -1,0 +1,405 @@
+//! FFD lattices: a trivariate tensor-product hyperpatch (paper eq. 1) with a uniform B-spline
+//! basis of orders `(l, m, n)` over `a × b × c` cells, or a single Bézier cell.
+//!
+//! Parameter domain: `[0,a] × [0,b] × [0,c]` for B-splines (uniform knots `−(l−1), …, a+l−1`,
+//! unit spacing), `[0,1]³` for a Bézier cell. Control points are stored `u` fastest, then `v`,
+//! then `w`, as exact rationals (an `f64` input is taken exactly).
+
+use super::FfdError;
+use crate::bernstein::io::parse_number;
+use crate::bernstein::Bernstein;
+use crate::bspline::TensorSpline;
+use crate::num::{rational_to_string, Rational};
+use num_bigint::BigInt;
+use num_traits::{One, Zero};
+use serde_json::{json, Value};
+
+/// The basis of a lattice.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Basis {
+    /// Uniform B-splines (the paper's choice, Section 3).
+    Bspline,
+    /// One Bernstein (Bézier) cell.
+    Bezier,
+}
+
+impl Basis {
+    pub fn name(self) -> &'static str {
+        match self {
+            Basis::Bspline => "bspline",
+            Basis::Bezier => "bezier",
+        }
+    }
+}
+
+/// A control point.
+pub type Point = [Rational; 3];
+
+/// Largest order accepted per axis (the Jacobian has degree `3(order−1)−1` per axis).
+pub const MAX_ORDER: usize = 8;
+/// Largest number of cells accepted per axis.
+pub const MAX_CELLS: usize = 64;
+
+/// A trivariate FFD lattice.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Lattice {
+    basis: Basis,
+    order: [usize; 3],
+    cells: [usize; 3],
+    points: Vec<Point>,
+}
+
+impl Lattice {
+    /// Checks orders (2…[`MAX_ORDER`]), cells (1…[`MAX_CELLS`], exactly one per axis for
+    /// Bézier) and the point count.
+    pub fn new(
+        basis: Basis,
+        order: [usize; 3],
+        cells: [usize; 3],
+        points: Vec<Point>,
+    ) -> Result<Lattice, FfdError> {
+        let bad = |field: &str, why: String| FfdError::Input {
+            lattice: 0,
+            field: field.into(),
+            why,
+        };
+        if let Some(o) = order.iter().find(|&&o| !(2..=MAX_ORDER).contains(&o)) {
+            return Err(bad(
+                "order",
+                format!("each order must be 2…{MAX_ORDER}, found {o}"),
+            ));
+        }
+        if let Some(c) = cells.iter().find(|&&c| !(1..=MAX_CELLS).contains(&c)) {
+            return Err(bad(
+                "cells",
+                format!("each cell count must be 1…{MAX_CELLS}, found {c}"),
+            ));
+        }
+        if basis == Basis::Bezier && cells != [1, 1, 1] {
+            return Err(bad(
+                "cells",
+                "a bezier lattice is one cell: cells must be [1,1,1]".into(),
+            ));
+        }
+        let counts = Self::counts_for(basis, order, cells);
+        let expected = counts.iter().product::<usize>();
+        if points.len() != expected {
+            return Err(bad(
+                "points",
+                format!(
+                    "expected {expected} points ({}×{}×{}), found {}",
+                    counts[0],
+                    counts[1],
+                    counts[2],
+                    points.len()
+                ),
+            ));
+        }
+        Ok(Lattice {
+            basis,
+            order,
+            cells,
+            points,
+        })
+    }
+
+    fn counts_for(basis: Basis, order: [usize; 3], cells: [usize; 3]) -> [usize; 3] {
+        match basis {
+            Basis::Bspline => [0, 1, 2].map(|a| cells[a] + order[a] - 1),
+            Basis::Bezier => order,
+        }
+    }
+
+    /// The undeformed lattice: points at the Greville abscissae, so `F(U) = U` (linear
+    /// precision, paper Section 3).
+    pub fn identity(basis: Basis, order: [usize; 3], cells: [usize; 3]) -> Result<Self, FfdError> {
+        let counts = Self::counts_for(basis, order, cells);
+        let greville: Vec<Vec<Rational>> = (0..3)
+            .map(|a| {
+                let p = order[a] - 1;
+                let knots = axis_knots(basis, order[a], cells[a]);
+                (0..counts[a])
+                    .map(|i| {
+                        let s = knots[i + 1..=i + p]
+                            .iter()
+                            .fold(Rational::zero(), |acc, k| acc + k);
+                        s / Rational::from_integer(BigInt::from(p))
+                    })
+                    .collect()
+            })
+            .collect();
+        let mut points = Vec::with_capacity(counts.iter().product());
+        for k in 0..counts[2] {
+            for j in 0..counts[1] {
+                for i in 0..counts[0] {
+                    points.push([
+                        greville[0][i].clone(),
+                        greville[1][j].clone(),
+                        greville[2][k].clone(),
+                    ]);
+                }
+            }
+        }
+        Lattice::new(basis, order, cells, points)
+    }
+
+    pub fn basis(&self) -> Basis {
+        self.basis
+    }
+    pub fn order(&self) -> [usize; 3] {
+        self.order
+    }
+    pub fn cells(&self) -> [usize; 3] {
+        self.cells
+    }
+    pub fn points(&self) -> &[Point] {
+        &self.points
+    }
+    /// Control points per axis.
+    pub fn counts(&self) -> [usize; 3] {
+        Self::counts_for(self.basis, self.order, self.cells)
+    }
+    /// Flat index of control point `(i, j, k)`.
+    pub fn index(&self, i: usize, j: usize, k: usize) -> usize {
+        let c = self.counts();
+        i + c[0] * (j + c[1] * k)
+    }
+    /// The parameter domain per axis.
+    pub fn domain(&self) -> [(Rational, Rational); 3] {
+        [0, 1, 2].map(|a| {
+            (
+                Rational::zero(),
+                Rational::from_integer(BigInt::from(self.cells[a])),
+            )
+        })
+    }
+    /// Number of cells.
+    pub fn cell_count(&self) -> usize {
+        self.cells.iter().product()
+    }
+    /// Cell multi-index of flat cell number `c` (`u` fastest).
+    pub fn cell_index(&self, c: usize) -> [usize; 3] {
+        [
+            c % self.cells[0],
+            (c / self.cells[0]) % self.cells[1],
+            c / (self.cells[0] * self.cells[1]),
+        ]
+    }
+
+    /// The lattice with `delta[i]` added to point `i`.
+    pub fn displaced(&self, delta: &[Point]) -> Result<Lattice, FfdError> {
+        if delta.len() != self.points.len() {
+            return Err(FfdError::Input {
+                lattice: 0,
+                field: "points".into(),
+                why: format!(
+                    "displacement has {} points, lattice {}",
+                    delta.len(),
+                    self.points.len()
+                ),
+            });
+        }
+        let points = self
+            .points
+            .iter()
+            .zip(delta)
+            .map(|(p, d)| [0, 1, 2].map(|a| &p[a] + &d[a]))
+            .collect();
+        Lattice::new(self.basis, self.order, self.cells, points)
+    }
+
+    /// The knot vector of axis `a`.
+    pub fn knots(&self, a: usize) -> Vec<Rational> {
+        axis_knots(self.basis, self.order[a], self.cells[a])
+    }
+
+    /// Coordinate `coord` of the deformation as a tensor spline (paper eq. 1).
+    pub fn coordinate_spline(&self, coord: usize) -> TensorSpline<Rational> {
+        TensorSpline::new(
+            self.order.iter().map(|o| o - 1).collect(),
+            (0..3).map(|a| self.knots(a)).collect(),
+            self.points.iter().map(|p| p[coord].clone()).collect(),
+        )
+        .expect("a validated lattice is a valid tensor spline")
+    }
+
+    /// The deformed position `F̃(U)` of a parameter point, exactly.
+    pub fn deform(&self, u: &[Rational; 3]) -> Result<[Rational; 3], FfdError> {
+        self.check_inside(u)?;
+        let mut out = [Rational::zero(), Rational::zero(), Rational::zero()];
+        for (c, o) in out.iter_mut().enumerate() {
+            *o = self
+                .coordinate_spline(c)
+                .eval(u)
+                .map_err(|e| FfdError::Kernel(e.to_string()))?;
+        }
+        Ok(out)
+    }
+
+    /// Errors unless `u` lies in the parameter domain.
+    pub fn check_inside(&self, u: &[Rational; 3]) -> Result<(), FfdError> {
+        for (a, (lo, hi)) in self.domain().iter().enumerate() {
+            if &u[a] < lo || &u[a] > hi {
+                return Err(FfdError::OutsideDomain {
+                    axis: a,
+                    value: rational_to_string(&u[a]),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The Bézier control net of every cell, per coordinate (exact; B-spline cells by
+    /// blossoming). Cell order as [`cell_index`](Self::cell_index).
+    pub fn bezier_nets(&self) -> Vec<[Bernstein<Rational>; 3]> {
+        if self.basis == Basis::Bezier {
+            let degs: Vec<usize> = self.order.iter().map(|o| o - 1).collect();
+            let coord = |c: usize| {
+                Bernstein::new(
+                    degs.clone(),
+                    self.points.iter().map(|p| p[c].clone()).collect(),
+                )
+                .expect("counts match")
+            };
+            return vec![[coord(0), coord(1), coord(2)]];
+        }
+        let per: Vec<Vec<Bernstein<Rational>>> = (0..3)
+            .map(|c| {
+                self.coordinate_spline(c)
+                    .bezier_cells()
+                    .into_iter()
+                    .map(|cell| cell.poly)
+                    .collect()
+            })
+            .collect();
+        (0..self.cell_count())
+            .map(|k| [per[0][k].clone(), per[1][k].clone(), per[2][k].clone()])
+            .collect()
+    }
+
+    /// The JSON form (coordinates as exact `"p/q"` strings).
+    pub fn to_json(&self) -> Value {
+        json!({
+            "basis": self.basis.name(),
+            "order": self.order,
+            "cells": self.cells,
+            "points": self.points.iter().map(|p| p.iter().map(rational_to_string).collect::<Vec<_>>()).collect::<Vec<_>>(),
+        })
+    }
+
+    /// The control points rounded to nearest `f64`.
+    pub fn points_f64(&self) -> Vec<[f64; 3]> {
+        self.points
+            .iter()
+            .map(|p| [0, 1, 2].map(|a| crate::num::rational_to_f64(&p[a])))
+            .collect()
+    }
+
+    /// True when every coordinate is exactly an `f64` (then [`points_f64`](Self::points_f64)
+    /// is lossless).
+    pub fn is_f64_exact(&self) -> bool {
+        self.points.iter().flatten().all(|c| {
+            crate::num::rational_from_f64(crate::num::rational_to_f64(c), "c")
+                .map(|r| &r == c)
+                .unwrap_or(false)
+        })
+    }
+}
+
+/// The knots of one axis: uniform `−(l−1), …, cells+l−1` (B-spline), `0^l 1^l` (Bézier).
+fn axis_knots(basis: Basis, order: usize, cells: usize) -> Vec<Rational> {
+    let int = |i: i64| Rational::from_integer(BigInt::from(i));
+    match basis {
+        Basis::Bspline => {
+            let p = order as i64 - 1;
+            (-p..=cells as i64 + p).map(int).collect()
+        }
+        Basis::Bezier => {
+            let mut k = vec![Rational::zero(); order];
+            k.extend(std::iter::repeat_n(Rational::one(), order));
+            k
+        }
+    }
+}
+
+/// Parses one lattice or an array of lattices (`{"basis", "order", "cells", "points"}`).
+/// Errors name the lattice (its position in the array, 0 for a single one) and the field.
+pub fn lattices_from_json(text: &str) -> Result<Vec<Lattice>, FfdError> {
+    let v: Value = serde_json::from_str(text).map_err(|e| FfdError::Json(e.to_string()))?;
+    match v {
+        Value::Array(items) => items
+            .iter()
+            .enumerate()
+            .map(|(i, item)| lattice_from_value(item).map_err(|e| e.in_lattice(i)))
+            .collect(),
+        other => Ok(vec![lattice_from_value(&other)?]),
+    }
+}
+
+/// Parses one lattice object.
+pub fn lattice_from_value(v: &Value) -> Result<Lattice, FfdError> {
+    let bad = |field: &str, why: String| FfdError::Input {
+        lattice: 0,
+        field: field.into(),
+        why,
+    };
+    let obj = v
+        .as_object()
+        .ok_or_else(|| bad("lattice", "expected a JSON object".into()))?;
+    let basis = match obj.get("basis").and_then(Value::as_str) {
+        Some("bspline") => Basis::Bspline,
+        Some("bezier") => Basis::Bezier,
+        Some(other) => {
+            return Err(bad(
+                "basis",
+                format!("expected \"bspline\" or \"bezier\", found \"{other}\""),
+            ))
+        }
+        None => return Err(bad("basis", "missing or not a string".into())),
+    };
+    let triple = |field: &str| -> Result<[usize; 3], FfdError> {
+        let arr = obj
+            .get(field)
+            .and_then(Value::as_array)
+            .ok_or_else(|| bad(field, "missing or not an array".into()))?;
+        if arr.len() != 3 {
+            return Err(bad(
+                field,
+                format!("expected 3 integers, found {}", arr.len()),
+            ));
+        }
+        let mut out = [0usize; 3];
+        for (o, x) in out.iter_mut().zip(arr) {
+            *o = x.as_u64().filter(|&n| n <= 1 << 20).ok_or_else(|| {
+                bad(
+                    field,
+                    format!("expected a small non-negative integer, found {x}"),
+                )
+            })? as usize;
+        }
+        Ok(out)
+    };
+    let order = triple("order")?;
+    let cells = match obj.get("cells") {
+        None if basis == Basis::Bezier => [1, 1, 1],
+        _ => triple("cells")?,
+    };
+    let pts = obj
+        .get("points")
+        .and_then(Value::as_array)
+        .ok_or_else(|| bad("points", "missing or not an array".into()))?;
+    let mut points = Vec::with_capacity(pts.len());
+    for (i, p) in pts.iter().enumerate() {
+        let field = format!("points[{i}]");
+        let xyz = p
+            .as_array()
+            .filter(|a| a.len() == 3)
+            .ok_or_else(|| bad(&field, "expected [x, y, z]".into()))?;
+        let mut q = [Rational::zero(), Rational::zero(), Rational::zero()];
+        for (a, (slot, x)) in q.iter_mut().zip(xyz).enumerate() {
+            *slot = parse_number(x).map_err(|why| bad(&format!("{field}[{a}]"), why))?;
+        }
+        points.push(q);
+    }
+    Lattice::new(basis, order, cells, points)
+}

@@ -1,0 +1,58 @@
+//! FFD injectivity (Gain & Dodgson, "Preventing self-intersection under free-form
+//! deformation", IEEE TVCG 7(4), 2001; `../shared/papers/ffd-injectivity-gain-dodgson.txt`).
+//!
+//! A trivariate FFD is injective on its hyperpatch iff it is C¹ and `det J > 0` everywhere
+//! (Theorem 1). geocert decides this exactly, with certificates:
+//!
+//! * [`lattice`] — lattices (uniform B-spline or one Bézier cell), their JSON format;
+//! * [`jacobian`] — `det J` exactly by the Mørken route (eqs. 6–8) and per cell by Bernstein
+//!   products (rational and sign-only integer);
+//! * [`fast`] — the per-cell Jacobian in `f64` with a certified error bound;
+//! * [`injectivity`] — the necessary-and-sufficient test (Section 6), three paths, its
+//!   certificates and their independent checker.
+
+pub mod fast;
+pub mod injectivity;
+pub mod jacobian;
+pub mod lattice;
+
+pub use injectivity::{
+    check_injectivity, verify_injectivity_certificate, CheckOptions, InjectivityCertificate,
+    InjectivityReport, InjectivityVerdict, TestPath,
+};
+pub use lattice::{lattices_from_json, Basis, Lattice};
+
+use thiserror::Error;
+
+/// Errors of the FFD family.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum FfdError {
+    #[error("not valid JSON: {0}")]
+    Json(String),
+    #[error("lattice {lattice}, field `{field}`: {why}")]
+    Input {
+        lattice: usize,
+        field: String,
+        why: String,
+    },
+    #[error("parameter {value} on axis {axis} lies outside the lattice's domain")]
+    OutsideDomain { axis: usize, value: String },
+    #[error("kernel: {0}")]
+    Kernel(String),
+    #[error("certificate refused: {0}")]
+    Certificate(String),
+}
+
+impl FfdError {
+    /// The same error attributed to lattice `i` of an array.
+    pub fn in_lattice(self, i: usize) -> FfdError {
+        match self {
+            FfdError::Input { field, why, .. } => FfdError::Input {
+                lattice: i,
+                field,
+                why,
+            },
+            other => other,
+        }
+    }
+}

@@ -1,0 +1,177 @@
+//! Property tests of the FFD family: the two exact Jacobian routes agree, the f64 Jacobian
+//! stays inside its bound, certified fast verdicts never contradict exact ones, certificates
+//! re-check.
+
+use geocert::bernstein::{Bernstein, Limits};
+use geocert::ffd::jacobian::{
+    jacobian_at, jacobian_cell_bezier, jacobian_cell_scaled, jacobian_cells_morken,
+};
+use geocert::ffd::{
+    check_injectivity, fast::jacobian_cell_fast, fast::JacobianWorkspace,
+    verify_injectivity_certificate, Basis, CheckOptions, InjectivityCertificate,
+    InjectivityVerdict, Lattice, TestPath,
+};
+use geocert::num::{rational_from_f64, Rational, Sign};
+use num_bigint::BigInt;
+use num_traits::Signed;
+use proptest::prelude::*;
+
+fn q(n: i64, d: i64) -> Rational {
+    Rational::new(BigInt::from(n), BigInt::from(d))
+}
+
+/// A lattice perturbed from the identity by `amp`·(values in [-1,1] with denominator 16).
+fn perturbed(
+    basis: Basis,
+    order: [usize; 3],
+    cells: [usize; 3],
+    amp: Rational,
+    noise: &[i64],
+) -> Lattice {
+    let id = Lattice::identity(basis, order, cells).unwrap();
+    let delta: Vec<[Rational; 3]> = (0..id.points().len())
+        .map(|i| [0, 1, 2].map(|a| &amp * q(noise[(3 * i + a) % noise.len()], 16)))
+        .collect();
+    id.displaced(&delta).unwrap()
+}
+
+fn lattice_strategy(max_order: usize, max_cells: usize) -> impl Strategy<Value = Lattice> {
+    (
+        prop::bool::ANY,
+        [2..=max_order, 2..=max_order, 2..=max_order],
+        [1..=max_cells, 1..=max_cells, 1..=max_cells],
+        0i64..12,
+        prop::collection::vec(-16i64..=16, 1..64),
+    )
+        .prop_map(|(bez, order, cells, amp, noise)| {
+            let (basis, cells) = if bez {
+                (Basis::Bezier, [1, 1, 1])
+            } else {
+                (Basis::Bspline, cells)
+            };
+            perturbed(basis, order, cells, q(amp, 8), &noise)
+        })
+}
+
+#[test]
+fn identity_lattices_have_unit_jacobian_and_are_injective() {
+    for basis in [Basis::Bspline, Basis::Bezier] {
+        for order in 2..=4 {
+            let cells = if basis == Basis::Bezier {
+                [1, 1, 1]
+            } else {
+                [2, 1, 3]
+            };
+            let l = Lattice::identity(basis, [order, order, order], cells).unwrap();
+            let u = [q(1, 3), q(2, 5), q(1, 2)];
+            assert_eq!(jacobian_at(&l, &u).unwrap(), q(1, 1));
+            for path in [TestPath::Exact, TestPath::Fast, TestPath::Filtered] {
+                let r = check_injectivity(
+                    &l,
+                    CheckOptions {
+                        path,
+                        limits: Limits::default(),
+                    },
+                )
+                .unwrap();
+                assert!(
+                    matches!(r.verdict, InjectivityVerdict::Injective { .. }),
+                    "{basis:?} {order} {path:?}"
+                );
+            }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    #[test]
+    fn both_exact_routes_give_identical_bezier_coefficients(l in lattice_strategy(4, 2)) {
+        let morken = jacobian_cells_morken(&l).unwrap();
+        let nets = l.bezier_nets();
+        prop_assert_eq!(morken.len(), nets.len());
+        for (m, net) in morken.iter().zip(&nets) {
+            let b = jacobian_cell_bezier(net).unwrap();
+            prop_assert_eq!(m, &b);
+            prop_assert_eq!(&jacobian_cell_scaled(net).unwrap().to_rational(), &b);
+        }
+    }
+
+    #[test]
+    fn fast_jacobian_within_its_bound(l in lattice_strategy(5, 2)) {
+        let deg = l.order().map(|o| o - 1);
+        let mut ws = JacobianWorkspace::default();
+        for net in l.bezier_nets() {
+            let exact = jacobian_cell_bezier(&net).unwrap();
+            let mut inexact = false;
+            let pts: Vec<[f64; 3]> = (0..net[0].coeffs().len()).map(|k| [0, 1, 2].map(|c| {
+                let r = &net[c].coeffs()[k];
+                let x = geocert::num::rational_to_f64(r);
+                inexact |= &rational_from_f64(x, "x").unwrap() != r;
+                x
+            })).collect();
+            let eta = if inexact { geocert::num::UNIT_ROUNDOFF } else { 0.0 };
+            let f = jacobian_cell_fast(&pts, deg, eta, &mut ws).unwrap();
+            let err = rational_from_f64(f.err(), "err").unwrap();
+            for (c, e) in f.coeffs().iter().zip(exact.coeffs()) {
+                let c = rational_from_f64(*c, "c").unwrap();
+                prop_assert!((&c - e).abs() <= err, "coefficient {} vs exact {} (err {})", c, e, f.err());
+            }
+        }
+    }
+
+    #[test]
+    fn certified_fast_never_contradicts_exact_and_certificates_recheck(l in lattice_strategy(4, 2)) {
+        let limits = Limits { max_depth: 6, ..Limits::default() };
+        let exact = check_injectivity(&l, CheckOptions { path: TestPath::Exact, limits }).unwrap();
+        let fast = check_injectivity(&l, CheckOptions { path: TestPath::Fast, limits }).unwrap();
+        let filtered = check_injectivity(&l, CheckOptions { path: TestPath::Filtered, limits }).unwrap();
+        prop_assert!(!fast.verdict.sign().contradicts(exact.verdict.sign()));
+        prop_assert!(!filtered.verdict.sign().contradicts(exact.verdict.sign()));
+        let filtered_decided = filtered.verdict.sign() != Sign::Uncertain
+            || matches!(filtered.verdict, InjectivityVerdict::Undecided { .. });
+        prop_assert!(filtered_decided);
+        for r in [&exact, &fast, &filtered] {
+            if let Some(cert) = InjectivityCertificate::from_report(&l, r) {
+                let text = serde_json::to_string(&cert).unwrap();
+                let back: InjectivityCertificate = serde_json::from_str(&text).unwrap();
+                prop_assert!(verify_injectivity_certificate(&back).is_ok(), "{:?}", verify_injectivity_certificate(&back));
+            }
+            if let InjectivityVerdict::NotInjective { point, det, .. } = &r.verdict {
+                prop_assert!(det <= &Rational::default());
+                prop_assert_eq!(&jacobian_at(&l, point).unwrap(), det);
+            }
+            if let (Some(lb), InjectivityVerdict::NotInjective { det, .. }) = (&r.min_det_lower_bound, &r.verdict) {
+                prop_assert!(lb <= det);
+            }
+        }
+    }
+}
+
+#[test]
+fn folded_lattice_is_not_injective_with_exact_witness() {
+    // Swap two control points along u in a Bézier cell: the cell folds over.
+    let l = Lattice::identity(Basis::Bezier, [3, 3, 3], [1, 1, 1]).unwrap();
+    let mut pts = l.points().to_vec();
+    pts.swap(0, 2);
+    let l = Lattice::new(Basis::Bezier, [3, 3, 3], [1, 1, 1], pts).unwrap();
+    for path in [TestPath::Exact, TestPath::Fast, TestPath::Filtered] {
+        let r = check_injectivity(
+            &l,
+            CheckOptions {
+                path,
+                limits: Limits::default(),
+            },
+        )
+        .unwrap();
+        match &r.verdict {
+            InjectivityVerdict::NotInjective { point, det, .. } => {
+                assert!(det <= &Rational::default());
+                assert_eq!(&jacobian_at(&l, point).unwrap(), det);
+            }
+            other => panic!("{path:?}: {other:?}"),
+        }
+    }
+    let _ = Bernstein::<Rational>::constant(vec![1], q(1, 1));
+}

@@ -350,34 +350,44 @@ impl<T: Field> Bernstein<T> {
             .zip(&other.degrees)
             .map(|(a, b)| a + b)
             .collect();
-        let n = self.dim();
-        // Per-axis weight tables w[a][i][j] = C(m,i) C(n,j) / C(m+n,i+j).
-        let weights: Vec<Vec<Vec<T>>> = (0..n)
-            .map(|a| {
-                let (m, q) = (self.degrees[a], other.degrees[a]);
-                (0..=m)
-                    .map(|i| {
-                        (0..=q)
-                            .map(|j| ratio(binomial(m, i) * binomial(q, j), binomial(m + q, i + j)))
-                            .collect()
-                    })
-                    .collect()
-            })
-            .collect();
-        let mut out = vec![T::zero(); coefficient_count(&degrees)];
-        let out_strides = strides(&degrees);
-        for (fi, a) in self.coeffs.iter().enumerate() {
-            let ii = multi_index(&self.degrees, fi);
-            for (fj, b) in other.coeffs.iter().enumerate() {
-                let jj = multi_index(&other.degrees, fj);
-                let mut w = a.mul(b);
-                let mut k = 0;
-                for ax in 0..n {
-                    w = w.mul(&weights[ax][ii[ax]][jj[ax]]);
-                    k += (ii[ax] + jj[ax]) * out_strides[ax];
-                }
-                out[k] = out[k].add(&w);
+        // In the scaled basis C(n,i) tⁱ(1−t)ⁿ⁻ⁱ a product is a plain convolution: scale the
+        // factors by Π C(m,i), convolve, divide each result by Π C(m+n,k) once (identical to
+        // the weights C(m,i)C(n,j)/C(m+n,i+j), with one division per coefficient).
+        let scale = |p: &Self, fi: usize| -> T {
+            let idx = multi_index(&p.degrees, fi);
+            let mut w = BigInt::from(1);
+            for (ax, &i) in idx.iter().enumerate() {
+                w *= binomial(p.degrees[ax], i);
             }
+            p.coeffs[fi].mul(&ratio(w, BigInt::from(1)))
+        };
+        let a_scaled: Vec<T> = (0..self.coeffs.len()).map(|i| scale(self, i)).collect();
+        let b_scaled: Vec<T> = (0..other.coeffs.len()).map(|j| scale(other, j)).collect();
+        let out_strides = strides(&degrees);
+        let offset = |p: &Self, fi: usize| -> usize {
+            multi_index(&p.degrees, fi)
+                .iter()
+                .zip(&out_strides)
+                .map(|(i, s)| i * s)
+                .sum()
+        };
+        let off_b: Vec<usize> = (0..other.coeffs.len()).map(|j| offset(other, j)).collect();
+        let mut out = vec![T::zero(); coefficient_count(&degrees)];
+        for (fi, a) in a_scaled.iter().enumerate() {
+            if a.is_exact_zero() {
+                continue;
+            }
+            let oa = offset(self, fi);
+            for (b, ob) in b_scaled.iter().zip(&off_b) {
+                out[oa + ob] = out[oa + ob].add(&a.mul(b));
+            }
+        }
+        for (fk, c) in out.iter_mut().enumerate() {
+            let mut w = BigInt::from(1);
+            for (ax, &k) in multi_index(&degrees, fk).iter().enumerate() {
+                w *= binomial(degrees[ax], k);
+            }
+            *c = c.mul(&ratio(BigInt::from(1), w));
         }
         Ok(Bernstein {
             degrees,

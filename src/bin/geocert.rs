@@ -53,6 +53,34 @@ enum Command {
     },
     /// Re-check a positivity certificate independently.
     VerifyCert { file: PathBuf },
+    /// Free-form deformation injectivity (Gain & Dodgson).
+    #[command(subcommand)]
+    Ffd(FfdCommand),
+}
+
+#[derive(Subcommand)]
+enum FfdCommand {
+    /// Decide injectivity (det J > 0, Theorem 1) of one lattice or an array of lattices.
+    Check {
+        /// `{"basis": "bspline"|"bezier", "order": [l,m,n], "cells": [a,b,c], "points": [[x,y,z], ..]}` or an array of them.
+        lattice: PathBuf,
+        #[arg(long, value_enum, default_value_t = PathKind::Filtered)]
+        path: PathKind,
+        /// Deepest octree level per cell.
+        #[arg(long, default_value_t = 12)]
+        max_depth: u32,
+        /// Wall-clock budget per cell, in seconds.
+        #[arg(long)]
+        time_limit: Option<f64>,
+        /// Write the certificate(s) here (an array for an array input; `null` where undecided).
+        #[arg(long)]
+        cert: Option<PathBuf>,
+        /// One JSON object per lattice (an array for an array input).
+        #[arg(long)]
+        json: bool,
+    },
+    /// Re-check an injectivity certificate (or an array of them) independently.
+    VerifyCert { file: PathBuf },
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -83,6 +111,7 @@ fn run(cli: Cli) -> Result<ExitCode, String> {
             cert,
             json,
         } => positivity(file, path, max_depth, cert, json),
+        Command::Ffd(c) => ffd(c),
         Command::VerifyCert { file } => {
             let text =
                 std::fs::read_to_string(&file).map_err(|e| format!("{}: {e}", file.display()))?;
@@ -98,6 +127,159 @@ fn run(cli: Cli) -> Result<ExitCode, String> {
                     Ok(ExitCode::from(1))
                 }
             }
+        }
+    }
+}
+
+fn read(file: &PathBuf) -> Result<String, String> {
+    std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))
+}
+
+fn ffd(c: FfdCommand) -> Result<ExitCode, String> {
+    use geocert::ffd::{
+        check_injectivity, lattices_from_json, verify_injectivity_certificate, CheckOptions,
+        InjectivityCertificate, TestPath,
+    };
+    match c {
+        FfdCommand::Check {
+            lattice,
+            path,
+            max_depth,
+            time_limit,
+            cert,
+            json,
+        } => {
+            let text = read(&lattice)?;
+            let is_array = text.trim_start().starts_with('[');
+            let lattices =
+                lattices_from_json(&text).map_err(|e| format!("{}: {e}", lattice.display()))?;
+            let time_limit = match time_limit {
+                Some(t) if !(t.is_finite() && t > 0.0) => {
+                    return Err(format!(
+                        "--time-limit must be a positive number of seconds, got {t}"
+                    ))
+                }
+                t => t.map(std::time::Duration::from_secs_f64),
+            };
+            let opts = CheckOptions {
+                path: match path {
+                    PathKind::Exact => TestPath::Exact,
+                    PathKind::Fast => TestPath::Fast,
+                    PathKind::Filtered => TestPath::Filtered,
+                },
+                limits: Limits {
+                    max_depth,
+                    time_limit,
+                    ..Limits::default()
+                },
+            };
+            let mut reports = Vec::new();
+            for (i, l) in lattices.iter().enumerate() {
+                let r = check_injectivity(l, opts).map_err(|e| format!("lattice {i}: {e}"))?;
+                reports.push(r);
+            }
+            if let Some(cert_path) = cert {
+                let certs: Vec<Option<InjectivityCertificate>> = lattices
+                    .iter()
+                    .zip(&reports)
+                    .map(|(l, r)| InjectivityCertificate::from_report(l, r))
+                    .collect();
+                let value = if is_array {
+                    serde_json::to_value(&certs)
+                } else {
+                    serde_json::to_value(&certs[0])
+                }
+                .map_err(|e| e.to_string())?;
+                let body = serde_json::to_string_pretty(&value).map_err(|e| e.to_string())?;
+                std::fs::write(&cert_path, body)
+                    .map_err(|e| format!("{}: {e}", cert_path.display()))?;
+            }
+            if json {
+                let values: Vec<_> = reports.iter().map(|r| r.to_json()).collect();
+                let out = if is_array {
+                    serde_json::Value::Array(values)
+                } else {
+                    values.into_iter().next().unwrap_or_default()
+                };
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?
+                );
+            } else {
+                for (i, r) in reports.iter().enumerate() {
+                    let bound = r
+                        .min_det_lower_bound
+                        .as_ref()
+                        .map(|b| format!(", det J ≥ {}", geocert::num::rational_to_f64(b)))
+                        .unwrap_or_default();
+                    let detail = match &r.verdict {
+                        geocert::ffd::InjectivityVerdict::NotInjective { point, det, .. } => {
+                            format!(
+                                ": det J({}) = {} ≤ 0",
+                                point
+                                    .iter()
+                                    .map(rational_to_string)
+                                    .collect::<Vec<_>>()
+                                    .join(", "),
+                                rational_to_string(det)
+                            )
+                        }
+                        geocert::ffd::InjectivityVerdict::Undecided { cell, limit, .. } => {
+                            format!(": limit {limit:?} hit on cell {cell:?}")
+                        }
+                        geocert::ffd::InjectivityVerdict::Uncertain { cell, boxes } => {
+                            format!(
+                                ": {} boxes of cell {cell:?} need the exact path",
+                                boxes.len()
+                            )
+                        }
+                        _ => String::new(),
+                    };
+                    println!(
+                        "lattice {i}: {}{detail} ({} leaves, {} path{bound})",
+                        r.verdict.name(),
+                        r.leaves,
+                        r.path.name()
+                    );
+                }
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        FfdCommand::VerifyCert { file } => {
+            let text = read(&file)?;
+            let value: serde_json::Value = serde_json::from_str(&text)
+                .map_err(|e| format!("{}: not JSON: {e}", file.display()))?;
+            let items = match value {
+                serde_json::Value::Array(a) => a,
+                other => vec![other],
+            };
+            let mut all_ok = true;
+            for (i, item) in items.into_iter().enumerate() {
+                if item.is_null() {
+                    println!("certificate {i}: none (undecided verdict)");
+                    continue;
+                }
+                let c: InjectivityCertificate = match serde_json::from_value(item) {
+                    Ok(c) => c,
+                    Err(e) => {
+                        println!("certificate {i}: invalid: not a certificate: {e}");
+                        all_ok = false;
+                        continue;
+                    }
+                };
+                match verify_injectivity_certificate(&c) {
+                    Ok(msg) => println!("certificate {i}: valid: {msg}"),
+                    Err(e) => {
+                        println!("certificate {i}: invalid: {e}");
+                        all_ok = false;
+                    }
+                }
+            }
+            Ok(if all_ok {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::from(1)
+            })
         }
     }
 }

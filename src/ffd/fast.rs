@@ -37,13 +37,26 @@ fn count(d: [usize; 3]) -> usize {
     (d[0] + 1) * (d[1] + 1) * (d[2] + 1)
 }
 
-/// `C(n, k)` for small `n` (exact in `f64`).
-fn binom(n: usize, k: usize) -> f64 {
-    let mut r = 1.0f64;
-    for i in 0..k.min(n - k) {
-        r = r * (n - i) as f64 / (i + 1) as f64;
+/// Largest degree per axis of the Jacobian handled here (`3·(MAX_ORDER−1) − 1`).
+const MAX_JAC_DEGREE: usize = 3 * (super::lattice::MAX_ORDER - 1) - 1;
+
+/// Pascal's triangle up to [`MAX_JAC_DEGREE`], exact in `f64` (all entries < 2⁵³).
+static BINOM: std::sync::LazyLock<Vec<Vec<f64>>> = std::sync::LazyLock::new(|| {
+    let mut rows = vec![vec![1.0f64]];
+    for n in 1..=MAX_JAC_DEGREE {
+        let prev = &rows[n - 1];
+        let mut row = vec![1.0f64; n + 1];
+        for k in 1..n {
+            row[k] = prev[k - 1] + prev[k];
+        }
+        rows.push(row);
     }
-    r.round()
+    rows
+});
+
+/// `C(n, k)` (exact).
+fn binom(n: usize, k: usize) -> f64 {
+    BINOM[n][k]
 }
 
 /// Terms summed into one coefficient of a product of degrees `a` and `b`.

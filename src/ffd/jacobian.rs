@@ -48,8 +48,10 @@ pub fn jacobian_spline(l: &Lattice) -> Result<TensorSpline<Rational>, FfdError> 
     for c in 0..3 {
         let (a, b) = ((c + 1) % 3, (c + 2) % 3);
         // (∂_v F̃ × ∂_w F̃)_c = ∂_v F̃_a ∂_w F̃_b − ∂_v F̃_b ∂_w F̃_a.
-        let cross = kernel(kernel(fv[a].product(&fw[b]))?.sub(&kernel(fv[b].product(&fw[a]))?))?;
-        let term = kernel(fu[c].product(&cross))?;
+        let cross = kernel(
+            kernel(fv[a].product_exact(&fw[b]))?.sub(&kernel(fv[b].product_exact(&fw[a]))?),
+        )?;
+        let term = kernel(fu[c].product_exact(&cross))?;
         det = Some(match det {
             None => term,
             Some(d) => kernel(d.add(&term))?,

@@ -20,7 +20,20 @@ fn main() {
             })
         })
         .collect();
-    let l = id.displaced(&delta).unwrap();
+    let pts: Vec<[Rational; 3]> = id
+        .points()
+        .iter()
+        .zip(&delta)
+        .map(|(p, d)| {
+            [0, 1, 2].map(|a| {
+                Rational::from_float(
+                    geocert::num::rational_to_f64(&p[a]) + geocert::num::rational_to_f64(&d[a]),
+                )
+                .unwrap()
+            })
+        })
+        .collect();
+    let l = Lattice::new(Basis::Bezier, [4, 4, 4], [1, 1, 1], pts).unwrap();
     let nets = l.bezier_nets();
     let t = Instant::now();
     let m = jacobian_cells_morken(&l).unwrap();
@@ -33,7 +46,7 @@ fn main() {
     println!("scaled {:?}", t.elapsed());
     assert_eq!(m[0], b);
     assert_eq!(s.to_rational(), b);
-    let pts = l.points_f64();
+    let pts = l.points_f64().unwrap().to_vec();
     let mut ws = JacobianWorkspace::default();
     let t = Instant::now();
     for _ in 0..1000 {
@@ -57,6 +70,64 @@ fn main() {
             t.elapsed()
         );
     }
+    use geocert::ffd::sufficient::*;
+    let t = Instant::now();
+    for _ in 0..10000 {
+        conic_test_fast(&l, ConicOptions::default());
+    }
+    println!(
+        "conic fast x10000 {:?} {:?}",
+        t.elapsed(),
+        conic_test_fast(&l, ConicOptions::default())
+    );
+    let t = Instant::now();
+    println!(
+        "conic exact {:?} {:?}",
+        conic_test_exact(&l, ConicOptions::default()),
+        t.elapsed()
+    );
+    let t = Instant::now();
+    println!(
+        "phi exact {:?} {:?}",
+        phi_test_exact(&l, Scope::PerCell),
+        t.elapsed()
+    );
+    let t = Instant::now();
+    println!(
+        "phi fast {:?} {:?}",
+        phi_test_fast(&l, Scope::PerCell),
+        t.elapsed()
+    );
+    let t = Instant::now();
+    println!(
+        "bez exact {:?} {:?}",
+        bezier_coefficient_test_exact(&l),
+        t.elapsed()
+    );
+    let t = Instant::now();
+    println!(
+        "conic sub2 {:?} {:?}",
+        conic_test_exact(
+            &l,
+            ConicOptions {
+                scope: Scope::PerCell,
+                subdivision_depth: 2
+            }
+        ),
+        t.elapsed()
+    );
+    let t = Instant::now();
+    println!(
+        "conic sub2 fast {:?} {:?}",
+        conic_test_fast(
+            &l,
+            ConicOptions {
+                scope: Scope::PerCell,
+                subdivision_depth: 2
+            }
+        ),
+        t.elapsed()
+    );
     let bs = Lattice::identity(Basis::Bspline, [4, 4, 4], [3, 3, 3]).unwrap();
     let t = Instant::now();
     let m = jacobian_cells_morken(&bs).unwrap();

@@ -175,3 +175,82 @@ fn folded_lattice_is_not_injective_with_exact_witness() {
     }
     let _ = Bernstein::<Rational>::constant(vec![1], q(1, 1));
 }
+
+mod sufficient_tests {
+    use super::*;
+    use geocert::ffd::sufficient::*;
+
+    /// Lattices on an f64 grid (so the plain-f64 conic route runs too).
+    fn f64_lattice() -> impl Strategy<Value = Lattice> {
+        (
+            prop::bool::ANY,
+            [2usize..=4, 2usize..=4, 2usize..=4],
+            [1usize..=2, 1usize..=2, 1usize..=2],
+            0u32..6,
+            prop::collection::vec(-1.0f64..1.0, 1..64),
+        )
+            .prop_map(|(bez, order, cells, amp, noise)| {
+                let (basis, cells) = if bez {
+                    (Basis::Bezier, [1, 1, 1])
+                } else {
+                    (Basis::Bspline, cells)
+                };
+                let id = Lattice::identity(basis, order, cells).unwrap();
+                let amp = 0.04 * amp as f64;
+                let pts = id
+                    .points()
+                    .iter()
+                    .enumerate()
+                    .map(|(i, p)| {
+                        [0, 1, 2].map(|a| {
+                            let x = geocert::num::rational_to_f64(&p[a])
+                                + amp * noise[(3 * i + a) % noise.len()];
+                            rational_from_f64(x, "x").unwrap()
+                        })
+                    })
+                    .collect();
+                Lattice::new(basis, order, cells, pts).unwrap()
+            })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// conic ⇒ phi ⇒ Bézier coefficients ⇒ N&S, per cell and for the whole lattice, and
+        /// subdivided conic ⇐ conic.
+        #[test]
+        fn weaker_tests_imply_stronger(l in f64_lattice()) {
+            let limits = Limits { max_depth: 8, ..Limits::default() };
+            let ns = check_injectivity(&l, CheckOptions { path: TestPath::Exact, limits }).unwrap().verdict.sign();
+            let bez = bezier_coefficient_test_exact(&l).unwrap().sign();
+            let phi = phi_test_exact(&l, Scope::PerCell).sign();
+            let phi_all = phi_test_exact(&l, Scope::Lattice).sign();
+            let conic = conic_test_exact(&l, ConicOptions::default()).sign();
+            let conic_all = conic_test_exact(&l, ConicOptions { scope: Scope::Lattice, subdivision_depth: 0 }).sign();
+            let conic_sub = conic_test_exact(&l, ConicOptions { scope: Scope::PerCell, subdivision_depth: 1 }).sign();
+            let implies = |a: Sign, b: Sign| a != Sign::Positive || b == Sign::Positive;
+            prop_assert!(implies(conic, phi), "conic passes, phi does not");
+            prop_assert!(implies(conic_all, conic));
+            prop_assert!(implies(phi_all, phi));
+            prop_assert!(implies(phi, bez), "phi passes, Bézier coefficients do not");
+            prop_assert!(implies(bez, ns) || ns == Sign::Uncertain);
+            prop_assert!(implies(conic_sub, ns) || ns == Sign::Uncertain);
+            prop_assert!(implies(conic, conic_sub), "subdivision lost a pass");
+        }
+
+        #[test]
+        fn certified_fast_sufficient_tests_agree_with_exact(l in f64_lattice()) {
+            for scope in [Scope::PerCell, Scope::Lattice] {
+                let e = phi_test_exact(&l, scope).sign();
+                prop_assert!(!phi_test_fast(&l, scope).sign().contradicts(e));
+                for depth in [0, 1] {
+                    let opts = ConicOptions { scope, subdivision_depth: depth };
+                    let e = conic_test_exact(&l, opts).sign();
+                    prop_assert!(!conic_test_fast(&l, opts).sign().contradicts(e));
+                }
+            }
+            let e = bezier_coefficient_test_exact(&l).unwrap().sign();
+            prop_assert!(!bezier_coefficient_test_fast(&l).sign().contradicts(e));
+        }
+    }
+}

@@ -157,7 +157,7 @@ impl InjectivityReport {
 }
 
 /// The `f64` Bézier net of a cell and its relative error against the exact net.
-fn net_f64(net: &[Bernstein<Rational>; 3]) -> (Vec<[f64; 3]>, f64) {
+pub(crate) fn net_f64(net: &[Bernstein<Rational>; 3]) -> (Vec<[f64; 3]>, f64) {
     let mut exact = true;
     let pts = (0..net[0].coeffs().len())
         .map(|k| {
@@ -191,6 +191,15 @@ pub fn check_injectivity(l: &Lattice, opts: CheckOptions) -> Result<InjectivityR
     let mut bounds: Vec<Option<f64>> = Vec::with_capacity(nets.len());
     let mut pending: Option<InjectivityVerdict> = None;
     let mut leaves = 0usize;
+    // Bézier lattices with exact f64 points are their own f64 net.
+    let direct: Option<Vec<[f64; 3]>> = match l.basis() {
+        Basis::Bezier => l.points_f64().map(<[_]>::to_vec),
+        Basis::Bspline => None,
+    };
+    let net_f64 = |net: &[Bernstein<Rational>; 3]| match &direct {
+        Some(p) => (p.clone(), 0.0),
+        None => net_f64(net),
+    };
     for (c, net) in nets.iter().enumerate() {
         let cell = l.cell_index(c);
         let fast = || {

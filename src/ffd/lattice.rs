@@ -47,6 +47,8 @@ pub struct Lattice {
     order: [usize; 3],
     cells: [usize; 3],
     points: Vec<Point>,
+    /// The points as `f64` when every coordinate is exactly an `f64`.
+    exact_f64: Option<Vec<[f64; 3]>>,
 }
 
 impl Lattice {
@@ -95,11 +97,23 @@ impl Lattice {
                 ),
             ));
         }
+        let approx: Vec<[f64; 3]> = points
+            .iter()
+            .map(|p| [0, 1, 2].map(|a| crate::num::rational_to_f64(&p[a])))
+            .collect();
+        let exact = points.iter().zip(&approx).all(|(p, f)| {
+            (0..3).all(|a| {
+                crate::num::rational_from_f64(f[a], "c")
+                    .map(|r| r == p[a])
+                    .unwrap_or(false)
+            })
+        });
         Ok(Lattice {
             basis,
             order,
             cells,
             points,
+            exact_f64: exact.then_some(approx),
         })
     }
 
@@ -287,22 +301,9 @@ impl Lattice {
         })
     }
 
-    /// The control points rounded to nearest `f64`.
-    pub fn points_f64(&self) -> Vec<[f64; 3]> {
-        self.points
-            .iter()
-            .map(|p| [0, 1, 2].map(|a| crate::num::rational_to_f64(&p[a])))
-            .collect()
-    }
-
-    /// True when every coordinate is exactly an `f64` (then [`points_f64`](Self::points_f64)
-    /// is lossless).
-    pub fn is_f64_exact(&self) -> bool {
-        self.points.iter().flatten().all(|c| {
-            crate::num::rational_from_f64(crate::num::rational_to_f64(c), "c")
-                .map(|r| &r == c)
-                .unwrap_or(false)
-        })
+    /// The control points as `f64`, when every coordinate is exactly an `f64`.
+    pub fn points_f64(&self) -> Option<&[[f64; 3]]> {
+        self.exact_f64.as_deref()
     }
 }
 

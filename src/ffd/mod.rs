@@ -15,6 +15,7 @@ pub mod fast;
 pub mod injectivity;
 pub mod jacobian;
 pub mod lattice;
+pub mod sufficient;
 
 pub use injectivity::{
     check_injectivity, verify_injectivity_certificate, CheckOptions, InjectivityCertificate,

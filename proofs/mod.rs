@@ -1,6 +1,7 @@
 //! Exhaustive proofs: deterministic enumerations, each stating what it enumerated and how many
 //! cases passed. Run by `cargo test --release` (the `proofs` test target) and `geocert prove`.
 
+pub mod ffd;
 pub mod kernel;
 
 use serde::Serialize;
@@ -130,5 +131,7 @@ pub fn all() -> Vec<(&'static str, Proof)> {
             "kernel.tensor-bezier-cells",
             kernel::bezier_extraction_routes,
         ),
+        ("ffd.jacobian-routes", ffd::jacobian_routes),
+        ("ffd.identity-unit-jacobian", ffd::identity_unit_jacobian),
     ]
 }

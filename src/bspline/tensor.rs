@@ -350,6 +350,16 @@ impl TensorSpline<Rational> {
     /// common denominator, the contraction runs on integers and one rational per output
     /// coefficient is formed at the end (no gcd inside the loop). Same result, exactly.
     pub fn product_exact(&self, other: &TensorSpline<Rational>) -> Result<Self, BsplineError> {
+        self.product_exact_cached(other, &mut TableCache::default())
+    }
+
+    /// [`product_exact`](Self::product_exact) reusing per-axis tables from `cache` (products
+    /// of factors with the same degrees and knots share them).
+    pub fn product_exact_cached(
+        &self,
+        other: &TensorSpline<Rational>,
+        cache: &mut TableCache,
+    ) -> Result<Self, BsplineError> {
         let n = self.dim();
         if other.dim() != n {
             return Err(BsplineError::DimensionMismatch {
@@ -357,16 +367,29 @@ impl TensorSpline<Rational> {
                 found: other.dim(),
             });
         }
-        let tables: Vec<BasisProductTable<Rational>> = (0..n)
-            .map(|x| {
-                basis_product_table(
-                    self.degrees[x],
-                    &self.knots[x],
-                    other.degrees[x],
-                    &other.knots[x],
-                )
-            })
-            .collect::<Result<_, _>>()?;
+        let mut tables: Vec<std::rc::Rc<BasisProductTable<Rational>>> = Vec::with_capacity(n);
+        for x in 0..n {
+            let key = (
+                self.degrees[x],
+                self.knots[x].clone(),
+                other.degrees[x],
+                other.knots[x].clone(),
+            );
+            let t = match cache.0.get(&key) {
+                Some(t) => t.clone(),
+                None => {
+                    let t = std::rc::Rc::new(basis_product_table(
+                        self.degrees[x],
+                        &self.knots[x],
+                        other.degrees[x],
+                        &other.knots[x],
+                    )?);
+                    cache.0.insert(key, t.clone());
+                    t
+                }
+            };
+            tables.push(t);
+        }
         let mut den = BigInt::one();
         let int_tables: Vec<Vec<Vec<(usize, BigInt)>>> = tables
             .iter()
@@ -416,13 +439,22 @@ impl TensorSpline<Rational> {
         }
         TensorSpline::new(
             tables.iter().map(|t| t.degree).collect(),
-            tables.into_iter().map(|t| t.knots).collect(),
+            tables.iter().map(|t| t.knots.clone()).collect(),
             out.into_iter()
                 .map(|v| Rational::new(v, den.clone()))
                 .collect(),
         )
     }
 }
+
+/// Per-axis basis product tables keyed by `(p, knots, q, knots)`.
+#[derive(Default)]
+pub struct TableCache(
+    std::collections::HashMap<
+        (usize, Vec<Rational>, usize, Vec<Rational>),
+        std::rc::Rc<BasisProductTable<Rational>>,
+    >,
+);
 
 /// Integer numerators over the lcm of the denominators.
 fn common_denominator(cs: &[Rational]) -> (Vec<BigInt>, BigInt) {

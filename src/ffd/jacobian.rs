@@ -16,7 +16,7 @@
 use super::lattice::Lattice;
 use super::FfdError;
 use crate::bernstein::{Bernstein, ScaledBernstein};
-use crate::bspline::TensorSpline;
+use crate::bspline::{tensor::TableCache, TensorSpline};
 use crate::num::Rational;
 use num_bigint::BigInt;
 use num_integer::Integer;
@@ -44,6 +44,7 @@ fn kernel<T>(r: Result<T, crate::bspline::BsplineError>) -> Result<T, FfdError> 
 /// `det J` as one trivariate tensor B-spline through Mørken products (eq. 8).
 pub fn jacobian_spline(l: &Lattice) -> Result<TensorSpline<Rational>, FfdError> {
     let [fu, fv, fw] = partial_derivatives(l)?;
+    let mut cache = TableCache::default();
     let mut det: Option<TensorSpline<Rational>> = None;
     for c in 0..3 {
         let (a, b) = ((c + 1) % 3, (c + 2) % 3);
@@ -51,7 +52,7 @@ pub fn jacobian_spline(l: &Lattice) -> Result<TensorSpline<Rational>, FfdError> 
         let cross = kernel(
             kernel(fv[a].product_exact(&fw[b]))?.sub(&kernel(fv[b].product_exact(&fw[a]))?),
         )?;
-        let term = kernel(fu[c].product_exact(&cross))?;
+        let term = kernel(fu[c].product_exact_cached(&cross, &mut cache))?;
         det = Some(match det {
             None => term,
             Some(d) => kernel(d.add(&term))?,

@@ -101,3 +101,109 @@ pub fn check_poly_json(data: &[u8]) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// Decodes bytes into a small FFD lattice: byte 0 picks the basis, orders 2–4 and (for
+/// B-splines) 1–2 cells per axis; the rest perturb the identity lattice's points by
+/// `k · 2^{−e}` (`k` an `i8`, `e` in 3…12), so coordinates stay bounded.
+pub fn decode_lattice(data: &[u8]) -> Option<crate::ffd::Lattice> {
+    use crate::ffd::{Basis, Lattice};
+    let (&head, rest) = data.split_first()?;
+    let (&shape, rest) = rest.split_first()?;
+    let basis = if head & 1 == 0 {
+        Basis::Bezier
+    } else {
+        Basis::Bspline
+    };
+    let order = [0, 1, 2].map(|a| 2 + ((head as usize >> (1 + 2 * a)) % 3));
+    let cells = match basis {
+        Basis::Bezier => [1, 1, 1],
+        Basis::Bspline => [0, 1, 2].map(|a| 1 + ((shape as usize >> a) & 1)),
+    };
+    let id = Lattice::identity(basis, order, cells).ok()?;
+    let n = id.points().len();
+    let delta: Vec<[Rational; 3]> = (0..n)
+        .map(|i| {
+            [0, 1, 2].map(|a| {
+                let j = 2 * (3 * i + a);
+                match (rest.get(j), rest.get(j + 1)) {
+                    (Some(&k), Some(&e)) => Rational::new(
+                        BigInt::from(k as i8 as i64),
+                        BigInt::from(1) << (3 + (e % 10) as usize),
+                    ),
+                    _ => Rational::from_integer(BigInt::from(0)),
+                }
+            })
+        })
+        .collect();
+    id.displaced(&delta).ok()
+}
+
+/// Differential check of the FFD injectivity paths: certified fast and filtered verdicts
+/// never contradict the exact one, filtered is never uncertain, every decided verdict's
+/// certificate re-checks, and every witness has `det J ≤ 0` exactly.
+pub fn check_ffd(l: &crate::ffd::Lattice) -> Result<(), String> {
+    use crate::ffd::jacobian::jacobian_in_cell;
+    use crate::ffd::{
+        check_injectivity, verify_injectivity_certificate, CheckOptions, InjectivityCertificate,
+        InjectivityVerdict, TestPath,
+    };
+    let limits = Limits {
+        max_depth: 7,
+        max_boxes: 5_000,
+        time_limit: None,
+    };
+    let run = |path| {
+        check_injectivity(l, CheckOptions { path, limits }).map_err(|e| format!("{path:?}: {e}"))
+    };
+    let exact = run(TestPath::Exact)?;
+    let fast = run(TestPath::Fast)?;
+    let filtered = run(TestPath::Filtered)?;
+    let e = exact.verdict.sign();
+    if fast.verdict.sign().contradicts(e) {
+        return Err(format!(
+            "fast {:?} contradicts exact {:?}",
+            fast.verdict.name(),
+            exact.verdict.name()
+        ));
+    }
+    if filtered.verdict.sign().contradicts(e) {
+        return Err(format!(
+            "filtered {:?} contradicts exact {:?}",
+            filtered.verdict.name(),
+            exact.verdict.name()
+        ));
+    }
+    if matches!(filtered.verdict, InjectivityVerdict::Uncertain { .. }) {
+        return Err("filtered path left a verdict uncertain".into());
+    }
+    for r in [&exact, &fast, &filtered] {
+        if let InjectivityVerdict::NotInjective { point, det, cell } = &r.verdict {
+            let d = jacobian_in_cell(l, *cell, point).map_err(|e| e.to_string())?;
+            if &d != det || d > Rational::from_integer(BigInt::from(0)) {
+                return Err(format!("{:?} witness does not hold", r.path));
+            }
+        }
+        if let Some(c) = InjectivityCertificate::from_report(l, r) {
+            verify_injectivity_certificate(&c).map_err(|e| format!("{:?}: {e}", r.path))?;
+        }
+    }
+    Ok(())
+}
+
+/// Robustness of the lattice JSON reader: arbitrary bytes give a lattice or a typed error,
+/// never a panic; a parsed lattice survives a round trip through its JSON form.
+pub fn check_lattice_json(data: &[u8]) -> Result<(), String> {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return Ok(());
+    };
+    if let Ok(ls) = crate::ffd::lattices_from_json(text) {
+        for l in ls {
+            let again = crate::ffd::lattice::lattice_from_value(&l.to_json())
+                .map_err(|e| format!("round trip failed: {e}"))?;
+            if again != l {
+                return Err("round trip changed the lattice".into());
+            }
+        }
+    }
+    Ok(())
+}

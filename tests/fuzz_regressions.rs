@@ -37,3 +37,21 @@ fn subdivision_signs_regressions() {
 fn poly_json_regressions() {
     replay("poly_json", geocert::fuzzing::check_poly_json);
 }
+
+#[test]
+fn ffd_injectivity_regressions() {
+    let n = replay(
+        "ffd_injectivity",
+        |d| match geocert::fuzzing::decode_lattice(d) {
+            Some(l) => geocert::fuzzing::check_ffd(&l),
+            None => Ok(()),
+        },
+    );
+    assert!(n > 0, "the regression corpus must not be empty");
+}
+
+#[test]
+fn lattice_json_regressions() {
+    let n = replay("lattice_json", geocert::fuzzing::check_lattice_json);
+    assert!(n > 0, "the regression corpus must not be empty");
+}

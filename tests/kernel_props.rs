@@ -302,3 +302,26 @@ fn positive_and_negative_examples() {
         assert!(verify_positive_certificate(&pos, &leaves).is_err());
     }
 }
+
+proptest! {
+    /// The integer product (i128, split 256-bit and BigInt routes) equals the rational one,
+    /// for coefficients scaled by 2^0…2^150 so every route is taken.
+    #[test]
+    fn scaled_product_is_exact(
+        a in bernstein_poly(vec![2, 1, 3], 20),
+        b in bernstein_poly(vec![3, 2, 1], 20),
+        sa in 0u32..150,
+        sb in 0u32..80,
+    ) {
+        let big = |p: &Bernstein<Rational>, s: u32| {
+            let k = Rational::from_integer(BigInt::from(1) << s) + q(1, 3);
+            p.scale(&k)
+        };
+        let (a, b) = (big(&a, sa), big(&b, sb));
+        let exact = a.product(&b).unwrap();
+        let scaled = ScaledBernstein::from_rational(&a)
+            .product(&ScaledBernstein::from_rational(&b))
+            .unwrap();
+        prop_assert_eq!(scaled.to_rational(), exact);
+    }
+}

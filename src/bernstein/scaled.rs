@@ -7,6 +7,7 @@
 
 use super::poly::{coefficient_count, strides, Bernstein};
 use super::{binomial, poly::map_lines, BernsteinError};
+use crate::num::wide::I256;
 use crate::num::{Rational, Sign};
 use num_bigint::{BigInt, Sign as BigSign};
 use num_integer::Integer;
@@ -132,20 +133,24 @@ impl ScaledBernstein {
         let at: Vec<BigInt> = self.num.iter().zip(&bin_a).map(|(a, w)| a * w).collect();
         let bt: Vec<BigInt> = other.num.iter().zip(&bin_b).map(|(b, w)| b * w).collect();
         let so = strides(&degrees);
-        let mut out = vec![BigInt::zero(); coefficient_count(&degrees)];
         // Flat offset of each multi-index of `self` / `other` in the product's layout.
         let off_a = offsets(&self.degrees, &so);
         let off_b = offsets(&other.degrees, &so);
-        for (a, oa) in at.iter().zip(&off_a) {
-            if a.is_zero() {
-                continue;
-            }
-            for (b, ob) in bt.iter().zip(&off_b) {
-                if !b.is_zero() {
-                    out[oa + ob] += a * b;
+        let mut out = convolve_i128(&at, &off_a, &bt, &off_b, coefficient_count(&degrees))
+            .unwrap_or_else(|| {
+                let mut out = vec![BigInt::zero(); coefficient_count(&degrees)];
+                for (a, oa) in at.iter().zip(&off_a) {
+                    if a.is_zero() {
+                        continue;
+                    }
+                    for (b, ob) in bt.iter().zip(&off_b) {
+                        if !b.is_zero() {
+                            out[oa + ob] += a * b;
+                        }
+                    }
                 }
-            }
-        }
+                out
+            });
         // Per axis: L_x = lcm_k C(N_x, k); coefficient k gets Π_x L_x / C(N_x, k_x).
         let mut big_l = BigInt::one();
         let per_axis: Vec<Vec<BigInt>> = degrees
@@ -495,4 +500,47 @@ fn offsets(degrees: &[usize], so: &[usize]) -> Vec<usize> {
             at
         })
         .collect()
+}
+
+/// The convolution `out[oa + ob] += a·b` in 256-bit arithmetic ([`I256`]): one operand must
+/// fit `i128`, the other is split as `h·2⁶⁴ + l` with `h` in `i128`; products are exact and
+/// sums overflow-checked. `None` when the operands are too wide or a sum overflows (the caller
+/// then uses `BigInt`). Exact either way.
+fn convolve_i128(
+    a: &[BigInt],
+    off_a: &[usize],
+    b: &[BigInt],
+    off_b: &[usize],
+    len: usize,
+) -> Option<Vec<BigInt>> {
+    let narrow = |v: &[BigInt]| -> Option<Vec<i128>> {
+        v.iter().map(num_traits::ToPrimitive::to_i128).collect()
+    };
+    let split = |v: &[BigInt]| -> Option<Vec<(i128, u64)>> {
+        v.iter()
+            .map(|x| {
+                let hi = num_traits::ToPrimitive::to_i128(&(x >> 64u32))?;
+                let lo = num_traits::ToPrimitive::to_u64(&(x - (BigInt::from(hi) << 64u32)))?;
+                Some((hi, lo))
+            })
+            .collect()
+    };
+    // The narrow operand is `y`; the other one is split.
+    let (wide, off_w, y, off_y) = match (narrow(b), narrow(a)) {
+        (Some(y), _) => (a, off_a, y, off_b),
+        (None, Some(y)) => (b, off_b, y, off_a),
+        (None, None) => return None,
+    };
+    let wide = split(wide)?;
+    let mut out = vec![I256::ZERO; len];
+    for (&(h, l), &ow) in wide.iter().zip(off_w) {
+        if h == 0 && l == 0 {
+            continue;
+        }
+        for (&y, &oy) in y.iter().zip(off_y) {
+            let slot = &mut out[ow + oy];
+            *slot = slot.checked_add(I256::split_product(h, l, y)?)?;
+        }
+    }
+    Some(out.into_iter().map(I256::to_bigint).collect())
 }

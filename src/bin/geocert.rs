@@ -287,7 +287,7 @@ fn ffd(c: FfdCommand) -> Result<ExitCode, String> {
 fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     let meta = RunMeta::collect();
     let proofs = geocert::proofs::all();
-    let bar = ProgressBar::new(proofs.len() as u64 + 2);
+    let bar = ProgressBar::new(proofs.len() as u64 + 3);
     bar.set_style(
         ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").map_err(|e| e.to_string())?,
     );
@@ -297,19 +297,58 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
         outcomes.push(proof());
         bar.inc(1);
     }
-    bar.set_message("exact-vs-fast campaign");
+    bar.set_message("kernel exact-vs-fast campaign");
     let camp = campaign::kernel_campaign(2026, 300, &[3, 3, 3], 8);
     bar.inc(1);
     bar.set_message("subdivision timing");
     let timing = campaign::subdivision_timing(9, 10, 5);
     bar.inc(1);
+    bar.set_message("FFD campaign (and Gmsh, if installed)");
+    let root = std::env::current_dir().map_err(|e| e.to_string())?;
+    let ffd_camp = report::ffd::ffd_campaign(&root, 2026, 600, 60);
+    bar.inc(1);
     bar.finish_and_clear();
-    let written = report::write_kernel_report(&out, &meta, &outcomes, &camp, &timing)
-        .map_err(|e| format!("writing {}: {e}", out.display()))?;
-    let ok = outcomes.iter().all(|o| o.ok())
-        && camp.contradictions == 0
-        && camp.certificates_refused == 0
-        && timing.leaf_signs_agree;
+    let (kernel_proofs, ffd_proofs): (Vec<_>, Vec<_>) = outcomes
+        .iter()
+        .cloned()
+        .partition(|o| o.name.starts_with("kernel."));
+    let io = |e: std::io::Error| format!("writing {}: {e}", out.display());
+    let kernel_ok = report::kernel_ok(&kernel_proofs, &camp, &timing);
+    let ffd_ok = report::ffd::campaign_ok(&ffd_camp) && ffd_proofs.iter().all(|p| p.ok());
+    let mut written = vec![
+        report::write_kernel_report(&out, &meta, &kernel_proofs, &camp, &timing).map_err(io)?,
+        report::ffd_markdown::write_ffd_report(&out, &meta, &ffd_proofs, &ffd_camp).map_err(io)?,
+    ];
+    written.insert(
+        0,
+        report::write_index(
+            &out,
+            &meta,
+            &[
+                report::IndexEntry {
+                    file: "kernel.md".into(),
+                    what: format!(
+                        "scalar, Bernstein and B-spline kernel ({} proofs, {} cases)",
+                        kernel_proofs.len(),
+                        kernel_proofs.iter().map(|p| p.cases).sum::<usize>()
+                    ),
+                    ok: kernel_ok,
+                },
+                report::IndexEntry {
+                    file: "ffd.md".into(),
+                    what: format!(
+                        "FFD injectivity ({} proofs, {} cases; {} lattices in the campaign)",
+                        ffd_proofs.len(),
+                        ffd_proofs.iter().map(|p| p.cases).sum::<usize>(),
+                        ffd_camp.families.iter().map(|f| f.lattices).sum::<usize>()
+                    ),
+                    ok: ffd_ok,
+                },
+            ],
+        )
+        .map_err(io)?,
+    );
+    let ok = kernel_ok && ffd_ok;
     if json {
         let v = serde_json::json!({"ok": ok, "proofs": outcomes, "campaign": camp, "timing": timing,
             "reports": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>()});
@@ -329,6 +368,20 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
             "subdivision tree (degree {}, depth {}): BigRational {:.2} ms, integers {:.2} ms ({:.0}×), f64 {:.3} ms",
             timing.degree, timing.depth, timing.rational_ms, timing.scaled_ms, timing.rational_ms / timing.scaled_ms, timing.fast_ms
         );
+        for f in &ffd_camp.families {
+            println!(
+                "ffd {}: {} lattices, {} contradictions, {} certificates refused, filtered = exact on {}",
+                f.name, f.lattices, f.contradictions, f.certificates_refused, f.filtered_agrees
+            );
+        }
+        match &ffd_camp.gmsh {
+            Ok(g) => println!(
+                "gmsh {}: {:.0} cells/s",
+                g.version,
+                g.cells as f64 / g.batch_seconds
+            ),
+            Err(e) => println!("gmsh: {e}"),
+        }
         for p in &written {
             println!("wrote {}", p.display());
         }

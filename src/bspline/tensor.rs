@@ -450,11 +450,11 @@ impl TensorSpline<Rational> {
 /// Per-axis basis product tables keyed by `(p, knots, q, knots)`.
 #[derive(Default)]
 pub struct TableCache(
-    std::collections::HashMap<
-        (usize, Vec<Rational>, usize, Vec<Rational>),
-        std::rc::Rc<BasisProductTable<Rational>>,
-    >,
+    std::collections::HashMap<TableKey, std::rc::Rc<BasisProductTable<Rational>>>,
 );
+
+/// `(p, knots of the first factor, q, knots of the second)`.
+type TableKey = (usize, Vec<Rational>, usize, Vec<Rational>);
 
 /// Integer numerators over the lcm of the denominators.
 fn common_denominator(cs: &[Rational]) -> (Vec<BigInt>, BigInt) {
@@ -578,7 +578,7 @@ pub fn basis_product_table<T: Field + PartialOrd>(
             } else {
                 &t[j + q + 1]
             };
-            if !(lo < hi) {
+            if lo.partial_cmp(hi) != Some(std::cmp::Ordering::Less) {
                 entries.push(Vec::new());
                 continue;
             }

@@ -4,12 +4,14 @@
 //!
 //! Products are formed in the scaled basis `C(n,i) tⁱ(1−t)ⁿ⁻ⁱ`, where a Bernstein product is a
 //! plain convolution (NOTES: Bernstein product), and divided by the product's binomials at the
-//! end. Next to the values, the same convolutions run on magnitudes, giving `S_k = Σ|terms|`
-//! for every output coefficient. Every term passes through at most `K` roundings (factor
-//! subtraction and scaling, two multiplications, the summation chains, the final scaling), so
-//! `|fl(c_k) − c_k| ≤ γ_K · S_k` (Higham, *Accuracy and Stability*, §3.1, Lemma 3.3 and eq.
-//! 3.5); inputs that are themselves rounded (relative error `η`) add `((1+η)³−1)·S_k` with the
-//! magnitudes taken as `|P₁| + |P₀|`. The stored bound is the maximum over `k`, rounded up.
+//! end. Every term passes through at most `K` roundings (factor subtraction and scaling, two
+//! multiplications, the summation chains, the final scaling), so `|fl(c_k) − c_k| ≤ γ_K S_k`
+//! with `S_k = Σ|terms|` (Higham, *Accuracy and Stability*, §3.1, Lemma 3.3 and eq. 3.5).
+//! With `M` the largest magnitude of each factor's coefficients, Vandermonde's identity
+//! `Σ_{i+j=k} C(m,i) C(n,j) = C(m+n,k)` gives `S_k / C(N,k) ≤ pqr Σ_c M(∂_u F_c) (M(∂_v F_a)
+//! M(∂_w F_b) + M(∂_v F_b) M(∂_w F_a))` for every `k` — one bound, no second convolution.
+//! Inputs that are themselves rounded (relative error `η`) add `((1+η)³−1)` times the same
+//! sum with magnitudes taken as `|P₁| + |P₀|`. The bound is rounded up.
 
 use super::FfdError;
 use crate::bernstein::FastBernstein;
@@ -23,14 +25,11 @@ const SAFE_MAX: f64 = 1e75;
 /// Reusable buffers: after the first cell of a given order nothing is allocated.
 #[derive(Default, Debug)]
 pub struct JacobianWorkspace {
-    /// `[axis][coord]` factor values and magnitudes (scaled basis).
+    /// `[axis][coord]` factor values (scaled basis).
     fval: [[Vec<f64>; 3]; 3],
-    fmag: [[Vec<f64>; 3]; 3],
-    /// Cross product components and magnitudes.
+    /// Cross product components.
     nval: [Vec<f64>; 3],
-    nmag: [Vec<f64>; 3],
     det: Vec<f64>,
-    dmag: Vec<f64>,
 }
 
 fn count(d: [usize; 3]) -> usize {
@@ -119,15 +118,17 @@ pub fn jacobian_cell_fast(
     let (s1, s2) = (deg[0] + 1, (deg[0] + 1) * (deg[1] + 1));
     // Factors: ∂_x F_c in the scaled basis, values and magnitudes.
     let mut fdeg = [[0usize; 3]; 3];
+    // Largest magnitude of each factor's (unscaled) coefficients.
+    let mut fmax = [[0.0f64; 3]; 3];
     for x in 0..3 {
         let mut d = deg;
         d[x] -= 1;
         fdeg[x] = d;
         let step = [1, s1, s2][x];
         for c in 0..3 {
-            let (v, m) = (&mut ws.fval[x][c], &mut ws.fmag[x][c]);
+            let v = &mut ws.fval[x][c];
             v.clear();
-            m.clear();
+            let mut m = 0.0f64;
             for k in 0..=d[2] {
                 let wk = binom(d[2], k);
                 for j in 0..=d[1] {
@@ -138,14 +139,15 @@ pub fn jacobian_cell_fast(
                         let (p0, p1) = (net[at][c], net[at + step][c]);
                         let diff = p1 - p0;
                         v.push(diff * w);
-                        m.push(if exact_inputs {
-                            diff.abs() * w
+                        m = m.max(if exact_inputs {
+                            diff.abs()
                         } else {
-                            (p1.abs() + p0.abs()) * w
+                            p1.abs() + p0.abs()
                         });
                     }
                 }
             }
+            fmax[x][c] = m;
         }
     }
     // Cross products N_c = ∂_v F_a ∂_w F_b − ∂_v F_b ∂_w F_a.
@@ -155,8 +157,6 @@ pub fn jacobian_cell_fast(
         let n = count(ndeg);
         ws.nval[c].clear();
         ws.nval[c].resize(n, 0.0);
-        ws.nmag[c].clear();
-        ws.nmag[c].resize(n, 0.0);
         convolve(
             &ws.fval[1][a],
             fdeg[1],
@@ -173,40 +173,14 @@ pub fn jacobian_cell_fast(
             &mut ws.nval[c],
             -1.0,
         );
-        convolve(
-            &ws.fmag[1][a],
-            fdeg[1],
-            &ws.fmag[2][b],
-            fdeg[2],
-            &mut ws.nmag[c],
-            1.0,
-        );
-        convolve(
-            &ws.fmag[1][b],
-            fdeg[1],
-            &ws.fmag[2][a],
-            fdeg[2],
-            &mut ws.nmag[c],
-            1.0,
-        );
     }
     // det = Σ_c ∂_u F_c · N_c.
     let ddeg = [0, 1, 2].map(|x| fdeg[0][x] + ndeg[x]);
     let n = count(ddeg);
     ws.det.clear();
     ws.det.resize(n, 0.0);
-    ws.dmag.clear();
-    ws.dmag.resize(n, 0.0);
     for c in 0..3 {
         convolve(&ws.fval[0][c], fdeg[0], &ws.nval[c], ndeg, &mut ws.det, 1.0);
-        convolve(
-            &ws.fmag[0][c],
-            fdeg[0],
-            &ws.nmag[c],
-            ndeg,
-            &mut ws.dmag,
-            1.0,
-        );
     }
     // Back to the Bernstein basis, times the derivative factors p·q·r.
     let pqr = (deg[0] * deg[1] * deg[2]) as f64;
@@ -215,7 +189,13 @@ pub fn jacobian_cell_fast(
     let g = gamma(k_roundings as u32);
     let eta = input_rel_err;
     let rel = (3.01 * eta + g * (1.0 + 3.01 * eta)) * (1.0 + g);
-    let mut err = 0.0f64;
+    // Σ_c M(∂_u F_c)(M(∂_v F_a) M(∂_w F_b) + M(∂_v F_b) M(∂_w F_a)), times p·q·r.
+    let mut s_max = 0.0f64;
+    for c in 0..3 {
+        let (a, b) = ((c + 1) % 3, (c + 2) % 3);
+        s_max += fmax[0][c] * (fmax[1][a] * fmax[2][b] + fmax[1][b] * fmax[2][a]);
+    }
+    let err = rel * s_max * pqr * (1.0 + 8.0 * UNIT_ROUNDOFF);
     let (d1, d2) = (ddeg[0] + 1, (ddeg[0] + 1) * (ddeg[1] + 1));
     for k in 0..=ddeg[2] {
         let bk = binom(ddeg[2], k);
@@ -225,12 +205,10 @@ pub fn jacobian_cell_fast(
                 let bi = binom(ddeg[0], i);
                 let at = i + j * d1 + k * d2;
                 ws.det[at] = ws.det[at] * pqr / bi / bj / bk;
-                let s = ws.dmag[at] * pqr / bi / bj / bk;
-                err = err.max(rel * s);
             }
         }
     }
-    // Slack for the bound's own rounding.
+    // Slack for the bound's own rounding (a handful of products and sums above).
     let err = (err * (1.0 + 4.0 * UNIT_ROUNDOFF)).next_up();
     if !err.is_finite() || ws.det.iter().any(|c| !c.is_finite()) {
         return Err(unfit("overflow"));

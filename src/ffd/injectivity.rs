@@ -9,10 +9,11 @@
 //! re-checks through the *other* Jacobian route (Mørken products).
 
 use super::fast::{jacobian_cell_fast, JacobianWorkspace};
-use super::jacobian::{cell_point, jacobian_at, jacobian_cell_scaled, jacobian_cells_morken};
+use super::jacobian::{cell_point, jacobian_cell_scaled, jacobian_cells_morken, jacobian_in_cell};
 use super::lattice::{lattice_from_value, Basis, Lattice};
 use super::FfdError;
-use crate::bernstein::positivity::{LimitHit, WitnessValue};
+use crate::bernstein::positivity::{round_down, LimitHit, WitnessValue};
+use crate::bernstein::ScaledBernstein;
 use crate::bernstein::{
     prove_positive_fast, prove_positive_filtered_with, prove_positive_scaled,
     verify_positive_certificate, Bernstein, DyadicBox, FastBernstein, Limits, PositivityVerdict,
@@ -67,6 +68,7 @@ pub struct CellProof {
 
 /// The verdict of the necessary-and-sufficient test, with its evidence.
 #[derive(Clone, Debug, PartialEq)]
+#[allow(clippy::large_enum_variant)] // one verdict per lattice; boxing buys nothing
 pub enum InjectivityVerdict {
     /// `det J > 0` on every cell.
     Injective { cells: Vec<CellProof> },
@@ -202,46 +204,61 @@ pub fn check_injectivity(l: &Lattice, opts: CheckOptions) -> Result<InjectivityR
     };
     for (c, net) in nets.iter().enumerate() {
         let cell = l.cell_index(c);
-        let fast = || {
-            let (pts, eta) = net_f64(net);
-            jacobian_cell_fast(&pts, deg, eta, &mut JacobianWorkspace::default()).ok()
-        };
-        let verdict = match opts.path {
+        // The verdict, and the cell's smallest Bézier coefficient as a certified bound.
+        let (verdict, root_bound) = match opts.path {
             TestPath::Exact => {
                 let j = jacobian_cell_scaled(net)?;
-                prove_positive_scaled(&j, opts.limits)
+                let rb = round_down(&j.coeff_value(j.argmin()));
+                (prove_positive_scaled(&j, opts.limits), Some(rb))
             }
             TestPath::Fast => {
                 let (pts, eta) = net_f64(net);
                 match jacobian_cell_fast(&pts, deg, eta, &mut ws) {
-                    Ok(f) => prove_positive_fast(&f, opts.limits),
-                    Err(_) => PositivityVerdict::Uncertain {
-                        boxes: vec![DyadicBox::root(3)],
-                        proven: vec![],
-                        proven_lower_bound: f64::INFINITY,
-                    },
+                    Ok(f) => (
+                        prove_positive_fast(&f, opts.limits),
+                        Some(fast_root_bound(&f)),
+                    ),
+                    Err(_) => (
+                        PositivityVerdict::Uncertain {
+                            boxes: vec![DyadicBox::root(3)],
+                            proven: vec![],
+                            proven_lower_bound: f64::INFINITY,
+                        },
+                        None,
+                    ),
                 }
             }
             TestPath::Filtered => {
                 let (pts, eta) = net_f64(net);
                 let f = jacobian_cell_fast(&pts, deg, eta, &mut ws).ok();
-                let mut exact_err = None;
+                let mut failure = None;
+                let mut witness_failure = None;
+                let mut exact_bound = None;
                 let v = prove_positive_filtered_with(
                     f.as_ref(),
                     || match jacobian_cell_scaled(net) {
-                        Ok(j) => j,
+                        Ok(j) => {
+                            exact_bound = Some(round_down(&j.coeff_value(j.argmin())));
+                            j
+                        }
                         Err(e) => {
-                            exact_err = Some(e);
-                            crate::bernstein::ScaledBernstein::from_rational(&net[0])
+                            failure = Some(e);
+                            ScaledBernstein::from_rational(&net[0])
                         }
                     },
-                    |w| jacobian_at(l, &cell_point(cell, w)).unwrap_or_default(),
+                    |w| match jacobian_in_cell(l, cell, &cell_point(cell, w)) {
+                        Ok(v) => v,
+                        Err(e) => {
+                            witness_failure = Some(e);
+                            Rational::default()
+                        }
+                    },
                     opts.limits,
                 );
-                if let Some(e) = exact_err {
+                if let Some(e) = failure.or(witness_failure) {
                     return Err(e);
                 }
-                v
+                (v, f.as_ref().map(fast_root_bound).or(exact_bound))
             }
         };
         match verdict {
@@ -260,18 +277,23 @@ pub fn check_injectivity(l: &Lattice, opts: CheckOptions) -> Result<InjectivityR
             PositivityVerdict::NotPositive { witness, value } => {
                 let point = cell_point(cell, &witness);
                 let det = match value {
-                    WitnessValue::Exact(v) if opts.path == TestPath::Exact => v,
-                    _ => jacobian_at(l, &point)?,
+                    WitnessValue::Exact(v) => v,
+                    WitnessValue::AtMost(_) => jacobian_in_cell(l, cell, &point)?,
                 };
+                bounds.push(root_bound);
                 // Bounds of the remaining cells (root coefficients) for min_det_lower_bound.
-                for net in &nets[c..] {
+                for net in &nets[c + 1..] {
                     bounds.push(match opts.path {
                         TestPath::Exact => {
                             let j = jacobian_cell_scaled(net)?;
-                            let k = j.argmin();
-                            Some(crate::bernstein::positivity::round_down(&j.coeff_value(k)))
+                            Some(round_down(&j.coeff_value(j.argmin())))
                         }
-                        _ => fast().map(|f| fast_root_bound(&f)),
+                        _ => {
+                            let (pts, eta) = net_f64(net);
+                            jacobian_cell_fast(&pts, deg, eta, &mut ws)
+                                .ok()
+                                .map(|f| fast_root_bound(&f))
+                        }
                     });
                 }
                 let min = bounds
@@ -299,7 +321,7 @@ pub fn check_injectivity(l: &Lattice, opts: CheckOptions) -> Result<InjectivityR
             }
             PositivityVerdict::Uncertain { boxes, proven, .. } => {
                 leaves += proven.len();
-                bounds.push(fast().map(|f| fast_root_bound(&f)));
+                bounds.push(root_bound);
                 pending.get_or_insert(InjectivityVerdict::Uncertain { cell, boxes });
             }
         }
@@ -325,6 +347,9 @@ pub struct CellLeaves {
 /// A witness in a certificate file (exact strings).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct WitnessFile {
+    /// The cell whose (one-sided) derivatives are meant; cells matter only for order-2
+    /// lattices, which are C⁰ across cell faces.
+    pub cell: [usize; 3],
     pub point: Vec<String>,
     pub det: String,
 }
@@ -369,8 +394,9 @@ impl InjectivityCertificate {
                 ),
                 ..base("injective")
             }),
-            InjectivityVerdict::NotInjective { point, det, .. } => Some(InjectivityCertificate {
+            InjectivityVerdict::NotInjective { point, det, cell } => Some(InjectivityCertificate {
                 witness: Some(WitnessFile {
+                    cell: *cell,
                     point: point.iter().map(rational_to_string).collect(),
                     det: rational_to_string(det),
                 }),
@@ -448,7 +474,7 @@ pub fn verify_injectivity_certificate(c: &InjectivityCertificate) -> Result<Stri
             }
             let claimed =
                 parse_rational(&w.det).map_err(|e| refuse(format!("witness det: {e}")))?;
-            let det = jacobian_at(&l, &point)?;
+            let det = jacobian_in_cell(&l, w.cell, &point)?;
             if det != claimed {
                 return Err(refuse(format!(
                     "det J at the witness is {}, the certificate claims {}",

@@ -21,10 +21,10 @@
 //! section's last paragraph: "recursively subdividing hyperpatch cells").
 
 use super::fast::{jacobian_cell_fast, JacobianWorkspace};
-use super::jacobian::jacobian_cell_scaled;
+use super::jacobian::{jacobian_cell_scaled, scaled_net};
 use super::lattice::{Basis, Lattice};
 use super::FfdError;
-use crate::bernstein::Bernstein;
+use crate::bernstein::{Bernstein, ScaledBernstein};
 use crate::num::{gamma, rational_to_f64, Interval, Rational, Sign};
 use num_bigint::BigInt;
 use num_integer::Integer;
@@ -255,15 +255,28 @@ impl Default for ConicOptions {
     }
 }
 
-/// `t = (b² + c²)/a²` of a difference along axis `x` (`a` its `x` component), or `None` when
-/// `a ≤ 0` (`FindDeviation` fails).
-fn deviation_exact(v: &Vec3, x: usize) -> Option<Rational> {
-    let a = &v[x];
-    if !a.is_positive() {
-        return None;
+/// The maximal `t = (b² + c²)/a²` per axis over integer difference vectors (`t` is invariant
+/// under a common positive scale, so numerators over a shared denominator suffice), compared
+/// by cross-multiplication; `None` when some `a ≤ 0` (`FindDeviation` fails).
+fn max_deviations(sets: &[Vec<[BigInt; 3]>; 3]) -> Option<[Rational; 3]> {
+    let mut out: [Rational; 3] = Default::default();
+    for (x, o) in out.iter_mut().enumerate() {
+        let (mut bn, mut bd) = (BigInt::zero(), BigInt::one());
+        for v in &sets[x] {
+            let a = &v[x];
+            if !a.is_positive() {
+                return None;
+            }
+            let (b, c) = (&v[(x + 1) % 3], &v[(x + 2) % 3]);
+            let n = b * b + c * c;
+            let d = a * a;
+            if &n * &bd > &bn * &d {
+                (bn, bd) = (n, d);
+            }
+        }
+        *o = Rational::new(bn, bd);
     }
-    let (b, c) = (&v[(x + 1) % 3], &v[(x + 2) % 3]);
-    Some((b * b + c * c) / (a * a))
+    Some(out)
 }
 
 /// The cone conditions on the maximal squared tangents, exactly.
@@ -276,19 +289,61 @@ fn cones_pass_exact(m: &[Rational; 3]) -> bool {
     s * (&one + &m[2]) < one
 }
 
-/// One conic test on a set of difference vectors, exactly.
-fn conic_on_exact(sets: &[Vec<Vec3>; 3]) -> bool {
-    let mut m = [Rational::zero(), Rational::zero(), Rational::zero()];
-    for x in 0..3 {
-        for v in &sets[x] {
-            match deviation_exact(v, x) {
-                Some(t) if t > m[x] => m[x] = t,
-                Some(_) => {}
-                None => return false,
+/// One conic test on a set of integer difference vectors, exactly.
+fn conic_on_exact(sets: &[Vec<[BigInt; 3]>; 3]) -> bool {
+    max_deviations(sets).is_some_and(|m| cones_pass_exact(&m))
+}
+
+/// Hodograph differences of an integer (sub)net (numerators; the shared denominator is
+/// irrelevant to the cone test).
+fn scaled_net_differences(net: &[ScaledBernstein; 3]) -> [Vec<[BigInt; 3]>; 3] {
+    let d = net[0].degrees().to_vec();
+    let stride = [1, d[0] + 1, (d[0] + 1) * (d[1] + 1)];
+    let mut out: [Vec<[BigInt; 3]>; 3] = Default::default();
+    for (x, diffs) in out.iter_mut().enumerate() {
+        for k in 0..=d[2] {
+            for j in 0..=d[1] {
+                for i in 0..=d[0] {
+                    if [i, j, k][x] == d[x] {
+                        continue;
+                    }
+                    let at = i * stride[0] + j * stride[1] + k * stride[2];
+                    diffs.push(
+                        [0, 1, 2].map(|c| {
+                            &net[c].numerators()[at + stride[x]] - &net[c].numerators()[at]
+                        }),
+                    );
+                }
             }
         }
     }
-    cones_pass_exact(&m)
+    out
+}
+
+/// Integer sub-nets after `depth` octree levels of de Casteljau at ½ (all three coordinates
+/// split alike, so they keep one shared denominator).
+fn subdivide_scaled(net: [ScaledBernstein; 3], depth: u32) -> Vec<[ScaledBernstein; 3]> {
+    let mut nets = vec![net];
+    for _ in 0..depth {
+        let mut next = Vec::with_capacity(nets.len() * 8);
+        for n in nets {
+            let mut parts = vec![n];
+            for axis in 0..3 {
+                parts = parts
+                    .into_iter()
+                    .flat_map(|p| {
+                        let split = |c: &ScaledBernstein| c.split_half(axis).expect("axis < 3");
+                        let [(l0, r0), (l1, r1), (l2, r2)] =
+                            [split(&p[0]), split(&p[1]), split(&p[2])];
+                        [[l0, l1, l2], [r0, r1, r2]]
+                    })
+                    .collect();
+            }
+            next.extend(parts);
+        }
+        nets = next;
+    }
+    nets
 }
 
 /// Hodograph differences of a Bézier (sub)net: per axis `x`, `b_{…,i+1,…} − b_{…,i,…}`.
@@ -343,9 +398,13 @@ fn subdivide<T: crate::num::Field>(net: [Bernstein<T>; 3], depth: u32) -> Vec<[B
 pub fn conic_test_exact(l: &Lattice, opts: ConicOptions) -> SufficientVerdict {
     if opts.subdivision_depth > 0 && opts.scope == Scope::PerCell {
         for (c, net) in l.bezier_nets().into_iter().enumerate() {
-            for sub in subdivide(net, opts.subdivision_depth) {
-                let d = net_differences(&sub);
-                if !conic_on_exact(&d) {
+            let Ok(scaled) = scaled_net(&net) else {
+                return SufficientVerdict::NotProven {
+                    cell: Some(l.cell_index(c)),
+                };
+            };
+            for sub in subdivide_scaled(scaled, opts.subdivision_depth) {
+                if !conic_on_exact(&scaled_net_differences(&sub)) {
                     return SufficientVerdict::NotProven {
                         cell: Some(l.cell_index(c)),
                     };
@@ -355,7 +414,7 @@ pub fn conic_test_exact(l: &Lattice, opts: ConicOptions) -> SufficientVerdict {
         return SufficientVerdict::Injective;
     }
     for cell in cells_of(l, opts.scope) {
-        if !conic_on_exact(&local_differences(l, cell)) {
+        if !conic_on_exact(&to_integers(&local_differences(l, cell))) {
             return SufficientVerdict::NotProven { cell };
         }
     }

@@ -13,6 +13,7 @@
 pub mod field;
 pub mod interval;
 pub mod rational;
+pub mod wide;
 
 pub use field::Field;
 pub use interval::{gamma, Interval, UNIT_ROUNDOFF};

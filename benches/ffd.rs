@@ -1,0 +1,49 @@
+//! FFD injectivity on tricubic Bézier cells perturbed from the identity (amplitudes 5–30 % of
+//! the cell): the N&S test on each path, the conic-hull and phi tests. Gmsh's `minDetJac` on
+//! the same cells is measured side by side by `geocert prove` (reports/ffd.md).
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use geocert::bernstein::Limits;
+use geocert::ffd::sufficient::{conic_test_fast, phi_test_fast, ConicOptions, Scope};
+use geocert::ffd::{check_injectivity, Basis, CheckOptions, TestPath};
+use geocert::report::ffd::perturbed_lattices;
+use std::hint::black_box;
+
+fn cells(c: &mut Criterion) {
+    let lattices = perturbed_lattices(2026, 60, Basis::Bezier, [4, 4, 4], [1, 1, 1]);
+    let limits = Limits {
+        max_depth: 10,
+        max_boxes: 20_000,
+        time_limit: None,
+    };
+    let mut g = c.benchmark_group("tricubic_cells_x60");
+    g.throughput(Throughput::Elements(lattices.len() as u64));
+    g.sample_size(10);
+    for path in [TestPath::Filtered, TestPath::Fast, TestPath::Exact] {
+        g.bench_function(format!("ns_{}", path.name()), |b| {
+            b.iter(|| {
+                for l in &lattices {
+                    black_box(check_injectivity(l, CheckOptions { path, limits }).ok());
+                }
+            })
+        });
+    }
+    g.bench_function("conic_f64", |b| {
+        b.iter(|| {
+            for l in &lattices {
+                black_box(conic_test_fast(l, ConicOptions::default()));
+            }
+        })
+    });
+    g.bench_function("phi_f64", |b| {
+        b.iter(|| {
+            for l in &lattices {
+                black_box(phi_test_fast(l, Scope::PerCell));
+            }
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, cells);
+criterion_main!(benches);

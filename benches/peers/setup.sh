@@ -1,0 +1,9 @@
+#!/bin/sh
+# Installs the peer tools geocert's reports compare against (Gmsh via PyPI) into
+# .venv-peers/ at the repository root. `geocert prove` uses it when present and says so
+# in the report when it is not.
+set -e
+cd "$(dirname "$0")/../.."
+python3 -m venv .venv-peers
+.venv-peers/bin/pip install --quiet gmsh numpy
+.venv-peers/bin/python -c "import gmsh; print('gmsh', gmsh.__version__)"

@@ -9,12 +9,16 @@
 //!   products (rational and sign-only integer);
 //! * [`fast`] — the per-cell Jacobian in `f64` with a certified error bound;
 //! * [`injectivity`] — the necessary-and-sufficient test (Section 6), three paths, its
-//!   certificates and their independent checker.
+//!   certificates and their independent checker;
+//! * [`sufficient`] — the phi, Bézier-coefficient and conic-hull tests (Section 7);
+//! * [`manipulation`] — direct manipulation (Section 4) and injective DMFFD (Section 8).
 
+pub mod deform;
 pub mod fast;
 pub mod injectivity;
 pub mod jacobian;
 pub mod lattice;
+pub mod manipulation;
 pub mod sufficient;
 
 pub use injectivity::{
@@ -42,6 +46,12 @@ pub enum FfdError {
     Kernel(String),
     #[error("certificate refused: {0}")]
     Certificate(String),
+    #[error(
+        "constraint {constraint} is dependent on the others (B Bᵀ is singular): drop or move it"
+    )]
+    RankDeficient { constraint: usize },
+    #[error("the drag could not be made injective: a piece still fails at depth {depth} (first constraint point {first_point})")]
+    DragNotInjective { depth: u32, first_point: String },
 }
 
 impl FfdError {

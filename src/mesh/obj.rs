@@ -1,0 +1,89 @@
+//! Wavefront OBJ: `v x y z [w]` and triangular `f` records (`i`, `i/t`, `i/t/n`, `i//n`, negative
+//! indices counted from the end); other records (`vt`, `vn`, `o`, `g`, `usemtl`, …) are
+//! ignored.
+
+use super::{Mesh, MeshError};
+
+fn err(line: usize, why: impl Into<String>) -> MeshError {
+    MeshError::Parse {
+        format: "OBJ",
+        place: format!("line {line}"),
+        why: why.into(),
+    }
+}
+
+/// Reads an OBJ mesh.
+pub fn read(bytes: &[u8]) -> Result<Mesh, MeshError> {
+    let text = std::str::from_utf8(bytes).map_err(|e| {
+        let line = bytes[..e.valid_up_to()]
+            .iter()
+            .filter(|b| **b == b'\n')
+            .count()
+            + 1;
+        err(line, "not UTF-8 text")
+    })?;
+    let mut mesh = Mesh::default();
+    for (i, raw) in text.lines().enumerate() {
+        let line = i + 1;
+        let mut words = raw.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                let mut v = [0.0f64; 3];
+                for (a, slot) in v.iter_mut().enumerate() {
+                    let w = words.next().ok_or_else(|| {
+                        err(line, format!("vertex needs 3 coordinates, found {a}"))
+                    })?;
+                    *slot = w
+                        .parse()
+                        .map_err(|_| err(line, format!("not a number: {w:?}")))?;
+                }
+                mesh.vertices.push(v);
+            }
+            Some("f") => {
+                let refs: Vec<&str> = words.collect();
+                if refs.len() != 3 {
+                    return Err(err(
+                        line,
+                        format!(
+                            "a face with {} vertices: geocert reads triangle meshes",
+                            refs.len()
+                        ),
+                    ));
+                }
+                let n = mesh.vertices.len() as i64;
+                let mut tri = [0u32; 3];
+                for (slot, r) in tri.iter_mut().zip(&refs) {
+                    let head = r.split('/').next().unwrap_or("");
+                    let k: i64 = head
+                        .parse()
+                        .map_err(|_| err(line, format!("bad vertex reference {r:?}")))?;
+                    let idx = if k > 0 { k - 1 } else { n + k };
+                    if k == 0 || idx < 0 || idx >= n {
+                        return Err(err(
+                            line,
+                            format!("vertex reference {k} out of range ({n} vertices so far)"),
+                        ));
+                    }
+                    *slot = idx as u32;
+                }
+                mesh.triangles.push(tri);
+            }
+            _ => {}
+        }
+    }
+    mesh.validate()?;
+    Ok(mesh)
+}
+
+/// Writes `v` and `f` records (shortest round-trip decimals, 1-based indices).
+pub fn write(mesh: &Mesh) -> Vec<u8> {
+    use std::fmt::Write;
+    let mut s = String::from("# written by geocert\n");
+    for v in &mesh.vertices {
+        let _ = writeln!(s, "v {:?} {:?} {:?}", v[0], v[1], v[2]);
+    }
+    for t in &mesh.triangles {
+        let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    s.into_bytes()
+}

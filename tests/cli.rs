@@ -136,3 +136,126 @@ fn malformed_inputs_are_clear_errors() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn ffd_check_json_and_certificate_round_trip() {
+    let cert = tmp("twist-cert.json");
+    let out = geocert()
+        .args([
+            "ffd",
+            "check",
+            "examples/ffd/twist.json",
+            "--json",
+            "--cert",
+        ])
+        .arg(&cert)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let verdict = v["verdict"].as_str().unwrap();
+    assert!(["injective", "not_injective"].contains(&verdict), "{v}");
+    let out = geocert()
+        .args(["ffd", "verify-cert"])
+        .arg(&cert)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+}
+
+#[test]
+fn ffd_drag_then_deform_a_mesh() {
+    use geocert::mesh::{shapes::squashed_hemisphere, Format, Mesh};
+    let steps = tmp("dome-steps.json");
+    let out = geocert()
+        .args([
+            "ffd",
+            "drag",
+            "examples/ffd/dome-lattice.json",
+            "--constraints",
+            "examples/ffd/dome-drag.json",
+            "--fast",
+            "--out",
+        ])
+        .arg(&steps)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let parsed: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&steps).unwrap()).unwrap();
+    assert!(
+        parsed.as_array().unwrap().len() >= 2,
+        "the long drag must be split"
+    );
+
+    // The dome, placed in the middle of the domain [0,4]³ by hand.
+    let mut dome = squashed_hemisphere(8, 0.5);
+    for v in &mut dome.vertices {
+        *v = [2.0 + v[0], 2.0 + v[1], 2.3 + v[2]];
+    }
+    let input = tmp("dome.ply");
+    dome.write(&input, Format::PlyBinary).unwrap();
+    let output = tmp("dome-dragged.obj");
+    let out = geocert()
+        .args(["ffd", "deform"])
+        .arg(&steps)
+        .arg(&input)
+        .arg("--out")
+        .arg(&output)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let back = Mesh::read(&output, None).unwrap();
+    assert_eq!(back.triangles, dome.triangles);
+    // The dragged apex (0, 0, 0.5) + (2, 2, 2.3) = (2, 2, 2.8) moved by (0, 0, −1.6).
+    let apex = dome
+        .vertices
+        .iter()
+        .position(|v| *v == [2.0, 2.0, 2.8])
+        .unwrap();
+    assert!(
+        (back.vertices[apex][2] - 1.2).abs() < 1e-12,
+        "{:?}",
+        back.vertices[apex]
+    );
+
+    // Dependent constraints: a clear error, nothing written.
+    let bad = tmp("twice.json");
+    std::fs::write(
+        &bad,
+        r#"{"constraints": [{"point": [1,1,1], "delta": [0,0,1]}, {"point": [1,1,1], "delta": [0,1,0]}]}"#,
+    )
+    .unwrap();
+    let never = tmp("never.json");
+    let out = geocert()
+        .args([
+            "ffd",
+            "drag",
+            "examples/ffd/dome-lattice.json",
+            "--constraints",
+        ])
+        .arg(&bad)
+        .arg("--out")
+        .arg(&never)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("constraint 1"));
+    assert!(!never.exists());
+}

@@ -255,3 +255,63 @@ mod sufficient_tests {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(16))]
+
+    /// Injective DMFFD: every step is injective by the N&S test, the exact composition meets
+    /// the constraints exactly, the f64 one to rounding; a refusal is a typed error.
+    #[test]
+    fn injective_drag_steps_are_injective_and_compose(
+        pts in proptest::collection::vec((4i64..13, 4i64..13, 4i64..13), 1..3),
+        deltas in proptest::collection::vec((-7i64..8, -7i64..8, -7i64..8), 2),
+        fast in any::<bool>(),
+    ) {
+        use geocert::ffd::deform::deform_points_fast;
+        use geocert::ffd::manipulation::{compose, injective_drag, Constraint, DragOptions};
+        use geocert::ffd::FfdError;
+        let shape = Lattice::identity(Basis::Bspline, [3, 3, 3], [2, 2, 2]).unwrap();
+        let cs: Vec<Constraint> = pts
+            .iter()
+            .zip(&deltas)
+            .map(|(p, d)| Constraint {
+                point: [q(p.0, 8), q(p.1, 8), q(p.2, 8)],
+                delta: [q(d.0, 16), q(d.1, 16), q(d.2, 16)],
+            })
+            .collect();
+        let opts = DragOptions { exact: !fast, max_depth: 6, ..Default::default() };
+        // Paths stay strictly inside the domain [0,2]³: points in [½, 1½], moves below ½.
+        match injective_drag(&shape, &cs, opts) {
+            Ok(steps) => {
+                prop_assert!(!steps.is_empty());
+                for s in &steps {
+                    let r = check_injectivity(&s.lattice, CheckOptions::default()).unwrap();
+                    let injective = matches!(r.verdict, InjectivityVerdict::Injective { .. });
+                    prop_assert!(injective, "step at depth {} not injective", s.depth);
+                }
+                let lattices: Vec<Lattice> = steps.iter().map(|s| s.lattice.clone()).collect();
+                for c in &cs {
+                    let target: [Rational; 3] = [0, 1, 2].map(|a| &c.point[a] + &c.delta[a]);
+                    if fast {
+                        // Exact images through rounded steps grow like degree^steps digits:
+                        // compose in f64.
+                        let f = |x: &Rational| geocert::num::rational_to_f64(x);
+                        let mut p = [c.point.clone().map(|x| f(&x))];
+                        deform_points_fast(&lattices, None, &mut p).unwrap();
+                        for a in 0..3 {
+                            let e = (p[0][a] - f(&target[a])).abs();
+                            prop_assert!(e < 1e-12, "error {e}");
+                        }
+                    } else {
+                        prop_assert_eq!(compose(&steps, &c.point).unwrap(), target);
+                    }
+                }
+            }
+            Err(FfdError::RankDeficient { .. })
+            | Err(FfdError::DragNotInjective { .. })
+            | Err(FfdError::Input { .. })
+            | Err(FfdError::OutsideDomain { .. }) => {}
+            Err(e) => prop_assert!(false, "unexpected error {e}"),
+        }
+    }
+}

@@ -81,6 +81,50 @@ enum FfdCommand {
     },
     /// Re-check an injectivity certificate (or an array of them) independently.
     VerifyCert { file: PathBuf },
+    /// Injective DMFFD (Section 8): split the drags until every step is certified injective;
+    /// write the ordered steps (constraints and lattice of each) as JSON.
+    Drag {
+        /// The lattice whose shape (basis, orders, cells) the drags act on; every step deforms
+        /// the undeformed lattice of that shape (X ≡ U), as in the paper.
+        lattice: PathBuf,
+        /// `{"constraints": [{"point": [x,y,z], "delta": [dx,dy,dz]}, ..]}` in parameter
+        /// space (the domain [0,a]×[0,b]×[0,c]); numbers exact as f64 or "p/q" strings.
+        #[arg(long)]
+        constraints: PathBuf,
+        /// The test that certifies each step.
+        #[arg(long, value_enum, default_value_t = DragTestKind::Conic)]
+        test: DragTestKind,
+        /// Deepest halving before the drag is refused.
+        #[arg(long, default_value_t = 8)]
+        max_depth: u32,
+        /// f64 solve and certified f64 tests (each step's lattice is the rounded one, and it
+        /// is that lattice which is certified); default: exact rationals, constraints met exactly.
+        #[arg(long)]
+        fast: bool,
+        /// Write the steps here (default: stdout).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Deform a mesh (PLY, OBJ or STL) by a lattice, or by each lattice of an array in turn
+    /// (the steps file written by `ffd drag` is accepted too).
+    Deform {
+        lattice: PathBuf,
+        mesh: PathBuf,
+        /// Output mesh; the format follows the extension.
+        #[arg(long)]
+        out: PathBuf,
+        /// Embed the mesh by mapping its bounding box (grown by 10 % per side) onto the
+        /// lattice's domain; otherwise mesh coordinates are parameters.
+        #[arg(long)]
+        fit: bool,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum DragTestKind {
+    Conic,
+    Phi,
+    Exact,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -245,6 +289,20 @@ fn ffd(c: FfdCommand) -> Result<ExitCode, String> {
             }
             Ok(ExitCode::SUCCESS)
         }
+        FfdCommand::Drag {
+            lattice,
+            constraints,
+            test,
+            max_depth,
+            fast,
+            out,
+        } => ffd_drag(lattice, constraints, test, max_depth, fast, out),
+        FfdCommand::Deform {
+            lattice,
+            mesh,
+            out,
+            fit,
+        } => ffd_deform(lattice, mesh, out, fit),
         FfdCommand::VerifyCert { file } => {
             let text = read(&file)?;
             let value: serde_json::Value = serde_json::from_str(&text)
@@ -282,6 +340,103 @@ fn ffd(c: FfdCommand) -> Result<ExitCode, String> {
             })
         }
     }
+}
+
+/// Lattices from a lattice file, a lattice array, or a steps file of `ffd drag`.
+fn lattices_or_steps(file: &PathBuf) -> Result<Vec<geocert::ffd::Lattice>, String> {
+    let text = read(file)?;
+    let value: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| format!("{}: not JSON: {e}", file.display()))?;
+    let items = match &value {
+        serde_json::Value::Array(a) => a.clone(),
+        other => vec![other.clone()],
+    };
+    items
+        .iter()
+        .enumerate()
+        .map(|(i, item)| {
+            let v = item.get("lattice").unwrap_or(item);
+            geocert::ffd::lattice::lattice_from_value(v)
+                .map_err(|e| format!("{}: lattice {i}: {e}", file.display()))
+        })
+        .collect()
+}
+
+fn ffd_drag(
+    lattice: PathBuf,
+    constraints: PathBuf,
+    test: DragTestKind,
+    max_depth: u32,
+    fast: bool,
+    out: Option<PathBuf>,
+) -> Result<ExitCode, String> {
+    use geocert::ffd::manipulation::{
+        constraints_from_json, injective_drag, steps_to_json, DragOptions, DragTest,
+    };
+    let shape = lattices_or_steps(&lattice)?
+        .into_iter()
+        .next()
+        .ok_or_else(|| format!("{}: no lattice", lattice.display()))?;
+    let cs = constraints_from_json(&read(&constraints)?)
+        .map_err(|e| format!("{}: {e}", constraints.display()))?;
+    let opts = DragOptions {
+        test: match test {
+            DragTestKind::Conic => DragTest::Conic,
+            DragTestKind::Phi => DragTest::Phi,
+            DragTestKind::Exact => DragTest::Exact,
+        },
+        max_depth,
+        exact: !fast,
+        ..Default::default()
+    };
+    let start = std::time::Instant::now();
+    let steps = injective_drag(&shape, &cs, opts).map_err(|e| e.to_string())?;
+    let secs = start.elapsed().as_secs_f64();
+    let text = serde_json::to_string_pretty(&steps_to_json(&steps)).map_err(|e| e.to_string())?;
+    match &out {
+        Some(path) => std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))?,
+        None => println!("{text}"),
+    }
+    eprintln!(
+        "{} constraint(s) in {} certified step(s), deepest split {}, {:.3} s ({} path)",
+        cs.len(),
+        steps.len(),
+        steps.iter().map(|s| s.depth).max().unwrap_or(0),
+        secs,
+        if fast { "f64" } else { "exact" }
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn ffd_deform(
+    lattice: PathBuf,
+    mesh: PathBuf,
+    out: PathBuf,
+    fit: bool,
+) -> Result<ExitCode, String> {
+    use geocert::ffd::deform::{deform_points_fast, Fit};
+    use geocert::mesh::{Format, Mesh};
+    let lattices = lattices_or_steps(&lattice)?;
+    let first = lattices
+        .first()
+        .ok_or_else(|| format!("{}: no lattice", lattice.display()))?;
+    let format = Format::from_path(&out).map_err(|e| e.to_string())?;
+    let mut m = Mesh::read(&mesh, None).map_err(|e| format!("{}: {e}", mesh.display()))?;
+    let fit = if fit {
+        Some(Fit::bounding_box(&m.vertices, first, 0.1).map_err(|e| e.to_string())?)
+    } else {
+        None
+    };
+    deform_points_fast(&lattices, fit.as_ref(), &mut m.vertices)
+        .map_err(|e| format!("{}: {e}", mesh.display()))?;
+    m.write(&out, format).map_err(|e| e.to_string())?;
+    eprintln!(
+        "deformed {} vertices by {} lattice(s) into {}",
+        m.vertices.len(),
+        lattices.len(),
+        out.display()
+    );
+    Ok(ExitCode::SUCCESS)
 }
 
 fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {

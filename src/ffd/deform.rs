@@ -46,32 +46,8 @@ impl FastDeformer {
         }
     }
 
-    /// The `p+1` nonzero basis values at `x` (Cox–de Boor, NURBS Book A2.2) and the index of
-    /// the first. `x` is clamped into the last span at the right end of the domain.
     fn basis(&self, a: usize, x: f64, out: &mut [f64; MAX_ORDER]) -> usize {
-        let p = self.order[a] - 1;
-        let t = &self.knots[a];
-        let n = self.counts[a];
-        // Uniform integer knots: the span is found by a short scan from the domain's start.
-        let mut mu = p;
-        while mu + 1 < n && t[mu + 1] <= x {
-            mu += 1;
-        }
-        out[0] = 1.0;
-        let mut left = [0.0f64; MAX_ORDER];
-        let mut right = [0.0f64; MAX_ORDER];
-        for j in 1..=p {
-            left[j] = x - t[mu + 1 - j];
-            right[j] = t[mu + j] - x;
-            let mut saved = 0.0;
-            for r in 0..j {
-                let temp = out[r] / (right[r + 1] + left[j - r]);
-                out[r] = saved + right[r + 1] * temp;
-                saved = left[j - r] * temp;
-            }
-            out[j] = saved;
-        }
-        mu - p
+        basis_f64(&self.knots[a], self.order[a] - 1, self.counts[a], x, out)
     }
 
     #[allow(clippy::needless_range_loop)] // i, j, k index basis values and control points
@@ -99,6 +75,38 @@ impl FastDeformer {
         }
         Some(out)
     }
+}
+
+/// The `p+1` nonzero basis values at `x` (Cox–de Boor, NURBS Book A2.2) of a spline with `n`
+/// coefficients on `knots`, and the index of the first; the span is the one with
+/// `t_μ ≤ x < t_{μ+1}` (the last span at the right end of the domain).
+pub(crate) fn basis_f64(
+    knots: &[f64],
+    p: usize,
+    n: usize,
+    x: f64,
+    out: &mut [f64; MAX_ORDER],
+) -> usize {
+    let t = knots;
+    let mut mu = p;
+    while mu + 1 < n && t[mu + 1] <= x {
+        mu += 1;
+    }
+    out[0] = 1.0;
+    let mut left = [0.0f64; MAX_ORDER];
+    let mut right = [0.0f64; MAX_ORDER];
+    for j in 1..=p {
+        left[j] = x - t[mu + 1 - j];
+        right[j] = t[mu + j] - x;
+        let mut saved = 0.0;
+        for r in 0..j {
+            let temp = out[r] / (right[r + 1] + left[j - r]);
+            out[r] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        out[j] = saved;
+    }
+    mu - p
 }
 
 /// The affine embedding of an object into a lattice's domain: `U = (X − origin) · scale`.

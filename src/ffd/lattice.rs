@@ -60,43 +60,7 @@ impl Lattice {
         cells: [usize; 3],
         points: Vec<Point>,
     ) -> Result<Lattice, FfdError> {
-        let bad = |field: &str, why: String| FfdError::Input {
-            lattice: 0,
-            field: field.into(),
-            why,
-        };
-        if let Some(o) = order.iter().find(|&&o| !(2..=MAX_ORDER).contains(&o)) {
-            return Err(bad(
-                "order",
-                format!("each order must be 2…{MAX_ORDER}, found {o}"),
-            ));
-        }
-        if let Some(c) = cells.iter().find(|&&c| !(1..=MAX_CELLS).contains(&c)) {
-            return Err(bad(
-                "cells",
-                format!("each cell count must be 1…{MAX_CELLS}, found {c}"),
-            ));
-        }
-        if basis == Basis::Bezier && cells != [1, 1, 1] {
-            return Err(bad(
-                "cells",
-                "a bezier lattice is one cell: cells must be [1,1,1]".into(),
-            ));
-        }
-        let counts = Self::counts_for(basis, order, cells);
-        let expected = counts.iter().product::<usize>();
-        if points.len() != expected {
-            return Err(bad(
-                "points",
-                format!(
-                    "expected {expected} points ({}×{}×{}), found {}",
-                    counts[0],
-                    counts[1],
-                    counts[2],
-                    points.len()
-                ),
-            ));
-        }
+        Self::check_shape(basis, order, cells, points.len())?;
         let approx: Vec<[f64; 3]> = points
             .iter()
             .map(|p| [0, 1, 2].map(|a| crate::num::rational_to_f64(&p[a])))
@@ -122,6 +86,81 @@ impl Lattice {
             Basis::Bspline => [0, 1, 2].map(|a| cells[a] + order[a] - 1),
             Basis::Bezier => order,
         }
+    }
+
+    /// Checks orders, cells and the point count.
+    fn check_shape(
+        basis: Basis,
+        order: [usize; 3],
+        cells: [usize; 3],
+        count: usize,
+    ) -> Result<(), FfdError> {
+        let bad = |field: &str, why: String| FfdError::Input {
+            lattice: 0,
+            field: field.into(),
+            why,
+        };
+        if let Some(o) = order.iter().find(|&&o| !(2..=MAX_ORDER).contains(&o)) {
+            return Err(bad(
+                "order",
+                format!("each order must be 2…{MAX_ORDER}, found {o}"),
+            ));
+        }
+        if let Some(c) = cells.iter().find(|&&c| !(1..=MAX_CELLS).contains(&c)) {
+            return Err(bad(
+                "cells",
+                format!("each cell count must be 1…{MAX_CELLS}, found {c}"),
+            ));
+        }
+        if basis == Basis::Bezier && cells != [1, 1, 1] {
+            return Err(bad(
+                "cells",
+                "a bezier lattice is one cell: cells must be [1,1,1]".into(),
+            ));
+        }
+        let counts = Self::counts_for(basis, order, cells);
+        let expected = counts.iter().product::<usize>();
+        if count != expected {
+            return Err(bad(
+                "points",
+                format!(
+                    "expected {expected} points ({}×{}×{}), found {}",
+                    counts[0], counts[1], counts[2], count
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// A lattice with `f64` control points, taken exactly (no round trip needed).
+    pub fn from_f64(
+        basis: Basis,
+        order: [usize; 3],
+        cells: [usize; 3],
+        points: Vec<[f64; 3]>,
+    ) -> Result<Self, FfdError> {
+        let mut exact = Vec::with_capacity(points.len());
+        for (i, p) in points.iter().enumerate() {
+            let mut q: Point = Default::default();
+            for a in 0..3 {
+                q[a] = crate::num::rational_from_f64(p[a], "coordinate").map_err(|e| {
+                    FfdError::Input {
+                        lattice: 0,
+                        field: format!("points[{i}][{a}]"),
+                        why: e.to_string(),
+                    }
+                })?;
+            }
+            exact.push(q);
+        }
+        Self::check_shape(basis, order, cells, exact.len())?;
+        Ok(Lattice {
+            basis,
+            order,
+            cells,
+            points: exact,
+            exact_f64: Some(points),
+        })
     }
 
     /// The undeformed lattice: points at the Greville abscissae, so `F(U) = U` (linear
@@ -263,8 +302,8 @@ impl Lattice {
         Ok(())
     }
 
-    /// The Bézier control net of every cell, per coordinate (exact; B-spline cells by
-    /// blossoming). Cell order as [`cell_index`](Self::cell_index).
+    /// The Bézier control net of every cell, per coordinate (exact; B-spline cells by the
+    /// uniform span map in integers, checked against blossoming). Cell order as [`cell_index`](Self::cell_index).
     pub fn bezier_nets(&self) -> Vec<[Bernstein<Rational>; 3]> {
         if self.basis == Basis::Bezier {
             let degs: Vec<usize> = self.order.iter().map(|o| o - 1).collect();
@@ -276,6 +315,50 @@ impl Lattice {
                 .expect("counts match")
             };
             return vec![[coord(0), coord(1), coord(2)]];
+        }
+        // Uniform knots: every span's B-spline-to-Bézier map is the same matrix `K / d`
+        // (integers over one denominator), applied along u, v, w in integers over the
+        // coordinate's common denominator; one gcd per coefficient at the end.
+        let maps: Vec<(Vec<Vec<BigInt>>, BigInt)> =
+            (0..3).map(|a| uniform_bezier_map(self.order[a])).collect();
+        let [l, m, n] = self.order;
+        let degs = vec![l - 1, m - 1, n - 1];
+        let per_coord: Vec<(Vec<BigInt>, BigInt)> = (0..3)
+            .map(|c| common_denominator(self.points.iter().map(|p| &p[c])))
+            .collect();
+        (0..self.cell_count())
+            .map(|k| {
+                let [ci, cj, ck] = self.cell_index(k);
+                [0, 1, 2].map(|c| {
+                    let (nums, den) = &per_coord[c];
+                    // The order-sized block of control numerators of this cell.
+                    let mut block: Vec<BigInt> = Vec::with_capacity(l * m * n);
+                    for w in 0..n {
+                        for v in 0..m {
+                            for u in 0..l {
+                                block.push(nums[self.index(ci + u, cj + v, ck + w)].clone());
+                            }
+                        }
+                    }
+                    for (axis, (kmat, _)) in maps.iter().enumerate() {
+                        block = apply_along(&block, [l, m, n], axis, kmat);
+                    }
+                    let total = den * &maps[0].1 * &maps[1].1 * &maps[2].1;
+                    let coeffs = block
+                        .into_iter()
+                        .map(|x| Rational::new(x, total.clone()))
+                        .collect();
+                    Bernstein::new(degs.clone(), coeffs).expect("counts match")
+                })
+            })
+            .collect()
+    }
+
+    /// The Bézier nets by blossoming each coordinate spline (the general B-spline route of
+    /// `src/bspline/`): the reference [`bezier_nets`](Self::bezier_nets) is checked against.
+    pub fn bezier_nets_by_blossoming(&self) -> Vec<[Bernstein<Rational>; 3]> {
+        if self.basis == Basis::Bezier {
+            return self.bezier_nets();
         }
         let per: Vec<Vec<Bernstein<Rational>>> = (0..3)
             .map(|c| {
@@ -305,6 +388,71 @@ impl Lattice {
     pub fn points_f64(&self) -> Option<&[[f64; 3]]> {
         self.exact_f64.as_deref()
     }
+}
+
+/// The uniform B-spline-to-Bézier map of one span for order `order`: Bézier coefficient `i`
+/// is `Σ_j K[i][j] P_j / d` over the span's `order` control points (blossoms at the span's
+/// ends, Ramshaw; computed once by converting unit coefficient vectors).
+fn uniform_bezier_map(order: usize) -> (Vec<Vec<BigInt>>, BigInt) {
+    let p = order - 1;
+    let knots = axis_knots(Basis::Bspline, order, 1);
+    let cols: Vec<Vec<Rational>> = (0..order)
+        .map(|j| {
+            let unit = (0..order)
+                .map(|i| {
+                    if i == j {
+                        Rational::one()
+                    } else {
+                        Rational::zero()
+                    }
+                })
+                .collect();
+            crate::bspline::Spline::new(p, knots.clone(), unit)
+                .expect("uniform knots")
+                .bezier_on(p, &knots[p], &knots[p + 1])
+        })
+        .collect();
+    let (_, d) = common_denominator(cols.iter().flatten());
+    let k = (0..order)
+        .map(|i| {
+            (0..order)
+                .map(|j| (&cols[j][i] * Rational::from_integer(d.clone())).to_integer())
+                .collect()
+        })
+        .collect();
+    (k, d)
+}
+
+/// Numerators over the least common denominator of `values`.
+fn common_denominator<'a>(
+    values: impl Iterator<Item = &'a Rational> + Clone,
+) -> (Vec<BigInt>, BigInt) {
+    use num_integer::Integer;
+    let d = values
+        .clone()
+        .fold(BigInt::one(), |acc, v| acc.lcm(v.denom()));
+    let nums = values.map(|v| v.numer() * (&d / v.denom())).collect();
+    (nums, d)
+}
+
+/// Applies the square integer matrix `k` along `axis` of a block with extents `ext`
+/// (`u` fastest).
+fn apply_along(block: &[BigInt], ext: [usize; 3], axis: usize, k: &[Vec<BigInt>]) -> Vec<BigInt> {
+    let stride = [1, ext[0], ext[0] * ext[1]][axis];
+    let len = ext[axis];
+    let mut out = vec![BigInt::zero(); block.len()];
+    for (idx, slot) in out.iter_mut().enumerate() {
+        let i = (idx / stride) % len;
+        let base = idx - i * stride;
+        let mut acc = BigInt::zero();
+        for (j, kij) in k[i].iter().enumerate() {
+            if !kij.is_zero() {
+                acc += kij * &block[base + j * stride];
+            }
+        }
+        *slot = acc;
+    }
+    out
 }
 
 /// The knots of one axis: uniform `−(l−1), …, cells+l−1` (B-spline), `0^l 1^l` (Bézier).
@@ -337,7 +485,7 @@ pub fn lattices_from_json(text: &str) -> Result<Vec<Lattice>, FfdError> {
     }
 }
 
-/// Parses one lattice object.
+/// Parses one lattice object; `"points": "identity"` gives the undeformed lattice.
 pub fn lattice_from_value(v: &Value) -> Result<Lattice, FfdError> {
     let bad = |field: &str, why: String| FfdError::Input {
         lattice: 0,
@@ -385,10 +533,13 @@ pub fn lattice_from_value(v: &Value) -> Result<Lattice, FfdError> {
         None if basis == Basis::Bezier => [1, 1, 1],
         _ => triple("cells")?,
     };
+    if obj.get("points").and_then(Value::as_str) == Some("identity") {
+        return Lattice::identity(basis, order, cells);
+    }
     let pts = obj
         .get("points")
         .and_then(Value::as_array)
-        .ok_or_else(|| bad("points", "missing or not an array".into()))?;
+        .ok_or_else(|| bad("points", "missing, not an array, nor \"identity\"".into()))?;
     let mut points = Vec::with_capacity(pts.len());
     for (i, p) in pts.iter().enumerate() {
         let field = format!("points[{i}]");
@@ -403,4 +554,36 @@ pub fn lattice_from_value(v: &Value) -> Result<Lattice, FfdError> {
         points.push(q);
     }
     Lattice::new(basis, order, cells, points)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn integer_span_map_equals_blossoming() {
+        for (order, cells) in [
+            ([4, 4, 4], [2, 3, 1]),
+            ([2, 3, 5], [3, 1, 2]),
+            ([6, 3, 2], [1, 2, 2]),
+        ] {
+            let id = Lattice::identity(Basis::Bspline, order, cells).unwrap();
+            let delta: Vec<Point> = (0..id.points().len())
+                .map(|i| {
+                    [0, 1, 2].map(|a| {
+                        Rational::new(
+                            BigInt::from((i * 37 + a * 11) as i64 % 23 - 11),
+                            BigInt::from(7 + (i % 5) as i64 * 3),
+                        )
+                    })
+                })
+                .collect();
+            let l = id.displaced(&delta).unwrap();
+            assert_eq!(
+                l.bezier_nets(),
+                l.bezier_nets_by_blossoming(),
+                "{order:?} {cells:?}"
+            );
+        }
+    }
 }

@@ -13,7 +13,9 @@
 use super::injectivity::{check_injectivity, CheckOptions, InjectivityVerdict, TestPath};
 use super::jacobian::basis_at;
 use super::lattice::{Lattice, Point};
-use super::sufficient::{conic_test_exact, conic_test_fast, phi_test_exact, phi_test_fast};
+use super::sufficient::{
+    conic_f64, conic_test_exact, conic_test_fast, phi_test_exact, phi_test_fast,
+};
 use super::sufficient::{ConicOptions, Scope, SufficientVerdict};
 use super::FfdError;
 use crate::bernstein::Limits;
@@ -75,6 +77,49 @@ pub fn basis_matrix(l: &Lattice, points: &[Point]) -> Result<BasisMatrix, FfdErr
         rows.push(row);
     }
     Ok(BasisMatrix { columns, rows })
+}
+
+/// `B` in `f64` (eq. 2), rows indexed by lattice point; constraint points rounded to `f64`.
+struct BasisMatrixF64 {
+    rows: Vec<Vec<(usize, f64)>>,
+}
+
+fn basis_matrix_f64(l: &Lattice, constraints: &[Constraint]) -> Result<BasisMatrixF64, FfdError> {
+    use super::deform::basis_f64;
+    let order = l.order();
+    let counts = l.counts();
+    let knots: [Vec<f64>; 3] = [0, 1, 2].map(|a| l.knots(a).iter().map(rational_to_f64).collect());
+    let mut rows = Vec::with_capacity(constraints.len());
+    for (r, c) in constraints.iter().enumerate() {
+        l.check_inside(&c.point).map_err(|e| FfdError::Input {
+            lattice: 0,
+            field: format!("constraints[{r}].point"),
+            why: e.to_string(),
+        })?;
+        let mut vals = [[0.0f64; super::lattice::MAX_ORDER]; 3];
+        let first: [usize; 3] = [0, 1, 2].map(|a| {
+            basis_f64(
+                &knots[a],
+                order[a] - 1,
+                counts[a],
+                rational_to_f64(&c.point[a]),
+                &mut vals[a],
+            )
+        });
+        let mut row = Vec::with_capacity(order.iter().product());
+        for k in 0..order[2] {
+            for j in 0..order[1] {
+                for i in 0..order[0] {
+                    let w = vals[0][i] * vals[1][j] * vals[2][k];
+                    if w != 0.0 {
+                        row.push((l.index(first[0] + i, first[1] + j, first[2] + k), w));
+                    }
+                }
+            }
+        }
+        rows.push(row);
+    }
+    Ok(BasisMatrixF64 { rows })
 }
 
 /// `B Bᵀ` (r × r), exactly.
@@ -173,16 +218,11 @@ pub fn solve_exact(l: &Lattice, constraints: &[Constraint]) -> Result<Vec<Point>
 /// the constraint as dependent.
 #[allow(clippy::needless_range_loop)] // matrix indices pick rows and columns
 pub fn solve_fast(l: &Lattice, constraints: &[Constraint]) -> Result<Vec<[f64; 3]>, FfdError> {
-    let points: Vec<Point> = constraints.iter().map(|c| c.point.clone()).collect();
-    let b = basis_matrix(l, &points)?;
-    let rows: Vec<Vec<(usize, f64)>> = b
-        .rows
-        .iter()
-        .map(|r| r.iter().map(|(c, w)| (*c, rational_to_f64(w))).collect())
-        .collect();
+    let b = basis_matrix_f64(l, constraints)?;
+    let rows = &b.rows;
     let n = rows.len();
     // G = B Bᵀ through a column-indexed scatter of each row.
-    let mut scatter = vec![0.0f64; b.columns.len()];
+    let mut scatter = vec![0.0f64; l.points().len()];
     let mut g = vec![vec![0.0f64; n]; n];
     for i in 0..n {
         for (c, w) in &rows[i] {
@@ -231,7 +271,7 @@ pub fn solve_fast(l: &Lattice, constraints: &[Constraint]) -> Result<Vec<[f64; 3
         }
         for (i, row) in rows.iter().enumerate() {
             for (c, w) in row {
-                delta[b.columns[*c]][a] += w * y[i];
+                delta[*c][a] += w * y[i];
             }
         }
     }
@@ -257,7 +297,9 @@ pub struct DragOptions {
     pub max_depth: u32,
     /// Exact rationals (constraints met exactly) or `f64` (certified tests on rounded steps).
     pub exact: bool,
-    /// Limits of the N&S test when `test` is `Exact`.
+    /// Path and limits of the N&S test when `test` is `Exact` (every path is rigorous;
+    /// `Filtered` is the fastest).
+    pub ns_path: TestPath,
     pub limits: Limits,
 }
 
@@ -267,6 +309,7 @@ impl Default for DragOptions {
             test: DragTest::Conic,
             max_depth: 8,
             exact: true,
+            ns_path: TestPath::Filtered,
             limits: Limits::default(),
         }
     }
@@ -288,14 +331,10 @@ fn certified(l: &Lattice, opts: &DragOptions) -> bool {
         (DragTest::Conic, false) => sufficient(conic_test_fast(l, ConicOptions::default())),
         (DragTest::Phi, true) => sufficient(phi_test_exact(l, Scope::PerCell)),
         (DragTest::Phi, false) => sufficient(phi_test_fast(l, Scope::PerCell)),
-        (DragTest::Exact, exact) => check_injectivity(
+        (DragTest::Exact, _) => check_injectivity(
             l,
             CheckOptions {
-                path: if exact {
-                    TestPath::Exact
-                } else {
-                    TestPath::Filtered
-                },
+                path: opts.ns_path,
                 limits: opts.limits,
             },
         )
@@ -341,22 +380,41 @@ fn subdivide_drag(
         });
     }
     let lattice = if opts.exact {
-        identity.displaced(&solve_exact(identity, &constraints)?)?
+        let lattice = identity.displaced(&solve_exact(identity, &constraints)?)?;
+        certified(&lattice, opts).then_some(lattice)
     } else {
         let d = solve_fast(identity, &constraints)?;
-        let mut pts: Vec<Point> = Vec::with_capacity(d.len());
-        for (p, dp) in identity.points().iter().zip(&d) {
-            let mut q: Point = Default::default();
-            for a in 0..3 {
-                let v = rational_to_f64(&p[a]) + dp[a];
-                q[a] = crate::num::rational_from_f64(v, "lattice point")
-                    .map_err(|e| FfdError::Kernel(e.to_string()))?;
-            }
-            pts.push(q);
+        let pts: Vec<[f64; 3]> = identity
+            .points()
+            .iter()
+            .zip(&d)
+            .map(|(p, dp)| [0, 1, 2].map(|a| rational_to_f64(&p[a]) + dp[a]))
+            .collect();
+        if pts.iter().flatten().any(|x| !x.is_finite()) {
+            return Err(FfdError::Kernel("the f64 solve overflowed".into()));
         }
-        Lattice::new(identity.basis(), identity.order(), identity.cells(), pts)?
+        // The conic test runs on the f64 points directly; a lattice is built only for a
+        // certified step (or when another test needs one).
+        let quick = match opts.test {
+            DragTest::Conic => conic_f64(identity, &pts, Scope::PerCell),
+            _ => None,
+        };
+        match quick {
+            Some(SufficientVerdict::Injective) => Some(Lattice::from_f64(
+                identity.basis(),
+                identity.order(),
+                identity.cells(),
+                pts,
+            )?),
+            Some(_) => None,
+            None => {
+                let lattice =
+                    Lattice::from_f64(identity.basis(), identity.order(), identity.cells(), pts)?;
+                certified(&lattice, opts).then_some(lattice)
+            }
+        }
     };
-    if certified(&lattice, opts) {
+    if let Some(lattice) = lattice {
         steps.push(DragStep {
             depth,
             constraints,
@@ -383,7 +441,10 @@ fn subdivide_drag(
     subdivide_drag(identity, second, depth + 1, opts, steps)
 }
 
-/// Applies the steps in order to a parameter point (each step is the FFD of its lattice).
+/// Applies the steps in order to a parameter point (each step is the FFD of its lattice),
+/// exactly. On exact-path steps a constraint point's images stay small rationals; through
+/// rounded (`f64`) steps the digits grow like `degree^steps`: use
+/// [`deform_points_fast`](super::deform::deform_points_fast) there.
 pub fn compose(steps: &[DragStep], point: &Point) -> Result<Point, FfdError> {
     let mut x = point.clone();
     for s in steps {

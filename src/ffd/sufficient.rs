@@ -505,40 +505,68 @@ const T_REL: usize = 10;
 /// the range where relative bounds hold (the caller falls back to intervals).
 pub fn conic_f64(l: &Lattice, pts: &[[f64; 3]], scope: Scope) -> Option<SufficientVerdict> {
     let counts = l.counts();
+    let stride = [1, counts[0], counts[0] * counts[1]];
     let n = pts.len();
+    if n != counts[0] * counts[1] * counts[2] {
+        return None;
+    }
     // t per point and axis: the difference ending at that point (NaN: none; −1: a ≤ 0).
-    let mut t = vec![[f64::NAN; 3]; n];
+    // One window covering the whole lattice (a Bézier cell, or the lattice scope) needs no
+    // table: the maxima are taken on the fly.
+    let single = scope == Scope::Lattice || l.basis() == Basis::Bezier;
+    let mut t = if single {
+        Vec::new()
+    } else {
+        vec![[f64::NAN; 3]; n]
+    };
+    let mut m_all = [0.0f64; 3];
+    let mut at = 0;
     for k in 0..counts[2] {
         for j in 0..counts[1] {
             for i in 0..counts[0] {
                 let idx = [i, j, k];
-                let at = l.index(i, j, k);
+                let p = pts[at];
                 for x in 0..3 {
                     if idx[x] == 0 {
                         continue;
                     }
-                    let mut prev = idx;
-                    prev[x] -= 1;
-                    let q = pts[l.index(prev[0], prev[1], prev[2])];
-                    let p = pts[at];
+                    let q = pts[at - stride[x]];
                     let d = [p[0] - q[0], p[1] - q[1], p[2] - q[2]];
-                    if d.iter().any(|c| {
-                        let m = c.abs();
-                        m > 1e150 || (m != 0.0 && m < 1e-150)
-                    }) {
+                    let (a, b, c) = match x {
+                        0 => (d[0], d[1], d[2]),
+                        1 => (d[1], d[2], d[0]),
+                        _ => (d[2], d[0], d[1]),
+                    };
+                    // Outside the range where relative error bounds hold: the caller falls back.
+                    let big = a.abs().max(b.abs()).max(c.abs());
+                    let tiny = (a != 0.0 && a.abs() < 1e-150)
+                        | (b != 0.0 && b.abs() < 1e-150)
+                        | (c != 0.0 && c.abs() < 1e-150);
+                    if big > 1e150 || tiny {
                         return None;
                     }
-                    let (a, b, c) = (d[x], d[(x + 1) % 3], d[(x + 2) % 3]);
-                    t[at][x] = if a <= 0.0 {
+                    let tx = if a <= 0.0 {
+                        if single {
+                            return Some(SufficientVerdict::NotProven {
+                                cell: (scope == Scope::PerCell).then_some([0, 0, 0]),
+                            });
+                        }
                         -1.0
                     } else {
                         (b * b + c * c) / (a * a)
                     };
+                    if single {
+                        m_all[x] = m_all[x].max(tx);
+                    } else {
+                        t[at][x] = tx;
+                    }
                 }
+                at += 1;
             }
         }
     }
     let g = gamma(T_REL as u32);
+    let g8 = gamma(8);
     let order = l.order();
     let window = |cell: Option<[usize; 3]>, a: usize| -> (usize, usize) {
         match (cell, l.basis()) {
@@ -546,23 +574,32 @@ pub fn conic_f64(l: &Lattice, pts: &[[f64; 3]], scope: Scope) -> Option<Sufficie
             _ => (0, counts[a]),
         }
     };
+    let cells: Box<dyn Iterator<Item = Option<[usize; 3]>>> = match scope {
+        Scope::PerCell => Box::new((0..l.cell_count()).map(|c| Some(l.cell_index(c)))),
+        Scope::Lattice => Box::new(std::iter::once(None)),
+    };
     let mut uncertain = None;
-    for cell in cells_of(l, scope) {
+    for cell in cells {
         let w = [window(cell, 0), window(cell, 1), window(cell, 2)];
         let mut m = [0.0f64; 3];
-        for k in w[2].0..w[2].1 {
-            for j in w[1].0..w[1].1 {
-                for i in w[0].0..w[0].1 {
-                    let idx = [i, j, k];
-                    let tt = &t[l.index(i, j, k)];
-                    for x in 0..3 {
-                        if idx[x] == w[x].0 {
-                            continue;
+        if single {
+            m = m_all;
+        } else {
+            for k in w[2].0..w[2].1 {
+                for j in w[1].0..w[1].1 {
+                    let row = stride[1] * j + stride[2] * k;
+                    for i in w[0].0..w[0].1 {
+                        let tt = &t[row + i];
+                        // The differences inside the window: skip its first layer per axis.
+                        let inside = [i != w[0].0, j != w[1].0, k != w[2].0];
+                        for x in 0..3 {
+                            if inside[x] {
+                                if tt[x] < 0.0 {
+                                    return Some(SufficientVerdict::NotProven { cell });
+                                }
+                                m[x] = m[x].max(tt[x]);
+                            }
                         }
-                        if tt[x] < 0.0 {
-                            return Some(SufficientVerdict::NotProven { cell });
-                        }
-                        m[x] = m[x].max(tt[x]);
                     }
                 }
             }
@@ -570,7 +607,6 @@ pub fn conic_f64(l: &Lattice, pts: &[[f64; 3]], scope: Scope) -> Option<Sufficie
         let hi = m.map(|v| v * (1.0 + g) * (1.0 + 2.0 * g));
         let lo = m.map(|v| v * (1.0 - g) * (1.0 - 2.0 * g));
         // Each condition evaluated in f64 on bounds, itself with relative error ≤ γ₈.
-        let g8 = gamma(8);
         let cond = |m: &[f64; 3]| -> (f64, f64) {
             let first = m[0] * m[1];
             let s = m[0] / (1.0 + m[0]) + m[1] / (1.0 + m[1]);

@@ -141,6 +141,8 @@ pub struct FfdCampaign {
     pub gmsh: Result<GmshRun, String>,
     /// Worked example: the lattice JSON, the `--json` line, the certificate, the check.
     pub example: [String; 4],
+    /// The Fig. 6-shaped injective DMFFD table.
+    pub dmffd: super::ffd_dmffd::DmffdTable,
 }
 
 fn sufficient_row(
@@ -477,14 +479,16 @@ pub fn ffd_campaign(root: &Path, seed: u64, n_cells: usize, n_bspline: usize) ->
         batch_seconds,
         gmsh,
         example: worked_example(limits),
+        dmffd: super::ffd_dmffd::fig6_table(7),
     }
 }
 
 /// Whether the campaign found nothing wrong.
 pub fn campaign_ok(c: &FfdCampaign) -> bool {
-    c.families.iter().all(|f| {
-        f.contradictions == 0
-            && f.certificates_refused == 0
-            && f.rejections.iter().all(|r| r.unsound == 0)
-    })
+    super::ffd_dmffd::dmffd_ok(&c.dmffd)
+        && c.families.iter().all(|f| {
+            f.contradictions == 0
+                && f.certificates_refused == 0
+                && f.rejections.iter().all(|r| r.unsound == 0)
+        })
 }

@@ -5,6 +5,7 @@
 
 pub mod campaign;
 pub mod ffd;
+pub mod ffd_dmffd;
 pub mod ffd_markdown;
 
 use crate::proofs::ProofOutcome;

@@ -207,3 +207,30 @@ pub fn check_lattice_json(data: &[u8]) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// The mesh readers on arbitrary bytes: no panic; whatever one accepts is valid and survives
+/// a binary-PLY and an OBJ round trip unchanged.
+pub fn check_mesh_readers(data: &[u8]) -> Result<(), String> {
+    use crate::mesh::{obj, ply, stl};
+    let results = [
+        ("ply", ply::read(data, None)),
+        ("obj", obj::read(data)),
+        ("stl", stl::read(data)),
+    ];
+    for (name, r) in results {
+        let Ok(m) = r else { continue };
+        m.validate()
+            .map_err(|e| format!("{name} reader returned an invalid mesh: {e}"))?;
+        let back = ply::read(&ply::write(&m, true), None)
+            .map_err(|e| format!("{name}: binary PLY round trip failed: {e}"))?;
+        if back != m {
+            return Err(format!("{name}: binary PLY round trip changed the mesh"));
+        }
+        let back = obj::read(&obj::write(&m))
+            .map_err(|e| format!("{name}: OBJ round trip failed: {e}"))?;
+        if back.vertices != m.vertices || back.triangles != m.triangles {
+            return Err(format!("{name}: OBJ round trip changed the mesh"));
+        }
+    }
+    Ok(())
+}

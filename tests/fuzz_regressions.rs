@@ -55,3 +55,9 @@ fn lattice_json_regressions() {
     let n = replay("lattice_json", geocert::fuzzing::check_lattice_json);
     assert!(n > 0, "the regression corpus must not be empty");
 }
+
+#[test]
+fn mesh_readers_regressions() {
+    let n = replay("mesh_readers", geocert::fuzzing::check_mesh_readers);
+    assert!(n > 0, "the regression corpus must not be empty");
+}

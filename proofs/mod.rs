@@ -3,6 +3,7 @@
 
 pub mod ffd;
 pub mod kernel;
+pub mod mc;
 
 use serde::Serialize;
 
@@ -133,5 +134,12 @@ pub fn all() -> Vec<(&'static str, Proof)> {
         ),
         ("ffd.jacobian-routes", ffd::jacobian_routes),
         ("ffd.identity-unit-jacobian", ffd::identity_unit_jacobian),
+        ("mc.table-coverage", mc::coverage),
+        ("mc.table-edges", mc::edges),
+        ("mc.table-faces", mc::faces),
+        ("mc.table-orientation", mc::orientation),
+        ("mc.table-watertight", mc::watertight),
+        ("mc.table-symmetry", mc::symmetry),
+        ("mc.table-trilinear-realisability", mc::trilinear),
     ]
 }

@@ -24,6 +24,7 @@ pub mod bernstein;
 pub mod bspline;
 pub mod ffd;
 pub mod fuzzing;
+pub mod mc;
 pub mod mesh;
 pub mod num;
 #[path = "../proofs/mod.rs"]

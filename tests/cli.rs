@@ -259,3 +259,22 @@ fn ffd_drag_then_deform_a_mesh() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("constraint 1"));
     assert!(!never.exists());
 }
+
+#[test]
+fn prove_mc_table_json_counts() {
+    let out = geocert()
+        .args(["prove", "mc-table", "--json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["entries"], 656);
+    assert_eq!(v["cracks"], 0);
+    assert_eq!(v["winding_errors"], 0);
+    assert_eq!(v["edge_errors"], 0);
+    assert_eq!(v["trilinear_unrealisable"], 36);
+}

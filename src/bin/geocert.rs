@@ -30,6 +30,9 @@ struct Cli {
 enum Command {
     /// Run every exhaustive proof and the exact-vs-fast campaign; write reports/.
     Prove {
+        /// Only this part (`mc-table`: the marching-cubes table proofs; prints, writes nothing).
+        #[arg(value_enum)]
+        part: Option<ProvePart>,
         /// Where to write the reports.
         #[arg(long, default_value = "reports")]
         out: PathBuf,
@@ -121,6 +124,11 @@ enum FfdCommand {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
+enum ProvePart {
+    McTable,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
 enum DragTestKind {
     Conic,
     Phi,
@@ -147,7 +155,12 @@ fn main() -> ExitCode {
 
 fn run(cli: Cli) -> Result<ExitCode, String> {
     match cli.command {
-        Command::Prove { out, json } => prove(out, json),
+        Command::Prove {
+            part: Some(ProvePart::McTable),
+            json,
+            ..
+        } => prove_mc_table(json),
+        Command::Prove { out, json, .. } => prove(out, json),
         Command::Positivity {
             file,
             path,
@@ -439,6 +452,39 @@ fn ffd_deform(
     Ok(ExitCode::SUCCESS)
 }
 
+/// The marching-cubes table proofs alone.
+fn prove_mc_table(json: bool) -> Result<ExitCode, String> {
+    let (outcomes, unrealisable) = mc_table_proofs();
+    let ok = outcomes.iter().all(|p| p.ok());
+    if json {
+        let v = report::mc_markdown::mc_table_summary(&outcomes, unrealisable);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+        );
+    } else {
+        for o in &outcomes {
+            println!("{}", o.summary());
+        }
+        println!("entries no trilinear cell produces: {unrealisable}");
+    }
+    Ok(if ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}
+
+fn mc_table_proofs() -> (Vec<geocert::proofs::ProofOutcome>, usize) {
+    let outcomes: Vec<_> = geocert::proofs::all()
+        .into_iter()
+        .filter(|(name, _)| name.starts_with("mc."))
+        .map(|(_, proof)| proof())
+        .collect();
+    let (_, unrealisable) = geocert::proofs::mc::trilinear_realisability();
+    (outcomes, unrealisable)
+}
+
 fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     let meta = RunMeta::collect();
     let proofs = geocert::proofs::all();
@@ -463,16 +509,23 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     let ffd_camp = report::ffd::ffd_campaign(&root, 2026, 600, 60);
     bar.inc(1);
     bar.finish_and_clear();
-    let (kernel_proofs, ffd_proofs): (Vec<_>, Vec<_>) = outcomes
-        .iter()
-        .cloned()
-        .partition(|o| o.name.starts_with("kernel."));
+    let part = |prefix: &str| -> Vec<_> {
+        outcomes
+            .iter()
+            .filter(|o| o.name.starts_with(prefix))
+            .cloned()
+            .collect()
+    };
+    let (kernel_proofs, ffd_proofs, mc_proofs) = (part("kernel."), part("ffd."), part("mc."));
+    let (_, unrealisable) = geocert::proofs::mc::trilinear_realisability();
+    let mc_ok = mc_proofs.iter().all(|p| p.ok());
     let io = |e: std::io::Error| format!("writing {}: {e}", out.display());
     let kernel_ok = report::kernel_ok(&kernel_proofs, &camp, &timing);
     let ffd_ok = report::ffd::campaign_ok(&ffd_camp) && ffd_proofs.iter().all(|p| p.ok());
     let mut written = vec![
         report::write_kernel_report(&out, &meta, &kernel_proofs, &camp, &timing).map_err(io)?,
         report::ffd_markdown::write_ffd_report(&out, &meta, &ffd_proofs, &ffd_camp).map_err(io)?,
+        report::mc_markdown::write_mc_report(&out, &meta, &mc_proofs, unrealisable).map_err(io)?,
     ];
     written.insert(
         0,
@@ -499,11 +552,21 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
                     ),
                     ok: ffd_ok,
                 },
+                report::IndexEntry {
+                    file: "mc.md".into(),
+                    what: format!(
+                        "marching-cubes table ({} entries; {} proofs, {} cases)",
+                        geocert::mc::table().entries.len(),
+                        mc_proofs.len(),
+                        mc_proofs.iter().map(|p| p.cases).sum::<usize>()
+                    ),
+                    ok: mc_ok,
+                },
             ],
         )
         .map_err(io)?,
     );
-    let ok = kernel_ok && ffd_ok;
+    let ok = kernel_ok && ffd_ok && mc_ok;
     if json {
         let v = serde_json::json!({"ok": ok, "proofs": outcomes, "campaign": camp, "timing": timing,
             "reports": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>()});

@@ -1,0 +1,6 @@
+//! Marching cubes on finite elements (Wünsche & Lin): the generated table of all
+//! topologically different cell triangulations ([`table`]).
+
+pub mod table;
+
+pub use table::{table, Entry, Table};

@@ -514,3 +514,140 @@ pub fn trilinear_realisability() -> (ProofOutcome, usize) {
 pub fn trilinear() -> ProofOutcome {
     trilinear_realisability().0
 }
+
+/// Exact comparison of `p/q` with `r/s` (any signs, `q, s ≠ 0`): the sign of `p/q − r/s`.
+fn cmp_fraction(p: i128, q: i128, r: i128, s: i128) -> std::cmp::Ordering {
+    let (p, q) = if q < 0 { (-p, -q) } else { (p, q) };
+    let (r, s) = if s < 0 { (-r, -s) } else { (r, s) };
+    (p * s).cmp(&(r * q))
+}
+
+/// Mackerras' rule (the paper's Section 4.1): the cut points along `ξ₁`; `Some(true)` when the
+/// cut-off corners are the negative ones (positive joined), `None` on a tie.
+fn mackerras(a: i128, b: i128, c: i128, d: i128) -> Option<bool> {
+    // Cut points on A–B (ξ₂ = 0) and C–D (ξ₂ = 1): ξ₁ = a/(a−b), c/(c−d). The points on
+    // A–C (ξ₁ = 0) and B–D (ξ₁ = 1) sort first and last; the first pair isolates A when the
+    // A–B point comes before the C–D point (and then the last pair isolates D).
+    match cmp_fraction(a, a - b, c, c - d) {
+        std::cmp::Ordering::Equal => None,
+        std::cmp::Ordering::Less => Some(a < 0), // A, D cut off: joined iff they are negative
+        std::cmp::Ordering::Greater => Some(b < 0), // B, C cut off
+    }
+}
+
+/// The product rule: positive diagonal's product against the negative one's.
+fn product_rule(a: i128, b: i128, c: i128, d: i128) -> Option<bool> {
+    let (pos, neg) = if a >= 0 {
+        (a * d, b * c)
+    } else {
+        (b * c, a * d)
+    };
+    (pos != neg).then_some(pos > neg)
+}
+
+/// The asymptotic decider on the values themselves: the saddle value `(AD − BC)/(A+D−B−C)`
+/// against the isovalue, with `a, …` and the isovalue `n` all scaled by the isovalue's
+/// denominator (`m·A = a + n`).
+fn asymptotic(a: i128, b: i128, c: i128, d: i128, n: i128) -> Option<bool> {
+    let (va, vb, vc, vd) = (a + n, b + n, c + n, d + n); // m·A, …
+    let num = va * vd - vb * vc; // m²(AD − BC)
+    let den = va + vd - vb - vc; // m(A + D − B − C), nonzero on an ambiguous face
+                                 // S > iso ⇔ num/(m·den) > n/m ⇔ num/den > n.
+    match cmp_fraction(num, den, n, 1) {
+        std::cmp::Ordering::Equal => None,
+        o => Some(o == std::cmp::Ordering::Greater),
+    }
+}
+
+/// Face ambiguity, exhaustively: for every integer face `A, B, C, D ∈ [−R, R]⁴` (R = 40) and
+/// isovalues `0` and `1/3`, on every ambiguous face Mackerras' sort, the product rule and the
+/// asymptotic decider agree (ties included: each reports a tie exactly when the others do);
+/// the library's exact decider (integer entry point on every face, rational entry point on
+/// every tie and every 64th face) equals them off ties and is `joined` on ties; the certified
+/// `f64` decider never contradicts the exact decision at the isovalue it sees.
+///
+/// Why they must agree: with `a = A − c` etc., `ξ₁(A–B) − ξ₁(C–D) = (bc − ad)/((a−b)(c−d))`
+/// whose denominator is negative on an ambiguous face, so Mackerras isolates `A, D` exactly
+/// when `ad < bc`; and `ad − bc = (a + d − b − c)(S − c)` with `a + d − b − c` of the sign of
+/// `a`, so `S > c` exactly when the positive diagonal's product is the larger.
+pub fn face_deciders() -> ProofOutcome {
+    const R: i64 = 40;
+    let mut t = Tally::new(
+        "mc.face-deciders",
+        "all integer faces in [−40, 40]⁴ at isovalues 0 and 1/3 (2 × 81⁴ faces; the ambiguous ones checked): Mackerras = product rule = asymptotic decider, ties alike; exact decider and certified f64 decider consistent",
+    );
+    let mut ambiguous = 0u64;
+    let mut ties = 0u64;
+    let mut uncertain = 0u64;
+    for (n, m) in [(0i128, 1i128), (1, 3)] {
+        let iso = Rational::new((n as i64).into(), (m as i64).into());
+        let iso_f64 = n as f64 / m as f64;
+        let iso_rounded = crate::num::rational_from_f64(iso_f64, "isovalue").expect("finite");
+        // The rounded isovalue is dyadic, p/2^k with k ≤ 54: scaled values stay within i128.
+        let (iso_num, iso_den): (i128, i128) = (
+            i128::try_from(iso_rounded.numer()).expect("small"),
+            i128::try_from(iso_rounded.denom()).expect("small"),
+        );
+        for va in -R..=R {
+            for vb in -R..=R {
+                for vc in -R..=R {
+                    for vd in -R..=R {
+                        // Scaled by m: a = m·A − n (the isovalue n/m); sign rule a ≥ 0.
+                        let s = |v: i64| m * v as i128 - n;
+                        let (a, b, c, d) = (s(va), s(vb), s(vc), s(vd));
+                        let amb =
+                            (a >= 0) == (d >= 0) && (b >= 0) == (c >= 0) && (a >= 0) != (b >= 0);
+                        if !amb {
+                            continue;
+                        }
+                        ambiguous += 1;
+                        let mk = mackerras(a, b, c, d);
+                        let pr = product_rule(a, b, c, d);
+                        let asy = asymptotic(a, b, c, d, n);
+                        let exact = Some(crate::mc::decider::decide_shifted(&a, &b, &c, &d));
+                        // The rational entry point on every tie and every 64th face.
+                        let sampled = pr.is_none() || ambiguous % 64 == 0;
+                        let vals = [va, vb, vc, vd].map(|x| Rational::from_integer(x.into()));
+                        let rational_ok = !sampled
+                            || crate::mc::decider::decide_exact(
+                                [&vals[0], &vals[1], &vals[2], &vals[3]],
+                                &iso,
+                            ) == exact;
+                        // The f64 decider sees the rounded isovalue: compare it with the exact
+                        // decision at that same value.
+                        let fast = crate::mc::decider::decide_fast(
+                            [va, vb, vc, vd].map(|x| x as f64),
+                            iso_f64,
+                        );
+                        let r = |v: i64| iso_den * v as i128 - iso_num;
+                        let (ra, rb, rc, rd) = (r(va), r(vb), r(vc), r(vd));
+                        let at_rounded = ((ra >= 0) == (rd >= 0)
+                            && (rb >= 0) == (rc >= 0)
+                            && (ra >= 0) != (rb >= 0))
+                            .then(|| crate::mc::decider::decide_shifted(&ra, &rb, &rc, &rd));
+                        if pr.is_none() {
+                            ties += 1;
+                        }
+                        if fast.is_none() {
+                            uncertain += 1;
+                        }
+                        let ok = mk == pr
+                            && pr == asy
+                            && exact == Some(pr.unwrap_or(true))
+                            && rational_ok
+                            && fast.is_none_or(|f| f == at_rounded);
+                        t.check(ok, || {
+                            format!(
+                                "A,B,C,D = {va},{vb},{vc},{vd} at {n}/{m}: Mackerras {mk:?}, product {pr:?}, asymptotic {asy:?}, exact {exact:?}, f64 {fast:?}"
+                            )
+                        });
+                    }
+                }
+            }
+        }
+    }
+    t.note(format!(
+        "{ambiguous} ambiguous faces, {ties} ties (joined by the tie rule), f64 uncertain on {uncertain}"
+    ));
+    t.finish()
+}

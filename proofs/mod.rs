@@ -77,6 +77,10 @@ impl Tally {
             self.failures.push(describe());
         }
     }
+    /// Appends a measured remark to the description of what was enumerated.
+    pub(crate) fn note(&mut self, remark: String) {
+        self.enumerated = format!("{}; {remark}", self.enumerated);
+    }
     pub(crate) fn finish(self) -> ProofOutcome {
         ProofOutcome {
             name: self.name,
@@ -141,5 +145,6 @@ pub fn all() -> Vec<(&'static str, Proof)> {
         ("mc.table-watertight", mc::watertight),
         ("mc.table-symmetry", mc::symmetry),
         ("mc.table-trilinear-realisability", mc::trilinear),
+        ("mc.face-deciders", mc::face_deciders),
     ]
 }

@@ -1,6 +1,8 @@
 //! Marching cubes on finite elements (Wünsche & Lin): the generated table of all
-//! topologically different cell triangulations ([`table`]).
+//! topologically different cell triangulations ([`table`]) and the face decider
+//! ([`decider`]).
 
+pub mod decider;
 pub mod table;
 
 pub use table::{table, Entry, Table};

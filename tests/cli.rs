@@ -278,3 +278,46 @@ fn prove_mc_table_json_counts() {
     assert_eq!(v["edge_errors"], 0);
     assert_eq!(v["trilinear_unrealisable"], 36);
 }
+
+#[test]
+fn mc_export_then_audit() {
+    let table = tmp("geocert-bourke.txt");
+    let out = geocert()
+        .args(["mc", "export", "--format", "bourke"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    std::fs::write(&table, &out.stdout).unwrap();
+    let out = geocert()
+        .args(["mc", "audit", "--format", "bourke", "--json"])
+        .arg(&table)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["cracks"], 0);
+    assert_eq!(v["winding_errors"], 0);
+    assert_eq!(v["edge_errors"], 0);
+    // The same file read with the other numbering is full of defects.
+    let out = geocert()
+        .args(["mc", "audit", "--format", "vtk", "--json"])
+        .arg(&table)
+        .output()
+        .unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(v["cracks"].as_u64().unwrap() > 0);
+    // A malformed table: exit 2 with the configuration named.
+    let bad = tmp("bad-table.txt");
+    std::fs::write(&bad, "0 1\n".repeat(256)).unwrap();
+    let out = geocert()
+        .args(["mc", "audit", "--format", "vtk"])
+        .arg(&bad)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("configuration 0"));
+}

@@ -59,6 +59,43 @@ enum Command {
     /// Free-form deformation injectivity (Gain & Dodgson).
     #[command(subcommand)]
     Ffd(FfdCommand),
+    /// Marching cubes (Wünsche & Lin): table audit and export.
+    #[command(subcommand)]
+    Mc(McCommand),
+}
+
+#[derive(Subcommand)]
+enum McCommand {
+    /// Audit a 256-configuration triangle table: 256 lines of edge ids, or a C/Rust array
+    /// literal of 256×16 integers.
+    Audit {
+        table: PathBuf,
+        #[arg(long, value_enum)]
+        format: TableFormat,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Print geocert's table as 256 lines in the given numbering, one decision for every
+    /// ambiguous face.
+    Export {
+        #[arg(long, value_enum)]
+        format: TableFormat,
+        /// `separate`: positive corners never joined across a face; `join`: always joined.
+        #[arg(long, value_enum, default_value_t = FaceRule::Separate)]
+        rule: FaceRule,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum TableFormat {
+    Bourke,
+    Vtk,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum FaceRule {
+    Separate,
+    Join,
 }
 
 #[derive(Subcommand)]
@@ -169,6 +206,7 @@ fn run(cli: Cli) -> Result<ExitCode, String> {
             json,
         } => positivity(file, path, max_depth, cert, json),
         Command::Ffd(c) => ffd(c),
+        Command::Mc(c) => mc(c),
         Command::VerifyCert { file } => {
             let text =
                 std::fs::read_to_string(&file).map_err(|e| format!("{}: {e}", file.display()))?;
@@ -450,6 +488,57 @@ fn ffd_deform(
         out.display()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+fn mc(c: McCommand) -> Result<ExitCode, String> {
+    use geocert::mc::audit::{audit, export, parse_table, Numbering};
+    let numbering = |f: TableFormat| match f {
+        TableFormat::Bourke => Numbering::Bourke,
+        TableFormat::Vtk => Numbering::Vtk,
+    };
+    match c {
+        McCommand::Audit {
+            table,
+            format,
+            json,
+        } => {
+            let tris =
+                parse_table(&read(&table)?).map_err(|e| format!("{}: {e}", table.display()))?;
+            let r = audit(&tris, numbering(format));
+            if json {
+                println!(
+                    "{}",
+                    serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?
+                );
+            } else {
+                println!(
+                    "{}: {} cracks, {} winding errors, {} edge errors, {} segments off the faces, {} wrong pairings",
+                    table.display(),
+                    r.cracks,
+                    r.winding_errors,
+                    r.edge_errors,
+                    r.face_errors,
+                    r.pairing_errors
+                );
+                println!("winding: {}", r.winding);
+                println!("ambiguous faces: {}", r.ambiguous_face_rule);
+                for d in &r.details {
+                    println!("  {d}");
+                }
+                for (a, b, axis) in r.crack_pairs.iter().take(10) {
+                    println!("  crack: configurations {a} and {b} across {axis}");
+                }
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        McCommand::Export { format, rule } => {
+            print!(
+                "{}",
+                export(numbering(format), |_| matches!(rule, FaceRule::Join))
+            );
+            Ok(ExitCode::SUCCESS)
+        }
+    }
 }
 
 /// The marching-cubes table proofs alone.

@@ -2,6 +2,7 @@
 //! topologically different cell triangulations ([`table`]) and the face decider
 //! ([`decider`]).
 
+pub mod audit;
 pub mod decider;
 pub mod table;
 

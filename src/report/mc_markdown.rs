@@ -69,6 +69,50 @@ pub fn write_mc_report(
             let _ = writeln!(s, "- {f}");
         }
     }
+    use crate::mc::audit::{audit, export, parse_table, Numbering};
+    let _ = writeln!(
+        s,
+        "\n## The auditor on 256-configuration tables\n\n`geocert mc audit` on tables exported \
+         from this one (`geocert mc export`), and on one built like Lorensen–Cline's \
+         (complementary symmetry: each cell separates its minority sign):\n\n\
+         | table | cracks | winding errors | edge errors | off-face segments | wrong pairings | ambiguous-face rule |\n|---|---:|---:|---:|---:|---:|---|"
+    );
+    let cases: [(&str, Numbering, fn(u8) -> bool); 4] = [
+        (
+            "geocert, bourke numbering, separate",
+            Numbering::Bourke,
+            |_| false,
+        ),
+        ("geocert, vtk numbering, separate", Numbering::Vtk, |_| {
+            false
+        }),
+        ("geocert, bourke numbering, join", Numbering::Bourke, |_| {
+            true
+        }),
+        ("complementary symmetry (bourke)", Numbering::Bourke, |c| {
+            c.count_ones() > 4
+        }),
+    ];
+    for (name, numbering, rule) in cases {
+        match parse_table(&export(numbering, rule)) {
+            Ok(t) => {
+                let r = audit(&t, numbering);
+                let _ = writeln!(
+                    s,
+                    "| {name} | {} | {} | {} | {} | {} | {} |",
+                    r.cracks,
+                    r.winding_errors,
+                    r.edge_errors,
+                    r.face_errors,
+                    r.pairing_errors,
+                    r.ambiguous_face_rule
+                );
+            }
+            Err(e) => {
+                let _ = writeln!(s, "| {name} | unreadable: {e} | | | | | |");
+            }
+        }
+    }
     let _ = writeln!(
         s,
         "\n## What the table does not guarantee\n\n\

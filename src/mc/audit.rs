@@ -6,7 +6,7 @@
 //! Two numberings: `bourke` (Lorensen–Cline / Bourke: edges 0-1, 1-2, 2-3, 3-0, 4-5, 5-6, 6-7,
 //! 7-4, 0-4, 1-5, 2-6, 3-7; bit `i` set when corner `i` is below the isovalue) and `vtk`
 //! (vtkMarchingCubesTriangleCases: edges 0-1, 1-2, 3-2, 0-3, 4-5, 5-6, 7-6, 4-7, 0-4, 1-5,
-//! 3-7, 2-6; bit `i` set when corner `i` is at or above it). Corners as in [`super::table`].
+//! 3-7, 2-6; bit `i` set when corner `i` is at or above it). Corners as in [`mod@super::table`].
 
 use super::table::{
     ambiguous_faces, edge_between, face_edges, face_segments, is_cut, table, CORNERS, FACES,

@@ -1,5 +1,5 @@
 //! Marching cubes on finite elements (Wünsche & Lin): the generated table of all
-//! topologically different cell triangulations ([`table`]) and the face decider
+//! topologically different cell triangulations ([`mod@table`]) and the face decider
 //! ([`decider`]).
 
 pub mod audit;

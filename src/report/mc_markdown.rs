@@ -77,7 +77,8 @@ pub fn write_mc_report(
          (complementary symmetry: each cell separates its minority sign):\n\n\
          | table | cracks | winding errors | edge errors | off-face segments | wrong pairings | ambiguous-face rule |\n|---|---:|---:|---:|---:|---:|---|"
     );
-    let cases: [(&str, Numbering, fn(u8) -> bool); 4] = [
+    type Case = (&'static str, Numbering, fn(u8) -> bool);
+    let cases: [Case; 4] = [
         (
             "geocert, bourke numbering, separate",
             Numbering::Bourke,

@@ -44,7 +44,7 @@ pub fn coverage() -> ProofOutcome {
 pub fn edges() -> ProofOutcome {
     let mut t = Tally::new(
         "mc.table-edges",
-        "656 entries: each cut edge in exactly one polygon once, no uncut edge, polygons of ≥ 3 vertices",
+        "656 entries: each cut edge in exactly one polygon once, no uncut edge, polygons of ≥ 3 vertices, triangulated for extraction without a chord inside a cube face",
     );
     for e in &table().entries {
         let mut count = [0usize; 12];
@@ -54,7 +54,22 @@ pub fn edges() -> ProofOutcome {
             }
         }
         let ok = (0..12u8).all(|x| count[x as usize] == usize::from(is_cut(e.config, x)))
-            && e.polygons.iter().all(|p| p.len() >= 3);
+            && e.polygons.iter().all(|p| p.len() >= 3)
+            && e.triangles_with_centres().iter().all(|t| {
+                (0..3).all(|k| {
+                    let (a, b) = (t[k], t[(k + 1) % 3]);
+                    // Every side is a polygon side, touches a centre, or shares no face.
+                    a >= crate::mc::table::CENTRE
+                        || b >= crate::mc::table::CENTRE
+                        || e.polygons.iter().any(|p| {
+                            (0..p.len()).any(|i| {
+                                let (x, y) = (p[i], p[(i + 1) % p.len()]);
+                                (x, y) == (a, b) || (y, x) == (a, b)
+                            })
+                        })
+                        || !crate::mc::table::share_face(a, b)
+                })
+            });
         t.check(ok, || {
             format!("config {} sub {}: edge use {count:?}", e.config, e.sub)
         });

@@ -4,6 +4,7 @@
 
 pub mod audit;
 pub mod decider;
+pub mod grid;
 pub mod table;
 
 pub use table::{table, Entry, Table};

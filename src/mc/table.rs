@@ -220,6 +220,9 @@ pub fn face_segments(config: u8, fi: u8, joined: bool) -> Vec<Segment> {
     }
 }
 
+/// Ids at or above this in [`Entry::triangles_with_centres`] are polygon centres.
+pub const CENTRE: u8 = 12;
+
 /// One table entry: a configuration, its subconfiguration (bit `j` = decision of the `j`-th
 /// ambiguous face), and its polygons as cycles of cut edges, wound counter-clockwise about
 /// the normal that points into the positive region (each segment as [`face_segments`]
@@ -246,13 +249,81 @@ impl Entry {
             .flat_map(|f| face_segments(self.config, f, self.joined(f)))
             .collect()
     }
-    /// Fan triangulation of every polygon (edge ids, three per triangle).
+    /// A triangulation of every polygon on its cut points only (edge ids, three per
+    /// triangle), as a 256-case table stores it: no diagonal between two cut points of one
+    /// cube face where that can be avoided, else a fan.
     pub fn triangles(&self) -> Vec<[u8; 3]> {
         self.polygons
             .iter()
-            .flat_map(|p| (1..p.len() - 1).map(move |i| [p[0], p[i], p[i + 1]]))
+            .flat_map(|p| triangulate(p).unwrap_or_else(|| fan(p)))
             .collect()
     }
+
+    /// The triangulation used for extraction: as [`triangles`](Self::triangles) where no
+    /// diagonal has to lie in a cube face; otherwise the polygon is fanned around its centre
+    /// (the average of its cut points), id `CENTRE + polygon index`. A chord inside a face
+    /// could be reused by the neighbouring cell's triangles: a non-manifold edge.
+    pub fn triangles_with_centres(&self) -> Vec<[u8; 3]> {
+        let mut out = Vec::new();
+        for (i, p) in self.polygons.iter().enumerate() {
+            match triangulate(p) {
+                Some(t) => out.extend(t),
+                None => {
+                    let c = CENTRE + i as u8;
+                    out.extend((0..p.len()).map(|k| [c, p[k], p[(k + 1) % p.len()]]));
+                }
+            }
+        }
+        out
+    }
+}
+
+fn fan(p: &[u8]) -> Vec<[u8; 3]> {
+    (1..p.len() - 1).map(|i| [p[0], p[i], p[i + 1]]).collect()
+}
+
+/// Whether two cut edges lie on a common cube face.
+pub fn share_face(a: u8, b: u8) -> bool {
+    FACES.iter().any(|f| {
+        let fe = face_edges(f);
+        fe.contains(&a) && fe.contains(&b)
+    })
+}
+
+/// A triangulation of polygon `p` whose diagonals never join two points of one face
+/// (depth-first over the apex of the triangle on edge `p[0]–p[n−1]`).
+pub fn triangulate(p: &[u8]) -> Option<Vec<[u8; 3]>> {
+    let n = p.len();
+    if n < 3 {
+        return None;
+    }
+    if n == 3 {
+        return Some(vec![[p[0], p[1], p[2]]]);
+    }
+    // The triangle on the polygon edge p[n−1] → p[0] has apex p[k]; its sides p[0]–p[k] and
+    // p[k]–p[n−1] are diagonals unless k = 1 or k = n − 2.
+    for k in 1..n - 1 {
+        let ok = |i: usize, j: usize| j == i + 1 || !share_face(p[i], p[j]);
+        if !(ok(0, k) && ok(k, n - 1)) {
+            continue;
+        }
+        let left = if k >= 2 {
+            triangulate(&p[0..=k])
+        } else {
+            Some(Vec::new())
+        };
+        let right = if k + 2 <= n - 1 {
+            triangulate(&p[k..n])
+        } else {
+            Some(Vec::new())
+        };
+        if let (Some(mut l), Some(r)) = (left, right) {
+            l.extend(r);
+            l.push([p[k], p[n - 1], p[0]]);
+            return Some(l);
+        }
+    }
+    None
 }
 
 /// Walks the directed segments into polygons (Figure 6): from a cut edge, follow the segment

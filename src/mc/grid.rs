@@ -1,0 +1,362 @@
+//! Marching cubes on regular grids with the 656-entry table: every ambiguous face decided by
+//! the face decider, so neighbouring cells always agree and the surface is watertight.
+//!
+//! Two paths with the same traversal order (cells `x` fastest, then `y`, then `z`; within a
+//! cell, the entry's triangles in order), so they number vertices identically and produce the
+//! same triangle index structure:
+//! * [`extract_exact`] — rational values and isovalue, exact decisions and exact vertex
+//!   positions (reads like the method: one map from grid edges to vertices);
+//! * [`extract_fast`] — `f64`, vertex ids of the grid edges kept for two `z`-layers only, face
+//!   decisions by the certified `f64` decider with an exact fallback when it is uncertain.
+//!
+//! Positions are in grid coordinates (corner `(i, j, k)` at `(i, j, k)`).
+
+use super::decider::{decide_exact, decide_fast};
+use super::table::{ambiguous_faces, is_positive, table, CENTRE, CORNERS, EDGES, FACES};
+use crate::mesh::Mesh;
+use crate::num::{rational_from_f64, rational_to_f64, Rational};
+use std::collections::HashMap;
+use thiserror::Error;
+
+/// A scalar volume on a regular grid, `x` fastest.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Volume<T> {
+    pub dims: [usize; 3],
+    pub values: Vec<T>,
+}
+
+/// Bad volume input.
+#[derive(Debug, Error, PartialEq)]
+pub enum VolumeError {
+    #[error("volume of {dims:?} needs {expected} values, found {found}")]
+    Size {
+        dims: [usize; 3],
+        expected: usize,
+        found: usize,
+    },
+    #[error("every dimension must be at least 2, found {0:?}")]
+    TooSmall([usize; 3]),
+    #[error("value {index} is not finite")]
+    NonFinite { index: usize },
+    #[error("the isovalue is not finite")]
+    Isovalue,
+}
+
+impl<T> Volume<T> {
+    /// Checks the dimensions against the value count.
+    pub fn new(dims: [usize; 3], values: Vec<T>) -> Result<Volume<T>, VolumeError> {
+        if dims.iter().any(|&d| d < 2) {
+            return Err(VolumeError::TooSmall(dims));
+        }
+        let expected = dims
+            .iter()
+            .try_fold(1usize, |acc, &d| acc.checked_mul(d))
+            .unwrap_or(usize::MAX);
+        if values.len() != expected {
+            return Err(VolumeError::Size {
+                dims,
+                expected,
+                found: values.len(),
+            });
+        }
+        Ok(Volume { dims, values })
+    }
+    fn at(&self, i: usize, j: usize, k: usize) -> &T {
+        &self.values[i + self.dims[0] * (j + self.dims[1] * k)]
+    }
+}
+
+/// Counts of an extraction.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ExtractStats {
+    pub cells: usize,
+    /// Cells with at least one ambiguous face.
+    pub ambiguous_cells: usize,
+    /// Ambiguous faces decided (each shared face counted once per cell).
+    pub ambiguous_faces: usize,
+    /// Faces where the `f64` decider was uncertain and the exact one decided.
+    pub exact_fallbacks: usize,
+}
+
+/// An exact extraction: rational vertices and triangles.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExactSurface {
+    pub vertices: Vec<[Rational; 3]>,
+    pub triangles: Vec<[u32; 3]>,
+    pub stats: ExtractStats,
+}
+
+impl ExactSurface {
+    /// The mesh with every vertex rounded to the nearest `f64`.
+    pub fn to_mesh(&self) -> Mesh {
+        Mesh {
+            vertices: self
+                .vertices
+                .iter()
+                .map(|v| [0, 1, 2].map(|a| rational_to_f64(&v[a])))
+                .collect(),
+            triangles: self.triangles.clone(),
+            scalars: None,
+        }
+    }
+}
+
+/// The cell's corner offsets.
+fn corner_offset(c: usize) -> [usize; 3] {
+    CORNERS[c].map(|x| x as usize)
+}
+
+/// Face corners in the decider's `A, B, C, D` order: cyclic `c0 c1 c2 c3` ↦ `A = c0`,
+/// `B = c1`, `C = c3`, `D = c2` (`A, D` the diagonal `c0, c2`).
+fn face_abcd(f: usize) -> [usize; 4] {
+    let c = FACES[f].corners;
+    [c[0] as usize, c[1] as usize, c[3] as usize, c[2] as usize]
+}
+
+/// The grid edge (axis, lower corner) of a cell's local edge.
+fn grid_edge(cell: [usize; 3], e: usize) -> (usize, [usize; 3]) {
+    let [a, b] = EDGES[e];
+    let (pa, pb) = (corner_offset(a as usize), corner_offset(b as usize));
+    let axis = (0..3)
+        .find(|&x| pa[x] != pb[x])
+        .expect("an edge spans one axis");
+    let lo = [0, 1, 2].map(|x| cell[x] + pa[x].min(pb[x]));
+    (axis, lo)
+}
+
+/// The vertex on a cell's cut edge `e`, created at the linear interpolant's zero on first use.
+fn exact_edge_vertex(
+    vol: &Volume<Rational>,
+    iso: &Rational,
+    cell: [usize; 3],
+    e: u8,
+    vertex_of: &mut HashMap<(usize, [usize; 3]), u32>,
+    vertices: &mut Vec<[Rational; 3]>,
+) -> u32 {
+    let key = grid_edge(cell, e as usize);
+    *vertex_of.entry(key).or_insert_with(|| {
+        let (axis, lo) = key;
+        let mut hi = lo;
+        hi[axis] += 1;
+        let (v0, v1) = (vol.at(lo[0], lo[1], lo[2]), vol.at(hi[0], hi[1], hi[2]));
+        let t = (iso - v0) / (v1 - v0);
+        let mut p: [Rational; 3] = lo.map(|x| Rational::from_integer((x as i64).into()));
+        p[axis] += t;
+        vertices.push(p);
+        (vertices.len() - 1) as u32
+    })
+}
+
+/// Exact extraction (reference path).
+pub fn extract_exact(vol: &Volume<Rational>, iso: &Rational) -> ExactSurface {
+    let tab = table();
+    let mut vertex_of: HashMap<(usize, [usize; 3]), u32> = HashMap::new();
+    let mut vertices: Vec<[Rational; 3]> = Vec::new();
+    let mut triangles = Vec::new();
+    let mut stats = ExtractStats::default();
+    let [nx, ny, nz] = vol.dims;
+    for k in 0..nz - 1 {
+        for j in 0..ny - 1 {
+            for i in 0..nx - 1 {
+                stats.cells += 1;
+                let v: [&Rational; 8] = std::array::from_fn(|c| {
+                    let o = corner_offset(c);
+                    vol.at(i + o[0], j + o[1], k + o[2])
+                });
+                let config =
+                    (0..8).fold(0u8, |acc, c| acc | (u8::from(is_positive(v[c], iso)) << c));
+                let amb = ambiguous_faces(config);
+                if !amb.is_empty() {
+                    stats.ambiguous_cells += 1;
+                    stats.ambiguous_faces += amb.len();
+                }
+                let sub = amb.iter().enumerate().fold(0u8, |acc, (bit, &f)| {
+                    let [a, b, c, d] = face_abcd(f as usize);
+                    let joined = decide_exact([v[a], v[b], v[c], v[d]], iso).unwrap_or(false);
+                    acc | (u8::from(joined) << bit)
+                });
+                let entry = tab.entry(config, sub);
+                let mut centre = [u32::MAX; 4];
+                for tri in entry.triangles_with_centres() {
+                    let mut t = [0u32; 3];
+                    for (slot, e) in t.iter_mut().zip(tri) {
+                        if e < CENTRE {
+                            *slot = exact_edge_vertex(
+                                vol,
+                                iso,
+                                [i, j, k],
+                                e,
+                                &mut vertex_of,
+                                &mut vertices,
+                            );
+                            continue;
+                        }
+                        let p = (e - CENTRE) as usize;
+                        if centre[p] == u32::MAX {
+                            // The average of the polygon's cut points.
+                            let ids: Vec<u32> = entry.polygons[p]
+                                .iter()
+                                .map(|&x| {
+                                    exact_edge_vertex(
+                                        vol,
+                                        iso,
+                                        [i, j, k],
+                                        x,
+                                        &mut vertex_of,
+                                        &mut vertices,
+                                    )
+                                })
+                                .collect();
+                            let n = Rational::from_integer((ids.len() as i64).into());
+                            let c = [0, 1, 2].map(|a| {
+                                ids.iter()
+                                    .fold(Rational::default(), |s, &q| s + &vertices[q as usize][a])
+                                    / &n
+                            });
+                            vertices.push(c);
+                            centre[p] = (vertices.len() - 1) as u32;
+                        }
+                        *slot = centre[p];
+                    }
+                    triangles.push(t);
+                }
+            }
+        }
+    }
+    ExactSurface {
+        vertices,
+        triangles,
+        stats,
+    }
+}
+
+/// Vertex ids of the grid edges of one `z`-layer: `x`-edges, `y`-edges, and the `z`-edges up
+/// to the next layer.
+struct Layer {
+    ids: [Vec<u32>; 3],
+}
+
+const NONE: u32 = u32::MAX;
+
+impl Layer {
+    fn new(n: usize) -> Layer {
+        Layer {
+            ids: [vec![NONE; n], vec![NONE; n], vec![NONE; n]],
+        }
+    }
+    fn reset(&mut self) {
+        for v in &mut self.ids {
+            v.fill(NONE);
+        }
+    }
+}
+
+/// Fast extraction. Errors on non-finite values or isovalue.
+pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats), VolumeError> {
+    if !iso.is_finite() {
+        return Err(VolumeError::Isovalue);
+    }
+    if let Some(index) = vol.values.iter().position(|v| !v.is_finite()) {
+        return Err(VolumeError::NonFinite { index });
+    }
+    let tab = table();
+    let [nx, ny, nz] = vol.dims;
+    let plane = nx * ny;
+    // Layers k and k+1 (x/y-edges at their z; z-edges of layer k go from k to k+1).
+    let mut lower = Layer::new(plane);
+    let mut upper = Layer::new(plane);
+    let mut mesh = Mesh::default();
+    let mut stats = ExtractStats::default();
+    let vals = &vol.values;
+    // Triangles per configuration without ambiguity are fixed: cache the entries' triangles.
+    let tris: Vec<Vec<[u8; 3]>> = tab
+        .entries
+        .iter()
+        .map(|e| e.triangles_with_centres())
+        .collect();
+    for k in 0..nz - 1 {
+        for j in 0..ny - 1 {
+            for i in 0..nx - 1 {
+                let base = i + nx * (j + ny * k);
+                let v: [f64; 8] = std::array::from_fn(|c| {
+                    let o = CORNERS[c];
+                    vals[base + o[0] as usize + nx * (o[1] as usize + ny * o[2] as usize)]
+                });
+                let mut config = 0u8;
+                for (c, x) in v.iter().enumerate() {
+                    config |= u8::from(*x >= iso) << c;
+                }
+                if config == 0 || config == 255 {
+                    continue;
+                }
+                let amb = ambiguous_faces(config);
+                let mut sub = 0u8;
+                if !amb.is_empty() {
+                    stats.ambiguous_cells += 1;
+                    stats.ambiguous_faces += amb.len();
+                    for (bit, &f) in amb.iter().enumerate() {
+                        let [a, b, c, d] = face_abcd(f as usize);
+                        let joined = match decide_fast([v[a], v[b], v[c], v[d]], iso) {
+                            Some(Some(j)) => j,
+                            _ => {
+                                stats.exact_fallbacks += 1;
+                                let q = |x: f64| rational_from_f64(x, "value").expect("finite");
+                                let (qa, qb, qc, qd, qi) =
+                                    (q(v[a]), q(v[b]), q(v[c]), q(v[d]), q(iso));
+                                decide_exact([&qa, &qb, &qc, &qd], &qi).unwrap_or(false)
+                            }
+                        };
+                        sub |= u8::from(joined) << bit;
+                    }
+                }
+                let entry = tab.offsets[config as usize] as usize + sub as usize;
+                let mut centre = [u32::MAX; 4];
+                let edge_vertex = |e: u8, lower: &mut Layer, upper: &mut Layer, mesh: &mut Mesh| {
+                    let (axis, lo) = grid_edge([i, j, k], e as usize);
+                    let layer = if lo[2] == k { lower } else { upper };
+                    let id = &mut layer.ids[axis][lo[0] + nx * lo[1]];
+                    if *id == NONE {
+                        let mut hi = lo;
+                        hi[axis] += 1;
+                        let g = |p: [usize; 3]| vals[p[0] + nx * (p[1] + ny * p[2])];
+                        let (v0, v1) = (g(lo), g(hi));
+                        let mut p = lo.map(|x| x as f64);
+                        p[axis] += (iso - v0) / (v1 - v0);
+                        mesh.vertices.push(p);
+                        *id = (mesh.vertices.len() - 1) as u32;
+                    }
+                    *id
+                };
+                for tri in &tris[entry] {
+                    let mut t = [0u32; 3];
+                    for (slot, &e) in t.iter_mut().zip(tri) {
+                        if e < CENTRE {
+                            *slot = edge_vertex(e, &mut lower, &mut upper, &mut mesh);
+                            continue;
+                        }
+                        let p = (e - CENTRE) as usize;
+                        if centre[p] == u32::MAX {
+                            let poly = &tab.entries[entry].polygons[p];
+                            let mut c = [0.0f64; 3];
+                            for &x in poly {
+                                let id = edge_vertex(x, &mut lower, &mut upper, &mut mesh);
+                                let q = mesh.vertices[id as usize];
+                                for a in 0..3 {
+                                    c[a] += q[a];
+                                }
+                            }
+                            mesh.vertices.push(c.map(|x| x / poly.len() as f64));
+                            centre[p] = (mesh.vertices.len() - 1) as u32;
+                        }
+                        *slot = centre[p];
+                    }
+                    mesh.triangles.push(t);
+                }
+            }
+        }
+        stats.cells += (nx - 1) * (ny - 1);
+        std::mem::swap(&mut lower, &mut upper);
+        upper.reset();
+    }
+    Ok((mesh, stats))
+}

@@ -321,3 +321,54 @@ fn mc_export_then_audit() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("configuration 0"));
 }
+
+#[test]
+fn mc_extract_raw_volume_both_paths() {
+    // A 12³ u8 ball: distance to the centre, inverted so the inside is high.
+    let n = 12usize;
+    let c = (n - 1) as f64 / 2.0;
+    let bytes: Vec<u8> = (0..n * n * n)
+        .map(|idx| {
+            let (i, j, k) = (idx % n, (idx / n) % n, idx / (n * n));
+            let d =
+                ((i as f64 - c).powi(2) + (j as f64 - c).powi(2) + (k as f64 - c).powi(2)).sqrt();
+            (200.0 - 30.0 * d).max(0.0) as u8
+        })
+        .collect();
+    let raw = tmp("ball.raw");
+    std::fs::write(&raw, &bytes).unwrap();
+    let mut results = Vec::new();
+    for (path, iso) in [("fast", "100.5"), ("exact", "201/2")] {
+        let out = tmp(&format!("ball-{path}.ply"));
+        let o = geocert()
+            .args(["mc", "extract"])
+            .arg(&raw)
+            .args([
+                "--dims", "12", "12", "12", "--type", "u8", "--iso", iso, "--path", path, "--json",
+                "--out",
+            ])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(v["closed"], true);
+        assert!(v["triangles"].as_u64().unwrap() > 0);
+        results.push((v["triangles"].clone(), v["vertices"].clone()));
+        assert!(out.exists());
+    }
+    assert_eq!(results[0], results[1], "both paths give the same structure");
+    // Wrong dimensions: exit 2, nothing written.
+    let never = tmp("never.ply");
+    let o = geocert()
+        .args(["mc", "extract"])
+        .arg(&raw)
+        .args([
+            "--dims", "12", "12", "11", "--type", "u8", "--iso", "100", "--out",
+        ])
+        .arg(&never)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!never.exists());
+}

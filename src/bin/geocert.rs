@@ -66,6 +66,24 @@ enum Command {
 
 #[derive(Subcommand)]
 enum McCommand {
+    /// Extract the isosurface of a raw little-endian volume (x fastest) as a mesh.
+    Extract {
+        volume: PathBuf,
+        #[arg(long, num_args = 3, value_names = ["X", "Y", "Z"])]
+        dims: Vec<usize>,
+        #[arg(long = "type", value_enum)]
+        ty: RawKind,
+        /// Isovalue: a number (exact as its f64) or "p/q" for the exact path.
+        #[arg(long, allow_hyphen_values = true)]
+        iso: String,
+        /// Output mesh (.ply, .obj or .stl).
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long, value_enum, default_value_t = McPath::Fast)]
+        path: McPath,
+        #[arg(long)]
+        json: bool,
+    },
     /// Audit a 256-configuration triangle table: 256 lines of edge ids, or a C/Rust array
     /// literal of 256×16 integers.
     Audit {
@@ -84,6 +102,19 @@ enum McCommand {
         #[arg(long, value_enum, default_value_t = FaceRule::Separate)]
         rule: FaceRule,
     },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum RawKind {
+    F32,
+    U8,
+    I16,
+}
+
+#[derive(Clone, Copy, ValueEnum, PartialEq)]
+enum McPath {
+    Exact,
+    Fast,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -497,6 +528,15 @@ fn mc(c: McCommand) -> Result<ExitCode, String> {
         TableFormat::Vtk => Numbering::Vtk,
     };
     match c {
+        McCommand::Extract {
+            volume,
+            dims,
+            ty,
+            iso,
+            out,
+            path,
+            json,
+        } => mc_extract(volume, dims, ty, iso, out, path, json),
         McCommand::Audit {
             table,
             format,
@@ -539,6 +579,76 @@ fn mc(c: McCommand) -> Result<ExitCode, String> {
             Ok(ExitCode::SUCCESS)
         }
     }
+}
+
+fn mc_extract(
+    volume: PathBuf,
+    dims: Vec<usize>,
+    ty: RawKind,
+    iso: String,
+    out: PathBuf,
+    path: McPath,
+    json: bool,
+) -> Result<ExitCode, String> {
+    use geocert::mc::grid::{extract_exact, extract_fast, read_raw, RawType, Volume};
+    use geocert::mesh::Format;
+    let format = Format::from_path(&out).map_err(|e| e.to_string())?;
+    let dims: [usize; 3] = dims
+        .try_into()
+        .map_err(|_| "--dims takes three sizes".to_string())?;
+    let iso_q = geocert::num::parse_rational(&iso).map_err(|e| format!("--iso: {e}"))?;
+    let bytes = std::fs::read(&volume).map_err(|e| format!("{}: {e}", volume.display()))?;
+    let raw = match ty {
+        RawKind::F32 => RawType::F32,
+        RawKind::U8 => RawType::U8,
+        RawKind::I16 => RawType::I16,
+    };
+    let vol = read_raw(&bytes, dims, raw).map_err(|e| format!("{}: {e}", volume.display()))?;
+    let start = std::time::Instant::now();
+    let (mesh, stats) = match path {
+        McPath::Fast => {
+            let iso_f = geocert::num::rational_to_f64(&iso_q);
+            if geocert::num::rational_from_f64(iso_f, "iso").ok() != Some(iso_q.clone()) {
+                return Err(format!(
+                    "--iso {iso} is not an f64; use --path exact for rational isovalues"
+                ));
+            }
+            extract_fast(&vol, iso_f).map_err(|e| e.to_string())?
+        }
+        McPath::Exact => {
+            let q: Result<Vec<_>, _> = vol
+                .values
+                .iter()
+                .map(|&v| geocert::num::rational_from_f64(v, "sample"))
+                .collect();
+            let qv = Volume::new(dims, q.map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
+            let s = extract_exact(&qv, &iso_q);
+            (s.to_mesh(), s.stats)
+        }
+    };
+    let seconds = start.elapsed().as_secs_f64();
+    let closed = mesh.check_manifold().map(|b| b == 0).unwrap_or(false);
+    mesh.write(&out, format).map_err(|e| e.to_string())?;
+    let cells_per_second = stats.cells as f64 / seconds.max(1e-9);
+    if json {
+        let v = serde_json::json!({
+            "triangles": mesh.triangles.len(),
+            "vertices": mesh.vertices.len(),
+            "ambiguous_faces": stats.ambiguous_faces,
+            "cells_per_second": cells_per_second,
+            "closed": closed,
+        });
+        println!("{v}");
+    } else {
+        println!(
+            "{} triangles, {} vertices, {} ambiguous faces, {:.1} Mcells/s, closed: {closed}",
+            mesh.triangles.len(),
+            mesh.vertices.len(),
+            stats.ambiguous_faces,
+            cells_per_second / 1e6
+        );
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 /// The marching-cubes table proofs alone.

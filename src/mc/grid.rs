@@ -360,3 +360,47 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
     }
     Ok((mesh, stats))
 }
+
+/// Sample types of raw volumes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RawType {
+    F32,
+    U8,
+    I16,
+}
+
+/// Reads a raw little-endian volume of `dims` samples of `ty`, `x` fastest; every sample is
+/// converted to `f64` exactly.
+pub fn read_raw(bytes: &[u8], dims: [usize; 3], ty: RawType) -> Result<Volume<f64>, VolumeError> {
+    let size = match ty {
+        RawType::F32 => 4,
+        RawType::U8 => 1,
+        RawType::I16 => 2,
+    };
+    let n = dims
+        .iter()
+        .try_fold(1usize, |acc, &d| acc.checked_mul(d))
+        .unwrap_or(usize::MAX);
+    if bytes.len() != n.saturating_mul(size) {
+        return Err(VolumeError::Size {
+            dims,
+            expected: n,
+            found: bytes.len() / size,
+        });
+    }
+    let values: Vec<f64> = match ty {
+        RawType::F32 => bytes
+            .chunks_exact(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f64)
+            .collect(),
+        RawType::U8 => bytes.iter().map(|&b| b as f64).collect(),
+        RawType::I16 => bytes
+            .chunks_exact(2)
+            .map(|c| i16::from_le_bytes([c[0], c[1]]) as f64)
+            .collect(),
+    };
+    if let Some(index) = values.iter().position(|v| !v.is_finite()) {
+        return Err(VolumeError::NonFinite { index });
+    }
+    Volume::new(dims, values)
+}

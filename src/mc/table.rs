@@ -312,7 +312,7 @@ pub fn triangulate(p: &[u8]) -> Option<Vec<[u8; 3]>> {
         } else {
             Some(Vec::new())
         };
-        let right = if k + 2 <= n - 1 {
+        let right = if k + 2 < n {
             triangulate(&p[k..n])
         } else {
             Some(Vec::new())

@@ -1,9 +1,9 @@
 #!/bin/sh
-# Installs the peer tools geocert's reports compare against (Gmsh via PyPI) into
+# Installs the peer tools geocert's reports compare against (Gmsh and VTK via PyPI) into
 # .venv-peers/ at the repository root. `geocert prove` uses it when present and says so
 # in the report when it is not.
 set -e
 cd "$(dirname "$0")/../.."
 python3 -m venv .venv-peers
-.venv-peers/bin/pip install --quiet gmsh numpy
-.venv-peers/bin/python -c "import gmsh; print('gmsh', gmsh.__version__)"
+.venv-peers/bin/pip install --quiet gmsh numpy vtk
+.venv-peers/bin/python -c "import gmsh, vtk; print('gmsh', gmsh.__version__, 'vtk', vtk.vtkVersion.GetVTKVersion())"

@@ -703,6 +703,12 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     bar.set_message("subdivision timing");
     let timing = campaign::subdivision_timing(9, 10, 5);
     bar.inc(1);
+    bar.set_message("marching-cubes grids (and VTK, if installed)");
+    let grid = report::mc_grid::grid_campaign(
+        &std::env::current_dir().map_err(|e| e.to_string())?,
+        256,
+        3,
+    );
     bar.set_message("FFD campaign (and Gmsh, if installed)");
     let root = std::env::current_dir().map_err(|e| e.to_string())?;
     let ffd_camp = report::ffd::ffd_campaign(&root, 2026, 600, 60);
@@ -717,14 +723,15 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     };
     let (kernel_proofs, ffd_proofs, mc_proofs) = (part("kernel."), part("ffd."), part("mc."));
     let (_, unrealisable) = geocert::proofs::mc::trilinear_realisability();
-    let mc_ok = mc_proofs.iter().all(|p| p.ok());
+    let mc_ok = mc_proofs.iter().all(|p| p.ok()) && report::mc_grid::grid_ok(&grid);
     let io = |e: std::io::Error| format!("writing {}: {e}", out.display());
     let kernel_ok = report::kernel_ok(&kernel_proofs, &camp, &timing);
     let ffd_ok = report::ffd::campaign_ok(&ffd_camp) && ffd_proofs.iter().all(|p| p.ok());
     let mut written = vec![
         report::write_kernel_report(&out, &meta, &kernel_proofs, &camp, &timing).map_err(io)?,
         report::ffd_markdown::write_ffd_report(&out, &meta, &ffd_proofs, &ffd_camp).map_err(io)?,
-        report::mc_markdown::write_mc_report(&out, &meta, &mc_proofs, unrealisable).map_err(io)?,
+        report::mc_markdown::write_mc_report(&out, &meta, &mc_proofs, unrealisable, &grid)
+            .map_err(io)?,
     ];
     written.insert(
         0,

@@ -268,7 +268,10 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
     let mut mesh = Mesh::default();
     let mut stats = ExtractStats::default();
     let vals = &vol.values;
-    // Triangles per configuration without ambiguity are fixed: cache the entries' triangles.
+    // Per local edge: its axis and the offset of its lower corner.
+    let edge_info: [(usize, [usize; 3]); 12] = std::array::from_fn(|e| grid_edge([0, 0, 0], e));
+    let amb_of: Vec<Vec<u8>> = (0..=255u8).map(ambiguous_faces).collect();
+    // The entries' triangles, cached.
     let tris: Vec<Vec<[u8; 3]>> = tab
         .entries
         .iter()
@@ -289,7 +292,7 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
                 if config == 0 || config == 255 {
                     continue;
                 }
-                let amb = ambiguous_faces(config);
+                let amb = &amb_of[config as usize];
                 let mut sub = 0u8;
                 if !amb.is_empty() {
                     stats.ambiguous_cells += 1;
@@ -312,7 +315,8 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
                 let entry = tab.offsets[config as usize] as usize + sub as usize;
                 let mut centre = [u32::MAX; 4];
                 let edge_vertex = |e: u8, lower: &mut Layer, upper: &mut Layer, mesh: &mut Mesh| {
-                    let (axis, lo) = grid_edge([i, j, k], e as usize);
+                    let (axis, off) = edge_info[e as usize];
+                    let lo = [i + off[0], j + off[1], k + off[2]];
                     let layer = if lo[2] == k { lower } else { upper };
                     let id = &mut layer.ids[axis][lo[0] + nx * lo[1]];
                     if *id == NONE {

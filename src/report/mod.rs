@@ -7,6 +7,7 @@ pub mod campaign;
 pub mod ffd;
 pub mod ffd_dmffd;
 pub mod ffd_markdown;
+pub mod mc_grid;
 pub mod mc_markdown;
 
 use crate::proofs::ProofOutcome;

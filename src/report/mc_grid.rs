@@ -1,0 +1,165 @@
+//! The polygonisation campaign: a sphere and a gyroid on 256³ grids through the fast path
+//! (timed, checked for manifoldness), the same fields on 48³ grids through both paths
+//! (identical triangle structure), and VTK's flying edges and marching cubes on the same
+//! volumes in the same run when `.venv-peers` has VTK.
+
+use crate::mc::grid::{extract_exact, extract_fast, Volume};
+use crate::num::rational_from_f64;
+use serde::Serialize;
+use std::path::Path;
+use std::time::Instant;
+
+/// One volume's results.
+#[derive(Clone, Debug, Serialize)]
+pub struct GridRow {
+    pub name: String,
+    pub n: usize,
+    pub cells: usize,
+    pub triangles: usize,
+    pub ambiguous_cells: usize,
+    /// Median seconds of the fast extraction.
+    pub seconds: f64,
+    /// Boundary edges of the mesh (0: closed), or the manifold check's error.
+    pub manifold: Result<usize, String>,
+    pub euler: i64,
+    /// On the 48³ version: exact and fast give the same triangles.
+    pub exact_agrees: bool,
+    pub exact_seconds_48: f64,
+    /// VTK: (version, flying-edges seconds, triangles, marching-cubes seconds, triangles).
+    pub vtk: Result<(String, f64, usize, f64, usize), String>,
+}
+
+/// The campaign.
+#[derive(Clone, Debug, Serialize)]
+pub struct GridCampaign {
+    pub runs: usize,
+    pub rows: Vec<GridRow>,
+}
+
+fn field(name: &str, n: usize) -> (Vec<f32>, f32) {
+    let c = (n - 1) as f64 / 2.0;
+    let mut v = Vec::with_capacity(n * n * n);
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let (x, y, z) = (i as f64, j as f64, k as f64);
+                v.push(match name {
+                    "sphere" => ((x - c).powi(2) + (y - c).powi(2) + (z - c).powi(2)).sqrt() as f32,
+                    _ => {
+                        // Gyroid with a period of 32 voxels at 256³ (scaled with n).
+                        let s = std::f64::consts::TAU * 8.0 / n as f64;
+                        let (x, y, z) = (x * s, y * s, z * s);
+                        (x.sin() * y.cos() + y.sin() * z.cos() + z.sin() * x.cos()) as f32
+                    }
+                });
+            }
+        }
+    }
+    let iso = if name == "sphere" {
+        0.39 * n as f32
+    } else {
+        0.0
+    };
+    (v, iso)
+}
+
+fn vtk_run(
+    root: &Path,
+    data: &[f32],
+    n: usize,
+    iso: f32,
+    runs: usize,
+) -> Result<(String, f64, usize, f64, usize), String> {
+    let python = root.join(".venv-peers/bin/python");
+    if !python.exists() {
+        return Err("`.venv-peers` not found (run benches/peers/setup.sh)".into());
+    }
+    let file = std::env::temp_dir().join(format!("geocert-vtk-{}-{n}.raw", std::process::id()));
+    let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_le_bytes()).collect();
+    std::fs::write(&file, bytes).map_err(|e| e.to_string())?;
+    let out = std::process::Command::new(python)
+        .arg(root.join("benches/peers/vtk_isosurface.py"))
+        .arg(&file)
+        .args([n, n, n].map(|d| d.to_string()))
+        .arg(iso.to_string())
+        .arg(runs.to_string())
+        .output()
+        .map_err(|e| e.to_string());
+    let _ = std::fs::remove_file(&file);
+    let out = out?;
+    if !out.status.success() {
+        return Err(String::from_utf8_lossy(&out.stderr)
+            .lines()
+            .last()
+            .unwrap_or("failed")
+            .to_string());
+    }
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).map_err(|e| e.to_string())?;
+    let get = |k: &str, f: &str| v[k][f].as_f64().ok_or_else(|| format!("no {k}.{f}"));
+    Ok((
+        v["version"].as_str().unwrap_or("?").to_string(),
+        get("flying_edges", "median_s")?,
+        get("flying_edges", "triangles")? as usize,
+        get("marching_cubes", "median_s")?,
+        get("marching_cubes", "triangles")? as usize,
+    ))
+}
+
+/// Runs the campaign at `n`³ (256 in the report), `runs` timed repetitions.
+pub fn grid_campaign(root: &Path, n: usize, runs: usize) -> GridCampaign {
+    let mut rows = Vec::new();
+    for name in ["sphere", "gyroid"] {
+        let (data, iso) = field(name, n);
+        let vol = Volume::new([n, n, n], data.iter().map(|&x| x as f64).collect()).expect("dims");
+        let mut times = Vec::new();
+        let mut last = None;
+        for _ in 0..runs.max(1) {
+            let t = Instant::now();
+            let r = extract_fast(&vol, iso as f64).expect("finite");
+            times.push(t.elapsed().as_secs_f64());
+            last = Some(r);
+        }
+        times.sort_by(f64::total_cmp);
+        let (mesh, stats) = last.expect("one run");
+        // Both paths on the 48³ version of the field.
+        let (small, small_iso) = field(name, 48);
+        let small_f: Vec<f64> = small.iter().map(|&x| x as f64).collect();
+        let (fast_small, _) = extract_fast(
+            &Volume::new([48; 3], small_f.clone()).expect("dims"),
+            small_iso as f64,
+        )
+        .expect("finite");
+        let q: Vec<_> = small_f
+            .iter()
+            .map(|&x| rational_from_f64(x, "v").expect("finite"))
+            .collect();
+        let t = Instant::now();
+        let exact = extract_exact(
+            &Volume::new([48; 3], q).expect("dims"),
+            &rational_from_f64(small_iso as f64, "iso").expect("finite"),
+        );
+        let exact_seconds_48 = t.elapsed().as_secs_f64();
+        rows.push(GridRow {
+            name: name.into(),
+            n,
+            cells: stats.cells,
+            triangles: mesh.triangles.len(),
+            ambiguous_cells: stats.ambiguous_cells,
+            seconds: times[times.len() / 2],
+            manifold: mesh.check_manifold().map_err(|e| e.to_string()),
+            euler: mesh.euler_characteristic(),
+            exact_agrees: exact.triangles == fast_small.triangles,
+            exact_seconds_48,
+            vtk: vtk_run(root, &data, n, iso, runs),
+        });
+    }
+    GridCampaign {
+        runs: runs.max(1),
+        rows,
+    }
+}
+
+/// Whether every check held.
+pub fn grid_ok(c: &GridCampaign) -> bool {
+    c.rows.iter().all(|r| r.exact_agrees && r.manifold.is_ok())
+}

@@ -61,3 +61,15 @@ fn mesh_readers_regressions() {
     let n = replay("mesh_readers", geocert::fuzzing::check_mesh_readers);
     assert!(n > 0, "the regression corpus must not be empty");
 }
+
+#[test]
+fn mc_grid_regressions() {
+    let n = replay("mc_grid", geocert::fuzzing::check_mc_grid);
+    assert!(n > 0, "the regression corpus must not be empty");
+}
+
+#[test]
+fn mc_table_regressions() {
+    let n = replay("mc_table", geocert::fuzzing::check_mc_table);
+    assert!(n > 0, "the regression corpus must not be empty");
+}

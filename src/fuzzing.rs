@@ -211,11 +211,12 @@ pub fn check_lattice_json(data: &[u8]) -> Result<(), String> {
 /// The mesh readers on arbitrary bytes: no panic; whatever one accepts is valid and survives
 /// a binary-PLY and an OBJ round trip unchanged.
 pub fn check_mesh_readers(data: &[u8]) -> Result<(), String> {
-    use crate::mesh::{obj, ply, stl};
+    use crate::mesh::{obj, ply, stl, vtk};
     let results = [
         ("ply", ply::read(data, None)),
         ("obj", obj::read(data)),
         ("stl", stl::read(data)),
+        ("vtk", vtk::read(data, None)),
     ];
     for (name, r) in results {
         let Ok(m) = r else { continue };

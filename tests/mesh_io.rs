@@ -1,7 +1,7 @@
 //! Mesh readers and writers: exact round trips, validation errors that name the element,
 //! topology checks on the built-in dome.
 
-use geocert::mesh::{obj, ply, shapes::squashed_hemisphere, stl, Mesh, MeshError, Scalars};
+use geocert::mesh::{obj, ply, shapes::squashed_hemisphere, stl, vtk, Mesh, MeshError, Scalars};
 use proptest::prelude::*;
 
 fn mesh_strategy() -> impl Strategy<Value = Mesh> {
@@ -33,6 +33,8 @@ proptest! {
             let back = ply::read(&ply::write(&m, binary), m.scalars.as_ref().map(|s| s.name.as_str())).unwrap();
             prop_assert_eq!(&back, &m);
         }
+        let back = vtk::read(&vtk::write(&m), None).unwrap();
+        prop_assert_eq!(&back, &m);
         let back = obj::read(&obj::write(&m)).unwrap();
         prop_assert_eq!(back.vertices, m.vertices.clone());
         prop_assert_eq!(back.triangles, m.triangles.clone());
@@ -43,6 +45,7 @@ proptest! {
         let _ = ply::read(&bytes, None);
         let _ = obj::read(&bytes);
         let _ = stl::read(&bytes);
+        let _ = vtk::read(&bytes, None);
     }
 }
 
@@ -162,4 +165,26 @@ fn writing_fails_cleanly_and_leaves_no_file() {
     good.write(&path, geocert::mesh::Format::Obj).unwrap();
     assert_eq!(Mesh::read(&path, None).unwrap(), good);
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn legacy_vtk_errors_name_the_line() {
+    let e = vtk::read(b"# vtk DataFile Version 3.0\nt\nBINARY\n", None).unwrap_err();
+    assert!(e.to_string().contains("line 3"), "{e}");
+    let e = vtk::read(
+        b"# vtk DataFile Version 3.0\nt\nASCII\nDATASET STRUCTURED_POINTS\n",
+        None,
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("POLYDATA"), "{e}");
+    let quad = b"# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 4 float\n0 0 0 1 0 0 1 1 0 0 1 0\nPOLYGONS 1 5\n4 0 1 2 3\n";
+    let e = vtk::read(quad, None).unwrap_err();
+    assert!(
+        e.to_string().contains("line 7") && e.to_string().contains("triangles"),
+        "{e}"
+    );
+    let ok = b"# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 2\nPOINT_DATA 3\nSCALARS vm float\nLOOKUP_TABLE default\n1 2 3\n";
+    let m = vtk::read(ok, Some("vm")).unwrap();
+    assert_eq!(m.scalars.unwrap().values, vec![1.0, 2.0, 3.0]);
+    assert!(vtk::read(ok, Some("other")).is_err());
 }

@@ -1,7 +1,7 @@
 //! Indexed triangle meshes shared by the families: vertices in `f64` (exact as dyadic
 //! rationals when the exact paths need them), triangles as vertex-index triples, an optional
-//! nodal scalar field; readers and writers for PLY (ascii and binary), OBJ and STL; topology
-//! checks.
+//! nodal scalar field; readers and writers for PLY (ascii and binary), OBJ, STL and legacy VTK;
+//! topology checks.
 //!
 //! Every reader validates what it returns: finite coordinates, indices in range, no triangle
 //! repeating a vertex. Errors name the file's element (line, face or vertex number) at fault.
@@ -10,6 +10,7 @@ pub mod obj;
 pub mod ply;
 pub mod shapes;
 pub mod stl;
+pub mod vtk;
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -58,6 +59,8 @@ pub enum Format {
     PlyBinary,
     Obj,
     Stl,
+    /// Legacy VTK ASCII polydata.
+    Vtk,
 }
 
 impl Format {
@@ -72,8 +75,9 @@ impl Format {
             Some("ply") => Ok(Format::PlyBinary),
             Some("obj") => Ok(Format::Obj),
             Some("stl") => Ok(Format::Stl),
+            Some("vtk") => Ok(Format::Vtk),
             _ => Err(MeshError::Unsupported(format!(
-                "{}: unknown mesh format (expected .ply, .obj or .stl)",
+                "{}: unknown mesh format (expected .ply, .obj, .stl or .vtk)",
                 path.display()
             ))),
         }
@@ -217,7 +221,8 @@ impl Mesh {
     }
 
     /// Reads a mesh, the format chosen by the extension (PLY ascii or binary by its header);
-    /// `scalar` names a PLY vertex property to read as the nodal field.
+    /// `scalar` names a PLY vertex property or a VTK `SCALARS` array to read as the nodal
+    /// field.
     pub fn read(path: &Path, scalar: Option<&str>) -> Result<Mesh, MeshError> {
         let bytes = std::fs::read(path).map_err(|e| MeshError::Io {
             path: path.display().to_string(),
@@ -227,6 +232,7 @@ impl Mesh {
             Format::PlyAscii | Format::PlyBinary => ply::read(&bytes, scalar)?,
             Format::Obj => obj::read(&bytes)?,
             Format::Stl => stl::read(&bytes)?,
+            Format::Vtk => vtk::read(&bytes, scalar)?,
         };
         Ok(mesh)
     }
@@ -240,6 +246,7 @@ impl Mesh {
             Format::PlyBinary => ply::write(self, true),
             Format::Obj => obj::write(self),
             Format::Stl => stl::write(self),
+            Format::Vtk => vtk::write(self),
         };
         let io = |e: std::io::Error| MeshError::Io {
             path: path.display().to_string(),

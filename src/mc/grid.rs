@@ -270,13 +270,8 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
     let vals = &vol.values;
     // Per local edge: its axis and the offset of its lower corner.
     let edge_info: [(usize, [usize; 3]); 12] = std::array::from_fn(|e| grid_edge([0, 0, 0], e));
-    let amb_of: Vec<Vec<u8>> = (0..=255u8).map(ambiguous_faces).collect();
-    // The entries' triangles, cached.
-    let tris: Vec<Vec<[u8; 3]>> = tab
-        .entries
-        .iter()
-        .map(|e| e.triangles_with_centres())
-        .collect();
+    let amb_of = &tab.ambiguous;
+    let tris = &tab.extraction_triangles;
     for k in 0..nz - 1 {
         for j in 0..ny - 1 {
             for i in 0..nx - 1 {

@@ -372,6 +372,10 @@ pub fn generate_entry(config: u8, sub: u8) -> Entry {
 pub struct Table {
     pub entries: Vec<Entry>,
     pub offsets: [u16; 257],
+    /// [`Entry::triangles_with_centres`] of every entry, computed once.
+    pub extraction_triangles: Vec<Vec<[u8; 3]>>,
+    /// [`ambiguous_faces`] of every configuration.
+    pub ambiguous: Vec<Vec<u8>>,
 }
 
 impl Table {
@@ -387,7 +391,14 @@ impl Table {
             }
         }
         offsets[256] = entries.len() as u16;
-        Table { entries, offsets }
+        let extraction_triangles = entries.iter().map(Entry::triangles_with_centres).collect();
+        let ambiguous = (0..=255u8).map(ambiguous_faces).collect();
+        Table {
+            entries,
+            offsets,
+            extraction_triangles,
+            ambiguous,
+        }
     }
     /// The entry of a configuration and subconfiguration.
     pub fn entry(&self, config: u8, sub: u8) -> &Entry {

@@ -201,7 +201,8 @@ fn write_grid(s: &mut String, g: &super::mc_grid::GridCampaign) {
     }
     let _ = writeln!(
         s,
-        "\nThe fast path is not yet engineered for throughput (no flying-edges passes, no SIMD): \
-         the ratio above is the honest starting point."
+        "\nThe fast path trims each row of cells to the span where the isovalue is crossed (as \
+         flying edges' first pass does) but still loads every remaining cell's eight corners \
+         afresh, without SIMD and without flying edges' per-edge passes."
     );
 }

@@ -5,7 +5,8 @@
 
 use super::{Lcg, ProofOutcome, Tally};
 use crate::mc::table::{
-    ambiguous_faces, face_edges, face_segments, is_cut, table, Entry, CORNERS, EDGES, FACES,
+    ambiguous_faces, corner_across, edge_across, face_edges, face_on, face_segments, is_cut, table,
+    Entry, CORNERS, EDGES, FACES,
 };
 use crate::num::Rational;
 use num_traits::{One, Zero};
@@ -230,19 +231,6 @@ pub fn orientation() -> ProofOutcome {
     t.finish()
 }
 
-/// Corner of the neighbouring cell across face axis `a` matching corner `c` on its side-1 face.
-fn across(c: u8, axis: usize) -> u8 {
-    let mut p = CORNERS[c as usize];
-    p[axis] = 1 - p[axis];
-    CORNERS.iter().position(|q| *q == p).expect("a corner") as u8
-}
-
-/// The edge of the neighbouring cell matching edge `e` across axis `axis`.
-fn edge_across(e: u8, axis: usize) -> u8 {
-    let [a, b] = EDGES[e as usize];
-    crate::mc::table::edge_between(across(a, axis), across(b, axis)).expect("an edge")
-}
-
 /// (5) Watertight: for every axis and every pair of entries that can meet across it (the same
 /// corner signs on the shared face and the same decision there), the segments on the shared
 /// face coincide with opposite orientation.
@@ -253,14 +241,7 @@ pub fn watertight() -> ProofOutcome {
     );
     let tab = table();
     for axis in 0..3 {
-        let hi = FACES
-            .iter()
-            .position(|f| f.axis == axis && f.side == 1)
-            .expect("face") as u8;
-        let lo = FACES
-            .iter()
-            .position(|f| f.axis == axis && f.side == 0)
-            .expect("face") as u8;
+        let (hi, lo) = (face_on(axis, 1), face_on(axis, 0));
         // Group the side-0 faces of all entries by (signs on the face, decision).
         let key = |config: u8, face: u8, corners_of: &dyn Fn(u8) -> u8, joined: bool| {
             let f = &FACES[face as usize];
@@ -278,7 +259,7 @@ pub fn watertight() -> ProofOutcome {
             groups.entry(k).or_default().push(e);
         }
         for e1 in &tab.entries {
-            let k = key(e1.config, hi, &|c| across(c, axis), e1.joined(hi));
+            let k = key(e1.config, hi, &|c| corner_across(c, axis), e1.joined(hi));
             let mine: BTreeSet<(u8, u8)> = face_segments(e1.config, hi, e1.joined(hi))
                 .iter()
                 .map(|s| (edge_across(s.from, axis), edge_across(s.to, axis)))

@@ -320,9 +320,9 @@ fn scaled_net_differences(net: &[ScaledBernstein; 3]) -> [Vec<[BigInt; 3]>; 3] {
     out
 }
 
-/// Integer sub-nets after `depth` octree levels of de Casteljau at ½ (all three coordinates
-/// split alike, so they keep one shared denominator).
-fn subdivide_scaled(net: [ScaledBernstein; 3], depth: u32) -> Vec<[ScaledBernstein; 3]> {
+/// Sub-nets of a 3-coordinate net after `depth` octree levels, `split` halving one coordinate
+/// along one axis (every coordinate is split alike).
+fn octree<P>(net: [P; 3], depth: u32, split: impl Fn(&P, usize) -> (P, P)) -> Vec<[P; 3]> {
     let mut nets = vec![net];
     for _ in 0..depth {
         let mut next = Vec::with_capacity(nets.len() * 8);
@@ -332,9 +332,8 @@ fn subdivide_scaled(net: [ScaledBernstein; 3], depth: u32) -> Vec<[ScaledBernste
                 parts = parts
                     .into_iter()
                     .flat_map(|p| {
-                        let split = |c: &ScaledBernstein| c.split_half(axis).expect("axis < 3");
                         let [(l0, r0), (l1, r1), (l2, r2)] =
-                            [split(&p[0]), split(&p[1]), split(&p[2])];
+                            [split(&p[0], axis), split(&p[1], axis), split(&p[2], axis)];
                         [[l0, l1, l2], [r0, r1, r2]]
                     })
                     .collect();
@@ -344,6 +343,12 @@ fn subdivide_scaled(net: [ScaledBernstein; 3], depth: u32) -> Vec<[ScaledBernste
         nets = next;
     }
     nets
+}
+
+/// Integer sub-nets after `depth` octree levels of de Casteljau at ½ (all three coordinates
+/// split alike, so they keep one shared denominator).
+fn subdivide_scaled(net: [ScaledBernstein; 3], depth: u32) -> Vec<[ScaledBernstein; 3]> {
+    octree(net, depth, |c, axis| c.split_half(axis).expect("axis < 3"))
 }
 
 /// Hodograph differences of a Bézier (sub)net: per axis `x`, `b_{…,i+1,…} − b_{…,i,…}`.
@@ -371,27 +376,9 @@ fn net_differences<T: crate::num::Field>(net: &[Bernstein<T>; 3]) -> [Vec<[T; 3]
 /// Sub-nets of a Bézier net after `depth` octree levels of de Casteljau at ½.
 fn subdivide<T: crate::num::Field>(net: [Bernstein<T>; 3], depth: u32) -> Vec<[Bernstein<T>; 3]> {
     let half = T::from_ratio(1, 2);
-    let mut nets = vec![net];
-    for _ in 0..depth {
-        let mut next = Vec::with_capacity(nets.len() * 8);
-        for n in nets {
-            let mut parts = vec![n];
-            for axis in 0..3 {
-                parts = parts
-                    .into_iter()
-                    .flat_map(|p| {
-                        let split = |c: &Bernstein<T>| c.split(axis, &half).expect("axis < 3");
-                        let [(l0, r0), (l1, r1), (l2, r2)] =
-                            [split(&p[0]), split(&p[1]), split(&p[2])];
-                        [[l0, l1, l2], [r0, r1, r2]]
-                    })
-                    .collect();
-            }
-            next.extend(parts);
-        }
-        nets = next;
-    }
-    nets
+    octree(net, depth, |c, axis| {
+        c.split(axis, &half).expect("axis < 3")
+    })
 }
 
 /// The conic-hull hodograph test (Appendix `InjectiveTest`), exactly.

@@ -9,7 +9,8 @@
 //! 3-7, 2-6; bit `i` set when corner `i` is at or above it). Corners as in [`mod@super::table`].
 
 use super::table::{
-    ambiguous_faces, edge_between, face_edges, face_segments, is_cut, table, CORNERS, FACES,
+    ambiguous_faces, corner_across, edge_across, edge_between, face_edges, face_on, face_segments,
+    is_cut, table, FACES,
 };
 use serde::Serialize;
 use std::collections::BTreeSet;
@@ -316,35 +317,23 @@ pub fn audit(tris: &[Vec<[u8; 3]>], numbering: Numbering) -> AuditReport {
     r.winding_errors += agree.min(disagree);
     // Cracks: neighbours across each axis with the same signs on the shared face.
     for axis in 0..3 {
-        let hi = FACES
-            .iter()
-            .position(|f| f.axis == axis && f.side == 1)
-            .expect("face") as u8;
-        let lo = FACES
-            .iter()
-            .position(|f| f.axis == axis && f.side == 0)
-            .expect("face") as u8;
-        let across = |c: u8| {
-            let mut p = CORNERS[c as usize];
-            p[axis] = 1 - p[axis];
-            CORNERS.iter().position(|q| *q == p).expect("corner") as u8
-        };
-        let edge_across = |e: u8| {
-            let [a, b] = super::table::EDGES[e as usize];
-            edge_between(across(a), across(b)).expect("edge")
-        };
+        let (hi, lo) = (face_on(axis, 1), face_on(axis, 0));
         for c1 in 0..=255u8 {
             for c2 in 0..=255u8 {
                 let matches = FACES[hi as usize]
                     .corners
                     .iter()
-                    .all(|&c| (c1 >> c & 1) == (c2 >> across(c) & 1));
+                    .all(|&c| (c1 >> c & 1) == (c2 >> corner_across(c, axis) & 1));
                 if !matches {
                     continue;
                 }
                 let mine: BTreeSet<BTreeSet<u8>> = boundary[c1 as usize][hi as usize]
                     .iter()
-                    .map(|&(p, q)| [edge_across(p), edge_across(q)].into_iter().collect())
+                    .map(|&(p, q)| {
+                        [edge_across(p, axis), edge_across(q, axis)]
+                            .into_iter()
+                            .collect()
+                    })
                     .collect();
                 let theirs: BTreeSet<BTreeSet<u8>> = boundary[c2 as usize][lo as usize]
                     .iter()

@@ -100,6 +100,28 @@ pub fn edge_between(a: u8, b: u8) -> Option<u8> {
         .map(|e| e as u8)
 }
 
+/// The face with normal `axis` at `side` (0 or 1).
+pub fn face_on(axis: usize, side: u8) -> u8 {
+    FACES
+        .iter()
+        .position(|f| f.axis == axis && f.side == side)
+        .expect("six faces") as u8
+}
+
+/// The corner of the neighbouring cell across `axis` that sits where corner `c` does (its
+/// mirror image in the shared face's plane).
+pub fn corner_across(c: u8, axis: usize) -> u8 {
+    let mut p = CORNERS[c as usize];
+    p[axis] = 1 - p[axis];
+    CORNERS.iter().position(|q| *q == p).expect("a corner") as u8
+}
+
+/// The edge of the neighbouring cell across `axis` matching edge `e`.
+pub fn edge_across(e: u8, axis: usize) -> u8 {
+    let [a, b] = EDGES[e as usize];
+    edge_between(corner_across(a, axis), corner_across(b, axis)).expect("an edge")
+}
+
 /// The edges of a face, `i`-th joining cyclic corners `i` and `i+1`.
 pub fn face_edges(f: &Face) -> [u8; 4] {
     [0, 1, 2, 3].map(|i| {

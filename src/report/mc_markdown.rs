@@ -53,23 +53,7 @@ pub fn write_mc_report(
          Polygons wind counter-clockwise about the normal pointing into the positive region.\n",
         t.entries.len()
     );
-    let _ = writeln!(
-        s,
-        "## Exhaustive proofs\n\n| proof | enumerated | cases | passed | seconds |\n|---|---|---:|---:|---:|"
-    );
-    for p in proofs {
-        let _ = writeln!(
-            s,
-            "| `{}` | {} | {} | {} | {:.2} |",
-            p.name, p.enumerated, p.cases, p.passed, p.seconds
-        );
-    }
-    for p in proofs.iter().filter(|p| !p.failures.is_empty()) {
-        let _ = writeln!(s, "\nFailures of `{}`:\n", p.name);
-        for f in &p.failures {
-            let _ = writeln!(s, "- {f}");
-        }
-    }
+    super::write_proofs_section(&mut s, proofs);
     use crate::mc::audit::{audit, export, parse_table, Numbering};
     let _ = writeln!(
         s,

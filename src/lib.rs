@@ -22,6 +22,7 @@
 
 pub mod bernstein;
 pub mod bspline;
+pub mod decimate;
 pub mod ffd;
 pub mod fuzzing;
 pub mod mc;

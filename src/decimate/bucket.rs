@@ -1,0 +1,218 @@
+//! The interval "hash table" of Section 1.2: `m = ⌊n/k⌋` intervals of evaluation values with
+//! exponential-law boundaries (eqs. 1–3), a FIFO queue per interval, the next node taken from
+//! the front of the lowest non-empty interval.
+//!
+//! Eq. (2) as printed, `d_j = ev_sum − ev_ln · ln(1 + Δev − j·Δev/m)`, gives `d_0 = ev_min`
+//! but `d_m = ev_min + ev_max`: it assumes `ev_min = 0`. We use it on `ev − ev_min`, so the
+//! boundaries cover `[ev_min, ev_max]`:
+//! `d_j = ev_min + Δ − (Δ / ln(1+Δ)) · ln(1 + Δ·(1 − j/m))`, `Δ = ev_max − ev_min`.
+//! Eq. (3) is its inverse. We take the floor (interval `j` holds `d_j ≤ ev < d_{j+1}`) where
+//! the paper writes a ceiling with a special case for `ev ≥ ev_max`; values outside the
+//! initial range (re-evaluated nodes) go to the first or last interval. `ln_1p`/`exp_m1` keep
+//! the formula accurate for small `Δ`, where it tends to equal-width intervals.
+//!
+//! The queues are intrusive doubly linked lists over node ids: push to the tail, pop from the
+//! head, unlink any node in `O(1)` when it is re-evaluated.
+
+const NONE: u32 = u32::MAX;
+
+/// Eq. (1): the number of intervals `m = ⌊n/k⌋`, at least 1.
+pub fn interval_count(n: usize, k: usize) -> usize {
+    (n / k.max(1)).max(1)
+}
+
+/// The bucket queue.
+#[derive(Clone, Debug)]
+pub struct BucketQueue {
+    m: usize,
+    ev_min: f64,
+    delta: f64,
+    /// `ln(1 + Δ)`.
+    ln1p_delta: f64,
+    head: Vec<u32>,
+    tail: Vec<u32>,
+    next: Vec<u32>,
+    prev: Vec<u32>,
+    /// The interval a node is filed in, or `NONE`.
+    bucket: Vec<u32>,
+    /// No interval below this one is non-empty.
+    lowest: usize,
+    len: usize,
+}
+
+impl BucketQueue {
+    /// A queue for node ids `0..nodes`, with `m` intervals over `[ev_min, ev_max]`.
+    pub fn new(nodes: usize, m: usize, ev_min: f64, ev_max: f64) -> BucketQueue {
+        let m = m.max(1);
+        let delta = if ev_max > ev_min && (ev_max - ev_min).is_finite() {
+            ev_max - ev_min
+        } else {
+            0.0
+        };
+        BucketQueue {
+            m,
+            ev_min,
+            delta,
+            ln1p_delta: delta.ln_1p(),
+            head: vec![NONE; m],
+            tail: vec![NONE; m],
+            next: vec![NONE; nodes],
+            prev: vec![NONE; nodes],
+            bucket: vec![NONE; nodes],
+            lowest: m,
+            len: 0,
+        }
+    }
+
+    /// The number of intervals.
+    pub fn intervals(&self) -> usize {
+        self.m
+    }
+
+    /// The number of queued nodes.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// True when no node is queued.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Eq. (2), normalised: the lower boundary `d_j` of interval `j` (`0 ≤ j ≤ m`).
+    pub fn boundary(&self, j: usize) -> f64 {
+        if self.delta == 0.0 {
+            return self.ev_min;
+        }
+        let j = j.min(self.m) as f64;
+        let m = self.m as f64;
+        self.ev_min + self.delta
+            - (self.delta / self.ln1p_delta) * (self.delta * (1.0 - j / m)).ln_1p()
+    }
+
+    /// Eq. (3), normalised: the interval of evaluation value `ev`.
+    pub fn interval(&self, ev: f64) -> usize {
+        if self.delta == 0.0 || ev.is_nan() || ev <= self.ev_min {
+            return 0;
+        }
+        let t = (self.ev_min + self.delta - ev) / self.delta;
+        if t <= 0.0 {
+            return self.m - 1;
+        }
+        // d_j = ev  ⇔  1 + Δ(1 − j/m) = (1+Δ)^t  ⇔  j/m = 1 − ((1+Δ)^t − 1)/Δ.
+        let frac = 1.0 - (t * self.ln1p_delta).exp_m1() / self.delta;
+        let j = (frac * self.m as f64).floor();
+        if j <= 0.0 {
+            0
+        } else {
+            (j as usize).min(self.m - 1)
+        }
+    }
+
+    /// True when `node` is queued.
+    pub fn contains(&self, node: u32) -> bool {
+        self.bucket[node as usize] != NONE
+    }
+
+    /// Files `node` at the tail of the interval of `ev` (unlinking it first if queued).
+    pub fn push(&mut self, node: u32, ev: f64) {
+        self.remove(node);
+        let j = self.interval(ev);
+        let n = node as usize;
+        self.bucket[n] = j as u32;
+        self.prev[n] = self.tail[j];
+        self.next[n] = NONE;
+        if self.tail[j] == NONE {
+            self.head[j] = node;
+        } else {
+            self.next[self.tail[j] as usize] = node;
+        }
+        self.tail[j] = node;
+        self.lowest = self.lowest.min(j);
+        self.len += 1;
+    }
+
+    /// Unlinks `node` if it is queued.
+    pub fn remove(&mut self, node: u32) {
+        let n = node as usize;
+        let j = self.bucket[n];
+        if j == NONE {
+            return;
+        }
+        let j = j as usize;
+        let (p, q) = (self.prev[n], self.next[n]);
+        if p == NONE {
+            self.head[j] = q;
+        } else {
+            self.next[p as usize] = q;
+        }
+        if q == NONE {
+            self.tail[j] = p;
+        } else {
+            self.prev[q as usize] = p;
+        }
+        self.bucket[n] = NONE;
+        self.len -= 1;
+    }
+
+    /// Takes the node at the front of the lowest non-empty interval, with its interval.
+    pub fn pop(&mut self) -> Option<(u32, usize)> {
+        if self.len == 0 {
+            return None;
+        }
+        while self.head[self.lowest] == NONE {
+            self.lowest += 1;
+        }
+        let j = self.lowest;
+        let node = self.head[j];
+        self.remove(node);
+        Some((node, j))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn boundaries_cover_the_range_and_invert() {
+        for (lo, hi) in [(0.0, 1.0), (2.0, 50.0), (1e-9, 3e-9), (0.0, 1e6)] {
+            let q = BucketQueue::new(1, 100, lo, hi);
+            assert!((q.boundary(0) - lo).abs() <= 1e-12 * hi.abs().max(1.0));
+            assert!((q.boundary(100) - hi).abs() <= 1e-9 * hi.abs().max(1.0));
+            for j in 0..100 {
+                assert!(q.boundary(j) < q.boundary(j + 1), "{lo} {hi} {j}");
+                // A value just inside interval j maps to j.
+                let mid = 0.5 * (q.boundary(j) + q.boundary(j + 1));
+                assert_eq!(q.interval(mid), j, "{lo} {hi} {j}");
+            }
+            assert_eq!(q.interval(hi * 2.0 + 1.0), 99);
+            assert_eq!(q.interval(lo - 1.0), 0);
+        }
+    }
+
+    #[test]
+    fn intervals_widen_exponentially() {
+        let q = BucketQueue::new(1, 10, 0.0, 100.0);
+        let first = q.boundary(1) - q.boundary(0);
+        let last = q.boundary(10) - q.boundary(9);
+        assert!(last > 10.0 * first, "{first} {last}");
+    }
+
+    #[test]
+    fn fifo_within_interval_lowest_first() {
+        let mut q = BucketQueue::new(6, 4, 0.0, 1.0);
+        q.push(0, 0.9);
+        q.push(1, 0.0);
+        q.push(2, 0.9);
+        q.push(3, 0.0);
+        q.push(4, 0.5);
+        q.push(1, 0.95); // re-evaluated: moves to the tail of the last interval
+        assert_eq!(q.len(), 5);
+        let order: Vec<u32> = std::iter::from_fn(|| q.pop().map(|p| p.0)).collect();
+        let lo4 = q.interval(0.5);
+        assert!(lo4 < q.interval(0.9));
+        assert_eq!(order, vec![3, 4, 0, 2, 1]);
+        assert!(q.is_empty());
+    }
+}

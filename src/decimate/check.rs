@@ -1,0 +1,203 @@
+//! The independent checker of a decimation: replays its history on the original mesh and,
+//! at every step, verifies in exact rational arithmetic what the issue promises:
+//!
+//! * the step's added triangles tile the removed fan's projection exactly: each has positive
+//!   area in the projection plane, their areas sum to the fan's area, and no new edge existed
+//!   before (so no triangle flips or overlaps in that projection);
+//! * the mesh is an oriented 2-manifold with the original's Euler characteristic and number
+//!   of border loops (full check every `full_every` steps and at the end);
+//! * undoing every step gives the original mesh bit for bit, and redoing them gives the
+//!   decimated mesh the history names.
+
+use super::history::{fingerprint, History, Stage};
+use super::{fan_normal, Plane};
+use crate::mesh::Mesh;
+use crate::num::{rational_from_f64, Rational};
+use num_traits::{Signed, Zero};
+use std::collections::{HashMap, HashSet};
+
+/// What the checker verified.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct Verified {
+    pub steps: usize,
+    /// Added triangles checked positive in their step's projection.
+    pub triangles_checked: usize,
+    /// Full manifold / Euler / border-loop checks performed.
+    pub full_checks: usize,
+    pub euler: i64,
+    pub border_loops: usize,
+    /// Undo of every step reproduced the original's fingerprint and triangles in order.
+    pub undecimated_exactly: bool,
+}
+
+fn exact(x: f64) -> Rational {
+    rational_from_f64(x, "coordinate").expect("finite")
+}
+
+fn det(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Rational {
+    let [ax, ay, bx, by, cx, cy] = [a[0], a[1], b[0], b[1], c[0], c[1]].map(exact);
+    (&bx - &ax) * (&cy - &ay) - (&by - &ay) * (&cx - &ax)
+}
+
+/// The number of border loops of a manifold mesh.
+pub fn border_loops(mesh: &Mesh) -> usize {
+    let mut directed = HashSet::new();
+    for t in &mesh.triangles {
+        for e in 0..3 {
+            directed.insert((t[e], t[(e + 1) % 3]));
+        }
+    }
+    let mut next: HashMap<u32, u32> = HashMap::new();
+    for &(a, b) in &directed {
+        if !directed.contains(&(b, a)) {
+            next.insert(a, b);
+        }
+    }
+    let mut seen = HashSet::new();
+    let mut loops = 0;
+    for &start in next.keys() {
+        if seen.contains(&start) {
+            continue;
+        }
+        loops += 1;
+        let mut v = start;
+        while seen.insert(v) {
+            v = next[&v];
+        }
+    }
+    loops
+}
+
+/// Replays `history` on `original`, checking every step (full topology checks every
+/// `full_every` steps, 0 for only at the end). `xy` names the global projection, else each
+/// step is checked in the axis plane most aligned with its fan.
+pub fn verify(
+    original: &Mesh,
+    history: &History,
+    xy: bool,
+    full_every: usize,
+) -> Result<Verified, String> {
+    original.check_manifold().map_err(|e| e.to_string())?;
+    let euler = original.euler_characteristic();
+    let loops = border_loops(original);
+    if fingerprint(original) != history.original_fingerprint {
+        return Err("the history was not made from this mesh (fingerprint)".into());
+    }
+    let mut stage = Stage::original(original);
+    let key = |a: u32, b: u32| (a.min(b), a.max(b));
+    let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
+    for t in &original.triangles {
+        for e in 0..3 {
+            *edges.entry(key(t[e], t[(e + 1) % 3])).or_insert(0) += 1;
+        }
+    }
+    let mut out = Verified {
+        euler,
+        border_loops: loops,
+        ..Verified::default()
+    };
+    let full = |stage: &Stage, s: usize, out: &mut Verified| -> Result<(), String> {
+        let m = stage.to_mesh();
+        m.check_manifold()
+            .map_err(|e| format!("after step {s}: {e}"))?;
+        if m.euler_characteristic() != euler {
+            return Err(format!(
+                "after step {s}: Euler characteristic {} ≠ {euler}",
+                m.euler_characteristic()
+            ));
+        }
+        if border_loops(&m) != loops {
+            return Err(format!("after step {s}: border loops changed"));
+        }
+        out.full_checks += 1;
+        Ok(())
+    };
+    for s in 0..history.len() {
+        let st = history.step(s);
+        let l = st.ring.len();
+        let v = st.node as usize;
+        let ring3: Vec<[f64; 3]> = st
+            .ring
+            .iter()
+            .map(|&w| stage.vertices[w as usize])
+            .collect();
+        let plane = if xy {
+            Plane::XY
+        } else {
+            Plane::most_aligned(fan_normal(stage.vertices[v], &ring3, !st.border))
+        };
+        let p = |w: u32| plane.project(stage.vertices[w as usize]);
+        let centre = plane.project(stage.vertices[v]);
+        let mut fan_area = Rational::zero();
+        for i in 0..st.slots.len() {
+            fan_area += det(centre, p(st.ring[i]), p(st.ring[(i + 1) % l]));
+        }
+        let mut added_area = Rational::zero();
+        for i in 0..l - 2 {
+            let [a, b, c] = st.added_triangle(i).map(p);
+            let d = det(a, b, c);
+            if !d.is_positive() {
+                return Err(format!(
+                    "step {s}: added triangle {:?} has non-positive area in its projection",
+                    st.added_triangle(i)
+                ));
+            }
+            added_area += d;
+            out.triangles_checked += 1;
+        }
+        if fan_area != added_area {
+            return Err(format!(
+                "step {s}: the added triangles do not tile the removed fan (areas differ)"
+            ));
+        }
+        // No added edge may already exist outside the fan.
+        for i in 0..l - 2 {
+            let t = st.added_triangle(i);
+            for e in 0..3 {
+                let (a, b) = (t[e], t[(e + 1) % 3]);
+                let pa = st.ring.iter().position(|&w| w == a).unwrap();
+                let pb = st.ring.iter().position(|&w| w == b).unwrap();
+                let link = pb == (pa + 1) % l && !(st.border && pa == l - 1);
+                if !link && edges.contains_key(&key(a, b)) {
+                    return Err(format!("step {s}: added edge ({a}, {b}) already exists"));
+                }
+            }
+        }
+        for i in 0..st.slots.len() {
+            let t = st.removed_triangle(i);
+            for e in 0..3 {
+                let k = key(t[e], t[(e + 1) % 3]);
+                let c = edges.get_mut(&k).expect("edge of a live triangle");
+                *c -= 1;
+                if *c == 0 {
+                    edges.remove(&k);
+                }
+            }
+        }
+        for i in 0..l - 2 {
+            let t = st.added_triangle(i);
+            for e in 0..3 {
+                *edges.entry(key(t[e], t[(e + 1) % 3])).or_insert(0) += 1;
+            }
+        }
+        stage.redo(history).map_err(|e| e.to_string())?;
+        out.steps += 1;
+        if full_every > 0 && (s + 1) % full_every == 0 {
+            full(&stage, s, &mut out)?;
+        }
+    }
+    full(&stage, history.len(), &mut out)?;
+    if fingerprint(&stage.to_mesh()) != history.decimated_fingerprint {
+        return Err("redoing every step does not give the decimated mesh (fingerprint)".into());
+    }
+    while stage.applied > 0 {
+        stage.undo(history).map_err(|e| e.to_string())?;
+    }
+    let back = stage.to_mesh();
+    out.undecimated_exactly =
+        back == *original && fingerprint(&back) == history.original_fingerprint;
+    if !out.undecimated_exactly {
+        return Err("undoing every step does not give the original mesh".into());
+    }
+    Ok(out)
+}

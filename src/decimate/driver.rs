@@ -1,0 +1,93 @@
+//! The decimation loop of Section 1, steps 1–7, shared by both engines: evaluate every node
+//! and file it in the bucket queue; take the first node of the lowest non-empty interval;
+//! remove it (the engine deletes the fan, cuts ears and records the step) or, when its hole
+//! cannot be re-triangulated validly, skip it; re-evaluate the removed node's neighbours and
+//! file them at the tails of their intervals; stop at the target.
+
+use super::bucket::{interval_count, BucketQueue};
+use super::{History, Options, Target};
+
+/// What an engine provides to the loop.
+pub(crate) trait Engine {
+    /// The number of nodes (vertices) of the input.
+    fn node_count(&self) -> usize;
+    /// The evaluation value of `v` when it may be removed now (present, in a fan, allowed by
+    /// the border policy and the valence limit; for the error criterion also a triangulable
+    /// hole), else `None`.
+    fn evaluate(&mut self, v: u32) -> Option<f64>;
+    /// Removes `v` and records the step, or returns false (nothing changed) when its hole
+    /// cannot be re-triangulated validly.
+    fn try_remove(&mut self, v: u32, history: &mut History) -> bool;
+}
+
+/// The loop's counts.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct LoopCounts {
+    pub removed: usize,
+    pub refused: usize,
+    pub intervals: usize,
+}
+
+/// Runs the loop to the target; the removal sequence is in `history`.
+pub(crate) fn run(
+    engine: &mut impl Engine,
+    options: &Options,
+    history: &mut History,
+) -> LoopCounts {
+    let n = engine.node_count();
+    let bound = match options.target {
+        Target::ErrorBound(e) => Some(e),
+        _ => None,
+    };
+    let target_nodes = match options.target {
+        Target::Keep(f) => (f * n as f64).round() as usize,
+        Target::Nodes(k) => k,
+        Target::ErrorBound(_) => 0,
+    };
+    let admissible = |ev: f64| bound.is_none_or(|b| ev <= b);
+    let mut initial = Vec::with_capacity(n);
+    for v in 0..n as u32 {
+        if let Some(ev) = engine.evaluate(v) {
+            if admissible(ev) {
+                initial.push((v, ev));
+            }
+        }
+    }
+    let (lo, hi) = initial
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(_, ev)| {
+            (lo.min(ev), hi.max(ev))
+        });
+    let m = interval_count(n, options.k);
+    let mut queue = BucketQueue::new(n, m, lo, hi);
+    for &(v, ev) in &initial {
+        queue.push(v, ev);
+    }
+    drop(initial);
+    let mut counts = LoopCounts {
+        intervals: m,
+        ..LoopCounts::default()
+    };
+    let mut present = n;
+    let mut ring: Vec<u32> = Vec::with_capacity(32);
+    while present > target_nodes {
+        let Some((v, _)) = queue.pop() else {
+            break;
+        };
+        if !engine.try_remove(v, history) {
+            counts.refused += 1;
+            continue;
+        }
+        present -= 1;
+        counts.removed += 1;
+        ring.clear();
+        ring.extend_from_slice(history.step(history.len() - 1).ring);
+        for &w in &ring {
+            match engine.evaluate(w) {
+                Some(ev) if admissible(ev) => queue.push(w, ev),
+                _ => queue.remove(w),
+            }
+        }
+    }
+    counts
+}

@@ -1,0 +1,269 @@
+//! Ear cutting of the hole a removed node leaves (Section 1.3; the classical algorithm the
+//! paper cites as ElGindy, Everett and Toussaint): `O(l²)` in the hole's `l` vertices.
+//!
+//! The polygon is given counter-clockwise by its vertices `0..l` in a projection plane. An ear
+//! `(a, b, c)` of consecutive vertices is cut when `orient(a, b, c) > 0` and no other polygon
+//! vertex lies in the closed triangle: every triangle made has positive area and the
+//! triangles tile the polygon. A vertex on a straight angle is never an ear tip, and a vertex
+//! on the diagonal `a–c` blocks the ear, so collinear runs (common on grids) are handled.
+//! Every simple polygon has such an ear (Meisters' two-ears theorem, which holds with
+//! straight angles for diagonals strictly inside); when none is found the polygon is not
+//! simple in this projection and the cut fails.
+//!
+//! The validity tests take their signs from an [`Orient`] predicate (exact in both paths).
+//! Among the valid ears the one of best shape is cut first (largest `2·area / Σ edge²` in
+//! `f64`, the lowest position on ties): a heuristic, computed from the same `f64` coordinates
+//! by both paths so that they cut the same ears. Ear status is cached and recomputed for the
+//! two neighbours of each cut ear; when no cached ear is valid all are recomputed.
+
+use std::cmp::Ordering;
+
+/// The sign of the orientation of three polygon vertices (by position in the polygon).
+pub trait Orient {
+    /// `Greater` when `a, b, c` turn counter-clockwise, `Equal` when collinear.
+    fn orient(&self, a: usize, b: usize, c: usize) -> Ordering;
+}
+
+/// The shape heuristic of an ear: `2·area / (|ab|² + |bc|² + |ca|²)` in `f64`.
+pub fn ear_quality(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    let area2 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    let d = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
+    let s = d(a, b) + d(b, c) + d(c, a);
+    if s > 0.0 {
+        area2 / s
+    } else {
+        0.0
+    }
+}
+
+/// Reusable buffers for [`ear_cut`].
+#[derive(Default, Clone, Debug)]
+pub struct EarCutter {
+    poly: Vec<u8>,
+    /// `orient(prev, cur, next) > 0` at each polygon position.
+    convex: Vec<bool>,
+    valid: Vec<bool>,
+    quality: Vec<f64>,
+}
+
+impl EarCutter {
+    /// Triangulates the counter-clockwise polygon `0..l` (`points` are its projected `f64`
+    /// coordinates for the heuristic). Writes `l − 2` triangles of polygon positions to `out`
+    /// and returns true, or returns false when no valid ear exists at some stage.
+    /// `l` must be at most 255.
+    pub fn cut(
+        &mut self,
+        points: &[[f64; 2]],
+        orient: &impl Orient,
+        out: &mut Vec<[u8; 3]>,
+    ) -> bool {
+        let l = points.len();
+        out.clear();
+        if !(3..=255).contains(&l) {
+            return false;
+        }
+        self.poly.clear();
+        self.poly.extend(0..l as u8);
+        self.convex.clear();
+        self.convex.resize(l, false);
+        self.valid.clear();
+        self.valid.resize(l, false);
+        self.quality.clear();
+        self.quality.resize(l, 0.0);
+        for i in 0..l {
+            self.convex[i] = self.turns_left(i, orient);
+        }
+        for i in 0..l {
+            self.refresh(i, points, orient);
+        }
+        while self.poly.len() > 3 {
+            let mut best = self.best();
+            if best.is_none() {
+                for i in 0..self.poly.len() {
+                    self.refresh(i, points, orient);
+                }
+                best = self.best();
+            }
+            let Some(i) = best else {
+                return false;
+            };
+            let n = self.poly.len();
+            let (a, b, c) = (
+                self.poly[(i + n - 1) % n],
+                self.poly[i],
+                self.poly[(i + 1) % n],
+            );
+            out.push([a, b, c]);
+            self.poly.remove(i);
+            self.convex.remove(i);
+            self.valid.remove(i);
+            self.quality.remove(i);
+            let n = n - 1;
+            let before = (i + n - 1) % n;
+            let after = i % n;
+            self.convex[before] = self.turns_left(before, orient);
+            self.convex[after] = self.turns_left(after, orient);
+            self.refresh(before, points, orient);
+            self.refresh(after, points, orient);
+        }
+        let (a, b, c) = (self.poly[0], self.poly[1], self.poly[2]);
+        if orient.orient(a as usize, b as usize, c as usize) != Ordering::Greater {
+            return false;
+        }
+        out.push([a, b, c]);
+        true
+    }
+
+    fn best(&self) -> Option<usize> {
+        let mut best: Option<usize> = None;
+        for i in 0..self.poly.len() {
+            if self.valid[i] && best.is_none_or(|b| self.quality[i] > self.quality[b]) {
+                best = Some(i);
+            }
+        }
+        best
+    }
+
+    /// `orient(prev, cur, next) > 0` at polygon position `i`.
+    fn turns_left(&self, i: usize, orient: &impl Orient) -> bool {
+        let n = self.poly.len();
+        orient.orient(
+            self.poly[(i + n - 1) % n] as usize,
+            self.poly[i] as usize,
+            self.poly[(i + 1) % n] as usize,
+        ) == Ordering::Greater
+    }
+
+    /// Recomputes whether the vertex at polygon position `i` is an ear tip. Only vertices
+    /// that do not turn strictly left can lie in an ear's triangle (if any polygon vertex
+    /// does, the one farthest from the diagonal is reflex or straight towards the tip), so
+    /// only those are tested.
+    fn refresh(&mut self, i: usize, points: &[[f64; 2]], orient: &impl Orient) {
+        let n = self.poly.len();
+        let (a, b, c) = (
+            self.poly[(i + n - 1) % n] as usize,
+            self.poly[i] as usize,
+            self.poly[(i + 1) % n] as usize,
+        );
+        let mut valid = self.convex[i];
+        if valid && n > 3 {
+            for (k, &p) in self.poly.iter().enumerate() {
+                let p = p as usize;
+                if self.convex[k] || p == a || p == b || p == c {
+                    continue;
+                }
+                if orient.orient(a, b, p) != Ordering::Less
+                    && orient.orient(b, c, p) != Ordering::Less
+                    && orient.orient(c, a, p) != Ordering::Less
+                {
+                    valid = false;
+                    break;
+                }
+            }
+        }
+        self.valid[i] = valid;
+        self.quality[i] = if valid {
+            ear_quality(points[a], points[b], points[c])
+        } else {
+            0.0
+        };
+    }
+}
+
+/// Exact orientation of `f64` points by Shewchuk's adaptive predicate.
+pub struct RobustOrient<'a>(pub &'a [[f64; 2]]);
+
+impl Orient for RobustOrient<'_> {
+    #[inline]
+    fn orient(&self, a: usize, b: usize, c: usize) -> Ordering {
+        orient2d(self.0[a], self.0[b], self.0[c])
+    }
+}
+
+/// The exact sign of `det[b − a, c − a]` for `f64` points, adaptively: Shewchuk's
+/// first-stage filter (`|det| ≥ (3 + 16ε)ε · (|detleft| + |detright|)` certifies the `f64`
+/// sign) inline, his exact adaptive stages (the `robust` crate) only when it cannot decide.
+#[inline]
+pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Ordering {
+    const EPS: f64 = f64::EPSILON / 2.0;
+    const ERRBOUND_A: f64 = (3.0 + 16.0 * EPS) * EPS;
+    let left = (a[0] - c[0]) * (b[1] - c[1]);
+    let right = (a[1] - c[1]) * (b[0] - c[0]);
+    let det = left - right;
+    let sum = if left > 0.0 {
+        if right <= 0.0 {
+            return det.partial_cmp(&0.0).unwrap_or(Ordering::Equal);
+        }
+        left + right
+    } else if left < 0.0 {
+        if right >= 0.0 {
+            return det.partial_cmp(&0.0).unwrap_or(Ordering::Equal);
+        }
+        -left - right
+    } else {
+        return det.partial_cmp(&0.0).unwrap_or(Ordering::Equal);
+    };
+    let bound = ERRBOUND_A * sum;
+    if det >= bound || -det >= bound {
+        return det.partial_cmp(&0.0).unwrap_or(Ordering::Equal);
+    }
+    let d = robust::orient2d(
+        robust::Coord { x: a[0], y: a[1] },
+        robust::Coord { x: b[0], y: b[1] },
+        robust::Coord { x: c[0], y: c[1] },
+    );
+    d.partial_cmp(&0.0).unwrap_or(Ordering::Equal)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cut(points: &[[f64; 2]]) -> Option<Vec<[u8; 3]>> {
+        let mut out = Vec::new();
+        EarCutter::default()
+            .cut(points, &RobustOrient(points), &mut out)
+            .then_some(out)
+    }
+
+    fn area2(p: &[[f64; 2]], t: [u8; 3]) -> f64 {
+        let (a, b, c) = (p[t[0] as usize], p[t[1] as usize], p[t[2] as usize]);
+        (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    }
+
+    #[test]
+    fn grid_ring_with_collinear_runs() {
+        // The 8-ring of a grid node: four straight angles.
+        let p = [
+            [1.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [2.0, 2.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+            [0.0, 1.0],
+            [0.0, 0.0],
+        ];
+        let t = cut(&p).expect("a square with midpoints is triangulable");
+        assert_eq!(t.len(), 6);
+        let total: f64 = t.iter().map(|&t| area2(&p, t)).sum();
+        assert!(t.iter().all(|&t| area2(&p, t) > 0.0));
+        assert_eq!(total, 8.0);
+    }
+
+    #[test]
+    fn reflex_polygon_and_failure() {
+        // An arrow (one reflex vertex).
+        let p = [[0.0, 0.0], [4.0, 0.0], [2.0, 1.0], [4.0, 4.0], [0.0, 4.0]];
+        let t = cut(&p).unwrap();
+        let total: f64 = t.iter().map(|&t| area2(&p, t)).sum();
+        assert!(t.iter().all(|&t| area2(&p, t) > 0.0));
+        assert_eq!(total, 2.0 * (16.0 - 4.0));
+        // Clockwise: no ear.
+        let mut q = p;
+        q.reverse();
+        assert!(cut(&q).is_none());
+        // All collinear: no ear.
+        assert!(cut(&[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0]]).is_none());
+    }
+}

@@ -1,0 +1,311 @@
+//! Triangle-mesh node decimation and exact undecimation in linear time (Krivograd, Hren, Žalik
+//! and Jezernik 2003, `../shared/papers/mesh-decimation-krivograd-et-al.txt`).
+//!
+//! The algorithm of Section 1: evaluate every node ([`Criterion`]), file the nodes in the
+//! bucket queue of eqs. (1)–(3) ([`bucket`]), repeatedly take the first node of the lowest
+//! non-empty interval, delete it with its fan of triangles, re-triangulate the hole by ear
+//! cutting ([`earcut`]) and re-evaluate the neighbours. Section 2: every removal is recorded
+//! (the removed triangles, the added triangles, the triangle slots they occupy) so that any
+//! number of steps can be undone in reverse order and redone ([`history`]).
+//!
+//! Two engines run the same driver ([`driver`]):
+//! * [`exact`] — the reference path: rational coordinates and scalars, adjacency as per-node
+//!   sets of incident triangles, orientation by exact rational determinants, criteria in
+//!   exact arithmetic (rounded once to `f64` to file the node);
+//! * [`fast`] — `f64` coordinates, a half-edge structure whose triangles live in reusable
+//!   slots, adaptive robust orientation predicates (Shewchuk's, from the `robust` crate).
+//!
+//! Both use exact signs for every validity decision, so they take the same decisions; the
+//! heuristics (which ear to cut first, which axis plane to project a fan into, the angle
+//! criterion, which is transcendental) are the same `f64` functions of the input coordinates
+//! in both. They remove the same nodes in the same order whenever their evaluation values
+//! file nodes into the same intervals, and both undecimate to the original bit for bit.
+//! [`check`] re-verifies every step independently.
+
+pub mod bucket;
+pub mod check;
+pub mod data;
+pub mod driver;
+pub mod earcut;
+pub mod exact;
+pub mod fast;
+pub mod history;
+pub mod quality;
+
+use crate::mesh::MeshError;
+use thiserror::Error;
+
+pub use history::{History, HistoryError, Stage};
+
+/// How a node is evaluated (Section 1.1); the node with the lowest value goes first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Criterion {
+    /// (a) The mean angle between the node's edges and the projection plane (Fig. 2a).
+    Angle,
+    /// (b) The mean absolute difference between the node's scalar and its neighbours' (Fig. 2b).
+    Scalar,
+    /// The deviation the removal would cause: the node's scalar (or, without a scalar field,
+    /// its height above the projection plane) minus the value the re-triangulated hole
+    /// interpolates at the node's projection.
+    Error,
+}
+
+impl Criterion {
+    /// Parses `angle`, `scalar` or `error`.
+    pub fn parse(s: &str) -> Option<Criterion> {
+        match s {
+            "angle" => Some(Criterion::Angle),
+            "scalar" => Some(Criterion::Scalar),
+            "error" => Some(Criterion::Error),
+            _ => None,
+        }
+    }
+}
+
+/// What happens to nodes on the mesh border.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BorderPolicy {
+    /// Border nodes are never put in the queue (the paper's option).
+    Exclude,
+    /// A border node is queued only while removing it leaves the border intact: it lies
+    /// exactly on the segment between its two border neighbours — in the xy plane when the
+    /// mesh is decimated in the global xy projection (the domain's outline stays; heights
+    /// along it may be simplified), in 3-D otherwise. Checked exactly.
+    Intact,
+}
+
+/// Which plane the holes are triangulated in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ProjectionChoice {
+    /// `Xy` when every triangle of the input has positive area in the xy plane (height
+    /// fields, planar FEM meshes), otherwise `PerFan`.
+    Auto,
+    /// The xy plane for every fan; the input must be positively oriented in it.
+    Xy,
+    /// For each fan the axis plane most aligned with its area-weighted normal.
+    PerFan,
+}
+
+/// A projection onto an axis plane: drop axis `drop`, keep the other two in the right-handed
+/// order, swapped when the plane's normal points to the negative side.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Plane {
+    pub drop: usize,
+    pub flip: bool,
+}
+
+impl Plane {
+    /// The xy plane seen from +z.
+    pub const XY: Plane = Plane {
+        drop: 2,
+        flip: false,
+    };
+
+    /// The two kept coordinate axes, in the order that makes the projection orientation
+    /// preserving for a normal pointing along +drop (or −drop when flipped).
+    pub fn axes(self) -> (usize, usize) {
+        let (a, b) = ((self.drop + 1) % 3, (self.drop + 2) % 3);
+        if self.flip {
+            (b, a)
+        } else {
+            (a, b)
+        }
+    }
+
+    /// The projection of `p` (exact: it only selects coordinates).
+    pub fn project(self, p: [f64; 3]) -> [f64; 2] {
+        let (a, b) = self.axes();
+        [p[a], p[b]]
+    }
+
+    /// The axis plane most aligned with `normal` (largest absolute component, the lowest
+    /// axis on ties).
+    pub fn most_aligned(normal: [f64; 3]) -> Plane {
+        let mut drop = 0;
+        for axis in [1, 2] {
+            if normal[axis].abs() > normal[drop].abs() {
+                drop = axis;
+            }
+        }
+        Plane {
+            drop,
+            flip: normal[drop] < 0.0,
+        }
+    }
+}
+
+/// The area-weighted normal of a fan around `centre` with `ring` in order (`closed` for an
+/// interior node), in `f64`: the heuristic that picks the projection plane in both paths.
+pub fn fan_normal(centre: [f64; 3], ring: &[[f64; 3]], closed: bool) -> [f64; 3] {
+    let mut n = [0.0; 3];
+    let count = if closed { ring.len() } else { ring.len() - 1 };
+    for i in 0..count {
+        let a = sub(ring[i], centre);
+        let b = sub(ring[(i + 1) % ring.len()], centre);
+        n[0] += a[1] * b[2] - a[2] * b[1];
+        n[1] += a[2] * b[0] - a[0] * b[2];
+        n[2] += a[0] * b[1] - a[1] * b[0];
+    }
+    n
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// When the decimation stops.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Target {
+    /// Keep this fraction of the nodes (0 < f ≤ 1), rounded to the nearest count.
+    Keep(f64),
+    /// Keep this many nodes.
+    Nodes(usize),
+    /// Remove nodes while their evaluation value is at most this bound.
+    ErrorBound(f64),
+}
+
+/// The decimation's settings.
+#[derive(Clone, Debug)]
+pub struct Options {
+    pub criterion: Criterion,
+    pub target: Target,
+    pub border: BorderPolicy,
+    pub projection: ProjectionChoice,
+    /// The constant `k` of eq. (1): `m = ⌊n/k⌋` intervals.
+    pub k: usize,
+    /// Nodes with more neighbours than this are not removed (the history stores ring
+    /// positions in one byte; ear cutting is `O(l²)` in the valence `l`).
+    pub max_valence: usize,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            criterion: Criterion::Error,
+            target: Target::Keep(0.01),
+            border: BorderPolicy::Intact,
+            projection: ProjectionChoice::Auto,
+            k: 10,
+            max_valence: 64,
+        }
+    }
+}
+
+/// Which engine ran.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Path {
+    Exact,
+    Fast,
+}
+
+/// What went wrong.
+#[derive(Debug, Error)]
+pub enum DecimateError {
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    #[error("criterion {0:?} needs a nodal scalar field and the mesh has none")]
+    NoScalars(Criterion),
+    #[error("bad option: {0}")]
+    BadOption(String),
+    #[error("triangle {triangle} ({tri:?}) has non-positive area in the xy plane: the mesh is not projectable onto xy (use the per-fan projection)")]
+    NotProjectable { triangle: usize, tri: [u32; 3] },
+    #[error(transparent)]
+    History(#[from] HistoryError),
+}
+
+/// The counts and time of one decimation run.
+#[derive(Clone, Debug, Default, serde::Serialize)]
+pub struct Stats {
+    pub nodes_in: usize,
+    pub nodes_out: usize,
+    pub triangles_in: usize,
+    pub triangles_out: usize,
+    /// Nodes removed (history steps).
+    pub removed: usize,
+    /// Queue pops whose removal was refused (hole not triangulable validly, border not
+    /// intact, valence over the limit); such a node re-enters when a neighbour goes.
+    pub refused: usize,
+    /// Intervals `m` of eq. (1).
+    pub intervals: usize,
+    /// Whether holes were triangulated in the xy plane (else per fan).
+    pub projection_xy: bool,
+    /// Seconds of the decimation itself (adjacency, evaluation, queue, removals).
+    pub seconds: f64,
+}
+
+/// A finished decimation: its history (from which the decimated mesh and every stage back to
+/// the original follow) and its statistics.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    pub history: History,
+    pub stats: Stats,
+    /// The decimated mesh (kept nodes in original order, live triangle slots in order).
+    pub mesh: crate::mesh::Mesh,
+}
+
+/// Runs the chosen engine.
+pub fn decimate(
+    mesh: &crate::mesh::Mesh,
+    options: &Options,
+    path: Path,
+) -> Result<Outcome, DecimateError> {
+    match path {
+        Path::Exact => exact::decimate(mesh, options),
+        Path::Fast => fast::decimate(mesh, options),
+    }
+}
+
+/// Validates options against a mesh (shared by both engines).
+pub(crate) fn check_options(
+    mesh: &crate::mesh::Mesh,
+    options: &Options,
+) -> Result<(), DecimateError> {
+    if options.criterion == Criterion::Scalar && mesh.scalars.is_none() {
+        return Err(DecimateError::NoScalars(options.criterion));
+    }
+    if options.k == 0 {
+        return Err(DecimateError::BadOption(
+            "k (eq. 1) must be positive".into(),
+        ));
+    }
+    if !(3..=255).contains(&options.max_valence) {
+        return Err(DecimateError::BadOption(format!(
+            "max valence {} outside 3..=255",
+            options.max_valence
+        )));
+    }
+    match options.target {
+        Target::Keep(f) if !(f > 0.0 && f <= 1.0) => Err(DecimateError::BadOption(format!(
+            "keep fraction {f} outside (0, 1]"
+        ))),
+        Target::ErrorBound(e) if !(e >= 0.0 && e.is_finite()) => Err(DecimateError::BadOption(
+            format!("error bound {e} must be finite and non-negative"),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// Criterion (a) for one edge (Fig. 2a): the angle between the edge vector `d` and the
+/// projection plane, `atan2(|d_normal|, √(d_a² + d_b²))`, in `f64`.
+pub fn edge_angle(d: [f64; 3], plane: Plane) -> f64 {
+    let (a, b) = plane.axes();
+    d[plane.drop]
+        .abs()
+        .atan2((d[a] * d[a] + d[b] * d[b]).sqrt())
+}
+
+/// Where both paths start a node's counter-clockwise ring (so that ear-cutting ties, `f64`
+/// sums over neighbours and the history agree): the border neighbour that starts the ring,
+/// or for an interior node the neighbour of lowest id.
+pub fn canonical_start(ring: &[u32], border: bool) -> usize {
+    if border {
+        return 0;
+    }
+    let mut best = 0;
+    for (i, &w) in ring.iter().enumerate() {
+        if w < ring[best] {
+            best = i;
+        }
+    }
+    best
+}

@@ -98,3 +98,52 @@ pub fn spline(max_degree: usize) -> SplineStrategy {
         })
         .boxed()
 }
+
+/// A height-field triangle mesh for decimation tests: an `nx × ny` grid (3 ≤ n ≤ `max_side`)
+/// with node spacing 8, integer jitter of up to ±3 in x and y (each square is cut along a
+/// diagonal that keeps both triangles positive in xy; the jitter makes non-convex holes),
+/// integer heights in `[−h, h]` and an integer nodal scalar field `"f"` in `[−h, h]`.
+/// Integer data makes the exact and fast decimation paths compute identical evaluation
+/// values for the angle and scalar criteria.
+pub fn height_field_mesh(max_side: usize, h: i32) -> impl Strategy<Value = crate::mesh::Mesh> {
+    let max_side = max_side.max(3);
+    (3..=max_side, 3..=max_side, 0i32..=3).prop_flat_map(move |(nx, ny, jitter)| {
+        let n = nx * ny;
+        (
+            proptest::collection::vec((-jitter..=jitter, -jitter..=jitter, -h..=h, -h..=h), n),
+            Just((nx, ny)),
+        )
+            .prop_map(|(nodes, (nx, ny))| {
+                let mut mesh = crate::mesh::Mesh::default();
+                let mut f = Vec::with_capacity(nodes.len());
+                for (k, &(dx, dy, z, s)) in nodes.iter().enumerate() {
+                    let (i, j) = ((k % nx) as i32, (k / nx) as i32);
+                    mesh.vertices
+                        .push([(8 * i + dx) as f64, (8 * j + dy) as f64, z as f64]);
+                    f.push(s as f64);
+                }
+                let id = |i: usize, j: usize| (j * nx + i) as u32;
+                let positive = |m: &crate::mesh::Mesh, t: [u32; 3]| {
+                    let [a, b, c] = t.map(|i| m.vertices[i as usize]);
+                    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]) > 0.0
+                };
+                for j in 0..ny - 1 {
+                    for i in 0..nx - 1 {
+                        let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+                        let one = [[a, b, c], [a, c, d]];
+                        let pick = if one.iter().all(|&t| positive(&mesh, t)) {
+                            one
+                        } else {
+                            [[a, b, d], [b, c, d]]
+                        };
+                        mesh.triangles.extend_from_slice(&pick);
+                    }
+                }
+                mesh.scalars = Some(crate::mesh::Scalars {
+                    name: "f".into(),
+                    values: f,
+                });
+                mesh
+            })
+    })
+}

@@ -2,8 +2,11 @@
 //! at every step, verifies in exact rational arithmetic what the issue promises:
 //!
 //! * the step's added triangles tile the removed fan's projection exactly: each has positive
-//!   area in the projection plane, their areas sum to the fan's area, and no new edge existed
-//!   before (so no triangle flips or overlaps in that projection);
+//!   area in the projection plane, no ring node lies in an added triangle's closed region
+//!   except at its corners, their areas sum to the fan's area, and no new edge existed
+//!   before. With the triangles forming a disc on the ring (the manifold check), positive
+//!   orientation makes every point of the hole covered as often as the ring winds around it
+//!   — once — so nothing flips, overlaps or leaves a T-junction in that projection;
 //! * the mesh is an oriented 2-manifold with the original's Euler characteristic and number
 //!   of border loops (full check every `full_every` steps and at the end);
 //! * undoing every step gives the original mesh bit for bit, and redoing them gives the
@@ -144,6 +147,26 @@ pub fn verify(
             }
             added_area += d;
             out.triangles_checked += 1;
+        }
+        // No ring vertex lies in an added triangle's closed region except at its corners: no
+        // T-junction on a new edge, no vertex covered.
+        for i in 0..l - 2 {
+            let t = st.added_triangle(i);
+            let [a, b, c] = t.map(p);
+            for &w in st.ring {
+                if t.contains(&w) {
+                    continue;
+                }
+                let q = p(w);
+                if !det(a, b, q).is_negative()
+                    && !det(b, c, q).is_negative()
+                    && !det(c, a, q).is_negative()
+                {
+                    return Err(format!(
+                        "step {s}: node {w} lies in the closed added triangle {t:?}"
+                    ));
+                }
+            }
         }
         if fan_area != added_area {
             return Err(format!(

@@ -1,0 +1,317 @@
+//! Decimation: the exact and fast paths remove the same nodes in the same order and write the
+//! same history (on integer data, where both compute the same evaluation values); every step
+//! passes the independent exact checker; undecimation through the history file gives the
+//! original mesh bit for bit; undo and redo of any number of steps are inverse.
+
+use geocert::decimate::{
+    check, decimate, BorderPolicy, Criterion, History, Options, Path, ProjectionChoice, Stage,
+    Target,
+};
+use geocert::mesh::Mesh;
+use geocert::strategies::height_field_mesh;
+use proptest::prelude::*;
+
+fn options(criterion: Criterion, exclude: bool, keep: f64, k: usize) -> Options {
+    Options {
+        criterion,
+        target: Target::Keep(keep),
+        border: if exclude {
+            BorderPolicy::Exclude
+        } else {
+            BorderPolicy::Intact
+        },
+        projection: ProjectionChoice::Auto,
+        k,
+        max_valence: 64,
+    }
+}
+
+fn criterion() -> impl Strategy<Value = Criterion> {
+    prop_oneof![
+        Just(Criterion::Angle),
+        Just(Criterion::Scalar),
+        Just(Criterion::Error)
+    ]
+}
+
+/// Undoing `back` steps and redoing them returns to the decimated mesh; the file round trip
+/// and a full undo give the original.
+fn round_trip(original: &Mesh, decimated: &Mesh, history: &History, back: usize) {
+    let bytes = history.to_bytes();
+    let read = History::from_bytes(&bytes).expect("own history reads back");
+    assert_eq!(&read, history);
+    let mut stage = Stage::decimated(decimated, &read).expect("history belongs to the mesh");
+    let back = back.min(read.len());
+    for _ in 0..back {
+        stage.undo(&read).unwrap();
+    }
+    for _ in 0..back {
+        stage.redo(&read).unwrap();
+    }
+    assert_eq!(&stage.to_mesh(), decimated);
+    while stage.applied > 0 {
+        stage.undo(&read).unwrap();
+    }
+    assert_eq!(&stage.to_mesh(), original, "undecimation is exact");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    #[test]
+    fn fast_path_steps_verify_and_undecimate_exactly(
+        mesh in height_field_mesh(9, 6),
+        criterion in criterion(),
+        exclude in any::<bool>(),
+        keep in 0.02f64..0.9,
+        k in 1usize..20,
+        back in 0usize..40,
+    ) {
+        let opts = options(criterion, exclude, keep, k);
+        let out = decimate(&mesh, &opts, Path::Fast).unwrap();
+        prop_assert_eq!(out.history.len(), out.stats.removed);
+        let v = check::verify(&mesh, &out.history, true, 1).map_err(TestCaseError::fail)?;
+        prop_assert!(v.undecimated_exactly);
+        prop_assert_eq!(v.full_checks, out.history.len() + 1);
+        round_trip(&mesh, &out.mesh, &out.history, back);
+        // The target is met unless the queue ran dry.
+        let target = (keep * mesh.vertices.len() as f64).round() as usize;
+        prop_assert!(out.stats.nodes_out >= target);
+        if exclude {
+            // Border nodes all stay.
+            let n = mesh.vertices.len();
+            prop_assert!(out.stats.nodes_out >= n.min(2 * (n / 3)).min(4));
+        }
+    }
+
+    #[test]
+    fn exact_and_fast_paths_agree(
+        mesh in height_field_mesh(7, 5),
+        criterion in prop_oneof![Just(Criterion::Angle), Just(Criterion::Scalar)],
+        exclude in any::<bool>(),
+        keep in 0.02f64..0.9,
+        k in 1usize..20,
+    ) {
+        let opts = options(criterion, exclude, keep, k);
+        let fast = decimate(&mesh, &opts, Path::Fast).unwrap();
+        let exact = decimate(&mesh, &opts, Path::Exact).unwrap();
+        prop_assert_eq!(&exact.history, &fast.history, "same removals, slots and triangles");
+        prop_assert_eq!(&exact.mesh, &fast.mesh);
+    }
+
+    #[test]
+    fn exact_path_error_criterion_verifies(
+        mesh in height_field_mesh(6, 5),
+        keep in 0.02f64..0.9,
+    ) {
+        let opts = options(Criterion::Error, false, keep, 4);
+        let exact = decimate(&mesh, &opts, Path::Exact).unwrap();
+        check::verify(&mesh, &exact.history, true, 1).map_err(TestCaseError::fail)?;
+        round_trip(&mesh, &exact.mesh, &exact.history, 3);
+    }
+
+    #[test]
+    fn closed_surfaces_in_per_fan_projection(
+        level in 1u32..4,
+        jitter in proptest::collection::vec(-2i32..=2, 3 * 66),
+        criterion in prop_oneof![Just(Criterion::Angle), Just(Criterion::Error)],
+        keep in 0.01f64..0.8,
+    ) {
+        let mesh = sphere(level, &jitter);
+        let mut opts = options(criterion, false, keep, 3);
+        opts.projection = ProjectionChoice::PerFan;
+        let fast = decimate(&mesh, &opts, Path::Fast).unwrap();
+        let v = check::verify(&mesh, &fast.history, false, 1).map_err(TestCaseError::fail)?;
+        prop_assert_eq!(v.euler, 2);
+        // A closed surface cannot go below a tetrahedron.
+        prop_assert!(fast.stats.nodes_out >= 4);
+        round_trip(&mesh, &fast.mesh, &fast.history, 5);
+        if criterion == Criterion::Angle && mesh.vertices.len() <= 66 {
+            let exact = decimate(&mesh, &opts, Path::Exact).unwrap();
+            prop_assert_eq!(&exact.history, &fast.history);
+        }
+    }
+}
+
+/// An octahedron subdivided `level` times, pushed to a sphere of radius 64 and rounded to
+/// integers, with integer jitter: a closed genus-0 mesh.
+fn sphere(level: u32, jitter: &[i32]) -> Mesh {
+    let mut v: Vec<[f64; 3]> = vec![
+        [1.0, 0.0, 0.0],
+        [-1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, -1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, -1.0],
+    ];
+    let mut t: Vec<[u32; 3]> = vec![
+        [0, 2, 4],
+        [2, 1, 4],
+        [1, 3, 4],
+        [3, 0, 4],
+        [2, 0, 5],
+        [1, 2, 5],
+        [3, 1, 5],
+        [0, 3, 5],
+    ];
+    for _ in 0..level {
+        let mut mid = std::collections::HashMap::new();
+        let mut next = Vec::new();
+        for tri in &t {
+            let mut m = [0u32; 3];
+            for e in 0..3 {
+                let (a, b) = (tri[e].min(tri[(e + 1) % 3]), tri[e].max(tri[(e + 1) % 3]));
+                m[e] = *mid.entry((a, b)).or_insert_with(|| {
+                    let (p, q) = (v[a as usize], v[b as usize]);
+                    v.push([
+                        (p[0] + q[0]) / 2.0,
+                        (p[1] + q[1]) / 2.0,
+                        (p[2] + q[2]) / 2.0,
+                    ]);
+                    (v.len() - 1) as u32
+                });
+            }
+            next.push([tri[0], m[0], m[2]]);
+            next.push([m[0], tri[1], m[1]]);
+            next.push([m[2], m[1], tri[2]]);
+            next.push([m[0], m[1], m[2]]);
+        }
+        t = next;
+    }
+    let vertices = v
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+            let j = |k: usize| jitter.get(3 * i + k).copied().unwrap_or(0) as f64;
+            [
+                (64.0 * p[0] / r).round() + j(0),
+                (64.0 * p[1] / r).round() + j(1),
+                (64.0 * p[2] / r).round() + j(2),
+            ]
+        })
+        .collect();
+    Mesh {
+        vertices,
+        triangles: t,
+        scalars: None,
+    }
+}
+
+#[test]
+fn bad_inputs_and_foreign_histories_are_refused() {
+    use geocert::decimate::{DecimateError, HistoryError};
+    // A non-manifold edge (three triangles on edge 0-1).
+    let mesh = Mesh {
+        vertices: vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ],
+        triangles: vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]],
+        scalars: None,
+    };
+    for path in [Path::Fast, Path::Exact] {
+        match decimate(&mesh, &Options::default(), path) {
+            Err(DecimateError::Mesh(e)) => assert!(e.to_string().contains("edge (")),
+            other => panic!("{path:?}: {other:?}"),
+        }
+    }
+    // The scalar criterion without scalars.
+    let grid = geocert::decimate::data::height_grid(6);
+    let opts = Options {
+        criterion: Criterion::Scalar,
+        ..Options::default()
+    };
+    assert!(matches!(
+        decimate(&grid, &opts, Path::Fast),
+        Err(DecimateError::NoScalars(_))
+    ));
+    // A history applied to another mesh.
+    let out = decimate(&grid, &Options::default(), Path::Fast).unwrap();
+    let half = Options {
+        target: Target::Keep(0.5),
+        ..Options::default()
+    };
+    let other = decimate(&geocert::decimate::data::height_grid(7), &half, Path::Fast).unwrap();
+    let r = Stage::decimated(&other.mesh, &out.history);
+    assert!(matches!(r, Err(HistoryError::Mismatch(_))), "{r:?}");
+    let mut moved = out.mesh.clone();
+    moved.vertices[0][2] += 1e-9;
+    assert!(matches!(
+        Stage::decimated(&moved, &out.history),
+        Err(HistoryError::Mismatch(_))
+    ));
+    // Corrupted or truncated history files.
+    let bytes = out.history.to_bytes();
+    for cut in [0, 5, 20, bytes.len() / 2, bytes.len() - 1] {
+        assert!(History::from_bytes(&bytes[..cut]).is_err());
+    }
+    let mut flipped = bytes.clone();
+    let mid = flipped.len() / 2;
+    flipped[mid] ^= 0x40;
+    assert!(History::from_bytes(&flipped).is_err());
+    let mut v2 = bytes.clone();
+    v2[8] = 2;
+    assert_eq!(History::from_bytes(&v2), Err(HistoryError::Version(2)));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(400))]
+
+    /// Ear cutting of star-shaped holes (a fan's ring around its removed node) with many
+    /// reflex and straight angles: every triangle is positive, no polygon vertex lies in a
+    /// closed triangle except at its corners, and the areas sum to the polygon's.
+    #[test]
+    fn ear_cutting_tiles_star_shaped_holes(
+        radii in proptest::collection::vec(1i32..=12, 3..24),
+        offsets in proptest::collection::vec(0i32..=2, 24),
+    ) {
+        use geocert::decimate::earcut::{orient2d, EarCutter, RobustOrient};
+        use std::cmp::Ordering;
+        let l = radii.len();
+        // Points on rays at increasing angles (lattice directions around a 16-gon), scaled.
+        let dirs: [(i32, i32); 16] = [
+            (4, 0), (4, 2), (4, 4), (2, 4), (0, 4), (-2, 4), (-4, 4), (-4, 2),
+            (-4, 0), (-4, -2), (-4, -4), (-2, -4), (0, -4), (2, -4), (4, -4), (4, -2),
+        ];
+        // Pick l increasing directions among the 16 (l ≤ 16 here; longer rings reuse
+        // in-between points at half radius on the same rays).
+        let l = l.min(16);
+        let mut idx: Vec<usize> = (0..16).collect();
+        idx.retain(|i| offsets[*i] != 0 || (*i * l) % 16 < l);
+        idx.truncate(l.max(3));
+        prop_assume!(idx.len() >= 3);
+        let pts: Vec<[f64; 2]> = idx
+            .iter()
+            .zip(&radii)
+            .map(|(&i, &r)| [(dirs[i].0 * r) as f64, (dirs[i].1 * r) as f64])
+            .collect();
+        // The star around the origin must turn left at every fan triangle.
+        let n = pts.len();
+        prop_assume!((0..n).all(|i| orient2d([0.0, 0.0], pts[i], pts[(i + 1) % n]) == Ordering::Greater));
+        let mut out = Vec::new();
+        prop_assert!(EarCutter::default().cut(&pts, &RobustOrient(&pts), &mut out));
+        prop_assert_eq!(out.len(), n - 2);
+        let area = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        let polygon: f64 = (0..n).map(|i| area([0.0, 0.0], pts[i], pts[(i + 1) % n])).sum();
+        let mut total = 0.0;
+        for t in &out {
+            let [a, b, c] = t.map(|p| pts[p as usize]);
+            prop_assert!(area(a, b, c) > 0.0);
+            total += area(a, b, c);
+            for (k, &q) in pts.iter().enumerate() {
+                if t.contains(&(k as u8)) {
+                    continue;
+                }
+                prop_assert!(
+                    area(a, b, q) < 0.0 || area(b, c, q) < 0.0 || area(c, a, q) < 0.0,
+                    "vertex {} in triangle {:?}", k, t
+                );
+            }
+        }
+        prop_assert_eq!(total, polygon);
+    }
+}

@@ -62,6 +62,69 @@ enum Command {
     /// Marching cubes (Wünsche & Lin): table audit and export.
     #[command(subcommand)]
     Mc(McCommand),
+    /// Decimate a triangle mesh by node removal (Krivograd et al.) and write the history that
+    /// restores it exactly. IN is a .ply/.obj/.stl/.vtk file, or `builtin:grid:SIDE` (a
+    /// SIDE×SIDE height field like the paper's Table 1) or `builtin:plate` (the Kirsch plate
+    /// of Fig. 9 with its von Mises field).
+    Decimate {
+        input: String,
+        /// Keep this fraction of the nodes (default 0.01 unless --nodes or --max-error).
+        #[arg(long, conflicts_with_all = ["nodes", "max_error"])]
+        keep: Option<f64>,
+        /// Keep this many nodes.
+        #[arg(long, conflicts_with = "max_error")]
+        nodes: Option<usize>,
+        /// Remove nodes while their evaluation value is at most this.
+        #[arg(long)]
+        max_error: Option<f64>,
+        #[arg(long, value_enum, default_value_t = CriterionArg::Error)]
+        criterion: CriterionArg,
+        #[arg(long, value_enum, default_value_t = McPath::Fast)]
+        path: McPath,
+        /// The decimated mesh (.ply, .obj, .stl or .vtk).
+        #[arg(long)]
+        out: PathBuf,
+        /// The history file that undecimates OUT.
+        #[arg(long)]
+        history: PathBuf,
+        /// The nodal scalar field: a PLY vertex property or VTK POINT_DATA array name.
+        #[arg(long)]
+        scalar: Option<String>,
+        /// Never remove border nodes (default: only while the border stays intact).
+        #[arg(long)]
+        exclude_border: bool,
+        #[arg(long, value_enum, default_value_t = ProjectionArg::Auto)]
+        projection: ProjectionArg,
+        /// The constant k of eq. (1): m = n/k intervals.
+        #[arg(long, default_value_t = 10)]
+        k: usize,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Restore a decimated mesh with its history: undo the last N steps (all by default).
+    Undecimate {
+        input: PathBuf,
+        #[arg(long)]
+        history: PathBuf,
+        #[arg(long)]
+        steps: Option<usize>,
+        #[arg(long)]
+        out: PathBuf,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum CriterionArg {
+    Angle,
+    Scalar,
+    Error,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ProjectionArg {
+    Auto,
+    Xy,
+    PerFan,
 }
 
 #[derive(Subcommand)]
@@ -238,6 +301,66 @@ fn run(cli: Cli) -> Result<ExitCode, String> {
         } => positivity(file, path, max_depth, cert, json),
         Command::Ffd(c) => ffd(c),
         Command::Mc(c) => mc(c),
+        Command::Decimate {
+            input,
+            keep,
+            nodes,
+            max_error,
+            criterion,
+            path,
+            out,
+            history,
+            scalar,
+            exclude_border,
+            projection,
+            k,
+            json,
+        } => {
+            use geocert::decimate::{BorderPolicy, Criterion, Options, ProjectionChoice, Target};
+            let options = Options {
+                criterion: match criterion {
+                    CriterionArg::Angle => Criterion::Angle,
+                    CriterionArg::Scalar => Criterion::Scalar,
+                    CriterionArg::Error => Criterion::Error,
+                },
+                target: match (keep, nodes, max_error) {
+                    (_, Some(n), _) => Target::Nodes(n),
+                    (_, _, Some(e)) => Target::ErrorBound(e),
+                    (k, _, _) => Target::Keep(k.unwrap_or(0.01)),
+                },
+                border: if exclude_border {
+                    BorderPolicy::Exclude
+                } else {
+                    BorderPolicy::Intact
+                },
+                projection: match projection {
+                    ProjectionArg::Auto => ProjectionChoice::Auto,
+                    ProjectionArg::Xy => ProjectionChoice::Xy,
+                    ProjectionArg::PerFan => ProjectionChoice::PerFan,
+                },
+                k,
+                ..Options::default()
+            };
+            let path = match path {
+                McPath::Fast => geocert::decimate::Path::Fast,
+                McPath::Exact => geocert::decimate::Path::Exact,
+            };
+            decimate_cmd(
+                &input,
+                scalar.as_deref(),
+                &options,
+                path,
+                &out,
+                &history,
+                json,
+            )
+        }
+        Command::Undecimate {
+            input,
+            history,
+            steps,
+            out,
+        } => undecimate_cmd(&input, &history, steps, &out),
         Command::VerifyCert { file } => {
             let text =
                 std::fs::read_to_string(&file).map_err(|e| format!("{}: {e}", file.display()))?;
@@ -687,7 +810,7 @@ fn mc_table_proofs() -> (Vec<geocert::proofs::ProofOutcome>, usize) {
 fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     let meta = RunMeta::collect();
     let proofs = geocert::proofs::all();
-    let bar = ProgressBar::new(proofs.len() as u64 + 3);
+    let bar = ProgressBar::new(proofs.len() as u64 + 4);
     bar.set_style(
         ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").map_err(|e| e.to_string())?,
     );
@@ -713,6 +836,10 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     let root = std::env::current_dir().map_err(|e| e.to_string())?;
     let ffd_camp = report::ffd::ffd_campaign(&root, 2026, 600, 60);
     bar.inc(1);
+    bar.set_message("decimation grids, plate and peers (VTK if installed, meshoptimizer)");
+    let sides: Vec<usize> = (1..=10).map(|k| 100 * k).collect();
+    let dec_camp = report::decimate::decimate_campaign(&root, &sides);
+    bar.inc(1);
     bar.finish_and_clear();
     let part = |prefix: &str| -> Vec<_> {
         outcomes
@@ -732,7 +859,9 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
         report::ffd_markdown::write_ffd_report(&out, &meta, &ffd_proofs, &ffd_camp).map_err(io)?,
         report::mc_markdown::write_mc_report(&out, &meta, &mc_proofs, unrealisable, &grid)
             .map_err(io)?,
+        report::decimate::write_decimate_report(&out, &meta, &dec_camp).map_err(io)?,
     ];
+    let dec_ok = report::decimate::campaign_ok(&dec_camp);
     written.insert(
         0,
         report::write_index(
@@ -768,11 +897,20 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
                     ),
                     ok: mc_ok,
                 },
+                report::IndexEntry {
+                    file: "decimate.md".into(),
+                    what: format!(
+                        "decimation and exact undecimation ({} grids up to {} nodes, the Kirsch plate, peers)",
+                        dec_camp.grids.len(),
+                        dec_camp.grids.last().map(|g| g.nodes_in).unwrap_or(0)
+                    ),
+                    ok: dec_ok,
+                },
             ],
         )
         .map_err(io)?,
     );
-    let ok = kernel_ok && ffd_ok && mc_ok;
+    let ok = kernel_ok && ffd_ok && mc_ok && dec_ok;
     if json {
         let v = serde_json::json!({"ok": ok, "proofs": outcomes, "campaign": camp, "timing": timing,
             "reports": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>()});
@@ -888,4 +1026,146 @@ fn positivity(
         println!("{name}: {detail}");
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Reads a mesh file or builds a built-in input (`builtin:grid:SIDE`, `builtin:plate`).
+fn decimation_input(input: &str, scalar: Option<&str>) -> Result<geocert::mesh::Mesh, String> {
+    use geocert::decimate::data;
+    if let Some(rest) = input.strip_prefix("builtin:") {
+        return match rest.split(':').collect::<Vec<_>>().as_slice() {
+            ["plate"] => Ok(data::paper_plate()),
+            ["grid", side] => {
+                let side: usize = side
+                    .parse()
+                    .map_err(|_| format!("{input}: grid side {side:?} is not a number"))?;
+                if !(2..=4000).contains(&side) {
+                    return Err(format!("{input}: grid side must be in 2..=4000"));
+                }
+                Ok(data::height_grid(side))
+            }
+            _ => Err(format!(
+                "{input}: unknown built-in (builtin:grid:SIDE or builtin:plate)"
+            )),
+        };
+    }
+    geocert::mesh::Mesh::read(std::path::Path::new(input), scalar).map_err(|e| e.to_string())
+}
+
+fn decimate_cmd(
+    input: &str,
+    scalar: Option<&str>,
+    options: &geocert::decimate::Options,
+    path: geocert::decimate::Path,
+    out: &std::path::Path,
+    history: &std::path::Path,
+    json: bool,
+) -> Result<ExitCode, String> {
+    use geocert::mesh::Format;
+    let format = Format::from_path(out).map_err(|e| e.to_string())?;
+    let mesh = decimation_input(input, scalar)?;
+    let result =
+        geocert::decimate::decimate(&mesh, options, path).map_err(|e| format!("{input}: {e}"))?;
+    let errors = result
+        .stats
+        .projection_xy
+        .then(|| geocert::decimate::quality::xy_errors(&mesh, &result.mesh));
+    // The history goes to a temporary file first so that a failing mesh write leaves nothing.
+    let mut tmp = history.as_os_str().to_owned();
+    tmp.push(".geocert-history-partial");
+    let tmp = std::path::PathBuf::from(tmp);
+    std::fs::write(&tmp, result.history.to_bytes())
+        .map_err(|e| format!("{}: {e}", history.display()))?;
+    if let Err(e) = result.mesh.write(out, format) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(e.to_string());
+    }
+    std::fs::rename(&tmp, history).map_err(|e| format!("{}: {e}", history.display()))?;
+    let s = &result.stats;
+    if json {
+        let v = serde_json::json!({
+            "nodes_in": s.nodes_in,
+            "nodes_out": s.nodes_out,
+            "triangles_out": s.triangles_out,
+            "seconds": s.seconds,
+            "max_scalar_error": errors.and_then(|e| e.max_scalar),
+            "max_height_error": errors.map(|e| e.max_height),
+            "removed": s.removed,
+            "refused": s.refused,
+            "intervals": s.intervals,
+            "projection": if s.projection_xy { "xy" } else { "per-fan" },
+        });
+        println!("{v}");
+    } else {
+        println!(
+            "{} → {} nodes, {} → {} triangles in {:.3} s ({} removals refused); history: {} steps",
+            s.nodes_in,
+            s.nodes_out,
+            s.triangles_in,
+            s.triangles_out,
+            s.seconds,
+            s.refused,
+            result.history.len()
+        );
+        if let Some(e) = errors {
+            print!("max height error {:.6e}", e.max_height);
+            if let Some(m) = e.max_scalar {
+                print!(", max scalar error {m:.6e}");
+            }
+            println!();
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn undecimate_cmd(
+    input: &std::path::Path,
+    history: &std::path::Path,
+    steps: Option<usize>,
+    out: &std::path::Path,
+) -> Result<ExitCode, String> {
+    use geocert::decimate::{History, Stage};
+    use geocert::mesh::Format;
+    let format = Format::from_path(out).map_err(|e| e.to_string())?;
+    let bytes = std::fs::read(history).map_err(|e| format!("{}: {e}", history.display()))?;
+    let h = History::from_bytes(&bytes).map_err(|e| format!("{}: {e}", history.display()))?;
+    let name = h.has_scalars.then_some(h.scalar_name.as_str());
+    let mesh = geocert::mesh::Mesh::read(input, name).map_err(|e| e.to_string())?;
+    let mut stage =
+        Stage::decimated(&mesh, &h).map_err(|e| format!("{}: {e}", history.display()))?;
+    let n = steps.unwrap_or(h.len());
+    if n > h.len() {
+        return Err(format!(
+            "--steps {n}: the history has only {} steps",
+            h.len()
+        ));
+    }
+    let clock = std::time::Instant::now();
+    for _ in 0..n {
+        stage.undo(&h).map_err(|e| e.to_string())?;
+    }
+    let seconds = clock.elapsed().as_secs_f64();
+    let back = stage.to_mesh();
+    let exact = stage.applied == 0
+        && geocert::decimate::history::fingerprint(&back) == h.original_fingerprint;
+    back.write(out, format).map_err(|e| e.to_string())?;
+    println!(
+        "undid {n} of {} steps in {seconds:.3} s: {} nodes, {} triangles{}",
+        h.len(),
+        back.vertices.len(),
+        back.triangles.len(),
+        if stage.applied == 0 {
+            if exact {
+                "; identical to the original (fingerprint)"
+            } else {
+                "; DIFFERS from the original's fingerprint"
+            }
+        } else {
+            ""
+        }
+    );
+    Ok(if stage.applied == 0 && !exact {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
 }

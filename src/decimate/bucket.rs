@@ -35,8 +35,10 @@ pub struct BucketQueue {
     prev: Vec<u32>,
     /// The interval a node is filed in, or `NONE`.
     bucket: Vec<u32>,
-    /// No interval below this one is non-empty.
-    lowest: usize,
+    /// Bit `j` set when interval `j` is non-empty, and a summary bit per word of it: finding
+    /// the lowest non-empty interval costs two word scans, not a walk over empty intervals.
+    occupied: Vec<u64>,
+    summary: Vec<u64>,
     len: usize,
 }
 
@@ -59,7 +61,8 @@ impl BucketQueue {
             next: vec![NONE; nodes],
             prev: vec![NONE; nodes],
             bucket: vec![NONE; nodes],
-            lowest: m,
+            occupied: vec![0; m.div_ceil(64)],
+            summary: vec![0; m.div_ceil(64).div_ceil(64)],
             len: 0,
         }
     }
@@ -128,7 +131,8 @@ impl BucketQueue {
             self.next[self.tail[j] as usize] = node;
         }
         self.tail[j] = node;
-        self.lowest = self.lowest.min(j);
+        self.occupied[j / 64] |= 1 << (j % 64);
+        self.summary[j / 4096] |= 1 << ((j / 64) % 64);
         self.len += 1;
     }
 
@@ -151,6 +155,12 @@ impl BucketQueue {
         } else {
             self.prev[q as usize] = p;
         }
+        if self.head[j] == NONE {
+            self.occupied[j / 64] &= !(1 << (j % 64));
+            if self.occupied[j / 64] == 0 {
+                self.summary[j / 4096] &= !(1 << ((j / 64) % 64));
+            }
+        }
         self.bucket[n] = NONE;
         self.len -= 1;
     }
@@ -160,10 +170,13 @@ impl BucketQueue {
         if self.len == 0 {
             return None;
         }
-        while self.head[self.lowest] == NONE {
-            self.lowest += 1;
-        }
-        let j = self.lowest;
+        let s = self
+            .summary
+            .iter()
+            .position(|&w| w != 0)
+            .expect("a queued node's interval is marked");
+        let word = 64 * s + self.summary[s].trailing_zeros() as usize;
+        let j = 64 * word + self.occupied[word].trailing_zeros() as usize;
         let node = self.head[j];
         self.remove(node);
         Some((node, j))

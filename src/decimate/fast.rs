@@ -628,6 +628,11 @@ pub fn decimate(mesh: &Mesh, options: &Options) -> Result<Outcome, DecimateError
     let out = engine.to_mesh(mesh.scalars.as_ref().map(|s| s.name.as_str()));
     let seconds = clock.elapsed().as_secs_f64();
     history.original_fingerprint = fingerprint(mesh);
+    history.scalar_name = mesh
+        .scalars
+        .as_ref()
+        .map(|s| s.name.clone())
+        .unwrap_or_default();
     history.decimated_fingerprint = fingerprint(&out);
     Ok(Outcome {
         stats: Stats {

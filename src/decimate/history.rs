@@ -11,7 +11,7 @@
 //! slots fall free.
 //!
 //! File layout (little-endian): `b"GCDHIST\n"`, version `u32` = 1, vertex count `u32`, slot
-//! count `u32`, scalar flag `u8`, step count `u32`, the original and decimated meshes'
+//! count `u32`, scalar flag `u8`, the scalar field's name (`u16` length, UTF-8), step count `u32`, the original and decimated meshes'
 //! fingerprints (`u64` each); per step: node `u32`, border flag `u8`, ring length `u8`, ring
 //! (`u32` each), removed slots (`u32` each), the node's position in each (`u8` each), added
 //! triangles (three `u8` ring positions each), the node's coordinates (`f64` ×3) and, with
@@ -78,6 +78,8 @@ pub struct History {
     pub vertex_count: u32,
     pub slot_count: u32,
     pub has_scalars: bool,
+    /// The scalar field's name (empty without one).
+    pub scalar_name: String,
     pub original_fingerprint: u64,
     pub decimated_fingerprint: u64,
     nodes: Vec<u32>,
@@ -181,6 +183,9 @@ impl History {
         out.extend_from_slice(&self.vertex_count.to_le_bytes());
         out.extend_from_slice(&self.slot_count.to_le_bytes());
         out.push(self.has_scalars as u8);
+        let name = self.scalar_name.as_bytes();
+        out.extend_from_slice(&(name.len().min(u16::MAX as usize) as u16).to_le_bytes());
+        out.extend_from_slice(&name[..name.len().min(u16::MAX as usize)]);
         out.extend_from_slice(&(self.len() as u32).to_le_bytes());
         out.extend_from_slice(&self.original_fingerprint.to_le_bytes());
         out.extend_from_slice(&self.decimated_fingerprint.to_le_bytes());
@@ -236,8 +241,15 @@ impl History {
                 })
             }
         };
+        let name_len = u16::from_le_bytes([r.u8()?, r.u8()?]) as usize;
+        let scalar_name =
+            String::from_utf8(r.take(name_len)?.to_vec()).map_err(|_| HistoryError::Step {
+                step: 0,
+                why: "the scalar field's name is not UTF-8".into(),
+            })?;
         let steps = r.u32()? as usize;
         let mut h = History::new(vertex_count as usize, slot_count as usize, has_scalars);
+        h.scalar_name = scalar_name;
         h.original_fingerprint = r.u64()?;
         h.decimated_fingerprint = r.u64()?;
         let bad = |step: usize, why: String| HistoryError::Step { step, why };

@@ -4,6 +4,7 @@
 //! commit, date and machine that produced it. Reports are never edited by hand.
 
 pub mod campaign;
+pub mod decimate;
 pub mod ffd;
 pub mod ffd_dmffd;
 pub mod ffd_markdown;

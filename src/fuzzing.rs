@@ -282,3 +282,92 @@ pub fn check_mc_table(data: &[u8]) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// Decimation round trip on a small mesh decoded from bytes: either a jittered height grid
+/// (first byte even) or arbitrary triangles over up to 12 integer points (odd), and options
+/// from the next byte. Decimation must succeed or refuse with an error; what succeeds must
+/// pass the independent checker at every step and undecimate to the input bit for bit,
+/// through the history file. The history parser sees the raw bytes too: no panic, and what
+/// it accepts re-serialises to the same bytes.
+pub fn check_decimate(data: &[u8]) -> Result<(), String> {
+    use crate::decimate::{
+        check, decimate, BorderPolicy, Criterion, History, Options, Path, ProjectionChoice,
+        Stage, Target,
+    };
+    if let Ok(h) = History::from_bytes(data) {
+        if h.to_bytes() != data {
+            return Err("history bytes do not re-serialise identically".into());
+        }
+    }
+    if data.len() < 4 {
+        return Ok(());
+    }
+    let (mode, opts, body) = (data[0], data[1], &data[2..]);
+    let byte = |i: usize| body.get(i).copied().unwrap_or(0);
+    let mut mesh = crate::mesh::Mesh::default();
+    if mode % 2 == 0 {
+        let (nx, ny) = (3 + (byte(0) % 6) as usize, 3 + (byte(1) % 6) as usize);
+        for j in 0..ny {
+            for i in 0..nx {
+                let k = 2 + 3 * (j * nx + i);
+                let jitter = |b: u8| (b % 3) as f64 - 1.0;
+                mesh.vertices.push([
+                    8.0 * i as f64 + jitter(byte(k)),
+                    8.0 * j as f64 + jitter(byte(k + 1)),
+                    (byte(k + 2) % 9) as f64 - 4.0,
+                ]);
+            }
+        }
+        let id = |i: usize, j: usize| (j * nx + i) as u32;
+        for j in 0..ny - 1 {
+            for i in 0..nx - 1 {
+                mesh.triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                mesh.triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+    } else {
+        let n = 4 + (byte(0) % 9) as usize;
+        for v in 0..n {
+            let k = 1 + 3 * v;
+            mesh.vertices.push([
+                (byte(k) % 7) as f64,
+                (byte(k + 1) % 7) as f64,
+                (byte(k + 2) % 7) as f64,
+            ]);
+        }
+        let rest = &body[(1 + 3 * n).min(body.len())..];
+        for t in rest.chunks_exact(3).take(24) {
+            mesh.triangles
+                .push([t[0] as u32 % n as u32, t[1] as u32 % n as u32, t[2] as u32 % n as u32]);
+        }
+    }
+    let options = Options {
+        criterion: [Criterion::Angle, Criterion::Error, Criterion::Error][(opts % 3) as usize],
+        target: Target::Keep(0.05 + 0.1 * ((opts / 3) % 8) as f64),
+        border: if opts & 0x80 != 0 {
+            BorderPolicy::Exclude
+        } else {
+            BorderPolicy::Intact
+        },
+        projection: if mode % 2 == 0 {
+            ProjectionChoice::Auto
+        } else {
+            ProjectionChoice::PerFan
+        },
+        k: 1 + (opts as usize % 5),
+        max_valence: 64,
+    };
+    let Ok(out) = decimate(&mesh, &options, Path::Fast) else {
+        return Ok(());
+    };
+    check::verify(&mesh, &out.history, out.stats.projection_xy, 1)?;
+    let read = History::from_bytes(&out.history.to_bytes()).map_err(|e| e.to_string())?;
+    let mut stage = Stage::decimated(&out.mesh, &read).map_err(|e| e.to_string())?;
+    while stage.applied > 0 {
+        stage.undo(&read).map_err(|e| e.to_string())?;
+    }
+    if stage.to_mesh() != mesh {
+        return Err("undecimation through the history file is not exact".into());
+    }
+    Ok(())
+}

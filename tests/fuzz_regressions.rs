@@ -73,3 +73,9 @@ fn mc_table_regressions() {
     let n = replay("mc_table", geocert::fuzzing::check_mc_table);
     assert!(n > 0, "the regression corpus must not be empty");
 }
+
+#[test]
+fn decimate_round_trip_regressions() {
+    let n = replay("decimate_round_trip", geocert::fuzzing::check_decimate);
+    assert!(n > 0, "the regression corpus must not be empty");
+}

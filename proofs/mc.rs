@@ -311,7 +311,7 @@ fn cube_symmetries() -> Vec<([u8; 8], bool)> {
                 }
                 CORNERS.iter().position(|q| *q == y).expect("a corner") as u8
             });
-            let proper = (inversions + flips.count_ones() as usize) % 2 == 0;
+            let proper = (inversions + flips.count_ones() as usize).is_multiple_of(2);
             out.push((map, proper));
         }
     }
@@ -602,7 +602,7 @@ pub fn face_deciders() -> ProofOutcome {
                         let asy = asymptotic(a, b, c, d, n);
                         let exact = Some(crate::mc::decider::decide_shifted(&a, &b, &c, &d));
                         // The rational entry point on every tie and every 64th face.
-                        let sampled = pr.is_none() || ambiguous % 64 == 0;
+                        let sampled = pr.is_none() || ambiguous.is_multiple_of(64);
                         let vals = [va, vb, vc, vd].map(|x| Rational::from_integer(x.into()));
                         let rational_ok = !sampled
                             || crate::mc::decider::decide_exact(

@@ -291,8 +291,8 @@ pub fn check_mc_table(data: &[u8]) -> Result<(), String> {
 /// it accepts re-serialises to the same bytes.
 pub fn check_decimate(data: &[u8]) -> Result<(), String> {
     use crate::decimate::{
-        check, decimate, BorderPolicy, Criterion, History, Options, Path, ProjectionChoice,
-        Stage, Target,
+        check, decimate, BorderPolicy, Criterion, History, Options, Path, ProjectionChoice, Stage,
+        Target,
     };
     if let Ok(h) = History::from_bytes(data) {
         if h.to_bytes() != data {
@@ -321,8 +321,10 @@ pub fn check_decimate(data: &[u8]) -> Result<(), String> {
         let id = |i: usize, j: usize| (j * nx + i) as u32;
         for j in 0..ny - 1 {
             for i in 0..nx - 1 {
-                mesh.triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-                mesh.triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+                mesh.triangles
+                    .push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                mesh.triangles
+                    .push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
             }
         }
     } else {
@@ -337,8 +339,11 @@ pub fn check_decimate(data: &[u8]) -> Result<(), String> {
         }
         let rest = &body[(1 + 3 * n).min(body.len())..];
         for t in rest.chunks_exact(3).take(24) {
-            mesh.triangles
-                .push([t[0] as u32 % n as u32, t[1] as u32 % n as u32, t[2] as u32 % n as u32]);
+            mesh.triangles.push([
+                t[0] as u32 % n as u32,
+                t[1] as u32 % n as u32,
+                t[2] as u32 % n as u32,
+            ]);
         }
     }
     let options = Options {

@@ -15,6 +15,8 @@
 //!   and the subdivision positivity prover with checkable certificates.
 //! * [`bspline`] — knot vectors, de Boor, Boehm and Oslo insertion, Bézier extraction, tensor
 //!   splines, Mørken products.
+//! * [`decimate`] — node decimation with the exponential-interval bucket queue, ear cutting,
+//!   exact undecimation (Krivograd et al.), exact and fast engines, an independent checker.
 //! * [`proofs`] — the exhaustive proofs (source in `proofs/`), run by `cargo test` and
 //!   `geocert prove`.
 //! * [`report`] — writes the Markdown reports in `reports/` from measured runs.

@@ -372,3 +372,95 @@ fn mc_extract_raw_volume_both_paths() {
     assert_eq!(o.status.code(), Some(2));
     assert!(!never.exists());
 }
+
+#[test]
+fn decimate_undecimate_round_trip_and_refusals() {
+    let (out, hist, back, full, fullh) = (
+        tmp("dec.ply"),
+        tmp("dec.bin"),
+        tmp("back.ply"),
+        tmp("full.ply"),
+        tmp("full.bin"),
+    );
+    let s = |p: &std::path::PathBuf| p.to_str().unwrap().to_string();
+    let o = geocert()
+        .args([
+            "decimate",
+            "builtin:plate",
+            "--keep",
+            "0.1",
+            "--json",
+            "--out",
+            &s(&out),
+            "--history",
+            &s(&hist),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["nodes_in"], 15606);
+    assert_eq!(v["nodes_out"], 1561);
+    assert!(v["max_scalar_error"].as_f64().unwrap() > 0.0);
+    assert!(v["seconds"].as_f64().unwrap() > 0.0);
+    // The original, written the same way, and the undecimated mesh are the same bytes.
+    let o = geocert()
+        .args([
+            "decimate",
+            "builtin:plate",
+            "--keep",
+            "1",
+            "--out",
+            &s(&full),
+            "--history",
+            &s(&fullh),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let o = geocert()
+        .args([
+            "undecimate",
+            &s(&out),
+            "--history",
+            &s(&hist),
+            "--out",
+            &s(&back),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("identical to the original"));
+    assert_eq!(std::fs::read(&back).unwrap(), std::fs::read(&full).unwrap());
+    // A history that belongs to another mesh is refused and nothing is written.
+    let wrong = tmp("wrong.ply");
+    let o = geocert()
+        .args([
+            "undecimate",
+            &s(&full),
+            "--history",
+            &s(&hist),
+            "--out",
+            &s(&wrong),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("does not belong"));
+    assert!(!wrong.exists());
+    // Non-manifold input: a clear error naming the edge, no outputs.
+    let bad = tmp("bad.obj");
+    std::fs::write(
+        &bad,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
+    )
+    .unwrap();
+    let (bo, bh) = (tmp("bad-out.ply"), tmp("bad.bin"));
+    let o = geocert()
+        .args(["decimate", &s(&bad), "--out", &s(&bo), "--history", &s(&bh)])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("edge ("));
+    assert!(!bo.exists() && !bh.exists());
+}

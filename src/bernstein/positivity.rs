@@ -179,7 +179,7 @@ impl Budget {
             return Some(LimitHit::Boxes);
         }
         if let Some(t) = self.limits.time_limit {
-            if self.boxes % 64 == 0 && self.start.elapsed() > t {
+            if self.boxes.is_multiple_of(64) && self.start.elapsed() > t {
                 return Some(LimitHit::Time);
             }
         }

@@ -36,7 +36,7 @@ pub fn ear_quality(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
     }
 }
 
-/// Reusable buffers for [`ear_cut`].
+/// The ear cutter, with buffers reused between holes.
 #[derive(Default, Clone, Debug)]
 pub struct EarCutter {
     poly: Vec<u8>,

@@ -29,7 +29,7 @@ fn next(h: u32) -> u32 {
 
 #[inline]
 fn prev(h: u32) -> u32 {
-    if h % 3 == 0 {
+    if h.is_multiple_of(3) {
         h + 2
     } else {
         h - 1

@@ -117,7 +117,7 @@ fn triangles_of(config: usize, ids: &[i64]) -> Result<Vec<[u8; 3]>, TableError> 
         });
     }
     let ids = &ids[..end];
-    if ids.len() % 3 != 0 {
+    if !ids.len().is_multiple_of(3) {
         return Err(TableError::Entry {
             config,
             why: format!("{} edge ids, not a multiple of 3", ids.len()),

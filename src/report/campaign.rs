@@ -74,10 +74,10 @@ pub fn median(mut v: Vec<f64>) -> f64 {
 fn random_poly(rng: &mut Rng, degrees: &[usize]) -> Bernstein<Rational> {
     let n: usize = degrees.iter().map(|d| d + 1).product();
     let offset = rng.int(6) + 3;
-    let near = rng.next() % 4 == 0;
+    let near = rng.next().is_multiple_of(4);
     let coeffs = (0..n)
         .map(|_| {
-            if near && rng.next() % 3 == 0 {
+            if near && rng.next().is_multiple_of(3) {
                 let e = 40 + (rng.next() % 11) as usize;
                 Rational::new(BigInt::from(rng.int(3)), BigInt::from(1) << e)
             } else {

@@ -318,15 +318,7 @@ pub fn check_decimate(data: &[u8]) -> Result<(), String> {
                 ]);
             }
         }
-        let id = |i: usize, j: usize| (j * nx + i) as u32;
-        for j in 0..ny - 1 {
-            for i in 0..nx - 1 {
-                mesh.triangles
-                    .push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-                mesh.triangles
-                    .push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-            }
-        }
+        mesh.triangles = crate::decimate::data::grid_triangles(nx, ny);
     } else {
         let n = 4 + (byte(0) % 9) as usize;
         for v in 0..n {

@@ -24,16 +24,22 @@ pub fn height_grid(side: usize) -> Mesh {
             mesh.vertices.push([x, y, terrain(x, y)]);
         }
     }
-    let id = |i: usize, j: usize| (j * side + i) as u32;
-    for j in 0..side - 1 {
-        for i in 0..side - 1 {
-            mesh.triangles
-                .push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            mesh.triangles
-                .push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+    mesh.triangles = grid_triangles(side, side);
+    mesh
+}
+
+/// The triangles of an `nx × ny` grid of nodes numbered row by row (x fastest), each square
+/// cut along the diagonal from its lowest to its highest node, counter-clockwise in xy.
+pub fn grid_triangles(nx: usize, ny: usize) -> Vec<[u32; 3]> {
+    let id = |i: usize, j: usize| (j * nx + i) as u32;
+    let mut triangles = Vec::with_capacity(2 * nx.saturating_sub(1) * ny.saturating_sub(1));
+    for j in 0..ny.saturating_sub(1) {
+        for i in 0..nx.saturating_sub(1) {
+            triangles.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            triangles.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
         }
     }
-    mesh
+    triangles
 }
 
 /// The plate of [`kirsch_plate`]: width, height, hole radius (mm) and remote stress (MPa).

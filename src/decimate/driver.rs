@@ -5,7 +5,9 @@
 //! file them at the tails of their intervals; stop at the target.
 
 use super::bucket::{interval_count, BucketQueue};
-use super::{History, Options, Target};
+use super::history::fingerprint;
+use super::{History, Options, Outcome, Stats, Target};
+use crate::mesh::Mesh;
 
 /// What an engine provides to the loop.
 pub(crate) trait Engine {
@@ -90,4 +92,48 @@ pub(crate) fn run(
         }
     }
     counts
+}
+
+/// Runs an engine built by `build` on `mesh` and packages the outcome: the decimated mesh
+/// (`finish` reads it off the engine, with whether holes were cut in the global xy plane),
+/// the history with both fingerprints, and the statistics. `seconds` covers building the
+/// engine, the loop and reading off the mesh.
+pub(crate) fn decimate_with<E: Engine>(
+    mesh: &Mesh,
+    options: &Options,
+    build: impl FnOnce() -> Result<E, super::DecimateError>,
+    finish: impl FnOnce(&E) -> (Mesh, bool),
+) -> Result<Outcome, super::DecimateError> {
+    let clock = std::time::Instant::now();
+    let mut engine = build()?;
+    let mut history = History::new(
+        mesh.vertices.len(),
+        mesh.triangles.len(),
+        mesh.scalars.is_some(),
+    );
+    let counts = run(&mut engine, options, &mut history);
+    let (out, projection_xy) = finish(&engine);
+    let seconds = clock.elapsed().as_secs_f64();
+    history.original_fingerprint = fingerprint(mesh);
+    history.scalar_name = mesh
+        .scalars
+        .as_ref()
+        .map(|s| s.name.clone())
+        .unwrap_or_default();
+    history.decimated_fingerprint = fingerprint(&out);
+    Ok(Outcome {
+        stats: Stats {
+            nodes_in: mesh.vertices.len(),
+            nodes_out: out.vertices.len(),
+            triangles_in: mesh.triangles.len(),
+            triangles_out: out.triangles.len(),
+            removed: counts.removed,
+            refused: counts.refused,
+            intervals: counts.intervals,
+            projection_xy,
+            seconds,
+        },
+        history,
+        mesh: out,
+    })
 }

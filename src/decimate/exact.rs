@@ -4,10 +4,10 @@
 
 use super::driver::{self, Engine};
 use super::earcut::{EarCutter, Orient};
-use super::history::{fingerprint, History};
+use super::history::History;
 use super::{
     canonical_start, check_options, edge_angle, fan_normal, BorderPolicy, Criterion, DecimateError,
-    Options, Outcome, Plane, ProjectionChoice, Stats,
+    Options, Outcome, Plane, ProjectionChoice,
 };
 use crate::mesh::{Mesh, Scalars};
 use crate::num::{rational_from_f64, rational_to_f64, Rational};
@@ -440,38 +440,12 @@ impl Engine for ExactEngine {
 
 /// Decimates with the exact engine.
 pub fn decimate(mesh: &Mesh, options: &Options) -> Result<Outcome, DecimateError> {
-    let clock = std::time::Instant::now();
-    let mut engine = ExactEngine::new(mesh, options)?;
-    let mut history = History::new(
-        mesh.vertices.len(),
-        mesh.triangles.len(),
-        mesh.scalars.is_some(),
-    );
-    let counts = driver::run(&mut engine, options, &mut history);
-    let out = to_mesh(&engine, mesh);
-    let seconds = clock.elapsed().as_secs_f64();
-    history.original_fingerprint = fingerprint(mesh);
-    history.scalar_name = mesh
-        .scalars
-        .as_ref()
-        .map(|s| s.name.clone())
-        .unwrap_or_default();
-    history.decimated_fingerprint = fingerprint(&out);
-    Ok(Outcome {
-        stats: Stats {
-            nodes_in: mesh.vertices.len(),
-            nodes_out: out.vertices.len(),
-            triangles_in: mesh.triangles.len(),
-            triangles_out: out.triangles.len(),
-            removed: counts.removed,
-            refused: counts.refused,
-            intervals: counts.intervals,
-            projection_xy: engine.global.is_some(),
-            seconds,
-        },
-        history,
-        mesh: out,
-    })
+    driver::decimate_with(
+        mesh,
+        options,
+        || ExactEngine::new(mesh, options),
+        |e| (to_mesh(e, mesh), e.global.is_some()),
+    )
 }
 
 fn to_mesh(engine: &ExactEngine, mesh: &Mesh) -> Mesh {

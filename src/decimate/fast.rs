@@ -8,10 +8,10 @@
 
 use super::driver::{self, Engine};
 use super::earcut::{orient2d, EarCutter, RobustOrient};
-use super::history::{fingerprint, History};
+use super::history::History;
 use super::{
     canonical_start, check_options, edge_angle, fan_normal, BorderPolicy, Criterion, DecimateError,
-    Options, Outcome, Plane, ProjectionChoice, Stats,
+    Options, Outcome, Plane, ProjectionChoice,
 };
 use crate::mesh::{Mesh, MeshError, Scalars};
 use std::cmp::Ordering;
@@ -617,36 +617,13 @@ pub(crate) fn star_is_simple(pv: [f64; 2], pts: &[[f64; 2]], border: bool) -> bo
 
 /// Decimates with the fast engine.
 pub fn decimate(mesh: &Mesh, options: &Options) -> Result<Outcome, DecimateError> {
-    let clock = std::time::Instant::now();
-    let mut engine = FastEngine::new(mesh, options)?;
-    let mut history = History::new(
-        mesh.vertices.len(),
-        mesh.triangles.len(),
-        mesh.scalars.is_some(),
-    );
-    let counts = driver::run(&mut engine, options, &mut history);
-    let out = engine.to_mesh(mesh.scalars.as_ref().map(|s| s.name.as_str()));
-    let seconds = clock.elapsed().as_secs_f64();
-    history.original_fingerprint = fingerprint(mesh);
-    history.scalar_name = mesh
-        .scalars
-        .as_ref()
-        .map(|s| s.name.clone())
-        .unwrap_or_default();
-    history.decimated_fingerprint = fingerprint(&out);
-    Ok(Outcome {
-        stats: Stats {
-            nodes_in: mesh.vertices.len(),
-            nodes_out: out.vertices.len(),
-            triangles_in: mesh.triangles.len(),
-            triangles_out: out.triangles.len(),
-            removed: counts.removed,
-            refused: counts.refused,
-            intervals: counts.intervals,
-            projection_xy: engine.global.is_some(),
-            seconds,
+    driver::decimate_with(
+        mesh,
+        options,
+        || FastEngine::new(mesh, options),
+        |e| {
+            let name = mesh.scalars.as_ref().map(|s| s.name.as_str());
+            (e.to_mesh(name), e.global.is_some())
         },
-        history,
-        mesh: out,
-    })
+    )
 }

@@ -192,6 +192,7 @@ fn sphere(level: u32, jitter: &[i32]) -> Mesh {
         })
         .collect();
     Mesh {
+        normals: None,
         vertices,
         triangles: t,
         scalars: None,
@@ -203,6 +204,7 @@ fn bad_inputs_and_foreign_histories_are_refused() {
     use geocert::decimate::{DecimateError, HistoryError};
     // A non-manifold edge (three triangles on edge 0-1).
     let mesh = Mesh {
+        normals: None,
         vertices: vec![
             [0.0, 0.0, 0.0],
             [1.0, 0.0, 0.0],

@@ -16,6 +16,7 @@ fn mesh_strategy() -> impl Strategy<Value = Mesh> {
             proptest::option::of(proptest::collection::vec(-1e3f64..1e3, n)),
         )
             .prop_map(|(vertices, tris, values)| Mesh {
+                normals: None,
                 vertices,
                 triangles: tris.into_iter().map(|(a, b, c)| [a, b, c]).collect(),
                 scalars: values.map(|values| Scalars {
@@ -103,6 +104,7 @@ fn topology_errors_name_the_edge_or_vertex() {
     let v = vec![[0.0; 3]; 6];
     // Two triangles traversing edge (0,1) the same way.
     let m = Mesh {
+        normals: None,
         vertices: v.clone(),
         triangles: vec![[0, 1, 2], [0, 1, 3]],
         scalars: None,
@@ -113,6 +115,7 @@ fn topology_errors_name_the_edge_or_vertex() {
     ));
     // A bow-tie: two triangles meeting only at vertex 0.
     let m = Mesh {
+        normals: None,
         vertices: v,
         triangles: vec![[0, 1, 2], [0, 3, 4]],
         scalars: None,
@@ -153,6 +156,7 @@ fn writing_fails_cleanly_and_leaves_no_file() {
     let dir = std::env::temp_dir().join(format!("geocert-mesh-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let bad = Mesh {
+        normals: None,
         vertices: vec![[0.0, f64::NAN, 0.0]],
         triangles: vec![],
         scalars: None,

@@ -467,6 +467,7 @@ impl FastEngine {
             .map(|s| self.tri[s].map(|i| new_id[i as usize]))
             .collect();
         Mesh {
+            normals: None,
             vertices,
             triangles,
             scalars: name.map(|n| Scalars {

@@ -609,6 +609,7 @@ impl Stage {
             .map(|(t, _)| t.map(|i| new_id[i as usize]))
             .collect();
         Mesh {
+            normals: None,
             vertices,
             triangles,
             scalars: self.scalars.as_ref().map(|s| Scalars {

@@ -90,6 +90,7 @@ impl ExactSurface {
     /// The mesh with every vertex rounded to the nearest `f64`.
     pub fn to_mesh(&self) -> Mesh {
         Mesh {
+            normals: None,
             vertices: self
                 .vertices
                 .iter()

@@ -1,9 +1,11 @@
 //! Marching cubes on finite elements (Wünsche & Lin): the generated table of all
 //! topologically different cell triangulations ([`mod@table`]) and the face decider
-//! ([`decider`]).
+//! ([`decider`]), regular-grid extraction ([`grid`]), polygonisation of curvilinear finite
+//! elements ([`fe`]) and the auditor of other tables ([`audit`]).
 
 pub mod audit;
 pub mod decider;
+pub mod fe;
 pub mod grid;
 pub mod table;
 

@@ -29,6 +29,8 @@ pub struct Mesh {
     pub vertices: Vec<[f64; 3]>,
     pub triangles: Vec<[u32; 3]>,
     pub scalars: Option<Scalars>,
+    /// Optional unit vertex normals (written as PLY `nx ny nz`, OBJ `vn`, VTK `NORMALS`).
+    pub normals: Option<Vec<[f64; 3]>>,
 }
 
 /// What went wrong reading, writing or checking a mesh, and where.
@@ -108,6 +110,25 @@ impl Mesh {
                 return Err(MeshError::NonFinite {
                     vertex: i,
                     value: s.values[i],
+                });
+            }
+        }
+        if let Some(nv) = &self.normals {
+            if nv.len() != self.vertices.len() {
+                return Err(MeshError::Unsupported(format!(
+                    "{} normals for {} vertices",
+                    nv.len(),
+                    self.vertices.len()
+                )));
+            }
+            if let Some(i) = nv.iter().position(|v| v.iter().any(|x| !x.is_finite())) {
+                return Err(MeshError::NonFinite {
+                    vertex: i,
+                    value: nv[i]
+                        .iter()
+                        .copied()
+                        .find(|x| !x.is_finite())
+                        .unwrap_or(f64::NAN),
                 });
             }
         }

@@ -75,15 +75,25 @@ pub fn read(bytes: &[u8]) -> Result<Mesh, MeshError> {
     Ok(mesh)
 }
 
-/// Writes `v` and `f` records (shortest round-trip decimals, 1-based indices).
+/// Writes `v` (and `vn`, one per vertex, when the mesh has normals) and `f` records (shortest round-trip decimals, 1-based indices).
 pub fn write(mesh: &Mesh) -> Vec<u8> {
     use std::fmt::Write;
     let mut s = String::from("# written by geocert\n");
     for v in &mesh.vertices {
         let _ = writeln!(s, "v {:?} {:?} {:?}", v[0], v[1], v[2]);
     }
-    for t in &mesh.triangles {
-        let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+    if let Some(normals) = &mesh.normals {
+        for v in normals {
+            let _ = writeln!(s, "vn {:?} {:?} {:?}", v[0], v[1], v[2]);
+        }
+        for t in &mesh.triangles {
+            let [a, b, c] = t.map(|i| i + 1);
+            let _ = writeln!(s, "f {a}//{a} {b}//{b} {c}//{c}");
+        }
+    } else {
+        for t in &mesh.triangles {
+            let _ = writeln!(s, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
     }
     s.into_bytes()
 }

@@ -337,7 +337,7 @@ pub fn read(bytes: &[u8], scalar: Option<&str>) -> Result<Mesh, MeshError> {
     Ok(mesh)
 }
 
-/// Writes `x y z` as doubles (and the scalar field, if any) and `uint` triangle lists;
+/// Writes `x y z` as doubles (then the scalar field and `nx ny nz`, if any) and `uint` triangle lists;
 /// `binary` selects `binary_little_endian`, else `ascii` with shortest round-trip decimals.
 pub fn write(mesh: &Mesh, binary: bool) -> Vec<u8> {
     let mut out = Vec::new();
@@ -349,15 +349,19 @@ pub fn write(mesh: &Mesh, binary: bool) -> Vec<u8> {
     if let Some(s) = &mesh.scalars {
         header += &format!("property double {}\n", s.name);
     }
+    if mesh.normals.is_some() {
+        header += "property double nx\nproperty double ny\nproperty double nz\n";
+    }
     header += &format!(
         "element face {}\nproperty list uchar uint vertex_indices\nend_header\n",
         mesh.triangles.len()
     );
     out.extend_from_slice(header.as_bytes());
     let scalar = |i: usize| mesh.scalars.as_ref().map(|s| s.values[i]);
+    let normal = |i: usize| mesh.normals.as_ref().map(|n| n[i]).into_iter().flatten();
     if binary {
         for (i, v) in mesh.vertices.iter().enumerate() {
-            for x in v.iter().copied().chain(scalar(i)) {
+            for x in v.iter().copied().chain(scalar(i)).chain(normal(i)) {
                 out.extend_from_slice(&x.to_le_bytes());
             }
         }
@@ -372,7 +376,7 @@ pub fn write(mesh: &Mesh, binary: bool) -> Vec<u8> {
         let mut s = String::new();
         for (i, v) in mesh.vertices.iter().enumerate() {
             let _ = write!(s, "{:?} {:?} {:?}", v[0], v[1], v[2]);
-            if let Some(x) = scalar(i) {
+            for x in scalar(i).into_iter().chain(normal(i)) {
                 let _ = write!(s, " {x:?}");
             }
             s.push('\n');

@@ -194,7 +194,7 @@ pub fn read(bytes: &[u8], scalar: Option<&str>) -> Result<Mesh, MeshError> {
 }
 
 /// Writes legacy VTK 3.0 ASCII polydata (shortest round-trip decimals), with the scalar field
-/// as `POINT_DATA`.
+/// and the normals as `POINT_DATA`.
 pub fn write(mesh: &Mesh) -> Vec<u8> {
     use std::fmt::Write;
     let mut s =
@@ -212,15 +212,19 @@ pub fn write(mesh: &Mesh) -> Vec<u8> {
     for t in &mesh.triangles {
         let _ = writeln!(s, "3 {} {} {}", t[0], t[1], t[2]);
     }
+    if mesh.scalars.is_some() || mesh.normals.is_some() {
+        let _ = writeln!(s, "POINT_DATA {}", mesh.vertices.len());
+    }
     if let Some(sc) = &mesh.scalars {
-        let _ = writeln!(
-            s,
-            "POINT_DATA {}\nSCALARS {} double 1\nLOOKUP_TABLE default",
-            mesh.vertices.len(),
-            sc.name
-        );
+        let _ = writeln!(s, "SCALARS {} double 1\nLOOKUP_TABLE default", sc.name);
         for x in &sc.values {
             let _ = writeln!(s, "{x:?}");
+        }
+    }
+    if let Some(normals) = &mesh.normals {
+        let _ = writeln!(s, "NORMALS normals double");
+        for v in normals {
+            let _ = writeln!(s, "{:?} {:?} {:?}", v[0], v[1], v[2]);
         }
     }
     s.into_bytes()

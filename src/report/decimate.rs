@@ -163,6 +163,7 @@ fn meshopt_row(mesh: &Mesh, triangles: usize, runs: usize) -> PeerRow {
         times.push(clock.elapsed().as_secs_f64());
     }
     let out = Mesh {
+        normals: None,
         vertices: mesh.vertices.clone(),
         triangles: result.chunks(3).map(|c| [c[0], c[1], c[2]]).collect(),
         scalars: None,

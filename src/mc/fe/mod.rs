@@ -1,0 +1,385 @@
+//! Marching cubes in the material space of curvilinear finite elements (Wünsche & Lin,
+//! Section 3).
+//!
+//! Each element's parent cube `ξ ∈ [0, 1]³` is divided into `n₁ × n₂ × n₃` cells; the field is
+//! sampled at the cell corners by the element's own interpolation (eq. 1), every cell is
+//! polygonised with the 656-entry table ([`table`](super::table)), intersections are placed
+//! by linear interpolation in `ξ`, and the vertices are mapped to world coordinates by the
+//! isoparametric map (eq. 2). Lattice points and cut edges on element faces, edges and nodes
+//! are identified by the global node numbers of the entity they lie on (Section 3.2), so a
+//! surface crossing from one element into the next shares its vertices: the output is
+//! welded. Vertices that the map sends to the same world point (degenerate elements, the
+//! Figure 7 case) are merged and the triangles that collapse are removed.
+//!
+//! Two paths, side by side:
+//! * [`exact::polygonise_exact`] — rationals throughout, faces decided by Mackerras' sort of
+//!   the cut points' `ξ` coordinates (Section 3.1) with the tie rule of
+//!   [`decider`](super::decider);
+//! * [`fast::polygonise_fast`] — `f64` with a rounding bound on every sampled value: a sign
+//!   or face decision the bound cannot certify is recomputed exactly, and so is every
+//!   world-coincidence test, so both paths produce the same triangle index structure.
+//!
+//! Elements are tensor products of a 1-D basis per direction: linear Lagrange or cubic
+//! Hermite (Section 2). A node carries the value and, for each subset of its Hermite
+//! directions, the mixed `ξ`-derivative: dof `k` of a node differentiates along the Hermite
+//! directions whose bit is set in `k` (the first Hermite direction is bit 0). For tricubic
+//! Hermite that is `u, u₁, u₂, u₁₂, u₃, u₁₃, u₂₃, u₁₂₃`; for the heart model's cubic Hermite ×
+//! cubic Hermite × linear Lagrange it is `u, u₁, u₂, u₁₂`. Derivatives are with respect to
+//! `ξ` and shared by the elements meeting at a node.
+
+pub mod basis;
+pub mod exact;
+pub mod fast;
+pub mod heart;
+mod lattice;
+
+use crate::num::Rational;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// The one-dimensional interpolation along one `ξ` direction (Section 2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Basis {
+    /// `L₁ = 1 − ξ`, `L₂ = ξ`.
+    LinearLagrange,
+    /// `H₁⁰, H₁¹, H₂⁰, H₂¹`: values and first derivatives at both ends.
+    CubicHermite,
+}
+
+/// An element type: one basis per `ξ` direction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct ElementKind {
+    pub bases: [Basis; 3],
+}
+
+impl ElementKind {
+    /// Trilinear Lagrange (the 8-node hexahedron).
+    pub const TRILINEAR_LAGRANGE: ElementKind = ElementKind {
+        bases: [Basis::LinearLagrange; 3],
+    };
+    /// Tricubic Hermite.
+    pub const TRICUBIC_HERMITE: ElementKind = ElementKind {
+        bases: [Basis::CubicHermite; 3],
+    };
+    /// Cubic Hermite in `ξ₁`, `ξ₂` and linear Lagrange in `ξ₃` (the heart model, Section 4).
+    pub const HERMITE_HERMITE_LAGRANGE: ElementKind = ElementKind {
+        bases: [
+            Basis::CubicHermite,
+            Basis::CubicHermite,
+            Basis::LinearLagrange,
+        ],
+    };
+
+    /// Number of dofs per node: `2^h` for `h` Hermite directions.
+    pub fn dofs_per_node(self) -> usize {
+        1 << self
+            .bases
+            .iter()
+            .filter(|&&b| b == Basis::CubicHermite)
+            .count()
+    }
+
+    /// The Hermite directions in order (bit `b` of a dof index refers to the `b`-th).
+    pub fn hermite_directions(self) -> Vec<usize> {
+        (0..3)
+            .filter(|&d| self.bases[d] == Basis::CubicHermite)
+            .collect()
+    }
+
+    /// Which directions dof `k` differentiates along.
+    pub fn derivative_of_dof(self, k: usize) -> [bool; 3] {
+        let mut out = [false; 3];
+        let mut bit = 0;
+        for (o, b) in out.iter_mut().zip(self.bases) {
+            if b == Basis::CubicHermite {
+                *o = k >> bit & 1 == 1;
+                bit += 1;
+            }
+        }
+        out
+    }
+
+    /// A short name: `trilinear-lagrange`, `tricubic-hermite`, `hermite-hermite-lagrange`, or
+    /// the three bases.
+    pub fn name(self) -> String {
+        match self {
+            ElementKind::TRILINEAR_LAGRANGE => "trilinear-lagrange".into(),
+            ElementKind::TRICUBIC_HERMITE => "tricubic-hermite".into(),
+            ElementKind::HERMITE_HERMITE_LAGRANGE => "hermite-hermite-lagrange".into(),
+            _ => self
+                .bases
+                .map(|b| match b {
+                    Basis::LinearLagrange => "L",
+                    Basis::CubicHermite => "H",
+                })
+                .join(""),
+        }
+    }
+}
+
+/// A finite element model with one interpolated scalar field.
+///
+/// `coordinates` and `field` are node-major: node `i`'s dof `k` is at `i · dofs_per_node + k`
+/// (see the module docs for the dof order). Element nodes are listed in tensor order: local
+/// node `(a, b, c) ∈ {0, 1}³` (at `ξ = (a, b, c)`) is entry `a + 2b + 4c`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FeModel<T> {
+    pub kind: ElementKind,
+    /// World coordinates and their `ξ`-derivatives (eq. 2).
+    pub coordinates: Vec<[T; 3]>,
+    /// Field values and their `ξ`-derivatives (eq. 1).
+    pub field: Vec<T>,
+    pub elements: Vec<[u32; 8]>,
+}
+
+impl FeModel<f64> {
+    /// The same model in exact rationals (every finite `f64` converts losslessly).
+    pub fn to_exact(&self) -> Result<FeModel<Rational>, FeError> {
+        self.validate()?;
+        let q = |x: f64| crate::num::rational_from_f64(x, "fe").expect("validated finite");
+        Ok(FeModel {
+            kind: self.kind,
+            coordinates: self.coordinates.iter().map(|p| p.map(q)).collect(),
+            field: self.field.iter().map(|&x| q(x)).collect(),
+            elements: self.elements.clone(),
+        })
+    }
+
+    /// Checks layout, node indices and finiteness.
+    pub fn validate(&self) -> Result<(), FeError> {
+        check_layout(self)?;
+        let ndof = self.kind.dofs_per_node();
+        for (i, p) in self.coordinates.iter().enumerate() {
+            if let Some(a) = p.iter().position(|x| !x.is_finite()) {
+                return Err(FeError::NonFinite {
+                    what: "coordinate",
+                    node: i / ndof,
+                    dof: i % ndof,
+                    component: Some(a),
+                });
+            }
+        }
+        if let Some(i) = self.field.iter().position(|x| !x.is_finite()) {
+            return Err(FeError::NonFinite {
+                what: "field",
+                node: i / ndof,
+                dof: i % ndof,
+                component: None,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Checks the array sizes and node indices of a model.
+fn check_layout<T>(m: &FeModel<T>) -> Result<usize, FeError> {
+    if m.elements.is_empty() {
+        return Err(FeError::NoElements);
+    }
+    let ndof = m.kind.dofs_per_node();
+    if !m.field.len().is_multiple_of(ndof) || m.field.is_empty() {
+        return Err(FeError::Layout {
+            what: "field",
+            why: format!(
+                "{} values is not a positive multiple of {ndof} dofs per node",
+                m.field.len()
+            ),
+        });
+    }
+    if m.coordinates.len() != m.field.len() {
+        return Err(FeError::Layout {
+            what: "coordinates",
+            why: format!(
+                "{} coordinate dofs for {} field dofs (one per field dof expected)",
+                m.coordinates.len(),
+                m.field.len()
+            ),
+        });
+    }
+    let nodes = m.field.len() / ndof;
+    for (e, el) in m.elements.iter().enumerate() {
+        if let Some(l) = el.iter().position(|&n| n as usize >= nodes) {
+            return Err(FeError::NodeIndex {
+                element: e,
+                local: l,
+                node: el[l],
+                nodes,
+            });
+        }
+    }
+    Ok(nodes)
+}
+
+/// How vertex normals are computed (Section 3, step 7).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum NormalSource {
+    /// The gradient of the interpolated field at the vertex, mapped to world with `J⁻¹`.
+    Interpolant,
+    /// Central differences of the sampled values at the lattice points, interpolated
+    /// linearly along the cut edge, mapped to world with `J⁻¹`.
+    FiniteDifference,
+}
+
+/// Options of a polygonisation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FeOptions {
+    /// Cells per element along `ξ₁, ξ₂, ξ₃` (each at least 1).
+    pub cells: [usize; 3],
+    pub normals: NormalSource,
+    /// Refuse models with more cells than this (elements × cells per element).
+    pub max_cells: u64,
+}
+
+impl Default for FeOptions {
+    fn default() -> Self {
+        FeOptions {
+            cells: [8, 8, 8],
+            normals: NormalSource::Interpolant,
+            max_cells: 1 << 30,
+        }
+    }
+}
+
+/// Bad model or options.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum FeError {
+    #[error("the model has no elements")]
+    NoElements,
+    #[error("{what}: {why}")]
+    Layout { what: &'static str, why: String },
+    #[error(
+        "element {element}: local node {local} is node {node}, but the model has {nodes} nodes"
+    )]
+    NodeIndex {
+        element: usize,
+        local: usize,
+        node: u32,
+        nodes: usize,
+    },
+    #[error("{what} of node {node}, dof {dof}{}: not finite", component.map(|c| format!(", component {c}")).unwrap_or_default())]
+    NonFinite {
+        what: &'static str,
+        node: usize,
+        dof: usize,
+        component: Option<usize>,
+    },
+    #[error("the isovalue is not finite")]
+    Isovalue,
+    #[error("cells per element must be at least 1 in every direction, found {0:?}")]
+    Cells([usize; 3]),
+    #[error("{cells} cells exceed the limit of {limit}")]
+    TooManyCells { cells: u64, limit: u64 },
+    #[error("element {element} and element {other} share {entity} but subdivide it into different cell counts ({mine:?} against {theirs:?}); give the same count in every direction or orient the elements alike")]
+    NonConforming {
+        element: usize,
+        other: usize,
+        entity: String,
+        mine: Vec<usize>,
+        theirs: Vec<usize>,
+    },
+}
+
+/// Counts of a polygonisation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct FeStats {
+    pub elements: usize,
+    pub cells: usize,
+    /// Cells with corners of both signs.
+    pub cut_cells: usize,
+    /// Cells with at least one ambiguous face.
+    pub ambiguous_cells: usize,
+    /// Ambiguous faces decided (a face shared by two cells counts twice).
+    pub ambiguous_faces: usize,
+    /// Lattice values whose sign the `f64` bound could not certify, recomputed exactly.
+    pub exact_values: usize,
+    /// Face decisions the `f64` bound could not certify, recomputed exactly.
+    pub exact_faces: usize,
+    /// Vertices merged into another at the same world point (Figure 7).
+    pub welded_vertices: usize,
+    /// Triangles removed because two of their vertices coincide in world space.
+    pub degenerate_triangles: usize,
+    /// Elements whose Jacobian determinant is negative at the centre: their triangles are
+    /// flipped so that every normal points into the positive region.
+    pub flipped_elements: usize,
+}
+
+impl<T> FeModel<T> {
+    /// Number of nodes.
+    pub fn node_count(&self) -> usize {
+        self.field.len() / self.kind.dofs_per_node().max(1)
+    }
+}
+
+/// Checks the options and the conformity of shared element entities; returns the lattice
+/// keys' context.
+pub(crate) fn prepare<T>(m: &FeModel<T>, opts: &FeOptions) -> Result<(), FeError> {
+    check_layout(m)?;
+    if opts.cells.contains(&0) {
+        return Err(FeError::Cells(opts.cells));
+    }
+    let per: u64 = opts.cells.iter().map(|&n| n as u64).product();
+    let cells = per.saturating_mul(m.elements.len() as u64);
+    if cells > opts.max_cells {
+        return Err(FeError::TooManyCells {
+            cells,
+            limit: opts.max_cells,
+        });
+    }
+    lattice::check_conforming(&m.elements, opts.cells)
+}
+
+/// The triangles of a polygonisation after welding: `rep[v]` is the smallest vertex id at
+/// the same world point as `v`. Drops triangles that repeat a representative (Figure 7),
+/// keeps the representatives some triangle uses in increasing id order, and renumbers.
+/// Returns the kept old ids, the renumbered triangles and the number of triangles dropped.
+pub(crate) fn weld(rep: &[u32], triangles: &[[u32; 3]]) -> (Vec<u32>, Vec<[u32; 3]>, usize) {
+    let mut kept_tris = Vec::with_capacity(triangles.len());
+    let mut used = vec![false; rep.len()];
+    for t in triangles {
+        let r = t.map(|v| rep[v as usize]);
+        if r[0] == r[1] || r[1] == r[2] || r[0] == r[2] {
+            continue;
+        }
+        for v in r {
+            used[v as usize] = true;
+        }
+        kept_tris.push(r);
+    }
+    let dropped = triangles.len() - kept_tris.len();
+    let mut new_id = vec![u32::MAX; rep.len()];
+    let mut kept = Vec::new();
+    for (v, u) in used.iter().enumerate() {
+        if *u {
+            new_id[v] = kept.len() as u32;
+            kept.push(v as u32);
+        }
+    }
+    for t in &mut kept_tris {
+        *t = t.map(|v| new_id[v as usize]);
+    }
+    (kept, kept_tris, dropped)
+}
+
+/// The lattice point of cell `cell` at its table corner `c` (Bourke numbering).
+pub(crate) fn cell_corner(cell: [usize; 3], c: usize) -> [usize; 3] {
+    let o = super::table::CORNERS[c];
+    [0, 1, 2].map(|a| cell[a] + o[a] as usize)
+}
+
+/// A cell edge `e` as (axis, lower lattice point).
+pub(crate) fn cell_edge(cell: [usize; 3], e: u8) -> (usize, [usize; 3]) {
+    let [a, b] = super::table::EDGES[e as usize];
+    let (pa, pb) = (cell_corner(cell, a as usize), cell_corner(cell, b as usize));
+    let axis = (0..3)
+        .find(|&x| pa[x] != pb[x])
+        .expect("an edge spans one axis");
+    (axis, [0, 1, 2].map(|x| pa[x].min(pb[x])))
+}
+
+/// The decider's `A, B, C, D` corners of table face `f` (see [`decider`](super::decider)).
+pub(crate) fn face_abcd(f: usize) -> [usize; 4] {
+    let c = super::table::FACES[f].corners;
+    [c[0] as usize, c[1] as usize, c[3] as usize, c[2] as usize]
+}

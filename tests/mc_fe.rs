@@ -1,0 +1,441 @@
+//! Finite-element polygonisation: exact against fast, against the regular-grid extractor, on
+//! closed surfaces, degenerate elements (Figure 7) and the heart demo.
+
+use geocert::mc::fe::exact::polygonise_exact;
+use geocert::mc::fe::fast::polygonise_fast;
+use geocert::mc::fe::heart::{left_ventricle, paper_options};
+use geocert::mc::fe::{ElementKind, FeError, FeModel, FeOptions, NormalSource};
+use geocert::mc::grid::{extract_exact, Volume};
+use geocert::num::{rational_from_f64, rational_to_f64, Rational};
+use proptest::prelude::*;
+use std::collections::BTreeSet;
+
+/// A block of `ex × ey × ez` unit elements with nodes at integer points; node values from
+/// `value`, and for Hermite kinds the `ξ`-derivatives from `derivative(point, dof)`.
+fn block(
+    kind: ElementKind,
+    e: [usize; 3],
+    value: &dyn Fn([f64; 3]) -> f64,
+    derivative: &dyn Fn([f64; 3], [bool; 3]) -> f64,
+    warp: &dyn Fn([f64; 3]) -> [f64; 3],
+) -> FeModel<f64> {
+    let ndof = kind.dofs_per_node();
+    let id = |i: usize, j: usize, k: usize| (i + (e[0] + 1) * (j + (e[1] + 1) * k)) as u32;
+    let mut coordinates = Vec::new();
+    let mut field = Vec::new();
+    for k in 0..=e[2] {
+        for j in 0..=e[1] {
+            for i in 0..=e[0] {
+                let p = [i as f64, j as f64, k as f64];
+                for dof in 0..ndof {
+                    let der = kind.derivative_of_dof(dof);
+                    if dof == 0 {
+                        coordinates.push(warp(p));
+                        field.push(value(p));
+                    } else {
+                        // Straight coordinate lines: x_ξd = e_d for a single derivative.
+                        let count = der.iter().filter(|&&b| b).count();
+                        let mut c = [0.0; 3];
+                        if count == 1 {
+                            c[der.iter().position(|&b| b).unwrap()] = 1.0;
+                        }
+                        coordinates.push(c);
+                        field.push(derivative(p, der));
+                    }
+                }
+            }
+        }
+    }
+    let mut elements = Vec::new();
+    for k in 0..e[2] {
+        for j in 0..e[1] {
+            for i in 0..e[0] {
+                elements.push(std::array::from_fn(|l| {
+                    id(i + (l & 1), j + (l >> 1 & 1), k + (l >> 2 & 1))
+                }));
+            }
+        }
+    }
+    FeModel {
+        kind,
+        coordinates,
+        field,
+        elements,
+    }
+}
+
+fn no_derivative(_: [f64; 3], _: [bool; 3]) -> f64 {
+    0.0
+}
+
+fn identity(p: [f64; 3]) -> [f64; 3] {
+    p
+}
+
+fn opts(n: usize) -> FeOptions {
+    FeOptions {
+        cells: [n; 3],
+        ..FeOptions::default()
+    }
+}
+
+/// Asserts exact and fast agree on structure, and on positions to rounding.
+fn assert_paths_agree(m: &FeModel<f64>, iso: f64, o: &FeOptions) -> geocert::mesh::Mesh {
+    let exact = polygonise_exact(
+        &m.to_exact().unwrap(),
+        &rational_from_f64(iso, "iso").unwrap(),
+        o,
+    )
+    .unwrap();
+    let fast = polygonise_fast(m, iso, o).unwrap();
+    assert_eq!(fast.mesh.triangles, exact.triangles, "triangle structure");
+    assert_eq!(fast.mesh.vertices.len(), exact.vertices.len());
+    let scale = m
+        .coordinates
+        .iter()
+        .flat_map(|c| c.iter())
+        .fold(1.0f64, |a, x| a.max(x.abs()));
+    for (f, e) in fast.mesh.vertices.iter().zip(&exact.vertices) {
+        for a in 0..3 {
+            let d = (f[a] - rational_to_f64(&e[a])).abs();
+            assert!(d <= 1e-9 * scale, "position off by {d}");
+        }
+    }
+    let (mut s_exact, mut s_fast) = (exact.stats, fast.stats);
+    // The fast path counts its exact fallbacks; the rest must match.
+    s_fast.exact_values = 0;
+    s_fast.exact_faces = 0;
+    s_exact.exact_values = 0;
+    s_exact.exact_faces = 0;
+    assert_eq!(s_fast, s_exact);
+    fast.mesh.validate().unwrap();
+    fast.mesh
+}
+
+/// Triangles as sets of rotated position triples (independent of vertex numbering).
+fn triangle_set(vertices: &[[Rational; 3]], tris: &[[u32; 3]]) -> BTreeSet<Vec<[Rational; 3]>> {
+    tris.iter()
+        .map(|t| {
+            let p: Vec<[Rational; 3]> = t.iter().map(|&v| vertices[v as usize].clone()).collect();
+            let r = (0..3).min_by_key(|&i| p[i].clone()).unwrap();
+            (0..3).map(|k| p[(r + k) % 3].clone()).collect()
+        })
+        .collect()
+}
+
+fn small_values() -> impl Strategy<Value = ([usize; 3], Vec<i8>)> {
+    (1usize..=3, 1usize..=3, 1usize..=2).prop_flat_map(|(x, y, z)| {
+        let n = (x + 1) * (y + 1) * (z + 1);
+        (Just([x, y, z]), proptest::collection::vec(-3i8..=3, n))
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(40))]
+
+    /// Trilinear unit elements with one cell each are the regular grid: the same mesh,
+    /// vertex for vertex, as the grid extractor (values avoid the isovalue, so nothing
+    /// coincides).
+    #[test]
+    fn one_cell_trilinear_elements_are_the_grid((e, vals) in small_values()) {
+        let idx = |p: [f64; 3]| p[0] as usize + (e[0] + 1) * (p[1] as usize + (e[1] + 1) * p[2] as usize);
+        let value = |p: [f64; 3]| vals[idx(p)] as f64;
+        let m = block(ElementKind::TRILINEAR_LAGRANGE, e, &value, &no_derivative, &identity);
+        let fe = polygonise_exact(&m.to_exact().unwrap(), &Rational::new(1.into(), 2.into()), &opts(1)).unwrap();
+        let vol = Volume::new([e[0] + 1, e[1] + 1, e[2] + 1], vals.iter().map(|&v| Rational::from_integer(v.into())).collect()).unwrap();
+        let grid = extract_exact(&vol, &Rational::new(1.into(), 2.into()));
+        prop_assert_eq!(&fe.vertices, &grid.vertices);
+        prop_assert_eq!(&fe.triangles, &grid.triangles);
+        prop_assert_eq!(fe.stats.welded_vertices, 0);
+    }
+
+    /// Two cells per element on trilinear elements give the grid extractor's surface on the
+    /// trilinearly refined grid (as triangle sets: the numbering differs).
+    #[test]
+    fn refined_trilinear_elements_match_the_refined_grid((e, vals) in small_values()) {
+        let idx = |p: [usize; 3]| p[0] + (e[0] + 1) * (p[1] + (e[1] + 1) * p[2]);
+        let value = |p: [f64; 3]| vals[idx(p.map(|x| x as usize))] as f64 * 4.0 + 1.0;
+        let m = block(ElementKind::TRILINEAR_LAGRANGE, e, &value, &no_derivative, &identity);
+        let iso = Rational::from_integer(0.into());
+        let fe = polygonise_exact(&m.to_exact().unwrap(), &iso, &opts(2)).unwrap();
+        // The refined grid: trilinear interpolation at half steps (world = grid / 2).
+        let d = [2 * e[0] + 1, 2 * e[1] + 1, 2 * e[2] + 1];
+        let mut fine = Vec::new();
+        for k in 0..d[2] { for j in 0..d[1] { for i in 0..d[0] {
+            let mut s = 0.0;
+            let (lo, hi) = ([i / 2, j / 2, k / 2], [i.div_ceil(2), j.div_ceil(2), k.div_ceil(2)]);
+            let mut count = 0.0;
+            for c in 0..8usize {
+                let p = [if c & 1 == 0 { lo[0] } else { hi[0] }, if c & 2 == 0 { lo[1] } else { hi[1] }, if c & 4 == 0 { lo[2] } else { hi[2] }];
+                s += value(p.map(|x| x as f64));
+                count += 1.0;
+            }
+            fine.push(rational_from_f64(s / count, "v").unwrap());
+        }}}
+        let grid = extract_exact(&Volume::new(d, fine).unwrap(), &iso);
+        let half = Rational::new(1.into(), 2.into());
+        let scaled: Vec<[Rational; 3]> = grid.vertices.iter().map(|v| v.clone().map(|x| x * &half)).collect();
+        // Coincident cut points (a value at the isovalue) are welded by the FE path only.
+        prop_assume!(fe.stats.welded_vertices == 0);
+        prop_assert_eq!(triangle_set(&fe.vertices, &fe.triangles), triangle_set(&scaled, &grid.triangles));
+    }
+
+    /// Random Hermite and warped Lagrange models: the fast path's structure is the exact one.
+    #[test]
+    fn exact_and_fast_agree(
+        (e, vals) in small_values(),
+        slopes in proptest::collection::vec(-2.0f64..2.0, 64),
+        warp in 0.0f64..0.3,
+        kind in prop_oneof![
+            Just(ElementKind::TRILINEAR_LAGRANGE),
+            Just(ElementKind::TRICUBIC_HERMITE),
+            Just(ElementKind::HERMITE_HERMITE_LAGRANGE)
+        ],
+        n in 1usize..=3,
+        iso in prop_oneof![Just(0.0), Just(0.5), -1.0f64..1.0],
+    ) {
+        let idx = |p: [f64; 3]| p[0] as usize + (e[0] + 1) * (p[1] as usize + (e[1] + 1) * p[2] as usize);
+        let value = |p: [f64; 3]| vals[idx(p)] as f64 / 2.0;
+        let derivative = |p: [f64; 3], der: [bool; 3]| {
+            slopes[(idx(p) * 3 + der.iter().filter(|&&b| b).count()) % 64]
+        };
+        let w = |p: [f64; 3]| [p[0] + warp * (p[1] * p[2]).sin(), p[1] + warp * p[0].cos(), p[2] - warp * p[1] * p[0] / 4.0];
+        let m = block(kind, e, &value, &derivative, &w);
+        let o = FeOptions { cells: [n, n + 1, n], ..FeOptions::default() };
+        let mesh = assert_paths_agree(&m, iso, &o);
+        // Welding points where the surface passes through a lattice point may pinch it; off
+        // those, the welded surface is an oriented manifold.
+        let fast = polygonise_fast(&m, iso, &o).unwrap();
+        if fast.stats.welded_vertices == 0 {
+            prop_assert!(mesh.check_manifold().is_ok(), "{:?}", mesh.check_manifold());
+        }
+        // Normals by finite differences change nothing but the normals.
+        let fd = polygonise_fast(&m, iso, &FeOptions { normals: NormalSource::FiniteDifference, ..o }).unwrap();
+        prop_assert_eq!(&fd.mesh.triangles, &mesh.triangles);
+        prop_assert!(fd.mesh.validate().is_ok());
+    }
+}
+
+/// `r² = x² + y² + z²` on tricubic Hermite elements is represented exactly (quadratic per
+/// direction): the 0.8-sphere inside a 2×2×2 block of unit elements centred at the origin is
+/// a closed, consistently oriented genus-0 surface whose vertex normals point outward and
+/// agree with the triangles' winding.
+#[test]
+fn hermite_sphere_is_closed_and_outward() {
+    let c = |p: [f64; 3]| p.map(|x| (x - 1.0) * 0.9);
+    let value = |p: [f64; 3]| {
+        let q = c(p);
+        q.iter().map(|x| x * x).sum::<f64>()
+    };
+    // d/dξ_d (x_d − 1)²·0.81 = 2·0.81·(x_d − 1); mixed derivatives vanish.
+    let derivative = |p: [f64; 3], der: [bool; 3]| {
+        if der.iter().filter(|&&b| b).count() == 1 {
+            let d = der.iter().position(|&b| b).unwrap();
+            2.0 * 0.81 * (p[d] - 1.0)
+        } else {
+            0.0
+        }
+    };
+    let m = block(
+        ElementKind::TRICUBIC_HERMITE,
+        [2, 2, 2],
+        &value,
+        &derivative,
+        &|p| c(p),
+    );
+    let mut m = m;
+    // Coordinates scale by 0.9: so do their ξ-derivatives.
+    let ndof = 8;
+    for (i, x) in m.coordinates.iter_mut().enumerate() {
+        if i % ndof != 0 {
+            *x = x.map(|v| v * 0.9);
+        }
+    }
+    for n in [3, 6] {
+        let mesh = assert_paths_agree(&m, 0.64, &opts(n));
+        assert_eq!(mesh.check_manifold().unwrap(), 0, "closed");
+        assert_eq!(mesh.euler_characteristic(), 2);
+        let normals = mesh.normals.as_ref().unwrap();
+        for (v, nv) in mesh.vertices.iter().zip(normals) {
+            let r = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            assert!((r - 0.8).abs() < 0.02, "radius {r}");
+            let dot = (v[0] * nv[0] + v[1] * nv[1] + v[2] * nv[2]) / r;
+            assert!(dot > 0.999, "normal not radial: {dot}");
+        }
+        for t in &mesh.triangles {
+            let [a, b, cc] = t.map(|i| mesh.vertices[i as usize]);
+            let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+            let w = [cc[0] - a[0], cc[1] - a[1], cc[2] - a[2]];
+            let nrm = [
+                u[1] * w[2] - u[2] * w[1],
+                u[2] * w[0] - u[0] * w[2],
+                u[0] * w[1] - u[1] * w[0],
+            ];
+            let centroid = [0, 1, 2].map(|k| a[k] + b[k] + cc[k]);
+            assert!(
+                nrm.iter().zip(centroid).map(|(x, y)| x * y).sum::<f64>() > 0.0,
+                "winding points inward"
+            );
+        }
+    }
+}
+
+/// A left-handed element (mirrored) still yields outward winding: its triangles are flipped.
+#[test]
+fn mirrored_elements_are_flipped() {
+    let value = |p: [f64; 3]| (p[0] - 0.5).powi(2) + (p[1] - 0.5).powi(2) + (p[2] - 0.5).powi(2);
+    let m = block(
+        ElementKind::TRILINEAR_LAGRANGE,
+        [1, 1, 1],
+        &value,
+        &no_derivative,
+        &|p| [-p[0], p[1], p[2]],
+    );
+    let mesh = assert_paths_agree(&m, 0.2, &opts(4));
+    let fast = polygonise_fast(&m, 0.2, &opts(4)).unwrap();
+    assert_eq!(fast.stats.flipped_elements, 1);
+    // The field grows away from the centre (−0.5, 0.5, 0.5): triangle normals point away.
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
+        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let nrm = [
+            u[1] * w[2] - u[2] * w[1],
+            u[2] * w[0] - u[0] * w[2],
+            u[0] * w[1] - u[1] * w[0],
+        ];
+        let out = [a[0] + 0.5, a[1] - 0.5, a[2] - 0.5];
+        assert!(nrm.iter().zip(out).map(|(x, y)| x * y).sum::<f64>() > 0.0);
+    }
+}
+
+/// Figure 7: an element whose right face collapses to a segment (two pairs of nodes at the
+/// same world point). The cut points on that face coincide; the collapsed triangle goes and
+/// the coincident vertices become one.
+#[test]
+fn degenerate_element_loses_its_collapsed_triangles() {
+    let mut m = block(
+        ElementKind::TRILINEAR_LAGRANGE,
+        [1, 1, 1],
+        &|p| p[2] - 0.5,
+        &no_derivative,
+        &identity,
+    );
+    // Nodes at x = 1: (1,0,0)=1, (1,1,0)=3, (1,0,1)=5, (1,1,1)=7. Pull (1,1,·) onto (1,0,·):
+    // the right face collapses to the segment from node 1 to node 5.
+    m.coordinates[3] = m.coordinates[1];
+    m.coordinates[7] = m.coordinates[5];
+    // The field rises along z, so the right face's edges 1–5 and 3–7 are cut at the same
+    // height: one world point. Corner 0 is made positive for a less symmetric case.
+    m.field[0] = 1.0;
+    for n in [1, 2] {
+        let exact = polygonise_exact(
+            &m.to_exact().unwrap(),
+            &Rational::from_integer(0.into()),
+            &opts(n),
+        )
+        .unwrap();
+        let mesh = assert_paths_agree(&m, 0.0, &opts(n));
+        assert!(
+            exact.stats.degenerate_triangles > 0,
+            "n = {n}: {:?}",
+            exact.stats
+        );
+        assert!(exact.stats.welded_vertices > 0);
+        assert!(mesh
+            .triangles
+            .iter()
+            .all(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2]));
+    }
+}
+
+/// The 16-element left ventricle: both paths agree; the apex collapses (welded vertices and
+/// removed triangles); the surface is an oriented manifold with boundary only on the wall.
+#[test]
+fn heart_demo_paths_agree() {
+    let m = left_ventricle();
+    let o = paper_options();
+    let exact = polygonise_exact(
+        &m.to_exact().unwrap(),
+        &Rational::from_integer(0.into()),
+        &o,
+    )
+    .unwrap();
+    let mesh = assert_paths_agree(&m, 0.0, &o);
+    assert_eq!(exact.stats.cells, 16 * 9 * 9 * 5);
+    assert!(exact.stats.cut_cells > 100);
+    assert!(exact.stats.welded_vertices > 0, "{:?}", exact.stats);
+    assert!(mesh.check_manifold().is_ok(), "{:?}", mesh.check_manifold());
+    assert!(mesh
+        .normals
+        .as_ref()
+        .unwrap()
+        .iter()
+        .all(|n| { ((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() - 1.0).abs() < 1e-9 }));
+}
+
+#[test]
+fn bad_models_are_refused() {
+    let good = block(
+        ElementKind::TRILINEAR_LAGRANGE,
+        [1, 1, 1],
+        &|p| p[0],
+        &no_derivative,
+        &identity,
+    );
+    let mut m = good.clone();
+    m.elements[0][3] = 99;
+    assert!(matches!(
+        polygonise_fast(&m, 0.5, &opts(1)),
+        Err(FeError::NodeIndex {
+            element: 0,
+            local: 3,
+            node: 99,
+            ..
+        })
+    ));
+    let mut m = good.clone();
+    m.field[2] = f64::NAN;
+    assert!(matches!(
+        polygonise_fast(&m, 0.5, &opts(1)),
+        Err(FeError::NonFinite { node: 2, .. })
+    ));
+    let mut m = good.clone();
+    m.field.pop();
+    assert!(matches!(
+        polygonise_fast(&m, 0.5, &opts(1)),
+        Err(FeError::Layout { .. })
+    ));
+    assert!(matches!(
+        polygonise_fast(&good, f64::INFINITY, &opts(1)),
+        Err(FeError::Isovalue)
+    ));
+    assert!(matches!(
+        polygonise_fast(
+            &good,
+            0.5,
+            &FeOptions {
+                cells: [1, 0, 1],
+                ..FeOptions::default()
+            }
+        ),
+        Err(FeError::Cells(_))
+    ));
+    assert!(matches!(
+        polygonise_fast(
+            &good,
+            0.5,
+            &FeOptions {
+                max_cells: 7,
+                ..opts(2)
+            }
+        ),
+        Err(FeError::TooManyCells { cells: 8, limit: 7 })
+    ));
+    let mut m = good.clone();
+    m.elements.clear();
+    assert!(matches!(
+        polygonise_fast(&m, 0.5, &opts(1)),
+        Err(FeError::NoElements)
+    ));
+}

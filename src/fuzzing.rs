@@ -368,3 +368,126 @@ pub fn check_decimate(data: &[u8]) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// The volume readers on arbitrary bytes: the raw reader (dimensions and type from the first
+/// bytes) and the NIfTI reader (the bytes as a file, and gzip-wrapped) never panic; what they
+/// accept has as many finite samples as its dimensions say.
+pub fn check_volume_readers(data: &[u8]) -> Result<(), String> {
+    use crate::mc::grid::{read_raw, RawType};
+    use crate::mc::nifti::read_nifti;
+    let accepted = |v: &crate::mc::grid::Volume<f64>| -> Result<(), String> {
+        if v.values.len() != v.dims.iter().product::<usize>()
+            || v.values.iter().any(|x| !x.is_finite())
+            || v.dims.iter().any(|&d| d < 2)
+        {
+            return Err(format!("accepted a bad volume of {:?}", v.dims));
+        }
+        Ok(())
+    };
+    if data.len() >= 4 {
+        let dims = [0, 1, 2].map(|a| data[a] as usize % 9);
+        let ty = [RawType::F32, RawType::U8, RawType::I16][data[3] as usize % 3];
+        if let Ok(v) = read_raw(&data[4..], dims, ty) {
+            accepted(&v)?;
+        }
+    }
+    if let Ok(v) = read_nifti(data) {
+        accepted(&v)?;
+    }
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    std::io::Write::write_all(&mut gz, data).map_err(|e| e.to_string())?;
+    if let Ok(v) = read_nifti(&gz.finish().map_err(|e| e.to_string())?) {
+        accepted(&v)?;
+    }
+    Ok(())
+}
+
+/// Differential finite-element polygonisation: a 1–2 element block decoded from bytes (kind,
+/// cell counts, isovalue, node values and slopes on a small integer grid, a warp of the node
+/// positions, optionally two nodes pulled together to make a degenerate element) through the
+/// exact and fast paths must give the same triangles, and a valid mesh.
+pub fn check_mc_fe(data: &[u8]) -> Result<(), String> {
+    use crate::mc::fe::{exact::polygonise_exact, fast::polygonise_fast};
+    use crate::mc::fe::{ElementKind, FeModel, FeOptions};
+    if data.len() < 6 {
+        return Ok(());
+    }
+    let kind = [
+        ElementKind::TRILINEAR_LAGRANGE,
+        ElementKind::TRICUBIC_HERMITE,
+        ElementKind::HERMITE_HERMITE_LAGRANGE,
+    ][data[0] as usize % 3];
+    let cells = [1, 2, 3].map(|a| 1 + (data[a] % 3) as usize);
+    let iso = (data[4] as i8 as f64) / 8.0;
+    let two = data[5] & 1 == 1;
+    let collapse = data[5] & 2 == 2;
+    let body = &data[6..];
+    let byte = |i: usize| body.get(i).copied().unwrap_or(0);
+    let ex = if two { 2 } else { 1 };
+    let ndof = kind.dofs_per_node();
+    let mut coordinates = Vec::new();
+    let mut field = Vec::new();
+    let mut b = 0;
+    for k in 0..2 {
+        for j in 0..2 {
+            for i in 0..=ex {
+                for dof in 0..ndof {
+                    let der = kind.derivative_of_dof(dof);
+                    let count = der.iter().filter(|&&x| x).count();
+                    let jitter = |v: u8| (v % 5) as f64 / 16.0 - 0.125;
+                    let c = if dof == 0 {
+                        [
+                            i as f64 + jitter(byte(b)),
+                            j as f64 + jitter(byte(b + 1)),
+                            k as f64,
+                        ]
+                    } else if count == 1 {
+                        let mut c = [0.0; 3];
+                        c[der.iter().position(|&x| x).unwrap_or(0)] = 1.0;
+                        c
+                    } else {
+                        [0.0; 3]
+                    };
+                    coordinates.push(c);
+                    field.push(((byte(b + 2) % 16) as i8 - 8) as f64 / 4.0);
+                    b += 3;
+                }
+            }
+        }
+    }
+    let id = |i: usize, j: usize, k: usize| (i + (ex + 1) * (j + 2 * k)) as u32;
+    let elements: Vec<[u32; 8]> = (0..ex)
+        .map(|e| std::array::from_fn(|l| id(e + (l & 1), l >> 1 & 1, l >> 2 & 1)))
+        .collect();
+    if collapse {
+        // Pull the last element's (1,1,·) nodes onto its (1,0,·) nodes (Figure 7).
+        let nodes = elements[ex - 1];
+        for (to, from) in [(3, 1), (7, 5)] {
+            let v = coordinates[nodes[from] as usize * ndof];
+            coordinates[nodes[to] as usize * ndof] = v;
+        }
+    }
+    let m = FeModel {
+        kind,
+        coordinates,
+        field,
+        elements,
+    };
+    let opts = FeOptions {
+        cells,
+        ..FeOptions::default()
+    };
+    let fast = polygonise_fast(&m, iso, &opts).map_err(|e| e.to_string())?;
+    let q = |x: f64| crate::num::rational_from_f64(x, "v").expect("finite");
+    let exact = polygonise_exact(&m.to_exact().map_err(|e| e.to_string())?, &q(iso), &opts)
+        .map_err(|e| e.to_string())?;
+    if fast.mesh.triangles != exact.triangles {
+        return Err(format!(
+            "exact and fast triangles differ ({} elements, {cells:?} cells, iso {iso})",
+            m.elements.len()
+        ));
+    }
+    fast.mesh
+        .validate()
+        .map_err(|e| format!("invalid mesh: {e}"))
+}

@@ -374,6 +374,100 @@ fn mc_extract_raw_volume_both_paths() {
 }
 
 #[test]
+fn mc_extract_nifti_and_fe_demo() {
+    // A ball in a gzipped NIfTI volume gives the same surface as the raw volume.
+    let n = 10u16;
+    let values: Vec<f32> = (0..n as usize * n as usize * n as usize)
+        .map(|i| {
+            let (x, y, z) = (i % 10, i / 10 % 10, i / 100);
+            let d = |a: usize| a as f32 - 4.5;
+            d(x) * d(x) + d(y) * d(y) + d(z) * d(z)
+        })
+        .collect();
+    let nii = tmp("ball.nii.gz");
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    std::io::Write::write_all(
+        &mut gz,
+        &geocert::mc::nifti::nifti_f32_bytes([n, n, n], &values),
+    )
+    .unwrap();
+    std::fs::write(&nii, gz.finish().unwrap()).unwrap();
+    let raw = tmp("ball.f32");
+    let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+    std::fs::write(&raw, bytes).unwrap();
+    let run = |args: &[&str], input: &std::path::Path, out: &std::path::Path| {
+        let o = geocert()
+            .args(["mc", "extract"])
+            .arg(input)
+            .args(args)
+            .args(["--iso", "12", "--json", "--out"])
+            .arg(out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
+    };
+    let a = run(&[], &nii, &tmp("ball-nii.obj"));
+    let b = run(
+        &["--dims", "10", "10", "10", "--type", "f32"],
+        &raw,
+        &tmp("ball-raw.obj"),
+    );
+    assert_eq!(a["closed"], true);
+    assert_eq!(a["triangles"], b["triangles"]);
+    assert_eq!(
+        std::fs::read(tmp("ball-nii.obj")).unwrap(),
+        std::fs::read(tmp("ball-raw.obj")).unwrap()
+    );
+    // A raw volume without --dims is a clear error.
+    let o = geocert()
+        .args(["mc", "extract"])
+        .arg(&raw)
+        .args(["--iso", "1", "--out"])
+        .arg(tmp("never2.ply"))
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--dims"));
+
+    // The heart demo, both paths, and its model file back through `mc fe`.
+    let model = tmp("lv.json");
+    let mut counts = Vec::new();
+    for path in ["fast", "exact"] {
+        let out = tmp(&format!("lv-{path}.vtk"));
+        let o = geocert()
+            .args([
+                "mc", "demo", "--path", path, "--json", "--cells", "4", "4", "3",
+            ])
+            .arg("--model-out")
+            .arg(&model)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(v["manifold"], true);
+        assert!(v["stats"]["welded_vertices"].as_u64().unwrap() > 0);
+        counts.push((v["triangles"].clone(), v["vertices"].clone()));
+    }
+    assert_eq!(counts[0], counts[1]);
+    assert!(std::fs::read_to_string(tmp("lv-fast.vtk"))
+        .unwrap()
+        .contains("NORMALS"));
+    let o = geocert()
+        .args(["mc", "fe"])
+        .arg(&model)
+        .args(["--iso", "0", "--cells", "4", "4", "3", "--json", "--out"])
+        .arg(tmp("lv-fe.ply"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!((v["triangles"].clone(), v["vertices"].clone()), counts[0]);
+}
+
+#[test]
 fn decimate_undecimate_round_trip_and_refusals() {
     let (out, hist, back, full, fullh) = (
         tmp("dec.ply"),

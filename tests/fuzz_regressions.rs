@@ -79,3 +79,15 @@ fn decimate_round_trip_regressions() {
     let n = replay("decimate_round_trip", geocert::fuzzing::check_decimate);
     assert!(n > 0, "the regression corpus must not be empty");
 }
+
+#[test]
+fn volume_readers_regressions() {
+    let n = replay("volume_readers", geocert::fuzzing::check_volume_readers);
+    assert!(n > 0, "the regression corpus must not be empty");
+}
+
+#[test]
+fn mc_fe_regressions() {
+    let n = replay("mc_fe", geocert::fuzzing::check_mc_fe);
+    assert!(n > 0, "the regression corpus must not be empty");
+}

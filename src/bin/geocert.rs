@@ -129,13 +129,16 @@ enum ProjectionArg {
 
 #[derive(Subcommand)]
 enum McCommand {
-    /// Extract the isosurface of a raw little-endian volume (x fastest) as a mesh.
+    /// Extract the isosurface of a volume as a mesh: NIfTI-1 (`.nii`, `.nii.gz`), or raw
+    /// little-endian samples (x fastest) with `--dims` and `--type`.
     Extract {
         volume: PathBuf,
+        /// Raw volumes only: the sample counts along x, y, z.
         #[arg(long, num_args = 3, value_names = ["X", "Y", "Z"])]
-        dims: Vec<usize>,
+        dims: Option<Vec<usize>>,
+        /// Raw volumes only: the sample type.
         #[arg(long = "type", value_enum)]
-        ty: RawKind,
+        ty: Option<RawKind>,
         /// Isovalue: a number (exact as its f64) or "p/q" for the exact path.
         #[arg(long, allow_hyphen_values = true)]
         iso: String,
@@ -774,8 +777,8 @@ fn mc(c: McCommand) -> Result<ExitCode, String> {
 
 fn mc_extract(
     volume: PathBuf,
-    dims: Vec<usize>,
-    ty: RawKind,
+    dims: Option<Vec<usize>>,
+    ty: Option<RawKind>,
     iso: String,
     out: PathBuf,
     path: McPath,
@@ -784,17 +787,35 @@ fn mc_extract(
     use geocert::mc::grid::{extract_exact, extract_fast, read_raw, RawType, Volume};
     use geocert::mesh::Format;
     let format = Format::from_path(&out).map_err(|e| e.to_string())?;
-    let dims: [usize; 3] = dims
-        .try_into()
-        .map_err(|_| "--dims takes three sizes".to_string())?;
     let iso_q = geocert::num::parse_rational(&iso).map_err(|e| format!("--iso: {e}"))?;
     let bytes = std::fs::read(&volume).map_err(|e| format!("{}: {e}", volume.display()))?;
-    let raw = match ty {
-        RawKind::F32 => RawType::F32,
-        RawKind::U8 => RawType::U8,
-        RawKind::I16 => RawType::I16,
-    };
-    let vol = read_raw(&bytes, dims, raw).map_err(|e| format!("{}: {e}", volume.display()))?;
+    let name = volume.to_string_lossy().to_ascii_lowercase();
+    let vol = if name.ends_with(".nii") || name.ends_with(".nii.gz") {
+        if dims.is_some() || ty.is_some() {
+            return Err(
+                "--dims and --type are for raw volumes; NIfTI files carry their own".into(),
+            );
+        }
+        geocert::mc::nifti::read_nifti(&bytes)
+    } else {
+        let (Some(dims), Some(ty)) = (dims, ty) else {
+            return Err(format!(
+                "{}: a raw volume needs --dims X Y Z and --type (or use a .nii / .nii.gz file)",
+                volume.display()
+            ));
+        };
+        let dims: [usize; 3] = dims
+            .try_into()
+            .map_err(|_| "--dims takes three sizes".to_string())?;
+        let raw = match ty {
+            RawKind::F32 => RawType::F32,
+            RawKind::U8 => RawType::U8,
+            RawKind::I16 => RawType::I16,
+        };
+        read_raw(&bytes, dims, raw)
+    }
+    .map_err(|e| format!("{}: {e}", volume.display()))?;
+    let dims = vol.dims;
     let start = std::time::Instant::now();
     let (mesh, stats) = match path {
         McPath::Fast => {
@@ -978,6 +999,8 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
         256,
         3,
     );
+    bar.set_message("finite-element polygonisation (heart demo, sphere, random models)");
+    let fe = report::mc_fe::fe_campaign(5, 300);
     bar.set_message("FFD campaign (and Gmsh, if installed)");
     let root = std::env::current_dir().map_err(|e| e.to_string())?;
     let ffd_camp = report::ffd::ffd_campaign(&root, 2026, 600, 60);
@@ -996,14 +1019,16 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     };
     let (kernel_proofs, ffd_proofs, mc_proofs) = (part("kernel."), part("ffd."), part("mc."));
     let (_, unrealisable) = geocert::proofs::mc::trilinear_realisability();
-    let mc_ok = mc_proofs.iter().all(|p| p.ok()) && report::mc_grid::grid_ok(&grid);
+    let mc_ok = mc_proofs.iter().all(|p| p.ok())
+        && report::mc_grid::grid_ok(&grid)
+        && report::mc_fe::fe_ok(&fe);
     let io = |e: std::io::Error| format!("writing {}: {e}", out.display());
     let kernel_ok = report::kernel_ok(&kernel_proofs, &camp, &timing);
     let ffd_ok = report::ffd::campaign_ok(&ffd_camp) && ffd_proofs.iter().all(|p| p.ok());
     let mut written = vec![
         report::write_kernel_report(&out, &meta, &kernel_proofs, &camp, &timing).map_err(io)?,
         report::ffd_markdown::write_ffd_report(&out, &meta, &ffd_proofs, &ffd_camp).map_err(io)?,
-        report::mc_markdown::write_mc_report(&out, &meta, &mc_proofs, unrealisable, &grid)
+        report::mc_markdown::write_mc_report(&out, &meta, &mc_proofs, unrealisable, &grid, &fe)
             .map_err(io)?,
         report::decimate::write_decimate_report(&out, &meta, &dec_camp).map_err(io)?,
     ];

@@ -40,6 +40,8 @@ pub enum VolumeError {
     NonFinite { index: usize },
     #[error("the isovalue is not finite")]
     Isovalue,
+    #[error("NIfTI: {0}")]
+    Nifti(String),
 }
 
 impl<T> Volume<T> {

@@ -7,6 +7,7 @@ pub mod audit;
 pub mod decider;
 pub mod fe;
 pub mod grid;
+pub mod nifti;
 pub mod table;
 
 pub use table::{table, Entry, Table};

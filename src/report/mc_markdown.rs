@@ -35,6 +35,7 @@ pub fn write_mc_report(
     proofs: &[ProofOutcome],
     unrealisable: usize,
     grid: &super::mc_grid::GridCampaign,
+    fe: &super::mc_fe::FeCampaign,
 ) -> std::io::Result<PathBuf> {
     std::fs::create_dir_all(dir)?;
     let mut s = String::new();
@@ -113,10 +114,12 @@ pub fn write_mc_report(
          open or close, which MC33-style tables resolve with extra entries) is not measured yet.\n"
     );
     write_grid(&mut s, grid);
+    super::mc_fe::write_fe(&mut s, fe);
     let _ = writeln!(
         s,
         "\nOverall: {}.",
-        if proofs.iter().all(|p| p.ok()) && super::mc_grid::grid_ok(grid) {
+        if proofs.iter().all(|p| p.ok()) && super::mc_grid::grid_ok(grid) && super::mc_fe::fe_ok(fe)
+        {
             "every proof passed"
         } else {
             "FAILURES above"

@@ -8,6 +8,7 @@ pub mod decimate;
 pub mod ffd;
 pub mod ffd_dmffd;
 pub mod ffd_markdown;
+pub mod mc_fe;
 pub mod mc_grid;
 pub mod mc_markdown;
 

@@ -32,6 +32,7 @@ pub mod exact;
 pub mod fast;
 pub mod heart;
 mod lattice;
+pub mod models;
 
 use crate::num::Rational;
 use serde::{Deserialize, Serialize};

@@ -1,0 +1,274 @@
+//! The finite-element polygonisation campaign for `reports/mc.md`: the heart demo and an
+//! exactly represented sphere on both paths, and a differential run on random models.
+
+use crate::mc::fe::exact::polygonise_exact;
+use crate::mc::fe::fast::polygonise_fast;
+use crate::mc::fe::{heart, models, FeModel, FeOptions, FeStats, NormalSource};
+use crate::num::rational_from_f64;
+use std::time::Instant;
+
+/// One model at one sampling.
+#[derive(Clone, Debug)]
+pub struct FeRow {
+    pub name: String,
+    pub cells_per_element: [usize; 3],
+    pub stats: FeStats,
+    pub triangles: usize,
+    pub vertices: usize,
+    /// Median seconds of the fast path.
+    pub fast_seconds: f64,
+    /// Seconds of the exact path (`None`: not run at this size).
+    pub exact_seconds: Option<f64>,
+    /// Exact and fast triangle structures equal (`None`: exact not run).
+    pub exact_agrees: Option<bool>,
+    pub manifold: Result<usize, String>,
+    pub euler: i64,
+    /// Largest `| |x| − r |` over the vertices (the sphere only).
+    pub radius_error: Option<f64>,
+    /// Largest angle (degrees) between the vertex normals and the sphere's normal, for
+    /// interpolant and finite-difference normals (the sphere only).
+    pub normal_error_deg: Option<(f64, f64)>,
+}
+
+/// The campaign.
+#[derive(Clone, Debug)]
+pub struct FeCampaign {
+    pub runs: usize,
+    pub rows: Vec<FeRow>,
+    /// Random models through `fuzzing::check_mc_fe`: (run, passed).
+    pub random: (usize, usize),
+    pub random_failures: Vec<String>,
+}
+
+fn run(
+    name: &str,
+    m: &FeModel<f64>,
+    iso: f64,
+    cells: [usize; 3],
+    runs: usize,
+    exact: bool,
+) -> FeRow {
+    let opts = FeOptions {
+        cells,
+        ..FeOptions::default()
+    };
+    let mut times = Vec::new();
+    let mut last = None;
+    for _ in 0..runs.max(1) {
+        let t = Instant::now();
+        let s = polygonise_fast(m, iso, &opts).expect("built-in model");
+        times.push(t.elapsed().as_secs_f64());
+        last = Some(s);
+    }
+    times.sort_by(f64::total_cmp);
+    let fast = last.expect("one run");
+    let (exact_seconds, exact_agrees) = if exact {
+        let q = m.to_exact().expect("finite");
+        let t = Instant::now();
+        let e = polygonise_exact(&q, &rational_from_f64(iso, "iso").expect("finite"), &opts)
+            .expect("built-in model");
+        (
+            Some(t.elapsed().as_secs_f64()),
+            Some(e.triangles == fast.mesh.triangles),
+        )
+    } else {
+        (None, None)
+    };
+    FeRow {
+        name: name.into(),
+        cells_per_element: cells,
+        stats: fast.stats,
+        triangles: fast.mesh.triangles.len(),
+        vertices: fast.mesh.vertices.len(),
+        fast_seconds: times[times.len() / 2],
+        exact_seconds,
+        exact_agrees,
+        manifold: fast.mesh.check_manifold().map_err(|e| e.to_string()),
+        euler: fast.mesh.euler_characteristic(),
+        radius_error: None,
+        normal_error_deg: None,
+    }
+}
+
+/// Largest `| |x| − r |` and largest normal angle to the radial direction.
+fn sphere_errors(m: &FeModel<f64>, iso: f64, cells: [usize; 3]) -> (f64, (f64, f64)) {
+    let r = iso.sqrt();
+    let mut radius = 0.0f64;
+    let mut angles = [0.0f64; 2];
+    for (slot, normals) in [NormalSource::Interpolant, NormalSource::FiniteDifference]
+        .into_iter()
+        .enumerate()
+    {
+        let opts = FeOptions {
+            cells,
+            normals,
+            ..FeOptions::default()
+        };
+        let s = polygonise_fast(m, iso, &opts).expect("built-in model");
+        let ns = s.mesh.normals.as_ref().expect("normals");
+        for (v, n) in s.mesh.vertices.iter().zip(ns) {
+            let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+            radius = radius.max((len - r).abs());
+            let cos = ((v[0] * n[0] + v[1] * n[1] + v[2] * n[2]) / len).clamp(-1.0, 1.0);
+            angles[slot] = angles[slot].max(cos.acos().to_degrees());
+        }
+    }
+    (radius, (angles[0], angles[1]))
+}
+
+/// Runs the campaign: `runs` timed repetitions, `random` random models.
+pub fn fe_campaign(runs: usize, random: usize) -> FeCampaign {
+    let mut rows = Vec::new();
+    let lv = heart::left_ventricle();
+    for (cells, exact) in [
+        ([9, 9, 5], true),
+        ([18, 18, 10], false),
+        ([45, 45, 25], false),
+    ] {
+        rows.push(run(
+            "left ventricle, 16 elements",
+            &lv,
+            0.0,
+            cells,
+            runs,
+            exact,
+        ));
+    }
+    let ball = models::hermite_ball(2);
+    for n in [4, 8, 16] {
+        let mut row = run(
+            "sphere r = 0.8, 8 tricubic elements",
+            &ball,
+            0.64,
+            [n; 3],
+            runs,
+            n <= 8,
+        );
+        let (radius, normals) = sphere_errors(&ball, 0.64, [n; 3]);
+        row.radius_error = Some(radius);
+        row.normal_error_deg = Some(normals);
+        rows.push(row);
+    }
+    // Random models through the differential fuzz check (xorshift bytes).
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let mut passed = 0;
+    let mut failures = Vec::new();
+    for _ in 0..random {
+        let bytes: Vec<u8> = (0..320)
+            .map(|_| {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 24) as u8
+            })
+            .collect();
+        match crate::fuzzing::check_mc_fe(&bytes) {
+            Ok(()) => passed += 1,
+            Err(e) => failures.push(e),
+        }
+    }
+    FeCampaign {
+        runs: runs.max(1),
+        rows,
+        random: (random, passed),
+        random_failures: failures,
+    }
+}
+
+/// Whether every check held.
+pub fn fe_ok(c: &FeCampaign) -> bool {
+    c.random.0 == c.random.1
+        && c.rows
+            .iter()
+            .all(|r| r.exact_agrees != Some(false) && r.manifold.is_ok())
+}
+
+/// The Markdown section.
+pub fn write_fe(s: &mut String, c: &FeCampaign) {
+    use std::fmt::Write as _;
+    let _ = writeln!(
+        s,
+        "\n## Polygonisation of curvilinear finite elements (Section 3)\n\n\
+         Marching cubes in material space: each element's parent cube divided into \
+         n₁ × n₂ × n₃ cells, the field sampled by the element's own interpolation (eq. 1), cut \
+         points by linear interpolation in ξ, world positions by eq. 2, normals `J⁻ᵀ ∇_ξ s`. \
+         Lattice points and cut edges on shared element faces, edges and nodes are named by \
+         global node numbers, so the mesh is welded across elements; vertices that meet in \
+         world space (degenerate elements, Figure 7) are merged and collapsed triangles \
+         removed. The fast path is `f64` with a rounding bound on every sample; signs, face \
+         decisions and world coincidences the bound cannot settle are recomputed exactly. \
+         Fast timings are medians of {} runs, one thread.\n",
+        c.runs
+    );
+    let _ = writeln!(
+        s,
+        "| model | cells / element | cells | cut cells | ambiguous cells | triangles | vertices | welded (Fig. 7) | collapsed triangles removed | exact fallbacks (values, faces) | manifold (boundary edges), χ | fast Mcells/s | exact s | exact = fast |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---|---|---:|---:|---|"
+    );
+    for r in &c.rows {
+        let st = &r.stats;
+        let manifold = match &r.manifold {
+            Ok(b) => format!("yes ({b}), χ = {}", r.euler),
+            Err(e) => format!("**no**: {e}"),
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {:?} | {} | {} | {} ({:.2} % of cut) | {} | {} | {} | {} | {}, {} | {} | {:.2} | {} | {} |",
+            r.name,
+            r.cells_per_element,
+            st.cells,
+            st.cut_cells,
+            st.ambiguous_cells,
+            100.0 * st.ambiguous_cells as f64 / st.cut_cells.max(1) as f64,
+            r.triangles,
+            r.vertices,
+            st.welded_vertices,
+            st.degenerate_triangles,
+            st.exact_values,
+            st.exact_faces,
+            manifold,
+            st.cells as f64 / r.fast_seconds / 1e6,
+            r.exact_seconds.map_or("–".into(), |t| format!("{t:.2}")),
+            match r.exact_agrees {
+                Some(true) => "yes",
+                Some(false) => "**no**",
+                None => "not run",
+            }
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nThe left ventricle's four apical elements are degenerate: their apex face collapses \
+         to a line, so cut points from different cells and elements meet there and the \
+         triangles between them collapse (the welded and removed counts above). Its \
+         0-isosurface meets the wall (the boundary edges): the field changes sign across the \
+         endocardium and epicardium in the septal and lateral bands.\n"
+    );
+    let _ = writeln!(
+        s,
+        "| sphere sampling | largest radius error | largest normal angle, interpolant gradient | largest normal angle, finite differences |\n|---|---:|---:|---:|"
+    );
+    for r in c.rows.iter().filter(|r| r.radius_error.is_some()) {
+        let (a, b) = r.normal_error_deg.unwrap_or_default();
+        let _ = writeln!(
+            s,
+            "| {:?} | {:.2e} | {:.3}° | {:.3}° |",
+            r.cells_per_element,
+            r.radius_error.unwrap_or_default(),
+            a,
+            b
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nThe sphere's field is represented exactly, so the radius error is the linear \
+         interpolation along cell edges alone (it falls as the square of the cell size), and \
+         interpolant normals are exact at the vertices up to that displacement.\n\n\
+         Differential run: {} random one- or two-element models (trilinear, tricubic and \
+         Hermite × Lagrange; warped, some with a collapsed face; 1–3 cells per direction) \
+         through both paths: {} gave the same triangles and a valid mesh.",
+        c.random.0, c.random.1
+    );
+    for f in c.random_failures.iter().take(5) {
+        let _ = writeln!(s, "- failure: {f}");
+    }
+}

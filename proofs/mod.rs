@@ -4,6 +4,7 @@
 pub mod ffd;
 pub mod kernel;
 pub mod mc;
+pub mod mc_body;
 
 use serde::Serialize;
 
@@ -145,6 +146,7 @@ pub fn all() -> Vec<(&'static str, Proof)> {
         ("mc.table-watertight", mc::watertight),
         ("mc.table-symmetry", mc::symmetry),
         ("mc.table-trilinear-realisability", mc::trilinear),
+        ("mc.table-body-ambiguity", mc_body::body),
         ("mc.face-deciders", mc::face_deciders),
     ]
 }

@@ -277,6 +277,8 @@ fn prove_mc_table_json_counts() {
     assert_eq!(v["winding_errors"], 0);
     assert_eq!(v["edge_errors"], 0);
     assert_eq!(v["trilinear_unrealisable"], 36);
+    assert_eq!(v["interior_ambiguous"], 140);
+    assert!(v["interior_ambiguous_candidates"].as_u64().unwrap() >= 140);
 }
 
 #[test]

@@ -956,6 +956,10 @@ fn prove_mc_table(json: bool) -> Result<ExitCode, String> {
             println!("{}", o.summary());
         }
         println!("entries no trilinear cell produces: {unrealisable}");
+        println!(
+            "entries a trilinear cell may connect differently inside (witnessed, magnitudes 1…4): {}",
+            geocert::proofs::mc_body::measured().1
+        );
     }
     Ok(if ok {
         ExitCode::SUCCESS

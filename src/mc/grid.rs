@@ -254,33 +254,61 @@ impl Layer {
     }
 }
 
-/// One grid row's crossings along `x`.
-struct RowTrim {
-    /// First cut x-edge (the row length when none).
-    first: usize,
-    /// One past the last cut x-edge (0 when none).
-    last_plus_one: usize,
-    start: bool,
-    end: bool,
+/// The samples' signs (`v ≥ iso`), one bitset per grid row along `x`.
+struct SignRows {
+    words: usize,
+    bits: Vec<u64>,
 }
 
-impl RowTrim {
-    fn of(row: &[f64], iso: f64) -> RowTrim {
-        let pos = |x: f64| x >= iso;
-        let mut first = row.len();
-        let mut last_plus_one = 0;
-        for i in 0..row.len() - 1 {
-            if pos(row[i]) != pos(row[i + 1]) {
-                first = first.min(i);
-                last_plus_one = i + 1;
+impl SignRows {
+    fn of(vals: &[f64], nx: usize, iso: f64) -> SignRows {
+        let words = nx.div_ceil(64);
+        let rows = vals.len() / nx;
+        let mut bits = vec![0u64; rows * words];
+        for (r, row) in vals.chunks_exact(nx).enumerate() {
+            for (w, chunk) in row.chunks(64).enumerate() {
+                let mut word = 0u64;
+                for (b, &x) in chunk.iter().enumerate() {
+                    word |= u64::from(x >= iso) << b;
+                }
+                bits[r * words + w] = word;
             }
         }
-        RowTrim {
-            first,
-            last_plus_one,
-            start: pos(row[0]),
-            end: pos(row[row.len() - 1]),
+        SignRows { words, bits }
+    }
+    fn row(&self, r: usize) -> &[u64] {
+        &self.bits[r * self.words..(r + 1) * self.words]
+    }
+}
+
+/// The cut cells of one cell row as a bitset (bit `i`: cell `i` has corners of both signs),
+/// from the sign bitsets of its four grid rows; `cells` cells in the row.
+fn cut_cells(rows: [&[u64]; 4], cells: usize, out: &mut [u64]) {
+    let words = out.len();
+    let all = |w: usize| rows[0][w] & rows[1][w] & rows[2][w] & rows[3][w];
+    let any = |w: usize| rows[0][w] | rows[1][w] | rows[2][w] | rows[3][w];
+    for (w, slot) in out.iter_mut().enumerate() {
+        // Samples i and i + 1 of every row: shift the next word's low bit in.
+        let (a, o) = (all(w), any(w));
+        let (a_next, o_next) = if w + 1 < words {
+            (all(w + 1) & 1, any(w + 1) & 1)
+        } else {
+            (0, 0)
+        };
+        let a1 = (a >> 1) | (a_next << 63);
+        let o1 = (o >> 1) | (o_next << 63);
+        let uniform = (a & a1) | !(o | o1);
+        let mut cut = !uniform;
+        let first = 64 * w;
+        if first + 64 > cells {
+            let keep = cells.saturating_sub(first);
+            cut &= if keep >= 64 {
+                u64::MAX
+            } else {
+                (1u64 << keep) - 1
+            };
         }
+        *slot = cut;
     }
 }
 
@@ -303,109 +331,130 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
     let vals = &vol.values;
     // Per local edge: its axis and the offset of its lower corner.
     let edge_info: [(usize, [usize; 3]); 12] = std::array::from_fn(|e| grid_edge([0, 0, 0], e));
+    // Per local edge: its lower and upper corner (cell corner ids).
+    let edge_ends: [(usize, usize); 12] = std::array::from_fn(|e| {
+        let [a, b] = EDGES[e];
+        let (a, b) = (a as usize, b as usize);
+        if corner_offset(a) < corner_offset(b) {
+            (a, b)
+        } else {
+            (b, a)
+        }
+    });
+    // Per corner: its offset in the value array from the cell's lower corner.
+    let corner_off: [usize; 8] = std::array::from_fn(|c| {
+        let o = corner_offset(c);
+        o[0] + nx * (o[1] + ny * o[2])
+    });
     let amb_of = &tab.ambiguous;
     let tris = &tab.extraction_triangles;
-    // Flying-edges-style trimming (Schroeder et al. 2015, pass 1): per grid row along x, the
-    // first and last cut x-edge and the signs at its ends. Cells of a cell row left of every
-    // row's first cut, where the four rows start with one sign, have eight corners of that
-    // sign; likewise on the right. Skipping them changes neither output nor its order.
-    let rows: Vec<RowTrim> = vals.chunks_exact(nx).map(|r| RowTrim::of(r, iso)).collect();
+    // As flying edges' first pass (Schroeder et al. 2015) classifies edges, one pass records
+    // every sample's sign as a bit; a cell row's cut cells are then found 64 at a time from
+    // the bitsets of its four grid rows, and only those cells are visited (in order, so the
+    // output is as if every cell were).
+    let signs = SignRows::of(vals, nx, iso);
+    let mut cut = vec![0u64; signs.words];
+    let cell_row = |j: usize, k: usize, cut: &mut [u64]| {
+        cut_cells(
+            [
+                signs.row(j + ny * k),
+                signs.row(j + 1 + ny * k),
+                signs.row(j + ny * (k + 1)),
+                signs.row(j + 1 + ny * (k + 1)),
+            ],
+            nx - 1,
+            cut,
+        )
+    };
+    // Reserve for the output (about one vertex and two triangles per cut cell), so it does
+    // not grow by doubling.
+    let mut cut_total = 0usize;
     for k in 0..nz - 1 {
         for j in 0..ny - 1 {
-            let four = [
-                &rows[j + ny * k],
-                &rows[j + 1 + ny * k],
-                &rows[j + ny * (k + 1)],
-                &rows[j + 1 + ny * (k + 1)],
-            ];
-            let same_start = four.iter().all(|r| r.start == four[0].start);
-            let same_end = four.iter().all(|r| r.end == four[0].end);
-            let first = if same_start {
-                four.iter().map(|r| r.first).min().unwrap_or(0)
-            } else {
-                0
-            };
-            let last = if same_end {
-                four.iter().map(|r| r.last_plus_one).max().unwrap_or(0)
-            } else {
-                nx - 1
-            };
-            for i in first..last.min(nx - 1) {
-                let base = i + nx * (j + ny * k);
-                let v: [f64; 8] = std::array::from_fn(|c| {
-                    let o = CORNERS[c];
-                    vals[base + o[0] as usize + nx * (o[1] as usize + ny * o[2] as usize)]
-                });
-                let mut config = 0u8;
-                for (c, x) in v.iter().enumerate() {
-                    config |= u8::from(*x >= iso) << c;
-                }
-                if config == 0 || config == 255 {
-                    continue;
-                }
-                let amb = &amb_of[config as usize];
-                let mut sub = 0u8;
-                if !amb.is_empty() {
-                    stats.ambiguous_cells += 1;
-                    stats.ambiguous_faces += amb.len();
-                    for (bit, &f) in amb.iter().enumerate() {
-                        let [a, b, c, d] = face_abcd(f as usize);
-                        let joined = match decide_fast([v[a], v[b], v[c], v[d]], iso) {
-                            Some(Some(j)) => j,
-                            _ => {
-                                stats.exact_fallbacks += 1;
-                                let q = |x: f64| rational_from_f64(x, "value").expect("finite");
-                                let (qa, qb, qc, qd, qi) =
-                                    (q(v[a]), q(v[b]), q(v[c]), q(v[d]), q(iso));
-                                decide_exact([&qa, &qb, &qc, &qd], &qi).unwrap_or(false)
-                            }
-                        };
-                        sub |= u8::from(joined) << bit;
+            cell_row(j, k, &mut cut);
+            cut_total += cut.iter().map(|w| w.count_ones() as usize).sum::<usize>();
+        }
+    }
+    mesh.vertices.reserve(cut_total + cut_total / 4);
+    mesh.triangles.reserve(2 * cut_total + cut_total / 4);
+    for k in 0..nz - 1 {
+        for j in 0..ny - 1 {
+            cell_row(j, k, &mut cut);
+            for (w, &word) in cut.iter().enumerate() {
+                let mut bits = word;
+                while bits != 0 {
+                    let i = 64 * w + bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    let base = i + nx * (j + ny * k);
+                    let v: [f64; 8] = corner_off.map(|o| vals[base + o]);
+                    let mut config = 0u8;
+                    for (c, x) in v.iter().enumerate() {
+                        config |= u8::from(*x >= iso) << c;
                     }
-                }
-                let entry = tab.offsets[config as usize] as usize + sub as usize;
-                let mut centre = [u32::MAX; 4];
-                let edge_vertex = |e: u8, lower: &mut Layer, upper: &mut Layer, mesh: &mut Mesh| {
-                    let (axis, off) = edge_info[e as usize];
-                    let lo = [i + off[0], j + off[1], k + off[2]];
-                    let layer = if lo[2] == k { lower } else { upper };
-                    let id = &mut layer.ids[axis][lo[0] + nx * lo[1]];
-                    if *id == NONE {
-                        let mut hi = lo;
-                        hi[axis] += 1;
-                        let g = |p: [usize; 3]| vals[p[0] + nx * (p[1] + ny * p[2])];
-                        let (v0, v1) = (g(lo), g(hi));
-                        let mut p = lo.map(|x| x as f64);
-                        p[axis] += (iso - v0) / (v1 - v0);
-                        mesh.vertices.push(p);
-                        *id = (mesh.vertices.len() - 1) as u32;
-                    }
-                    *id
-                };
-                for tri in &tris[entry] {
-                    let mut t = [0u32; 3];
-                    for (slot, &e) in t.iter_mut().zip(tri) {
-                        if e < CENTRE {
-                            *slot = edge_vertex(e, &mut lower, &mut upper, &mut mesh);
-                            continue;
-                        }
-                        let p = (e - CENTRE) as usize;
-                        if centre[p] == u32::MAX {
-                            let poly = &tab.entries[entry].polygons[p];
-                            let mut c = [0.0f64; 3];
-                            for &x in poly {
-                                let id = edge_vertex(x, &mut lower, &mut upper, &mut mesh);
-                                let q = mesh.vertices[id as usize];
-                                for a in 0..3 {
-                                    c[a] += q[a];
+                    debug_assert!(config != 0 && config != 255, "a cut cell");
+                    let amb = &amb_of[config as usize];
+                    let mut sub = 0u8;
+                    if !amb.is_empty() {
+                        stats.ambiguous_cells += 1;
+                        stats.ambiguous_faces += amb.len();
+                        for (bit, &f) in amb.iter().enumerate() {
+                            let [a, b, c, d] = face_abcd(f as usize);
+                            let joined = match decide_fast([v[a], v[b], v[c], v[d]], iso) {
+                                Some(Some(j)) => j,
+                                _ => {
+                                    stats.exact_fallbacks += 1;
+                                    let q = |x: f64| rational_from_f64(x, "value").expect("finite");
+                                    let (qa, qb, qc, qd, qi) =
+                                        (q(v[a]), q(v[b]), q(v[c]), q(v[d]), q(iso));
+                                    decide_exact([&qa, &qb, &qc, &qd], &qi).unwrap_or(false)
                                 }
-                            }
-                            mesh.vertices.push(c.map(|x| x / poly.len() as f64));
-                            centre[p] = (mesh.vertices.len() - 1) as u32;
+                            };
+                            sub |= u8::from(joined) << bit;
                         }
-                        *slot = centre[p];
                     }
-                    mesh.triangles.push(t);
+                    let entry = tab.offsets[config as usize] as usize + sub as usize;
+                    let mut centre = [u32::MAX; 4];
+                    let edge_vertex =
+                        |e: u8, lower: &mut Layer, upper: &mut Layer, mesh: &mut Mesh| {
+                            let (axis, off) = edge_info[e as usize];
+                            let (x, y) = (i + off[0], j + off[1]);
+                            let layer = if off[2] == 0 { lower } else { upper };
+                            let id = &mut layer.ids[axis][x + nx * y];
+                            if *id == NONE {
+                                let (c0, c1) = edge_ends[e as usize];
+                                let (v0, v1) = (v[c0], v[c1]);
+                                let mut p = [x as f64, y as f64, (k + off[2]) as f64];
+                                p[axis] += (iso - v0) / (v1 - v0);
+                                mesh.vertices.push(p);
+                                *id = (mesh.vertices.len() - 1) as u32;
+                            }
+                            *id
+                        };
+                    for tri in &tris[entry] {
+                        let mut t = [0u32; 3];
+                        for (slot, &e) in t.iter_mut().zip(tri) {
+                            if e < CENTRE {
+                                *slot = edge_vertex(e, &mut lower, &mut upper, &mut mesh);
+                                continue;
+                            }
+                            let p = (e - CENTRE) as usize;
+                            if centre[p] == u32::MAX {
+                                let poly = &tab.entries[entry].polygons[p];
+                                let mut c = [0.0f64; 3];
+                                for &x in poly {
+                                    let id = edge_vertex(x, &mut lower, &mut upper, &mut mesh);
+                                    let q = mesh.vertices[id as usize];
+                                    for a in 0..3 {
+                                        c[a] += q[a];
+                                    }
+                                }
+                                mesh.vertices.push(c.map(|x| x / poly.len() as f64));
+                                centre[p] = (mesh.vertices.len() - 1) as u32;
+                            }
+                            *slot = centre[p];
+                        }
+                        mesh.triangles.push(t);
+                    }
                 }
             }
         }

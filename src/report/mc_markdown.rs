@@ -210,8 +210,10 @@ fn write_grid(s: &mut String, g: &super::mc_grid::GridCampaign) {
     }
     let _ = writeln!(
         s,
-        "\nThe fast path trims each row of cells to the span where the isovalue is crossed (as \
-         flying edges' first pass does) but still loads every remaining cell's eight corners \
-         afresh, without SIMD and without flying edges' per-edge passes."
+        "\nThe fast path records every sample's sign as one bit in a first pass (as flying \
+         edges classifies edges), finds each cell row's cut cells 64 at a time from the bitsets \
+         of its four grid rows, and visits only those; a cut cell loads its eight corners \
+         afresh and creates vertices lazily through two z-layers of edge ids, without SIMD and \
+         without flying edges' per-edge passes. Vertices are `f64` (VTK writes `f32`)."
     );
 }

@@ -488,7 +488,11 @@ fn decide_bounded(s: [Sample; 4], iso: f64) -> Option<bool> {
     {
         return None; // not ambiguous: never asked
     }
-    let iv = |x: Sample| Interval::new(x.v - x.err, x.v + x.err) - Interval::point(iso);
+    // [v − err, v + err] rounded outward, then shifted by the isovalue (interval subtraction
+    // rounds outward itself).
+    let iv = |x: Sample| {
+        Interval::new((x.v - x.err).next_down(), (x.v + x.err).next_up()) - Interval::point(iso)
+    };
     let [a, b, c, d] = s.map(iv);
     let diff = if s[0].positive {
         a * d - b * c

@@ -104,3 +104,177 @@ pub fn xy_errors(original: &Mesh, decimated: &Mesh) -> Errors {
     }
     e
 }
+
+/// The closest point of triangle `abc` to `p` (Ericson, *Real-Time Collision Detection*,
+/// 5.1.5: Voronoi regions of the vertices, edges and face).
+pub fn closest_point_on_triangle(p: [f64; 3], a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
+    let sub = |u: [f64; 3], v: [f64; 3]| [u[0] - v[0], u[1] - v[1], u[2] - v[2]];
+    let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    let at = |o: [f64; 3], d: [f64; 3], t: f64| [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]];
+    let (ab, ac, ap) = (sub(b, a), sub(c, a), sub(p, a));
+    let (d1, d2) = (dot(ab, ap), dot(ac, ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = sub(p, b);
+    let (d3, d4) = (dot(ab, bp), dot(ac, bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return at(a, ab, d1 / (d1 - d3));
+    }
+    let cp = sub(p, c);
+    let (d5, d6) = (dot(ab, cp), dot(ac, cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return at(a, ac, d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        return at(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = va + vb + vc;
+    if denom == 0.0 || !denom.is_finite() {
+        // Degenerate (zero-area) triangle: the nearest of its three edges' closest points.
+        let seg = |u: [f64; 3], v: [f64; 3]| {
+            let d = sub(v, u);
+            let l = dot(d, d);
+            let t = if l > 0.0 {
+                (dot(sub(p, u), d) / l).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            at(u, d, t)
+        };
+        let cands = [seg(a, b), seg(b, c), seg(c, a)];
+        return cands
+            .into_iter()
+            .min_by(|x, y| dot(sub(p, *x), sub(p, *x)).total_cmp(&dot(sub(p, *y), sub(p, *y))))
+            .expect("three candidates");
+    }
+    let (v, w) = (vb / denom, vc / denom);
+    [
+        a[0] + ab[0] * v + ac[0] * w,
+        a[1] + ab[1] * v + ac[1] * w,
+        a[2] + ab[2] * v + ac[2] * w,
+    ]
+}
+
+/// The largest distance from a vertex of `from` to the surface `to` (exact closest points
+/// per triangle; triangles found through a hashed uniform grid searched in growing shells).
+pub fn vertex_distance_to_surface(from: &Mesh, to: &Mesh) -> f64 {
+    let (pv, tris) = (&to.vertices, &to.triangles);
+    if tris.is_empty() || from.vertices.is_empty() {
+        return f64::NAN;
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in pv.iter().chain(&from.vertices) {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max);
+    // About one triangle per occupied cell of a surface: h ~ extent / √(triangles).
+    let h = (extent / (tris.len() as f64).sqrt())
+        .max(extent * 1e-9)
+        .max(f64::MIN_POSITIVE);
+    let key =
+        |p: [f64; 3]| -> [i64; 3] { std::array::from_fn(|k| ((p[k] - lo[k]) / h).floor() as i64) };
+    let mut grid: std::collections::HashMap<[i64; 3], Vec<u32>> = std::collections::HashMap::new();
+    for (t, tri) in tris.iter().enumerate() {
+        let ps = tri.map(|i| pv[i as usize]);
+        let a = key(std::array::from_fn(|k| {
+            ps.iter().map(|p| p[k]).fold(f64::INFINITY, f64::min)
+        }));
+        let b = key(std::array::from_fn(|k| {
+            ps.iter().map(|p| p[k]).fold(f64::NEG_INFINITY, f64::max)
+        }));
+        for x in a[0]..=b[0] {
+            for y in a[1]..=b[1] {
+                for z in a[2]..=b[2] {
+                    grid.entry([x, y, z]).or_default().push(t as u32);
+                }
+            }
+        }
+    }
+    let reach = ((extent / h).ceil() as i64) + 1;
+    let mut worst = 0.0f64;
+    for &p in &from.vertices {
+        let c = key(p);
+        // Distance from p to its own cell's faces: after shells 0..=r are searched, every
+        // triangle not yet seen is at least r·h + margin away.
+        let margin = (0..3)
+            .map(|k| {
+                let f = (p[k] - lo[k]) / h - c[k] as f64;
+                f.min(1.0 - f).max(0.0) * h
+            })
+            .fold(f64::INFINITY, f64::min);
+        let mut best = f64::INFINITY;
+        let mut r = 0i64;
+        // Shell r holds every cell at Chebyshev distance r.
+        while r <= reach && (r == 0 || best > (r - 1) as f64 * h + margin) {
+            for x in -r..=r {
+                for y in -r..=r {
+                    for z in -r..=r {
+                        if x.abs().max(y.abs()).max(z.abs()) != r {
+                            continue;
+                        }
+                        let Some(list) = grid.get(&[c[0] + x, c[1] + y, c[2] + z]) else {
+                            continue;
+                        };
+                        for &t in list {
+                            let [a, b, cc] = tris[t as usize].map(|i| pv[i as usize]);
+                            let q = closest_point_on_triangle(p, a, b, cc);
+                            let d = ((p[0] - q[0]).powi(2)
+                                + (p[1] - q[1]).powi(2)
+                                + (p[2] - q[2]).powi(2))
+                            .sqrt();
+                            best = best.min(d);
+                        }
+                    }
+                }
+            }
+            r += 1;
+        }
+        worst = worst.max(best);
+    }
+    worst
+}
+
+/// The symmetric Hausdorff distance between two meshes sampled at their vertices:
+/// `max(max_{v ∈ A} d(v, B), max_{w ∈ B} d(w, A))`. A lower bound of the true Hausdorff
+/// distance, equal to it where the farthest points are vertices (a decimation's are: every
+/// decimated vertex lies on the original surface and the deviation peaks at original nodes
+/// over a decimated triangle's interior).
+pub fn hausdorff_at_vertices(a: &Mesh, b: &Mesh) -> f64 {
+    vertex_distance_to_surface(a, b).max(vertex_distance_to_surface(b, a))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn distances_to_a_triangle_and_a_surface() {
+        let (a, b, c) = ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+        let q = closest_point_on_triangle([0.2, 0.2, 5.0], a, b, c);
+        assert!((q[0] - 0.2).abs() < 1e-15 && (q[1] - 0.2).abs() < 1e-15 && q[2] == 0.0);
+        assert_eq!(closest_point_on_triangle([-1.0, -1.0, 0.0], a, b, c), a);
+        assert_eq!(closest_point_on_triangle([2.0, -1.0, 0.0], a, b, c), b);
+        let q = closest_point_on_triangle([1.0, 1.0, 0.0], a, b, c);
+        assert!((q[0] - 0.5).abs() < 1e-15 && (q[1] - 0.5).abs() < 1e-15);
+        // A unit square and the same square lifted by 0.25: distance 0.25 both ways.
+        let square = |z: f64| Mesh {
+            vertices: vec![[0.0, 0.0, z], [1.0, 0.0, z], [1.0, 1.0, z], [0.0, 1.0, z]],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+            ..Default::default()
+        };
+        assert!((hausdorff_at_vertices(&square(0.0), &square(0.25)) - 0.25).abs() < 1e-15);
+    }
+}

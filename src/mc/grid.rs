@@ -347,7 +347,6 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
         o[0] + nx * (o[1] + ny * o[2])
     });
     let amb_of = &tab.ambiguous;
-    let tris = &tab.extraction_triangles;
     // As flying edges' first pass (Schroeder et al. 2015) classifies edges, one pass records
     // every sample's sign as a bit; a cell row's cut cells are then found 64 at a time from
     // the bitsets of its four grid rows, and only those cells are visited (in order, so the
@@ -430,7 +429,9 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
                             }
                             *id
                         };
-                    for tri in &tris[entry] {
+                    let tri_range =
+                        tab.flat_offsets[entry] as usize..tab.flat_offsets[entry + 1] as usize;
+                    for tri in &tab.flat_triangles[tri_range] {
                         let mut t = [0u32; 3];
                         for (slot, &e) in t.iter_mut().zip(tri) {
                             if e < CENTRE {

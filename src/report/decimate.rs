@@ -31,6 +31,8 @@ pub struct PeerRow {
     pub seconds: Option<f64>,
     pub triangles: usize,
     pub errors: Option<quality::Errors>,
+    /// Symmetric Hausdorff distance to the input, sampled at both meshes' vertices.
+    pub hausdorff: Option<f64>,
     pub note: String,
 }
 
@@ -144,6 +146,7 @@ fn meshopt_row(mesh: &Mesh, triangles: usize, runs: usize) -> PeerRow {
                 seconds: None,
                 triangles: 0,
                 errors: None,
+                hausdorff: None,
                 note: e.to_string(),
             }
         }
@@ -173,6 +176,7 @@ fn meshopt_row(mesh: &Mesh, triangles: usize, runs: usize) -> PeerRow {
         seconds: Some(median(times)),
         triangles: out.triangles.len(),
         errors: Some(quality::xy_errors(mesh, &out)),
+        hausdorff: Some(quality::hausdorff_at_vertices(mesh, &out)),
         note: format!("median of {runs}; target {} triangles", triangles),
     }
 }
@@ -183,6 +187,7 @@ fn vtk_row(root: &FsPath, mesh: &Mesh, triangles: usize) -> PeerRow {
         seconds: None,
         triangles: 0,
         errors: None,
+        hausdorff: None,
         note: String::new(),
     };
     let python = root.join(".venv-peers/bin/python");
@@ -225,6 +230,7 @@ fn vtk_row(root: &FsPath, mesh: &Mesh, triangles: usize) -> PeerRow {
         );
         let back = Mesh::read(&output, None).map_err(|e| e.to_string())?;
         row.errors = Some(quality::xy_errors(mesh, &back));
+        row.hausdorff = Some(quality::hausdorff_at_vertices(mesh, &back));
         Ok(())
     })();
     let _ = std::fs::remove_file(&output);
@@ -312,6 +318,7 @@ pub fn decimate_campaign(root: &FsPath, sides: &[usize]) -> DecimateCampaign {
             seconds: Some(row.decimate_s),
             triangles: ours.triangles.len(),
             errors: Some(quality::xy_errors(mesh, ours)),
+            hausdorff: Some(quality::hausdorff_at_vertices(mesh, ours)),
             note: format!("median of {}", row.runs),
         });
         peers.push(vtk_row(root, mesh, ours.triangles.len()));
@@ -484,7 +491,8 @@ pub fn write_decimate_report(
         s,
         "\n## Peers on the {}-node grid, same triangle count\n\nErrors are measured at every \
          original node against the decimated surface's linear interpolant at the same xy \
-         position.\n\n| decimator | seconds | triangles | max height err | RMS height err | note |\n|---|---:|---:|---:|---:|---|",
+         position; the Hausdorff distance is symmetric, from every vertex of each mesh to the \
+         other surface (closest points on triangles).\n\n| decimator | seconds | triangles | max height err | RMS height err | Hausdorff | note |\n|---|---:|---:|---:|---:|---:|---|",
         c.peer_nodes
     );
     let ours = c.peers.first().and_then(|p| p.seconds);
@@ -500,10 +508,13 @@ pub fn write_decimate_report(
             .unwrap_or(("—".into(), "—".into()));
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {mx} | {rms} | {} |",
+            "| {} | {} | {} | {mx} | {rms} | {} | {} |",
             p.name,
             p.seconds.map(|t| format!("{t:.3}")).unwrap_or("—".into()),
             p.triangles,
+            p.hausdorff
+                .map(|h| format!("{h:.2e}"))
+                .unwrap_or("—".into()),
             p.note
         );
     }

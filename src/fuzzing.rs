@@ -408,7 +408,7 @@ pub fn check_volume_readers(data: &[u8]) -> Result<(), String> {
 /// exact and fast paths must give the same triangles, and a valid mesh.
 pub fn check_mc_fe(data: &[u8]) -> Result<(), String> {
     use crate::mc::fe::{exact::polygonise_exact, fast::polygonise_fast};
-    use crate::mc::fe::{ElementKind, FeModel, FeOptions};
+    use crate::mc::fe::{ElementKind, FeOptions};
     if data.len() < 6 {
         return Ok(());
     }
@@ -425,54 +425,31 @@ pub fn check_mc_fe(data: &[u8]) -> Result<(), String> {
     let byte = |i: usize| body.get(i).copied().unwrap_or(0);
     let ex = if two { 2 } else { 1 };
     let ndof = kind.dofs_per_node();
-    let mut coordinates = Vec::new();
-    let mut field = Vec::new();
-    let mut b = 0;
-    for k in 0..2 {
-        for j in 0..2 {
-            for i in 0..=ex {
-                for dof in 0..ndof {
-                    let der = kind.derivative_of_dof(dof);
-                    let count = der.iter().filter(|&&x| x).count();
-                    let jitter = |v: u8| (v % 5) as f64 / 16.0 - 0.125;
-                    let c = if dof == 0 {
-                        [
-                            i as f64 + jitter(byte(b)),
-                            j as f64 + jitter(byte(b + 1)),
-                            k as f64,
-                        ]
-                    } else if count == 1 {
-                        let mut c = [0.0; 3];
-                        c[der.iter().position(|&x| x).unwrap_or(0)] = 1.0;
-                        c
-                    } else {
-                        [0.0; 3]
-                    };
-                    coordinates.push(c);
-                    field.push(((byte(b + 2) % 16) as i8 - 8) as f64 / 4.0);
-                    b += 3;
-                }
-            }
-        }
-    }
-    let id = |i: usize, j: usize, k: usize| (i + (ex + 1) * (j + 2 * k)) as u32;
-    let elements: Vec<[u32; 8]> = (0..ex)
-        .map(|e| std::array::from_fn(|l| id(e + (l & 1), l >> 1 & 1, l >> 2 & 1)))
-        .collect();
+    // Node values, slopes and a jitter of the node positions from the bytes, node by node.
+    let node = |p: [f64; 3]| p[0] as usize + (ex + 1) * (p[1] as usize + 2 * p[2] as usize);
+    let jitter = |v: u8| (v % 5) as f64 / 16.0 - 0.125;
+    let value = |p: [f64; 3]| ((byte(3 * node(p)) % 16) as i8 - 8) as f64 / 4.0;
+    let derivative = |p: [f64; 3], der: [bool; 3]| {
+        let k = der
+            .iter()
+            .enumerate()
+            .map(|(d, &b)| usize::from(b) << d)
+            .sum::<usize>();
+        ((byte(3 * node(p) + 1 + 40 * k) % 16) as i8 - 8) as f64 / 4.0
+    };
+    let warp = |p: [f64; 3]| {
+        let b = byte(3 * node(p) + 2);
+        [p[0] + jitter(b), p[1] + jitter(b / 5), p[2]]
+    };
+    let mut m = crate::mc::fe::models::block(kind, [ex, 1, 1], &value, &derivative, &warp);
     if collapse {
         // Pull the last element's (1,1,·) nodes onto its (1,0,·) nodes (Figure 7).
-        let nodes = elements[ex - 1];
+        let nodes = m.elements[ex - 1];
         for (to, from) in [(3, 1), (7, 5)] {
-            let v = coordinates[nodes[from] as usize * ndof];
-            coordinates[nodes[to] as usize * ndof] = v;
+            let v = m.coordinates[nodes[from] as usize * ndof];
+            m.coordinates[nodes[to] as usize * ndof] = v;
         }
     }
-    let m = FeModel {
-        kind,
-        coordinates,
-        field,
-        elements,
-    };
     let opts = FeOptions {
         cells,
         ..FeOptions::default()

@@ -147,3 +147,52 @@ pub fn height_field_mesh(max_side: usize, h: i32) -> impl Strategy<Value = crate
             })
     })
 }
+
+/// Small finite element models for isosurface code, with an isovalue: a block of 1–3 × 1–3 ×
+/// 1–2 elements of trilinear Lagrange, tricubic Hermite or Hermite × Lagrange kind
+/// ([`models::block`](crate::mc::fe::models::block)), node values in halves from −3/2 to 3/2,
+/// ξ-slopes in quarters from −2 to 2, node positions moved by a smooth warp of strength up to
+/// 0.3; isovalues 0, 1/2 or an `f64` in [−1, 1]. Polygonise with your code and compare with
+/// [`polygonise_exact`](crate::mc::fe::exact::polygonise_exact) or
+/// [`polygonise_fast`](crate::mc::fe::fast::polygonise_fast) (same triangles, positions to
+/// rounding).
+pub fn fe_block_model() -> impl Strategy<Value = (crate::mc::fe::FeModel<f64>, f64)> {
+    use crate::mc::fe::{models::block, ElementKind};
+    let kind = prop_oneof![
+        Just(ElementKind::TRILINEAR_LAGRANGE),
+        Just(ElementKind::TRICUBIC_HERMITE),
+        Just(ElementKind::HERMITE_HERMITE_LAGRANGE),
+    ];
+    let dims = (1usize..=3, 1usize..=3, 1usize..=2);
+    (kind, dims, 0.0f64..0.3).prop_flat_map(|(kind, (x, y, z), warp)| {
+        let nodes = (x + 1) * (y + 1) * (z + 1);
+        (
+            proptest::collection::vec(-3i8..=3, nodes),
+            proptest::collection::vec(-8i8..=8, 8 * nodes),
+            prop_oneof![Just(0.0), Just(0.5), -1.0f64..1.0],
+        )
+            .prop_map(move |(values, slopes, iso)| {
+                let e = [x, y, z];
+                let idx = move |p: [f64; 3]| {
+                    p[0] as usize + (e[0] + 1) * (p[1] as usize + (e[1] + 1) * p[2] as usize)
+                };
+                let value = |p: [f64; 3]| values[idx(p)] as f64 / 2.0;
+                let derivative = |p: [f64; 3], der: [bool; 3]| {
+                    let k: usize = der
+                        .iter()
+                        .enumerate()
+                        .map(|(d, &b)| usize::from(b) << d)
+                        .sum();
+                    slopes[8 * idx(p) + k] as f64 / 4.0
+                };
+                let w = |p: [f64; 3]| {
+                    [
+                        p[0] + warp * (p[1] * p[2]).sin(),
+                        p[1] + warp * p[0].cos(),
+                        p[2] - warp * p[1] * p[0] / 4.0,
+                    ]
+                };
+                (block(kind, e, &value, &derivative, &w), iso)
+            })
+    })
+}

@@ -4,65 +4,12 @@
 use geocert::mc::fe::exact::polygonise_exact;
 use geocert::mc::fe::fast::polygonise_fast;
 use geocert::mc::fe::heart::{left_ventricle, paper_options};
+use geocert::mc::fe::models::block;
 use geocert::mc::fe::{ElementKind, FeError, FeModel, FeOptions, NormalSource};
 use geocert::mc::grid::{extract_exact, Volume};
 use geocert::num::{rational_from_f64, rational_to_f64, Rational};
 use proptest::prelude::*;
 use std::collections::BTreeSet;
-
-/// A block of `ex × ey × ez` unit elements with nodes at integer points; node values from
-/// `value`, and for Hermite kinds the `ξ`-derivatives from `derivative(point, dof)`.
-fn block(
-    kind: ElementKind,
-    e: [usize; 3],
-    value: &dyn Fn([f64; 3]) -> f64,
-    derivative: &dyn Fn([f64; 3], [bool; 3]) -> f64,
-    warp: &dyn Fn([f64; 3]) -> [f64; 3],
-) -> FeModel<f64> {
-    let ndof = kind.dofs_per_node();
-    let id = |i: usize, j: usize, k: usize| (i + (e[0] + 1) * (j + (e[1] + 1) * k)) as u32;
-    let mut coordinates = Vec::new();
-    let mut field = Vec::new();
-    for k in 0..=e[2] {
-        for j in 0..=e[1] {
-            for i in 0..=e[0] {
-                let p = [i as f64, j as f64, k as f64];
-                for dof in 0..ndof {
-                    let der = kind.derivative_of_dof(dof);
-                    if dof == 0 {
-                        coordinates.push(warp(p));
-                        field.push(value(p));
-                    } else {
-                        // Straight coordinate lines: x_ξd = e_d for a single derivative.
-                        let count = der.iter().filter(|&&b| b).count();
-                        let mut c = [0.0; 3];
-                        if count == 1 {
-                            c[der.iter().position(|&b| b).unwrap()] = 1.0;
-                        }
-                        coordinates.push(c);
-                        field.push(derivative(p, der));
-                    }
-                }
-            }
-        }
-    }
-    let mut elements = Vec::new();
-    for k in 0..e[2] {
-        for j in 0..e[1] {
-            for i in 0..e[0] {
-                elements.push(std::array::from_fn(|l| {
-                    id(i + (l & 1), j + (l >> 1 & 1), k + (l >> 2 & 1))
-                }));
-            }
-        }
-    }
-    FeModel {
-        kind,
-        coordinates,
-        field,
-        elements,
-    }
-}
 
 fn no_derivative(_: [f64; 3], _: [bool; 3]) -> f64 {
     0.0
@@ -180,27 +127,10 @@ proptest! {
         prop_assert_eq!(triangle_set(&fe.vertices, &fe.triangles), triangle_set(&scaled, &grid.triangles));
     }
 
-    /// Random Hermite and warped Lagrange models: the fast path's structure is the exact one.
+    /// Random Hermite and warped Lagrange models (the exported strategy): the fast path's
+    /// structure is the exact one.
     #[test]
-    fn exact_and_fast_agree(
-        (e, vals) in small_values(),
-        slopes in proptest::collection::vec(-2.0f64..2.0, 64),
-        warp in 0.0f64..0.3,
-        kind in prop_oneof![
-            Just(ElementKind::TRILINEAR_LAGRANGE),
-            Just(ElementKind::TRICUBIC_HERMITE),
-            Just(ElementKind::HERMITE_HERMITE_LAGRANGE)
-        ],
-        n in 1usize..=3,
-        iso in prop_oneof![Just(0.0), Just(0.5), -1.0f64..1.0],
-    ) {
-        let idx = |p: [f64; 3]| p[0] as usize + (e[0] + 1) * (p[1] as usize + (e[1] + 1) * p[2] as usize);
-        let value = |p: [f64; 3]| vals[idx(p)] as f64 / 2.0;
-        let derivative = |p: [f64; 3], der: [bool; 3]| {
-            slopes[(idx(p) * 3 + der.iter().filter(|&&b| b).count()) % 64]
-        };
-        let w = |p: [f64; 3]| [p[0] + warp * (p[1] * p[2]).sin(), p[1] + warp * p[0].cos(), p[2] - warp * p[1] * p[0] / 4.0];
-        let m = block(kind, e, &value, &derivative, &w);
+    fn exact_and_fast_agree((m, iso) in geocert::strategies::fe_block_model(), n in 1usize..=3) {
         let o = FeOptions { cells: [n, n + 1, n], ..FeOptions::default() };
         let mesh = assert_paths_agree(&m, iso, &o);
         // Welding points where the surface passes through a lattice point may pinch it; off

@@ -247,11 +247,6 @@ impl Layer {
             ids: [vec![NONE; n], vec![NONE; n], vec![NONE; n]],
         }
     }
-    fn reset(&mut self) {
-        for v in &mut self.ids {
-            v.fill(NONE);
-        }
-    }
 }
 
 /// The samples' signs (`v ≥ iso`), one bitset per grid row along `x`.
@@ -261,20 +256,27 @@ struct SignRows {
 }
 
 impl SignRows {
-    fn of(vals: &[f64], nx: usize, iso: f64) -> SignRows {
+    /// Also checks every sample is finite (in the same pass over memory).
+    fn of(vals: &[f64], nx: usize, iso: f64) -> Result<SignRows, VolumeError> {
         let words = nx.div_ceil(64);
         let rows = vals.len() / nx;
         let mut bits = vec![0u64; rows * words];
+        let mut finite = true;
         for (r, row) in vals.chunks_exact(nx).enumerate() {
             for (w, chunk) in row.chunks(64).enumerate() {
                 let mut word = 0u64;
                 for (b, &x) in chunk.iter().enumerate() {
                     word |= u64::from(x >= iso) << b;
+                    finite &= x.is_finite();
                 }
                 bits[r * words + w] = word;
             }
         }
-        SignRows { words, bits }
+        if !finite {
+            let index = vals.iter().position(|v| !v.is_finite()).unwrap_or(0);
+            return Err(VolumeError::NonFinite { index });
+        }
+        Ok(SignRows { words, bits })
     }
     fn row(&self, r: usize) -> &[u64] {
         &self.bits[r * self.words..(r + 1) * self.words]
@@ -317,9 +319,6 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
     if !iso.is_finite() {
         return Err(VolumeError::Isovalue);
     }
-    if let Some(index) = vol.values.iter().position(|v| !v.is_finite()) {
-        return Err(VolumeError::NonFinite { index });
-    }
     let tab = table();
     let [nx, ny, nz] = vol.dims;
     let plane = nx * ny;
@@ -351,7 +350,7 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
     // every sample's sign as a bit; a cell row's cut cells are then found 64 at a time from
     // the bitsets of its four grid rows, and only those cells are visited (in order, so the
     // output is as if every cell were).
-    let signs = SignRows::of(vals, nx, iso);
+    let signs = SignRows::of(vals, nx, iso)?;
     let mut cut = vec![0u64; signs.words];
     let cell_row = |j: usize, k: usize, cut: &mut [u64]| {
         cut_cells(
@@ -376,7 +375,13 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
     }
     mesh.vertices.reserve(cut_total + cut_total / 4);
     mesh.triangles.reserve(2 * cut_total + cut_total / 4);
+    // The layers are reused without clearing: vertex ids only grow, so an id is current when
+    // it was made during this cell layer (the upper layer, and z-edges of the lower one) or
+    // the previous one (x- and y-edges of the lower layer, made as the previous upper layer);
+    // anything older is left over from two layers back.
+    let mut current_start = 0u32;
     for k in 0..nz - 1 {
+        let previous_start = std::mem::replace(&mut current_start, mesh.vertices.len() as u32);
         for j in 0..ny - 1 {
             cell_row(j, k, &mut cut);
             for (w, &word) in cut.iter().enumerate() {
@@ -385,7 +390,17 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
                     let i = 64 * w + bits.trailing_zeros() as usize;
                     bits &= bits - 1;
                     let base = i + nx * (j + ny * k);
-                    let v: [f64; 8] = corner_off.map(|o| vals[base + o]);
+                    let c = &vals[base..];
+                    let v: [f64; 8] = [
+                        c[corner_off[0]],
+                        c[corner_off[1]],
+                        c[corner_off[2]],
+                        c[corner_off[3]],
+                        c[corner_off[4]],
+                        c[corner_off[5]],
+                        c[corner_off[6]],
+                        c[corner_off[7]],
+                    ];
                     let mut config = 0u8;
                     for (c, x) in v.iter().enumerate() {
                         config |= u8::from(*x >= iso) << c;
@@ -417,9 +432,13 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
                         |e: u8, lower: &mut Layer, upper: &mut Layer, mesh: &mut Mesh| {
                             let (axis, off) = edge_info[e as usize];
                             let (x, y) = (i + off[0], j + off[1]);
-                            let layer = if off[2] == 0 { lower } else { upper };
+                            let (layer, oldest) = match (off[2], axis) {
+                                (0, 0 | 1) => (lower, previous_start),
+                                (0, _) => (lower, current_start),
+                                _ => (upper, current_start),
+                            };
                             let id = &mut layer.ids[axis][x + nx * y];
-                            if *id == NONE {
+                            if *id == NONE || *id < oldest {
                                 let (c0, c1) = edge_ends[e as usize];
                                 let (v0, v1) = (v[c0], v[c1]);
                                 let mut p = [x as f64, y as f64, (k + off[2]) as f64];
@@ -461,7 +480,6 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
         }
         stats.cells += (nx - 1) * (ny - 1);
         std::mem::swap(&mut lower, &mut upper);
-        upper.reset();
     }
     Ok((mesh, stats))
 }
@@ -508,4 +526,25 @@ pub fn read_raw(bytes: &[u8], dims: [usize; 3], ty: RawType) -> Result<Volume<f6
         return Err(VolumeError::NonFinite { index });
     }
     Volume::new(dims, values)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_values_are_refused_with_their_index() {
+        let mut v = vec![0.5; 4 * 3 * 70];
+        v[201] = f64::NAN;
+        let vol = Volume::new([70, 3, 4], v).unwrap();
+        assert_eq!(
+            extract_fast(&vol, 0.0).unwrap_err(),
+            VolumeError::NonFinite { index: 201 }
+        );
+        let ok = Volume::new([70, 3, 4], vec![0.5; 4 * 3 * 70]).unwrap();
+        assert_eq!(
+            extract_fast(&ok, f64::NAN).unwrap_err(),
+            VolumeError::Isovalue
+        );
+    }
 }

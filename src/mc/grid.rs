@@ -236,7 +236,9 @@ pub fn extract_exact(vol: &Volume<Rational>, iso: &Rational) -> ExactSurface {
 /// Vertex ids of the grid edges of one `z`-layer: `x`-edges, `y`-edges, and the `z`-edges up
 /// to the next layer.
 struct Layer {
-    ids: [Vec<u32>; 3],
+    /// Per grid point of the layer, the ids of its x-, y- and z-edge (interleaved, so a
+    /// cell's lookups touch few cache lines).
+    ids: Vec<[u32; 3]>,
 }
 
 const NONE: u32 = u32::MAX;
@@ -244,7 +246,7 @@ const NONE: u32 = u32::MAX;
 impl Layer {
     fn new(n: usize) -> Layer {
         Layer {
-            ids: [vec![NONE; n], vec![NONE; n], vec![NONE; n]],
+            ids: vec![[NONE; 3]; n],
         }
     }
 }
@@ -437,7 +439,7 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
                                 (0, _) => (lower, current_start),
                                 _ => (upper, current_start),
                             };
-                            let id = &mut layer.ids[axis][x + nx * y];
+                            let id = &mut layer.ids[x + nx * y][axis];
                             if *id == NONE || *id < oldest {
                                 let (c0, c1) = edge_ends[e as usize];
                                 let (v0, v1) = (v[c0], v[c1]);

@@ -3,7 +3,7 @@
 //!
 //! Each element's parent cube `ξ ∈ [0, 1]³` is divided into `n₁ × n₂ × n₃` cells; the field is
 //! sampled at the cell corners by the element's own interpolation (eq. 1), every cell is
-//! polygonised with the 656-entry table ([`table`](super::table)), intersections are placed
+//! polygonised with the 656-entry table ([`table`](mod@super::table)), intersections are placed
 //! by linear interpolation in `ξ`, and the vertices are mapped to world coordinates by the
 //! isoparametric map (eq. 2). Lattice points and cut edges on element faces, edges and nodes
 //! are identified by the global node numbers of the entity they lie on (Section 3.2), so a

@@ -7,6 +7,7 @@ use geocert::mc::fe::heart::{left_ventricle, paper_options};
 use geocert::mc::fe::models::block;
 use geocert::mc::fe::{ElementKind, FeError, FeModel, FeOptions, NormalSource};
 use geocert::mc::grid::{extract_exact, Volume};
+use geocert::mesh::area_vector;
 use geocert::num::{rational_from_f64, rational_to_f64, Rational};
 use proptest::prelude::*;
 use std::collections::BTreeSet;
@@ -147,40 +148,12 @@ proptest! {
 }
 
 /// `r² = x² + y² + z²` on tricubic Hermite elements is represented exactly (quadratic per
-/// direction): the 0.8-sphere inside a 2×2×2 block of unit elements centred at the origin is
-/// a closed, consistently oriented genus-0 surface whose vertex normals point outward and
-/// agree with the triangles' winding.
+/// direction): the 0.8-sphere inside a 2×2×2 block of elements over `[−1, 1]³` is a closed,
+/// consistently oriented genus-0 surface whose vertex normals point outward and agree with
+/// the triangles' winding.
 #[test]
 fn hermite_sphere_is_closed_and_outward() {
-    let c = |p: [f64; 3]| p.map(|x| (x - 1.0) * 0.9);
-    let value = |p: [f64; 3]| {
-        let q = c(p);
-        q.iter().map(|x| x * x).sum::<f64>()
-    };
-    // d/dξ_d (x_d − 1)²·0.81 = 2·0.81·(x_d − 1); mixed derivatives vanish.
-    let derivative = |p: [f64; 3], der: [bool; 3]| {
-        if der.iter().filter(|&&b| b).count() == 1 {
-            let d = der.iter().position(|&b| b).unwrap();
-            2.0 * 0.81 * (p[d] - 1.0)
-        } else {
-            0.0
-        }
-    };
-    let m = block(
-        ElementKind::TRICUBIC_HERMITE,
-        [2, 2, 2],
-        &value,
-        &derivative,
-        &|p| c(p),
-    );
-    let mut m = m;
-    // Coordinates scale by 0.9: so do their ξ-derivatives.
-    let ndof = 8;
-    for (i, x) in m.coordinates.iter_mut().enumerate() {
-        if i % ndof != 0 {
-            *x = x.map(|v| v * 0.9);
-        }
-    }
+    let m = geocert::mc::fe::models::hermite_ball(2);
     for n in [3, 6] {
         let mesh = assert_paths_agree(&m, 0.64, &opts(n));
         assert_eq!(mesh.check_manifold().unwrap(), 0, "closed");
@@ -194,13 +167,7 @@ fn hermite_sphere_is_closed_and_outward() {
         }
         for t in &mesh.triangles {
             let [a, b, cc] = t.map(|i| mesh.vertices[i as usize]);
-            let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-            let w = [cc[0] - a[0], cc[1] - a[1], cc[2] - a[2]];
-            let nrm = [
-                u[1] * w[2] - u[2] * w[1],
-                u[2] * w[0] - u[0] * w[2],
-                u[0] * w[1] - u[1] * w[0],
-            ];
+            let nrm = area_vector(a, b, cc);
             let centroid = [0, 1, 2].map(|k| a[k] + b[k] + cc[k]);
             assert!(
                 nrm.iter().zip(centroid).map(|(x, y)| x * y).sum::<f64>() > 0.0,
@@ -227,13 +194,7 @@ fn mirrored_elements_are_flipped() {
     // The field grows away from the centre (−0.5, 0.5, 0.5): triangle normals point away.
     for t in &mesh.triangles {
         let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
-        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        let nrm = [
-            u[1] * w[2] - u[2] * w[1],
-            u[2] * w[0] - u[0] * w[2],
-            u[0] * w[1] - u[1] * w[0],
-        ];
+        let nrm = area_vector(a, b, c);
         let out = [a[0] + 0.5, a[1] - 0.5, a[2] - 0.5];
         assert!(nrm.iter().zip(out).map(|(x, y)| x * y).sum::<f64>() > 0.0);
     }

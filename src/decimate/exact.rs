@@ -6,8 +6,8 @@ use super::driver::{self, Engine};
 use super::earcut::{EarCutter, Orient};
 use super::history::History;
 use super::{
-    canonical_start, check_options, edge_angle, fan_normal, BorderPolicy, Criterion, DecimateError,
-    Options, Outcome, Plane, ProjectionChoice,
+    canonical_start, check_options, edge_angle, fan_normal, global_plane, BorderPolicy, Criterion,
+    DecimateError, Options, Outcome, Plane,
 };
 use crate::mesh::{Mesh, Scalars};
 use crate::num::{rational_from_f64, rational_to_f64, Rational};
@@ -76,25 +76,10 @@ impl ExactEngine {
                 incident[v as usize].insert(s as u32);
             }
         }
-        let global = match options.projection {
-            ProjectionChoice::PerFan => None,
-            choice => {
-                let bad = mesh.triangles.iter().position(|t| {
-                    let p = t.map(|i| xy(&coords[i as usize]));
-                    orient(&p[0], &p[1], &p[2]) != Ordering::Greater
-                });
-                match (choice, bad) {
-                    (_, None) => Some(Plane::XY),
-                    (ProjectionChoice::Xy, Some(t)) => {
-                        return Err(DecimateError::NotProjectable {
-                            triangle: t,
-                            tri: mesh.triangles[t],
-                        })
-                    }
-                    _ => None,
-                }
-            }
-        };
+        let global = global_plane(mesh, options.projection, |t| {
+            let p = t.map(|i| xy(&coords[i as usize]));
+            orient(&p[0], &p[1], &p[2]) != Ordering::Greater
+        })?;
         Ok(ExactEngine {
             float: mesh.vertices.clone(),
             coords,

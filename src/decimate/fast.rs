@@ -10,8 +10,8 @@ use super::driver::{self, Engine};
 use super::earcut::{orient2d, EarCutter, RobustOrient};
 use super::history::History;
 use super::{
-    canonical_start, check_options, edge_angle, fan_normal, BorderPolicy, Criterion, DecimateError,
-    Options, Outcome, Plane, ProjectionChoice,
+    canonical_start, check_options, edge_angle, fan_normal, global_plane, BorderPolicy, Criterion,
+    DecimateError, Options, Outcome, Plane,
 };
 use crate::mesh::{Mesh, MeshError, Scalars};
 use std::cmp::Ordering;
@@ -169,25 +169,10 @@ impl FastEngine {
                 .into());
             }
         }
-        let global = match options.projection {
-            ProjectionChoice::PerFan => None,
-            choice => {
-                let bad = mesh.triangles.iter().position(|tri| {
-                    let p = tri.map(|i| Plane::XY.project(mesh.vertices[i as usize]));
-                    orient2d(p[0], p[1], p[2]) != Ordering::Greater
-                });
-                match (choice, bad) {
-                    (_, None) => Some(Plane::XY),
-                    (ProjectionChoice::Xy, Some(t)) => {
-                        return Err(DecimateError::NotProjectable {
-                            triangle: t,
-                            tri: mesh.triangles[t],
-                        })
-                    }
-                    _ => None,
-                }
-            }
-        };
+        let global = global_plane(mesh, options.projection, |tri| {
+            let p = tri.map(|i| Plane::XY.project(mesh.vertices[i as usize]));
+            orient2d(p[0], p[1], p[2]) != Ordering::Greater
+        })?;
         Ok(FastEngine {
             pos: mesh.vertices.clone(),
             values: mesh.scalars.as_ref().map(|s| s.values.clone()),

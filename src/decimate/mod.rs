@@ -32,7 +32,7 @@ pub mod fast;
 pub mod history;
 pub mod quality;
 
-use crate::mesh::MeshError;
+use crate::mesh::{Mesh, MeshError};
 use thiserror::Error;
 
 pub use history::{History, HistoryError, Stage};
@@ -140,17 +140,33 @@ pub fn fan_normal(centre: [f64; 3], ring: &[[f64; 3]], closed: bool) -> [f64; 3]
     let mut n = [0.0; 3];
     let count = if closed { ring.len() } else { ring.len() - 1 };
     for i in 0..count {
-        let a = sub(ring[i], centre);
-        let b = sub(ring[(i + 1) % ring.len()], centre);
-        n[0] += a[1] * b[2] - a[2] * b[1];
-        n[1] += a[2] * b[0] - a[0] * b[2];
-        n[2] += a[0] * b[1] - a[1] * b[0];
+        let a = crate::mesh::area_vector(centre, ring[i], ring[(i + 1) % ring.len()]);
+        for k in 0..3 {
+            n[k] += a[k];
+        }
     }
     n
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+/// The projection both engines use for the whole mesh: `None` for per-fan planes; the xy
+/// plane when every triangle is positive there (`nonpositive_in_xy` finds none); otherwise
+/// per-fan planes under `Auto` and an error naming the first bad triangle under `Xy`.
+pub(crate) fn global_plane(
+    mesh: &Mesh,
+    choice: ProjectionChoice,
+    nonpositive_in_xy: impl Fn(&[u32; 3]) -> bool,
+) -> Result<Option<Plane>, DecimateError> {
+    if choice == ProjectionChoice::PerFan {
+        return Ok(None);
+    }
+    match (choice, mesh.triangles.iter().position(nonpositive_in_xy)) {
+        (_, None) => Ok(Some(Plane::XY)),
+        (ProjectionChoice::Xy, Some(t)) => Err(DecimateError::NotProjectable {
+            triangle: t,
+            tri: mesh.triangles[t],
+        }),
+        _ => Ok(None),
+    }
 }
 
 /// When the decimation stops.

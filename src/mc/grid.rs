@@ -353,8 +353,13 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
     // the bitsets of its four grid rows, and only those cells are visited (in order, so the
     // output is as if every cell were).
     let signs = SignRows::of(vals, nx, iso)?;
-    let mut cut = vec![0u64; signs.words];
-    let cell_row = |j: usize, k: usize, cut: &mut [u64]| {
+    // The cut-cell bitsets of every cell row, computed once: they size the output (about one
+    // vertex and two triangles per cut cell, so it does not grow by doubling) and drive the
+    // traversal.
+    let words = signs.words;
+    let mut cut_rows = vec![0u64; (ny - 1) * (nz - 1) * words];
+    for (r, cut) in cut_rows.chunks_exact_mut(words).enumerate() {
+        let (j, k) = (r % (ny - 1), r / (ny - 1));
         cut_cells(
             [
                 signs.row(j + ny * k),
@@ -364,17 +369,9 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
             ],
             nx - 1,
             cut,
-        )
-    };
-    // Reserve for the output (about one vertex and two triangles per cut cell), so it does
-    // not grow by doubling.
-    let mut cut_total = 0usize;
-    for k in 0..nz - 1 {
-        for j in 0..ny - 1 {
-            cell_row(j, k, &mut cut);
-            cut_total += cut.iter().map(|w| w.count_ones() as usize).sum::<usize>();
-        }
+        );
     }
+    let cut_total: usize = cut_rows.iter().map(|w| w.count_ones() as usize).sum();
     mesh.vertices.reserve(cut_total + cut_total / 4);
     mesh.triangles.reserve(2 * cut_total + cut_total / 4);
     // The layers are reused without clearing: vertex ids only grow, so an id is current when
@@ -385,8 +382,8 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
     for k in 0..nz - 1 {
         let previous_start = std::mem::replace(&mut current_start, mesh.vertices.len() as u32);
         for j in 0..ny - 1 {
-            cell_row(j, k, &mut cut);
-            for (w, &word) in cut.iter().enumerate() {
+            let r = j + (ny - 1) * k;
+            for (w, &word) in cut_rows[r * words..(r + 1) * words].iter().enumerate() {
                 let mut bits = word;
                 while bits != 0 {
                     let i = 64 * w + bits.trailing_zeros() as usize;
@@ -450,9 +447,7 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
                             }
                             *id
                         };
-                    let tri_range =
-                        tab.flat_offsets[entry] as usize..tab.flat_offsets[entry + 1] as usize;
-                    for tri in &tab.flat_triangles[tri_range] {
+                    for tri in tab.extraction_triangles(entry) {
                         let mut t = [0u32; 3];
                         for (slot, &e) in t.iter_mut().zip(tri) {
                             if e < CENTRE {

@@ -394,14 +394,12 @@ pub fn generate_entry(config: u8, sub: u8) -> Entry {
 pub struct Table {
     pub entries: Vec<Entry>,
     pub offsets: [u16; 257],
-    /// [`Entry::triangles_with_centres`] of every entry, computed once.
-    pub extraction_triangles: Vec<Vec<[u8; 3]>>,
     /// [`ambiguous_faces`] of every configuration.
     pub ambiguous: Vec<Vec<u8>>,
-    /// The extraction triangles of all entries in one array: entry `e`'s are
-    /// `flat_triangles[flat_offsets[e]..flat_offsets[e + 1]]` (no pointer chase per cell).
-    pub flat_triangles: Vec<[u8; 3]>,
-    pub flat_offsets: Vec<u32>,
+    /// [`Entry::triangles_with_centres`] of every entry, computed once, in one array (no
+    /// pointer chase per cell); see [`Table::extraction_triangles`].
+    flat_triangles: Vec<[u8; 3]>,
+    flat_offsets: Vec<u32>,
 }
 
 impl Table {
@@ -417,23 +415,25 @@ impl Table {
             }
         }
         offsets[256] = entries.len() as u16;
-        let extraction_triangles: Vec<Vec<[u8; 3]>> =
-            entries.iter().map(Entry::triangles_with_centres).collect();
+        let extraction_triangles = entries.iter().map(Entry::triangles_with_centres);
         let ambiguous = (0..=255u8).map(ambiguous_faces).collect();
         let mut flat_offsets = vec![0u32];
         let mut flat_triangles = Vec::new();
-        for t in &extraction_triangles {
-            flat_triangles.extend_from_slice(t);
+        for t in extraction_triangles {
+            flat_triangles.extend_from_slice(&t);
             flat_offsets.push(flat_triangles.len() as u32);
         }
         Table {
             entries,
             offsets,
-            extraction_triangles,
             ambiguous,
             flat_triangles,
             flat_offsets,
         }
+    }
+    /// [`Entry::triangles_with_centres`] of entry `e` (table order).
+    pub fn extraction_triangles(&self, e: usize) -> &[[u8; 3]] {
+        &self.flat_triangles[self.flat_offsets[e] as usize..self.flat_offsets[e + 1] as usize]
     }
     /// The entry of a configuration and subconfiguration.
     pub fn entry(&self, config: u8, sub: u8) -> &Entry {

@@ -86,6 +86,21 @@ impl Format {
     }
 }
 
+/// `a × b`.
+pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// Twice the area vector of triangle `abc`: `(b − a) × (c − a)` (right-hand rule).
+pub fn area_vector(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
+    let d = |u: [f64; 3], v: [f64; 3]| [u[0] - v[0], u[1] - v[1], u[2] - v[2]];
+    cross(d(b, a), d(c, a))
+}
+
 impl Mesh {
     /// Checks coordinates, scalar count and triangle indices.
     pub fn validate(&self) -> Result<(), MeshError> {

@@ -212,16 +212,7 @@ fn vtk_row(root: &FsPath, mesh: &Mesh, triangles: usize) -> PeerRow {
         .output();
     let _ = std::fs::remove_file(&input);
     let result = (|| -> Result<(), String> {
-        let out = out.map_err(|e| e.to_string())?;
-        if !out.status.success() {
-            return Err(String::from_utf8_lossy(&out.stderr)
-                .lines()
-                .last()
-                .unwrap_or("failed")
-                .to_string());
-        }
-        let v: serde_json::Value =
-            serde_json::from_slice(&out.stdout).map_err(|e| e.to_string())?;
+        let v = super::peer_json(out)?;
         row.seconds = v["median_s"].as_f64();
         row.triangles = v["triangles"].as_u64().unwrap_or(0) as usize;
         row.note = format!(

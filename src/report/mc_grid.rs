@@ -83,18 +83,9 @@ fn vtk_run(
         .args([n, n, n].map(|d| d.to_string()))
         .arg(iso.to_string())
         .arg(runs.to_string())
-        .output()
-        .map_err(|e| e.to_string());
+        .output();
     let _ = std::fs::remove_file(&file);
-    let out = out?;
-    if !out.status.success() {
-        return Err(String::from_utf8_lossy(&out.stderr)
-            .lines()
-            .last()
-            .unwrap_or("failed")
-            .to_string());
-    }
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).map_err(|e| e.to_string())?;
+    let v = super::peer_json(out)?;
     let get = |k: &str, f: &str| v[k][f].as_f64().ok_or_else(|| format!("no {k}.{f}"));
     Ok((
         v["version"].as_str().unwrap_or("?").to_string(),

@@ -17,6 +17,22 @@ use campaign::{KernelCampaign, SubdivisionTiming};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+/// A peer script's JSON report from its finished process: the last line of its stderr as the
+/// error when it failed, or the parse error.
+pub(crate) fn peer_json(
+    out: std::io::Result<std::process::Output>,
+) -> Result<serde_json::Value, String> {
+    let out = out.map_err(|e| e.to_string())?;
+    if !out.status.success() {
+        return Err(String::from_utf8_lossy(&out.stderr)
+            .lines()
+            .last()
+            .unwrap_or("failed")
+            .to_string());
+    }
+    serde_json::from_slice(&out.stdout).map_err(|e| e.to_string())
+}
+
 /// Who, what and where produced a report.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct RunMeta {

@@ -9,7 +9,8 @@
 use super::basis::terms_exact;
 use super::lattice::{edge_key, point_key, EdgeKey, PointKey};
 use super::{
-    cell_corner, cell_edge, face_abcd, prepare, weld, FeError, FeModel, FeOptions, FeStats,
+    cell_corner, cell_edge, classify, face_abcd, prepare, weld, FeError, FeModel, FeOptions,
+    FeStats,
 };
 use crate::mc::table::{is_positive, table, CENTRE};
 use crate::num::Rational;
@@ -156,19 +157,11 @@ pub fn polygonise_exact(
                     // Step 3: the 8-bit configuration.
                     let corner: [&Rational; 8] =
                         std::array::from_fn(|c| value(cell_corner(cell, c)));
-                    let config = (0..8).fold(0u8, |acc, c| {
-                        acc | (u8::from(is_positive(corner[c], iso)) << c)
-                    });
-                    if config == 0 || config == 255 {
+                    let Some((config, amb)) = classify(|c| is_positive(corner[c], iso), &mut stats)
+                    else {
                         continue;
-                    }
-                    stats.cut_cells += 1;
+                    };
                     // Step 4: the subconfiguration, by sorting cut points along ξ.
-                    let amb = &tab.ambiguous[config as usize];
-                    if !amb.is_empty() {
-                        stats.ambiguous_cells += 1;
-                        stats.ambiguous_faces += amb.len();
-                    }
                     let mut sub = 0u8;
                     for (bit, &f) in amb.iter().enumerate() {
                         let joined = mackerras(cell, f as usize, &corner, iso, &cut_xi);
@@ -229,13 +222,7 @@ pub fn polygonise_exact(
         .enumerate()
         .map(|(i, x)| *first_at.entry(x).or_insert(i as u32))
         .collect();
-    stats.welded_vertices = rep
-        .iter()
-        .enumerate()
-        .filter(|(i, r)| **r != *i as u32)
-        .count();
-    let (kept, triangles, dropped) = weld(&rep, &triangles);
-    stats.degenerate_triangles = dropped;
+    let (kept, triangles) = weld(&rep, &triangles, &mut stats);
     let vertices = kept.iter().map(|&i| vertices[i as usize].clone()).collect();
     Ok(ExactFeSurface {
         vertices,

@@ -17,8 +17,8 @@ use super::basis::{basis_f64, terms_f64};
 use super::exact::{interpolate_field, interpolate_world, jacobian_determinant};
 use super::lattice::{edge_key, edge_on_boundary, EdgeKey};
 use super::{
-    cell_corner, cell_edge, face_abcd, prepare, weld, FeError, FeModel, FeOptions, FeStats,
-    NormalSource,
+    cell_corner, cell_edge, classify, face_abcd, prepare, weld, FeError, FeModel, FeOptions,
+    FeStats, NormalSource,
 };
 use crate::mc::decider::decide_exact;
 use crate::mc::table::{table, CENTRE};
@@ -328,17 +328,9 @@ pub fn polygonise_fast(m: &FeModel<f64>, iso: f64, opts: &FeOptions) -> Result<F
                     stats.cells += 1;
                     let corner: [Sample; 8] =
                         std::array::from_fn(|c| samples[index(cell_corner(cell, c))]);
-                    let config =
-                        (0..8).fold(0u8, |acc, c| acc | (u8::from(corner[c].positive) << c));
-                    if config == 0 || config == 255 {
+                    let Some((config, amb)) = classify(|c| corner[c].positive, &mut stats) else {
                         continue;
-                    }
-                    stats.cut_cells += 1;
-                    let amb = &tab.ambiguous[config as usize];
-                    if !amb.is_empty() {
-                        stats.ambiguous_cells += 1;
-                        stats.ambiguous_faces += amb.len();
-                    }
+                    };
                     let mut sub = 0u8;
                     for (bit, &f) in amb.iter().enumerate() {
                         let abcd = face_abcd(f as usize);
@@ -355,7 +347,7 @@ pub fn polygonise_fast(m: &FeModel<f64>, iso: f64, opts: &FeOptions) -> Result<F
                     }
                     let entry = tab.offsets[config as usize] as usize + sub as usize;
                     let mut centre = [NONE; 4];
-                    for tri in &tab.extraction_triangles[entry] {
+                    for tri in tab.extraction_triangles(entry) {
                         let mut t = [0u32; 3];
                         for (slot, &edge) in t.iter_mut().zip(tri) {
                             let mut edge_vertex = |edge: u8| -> u32 {
@@ -455,13 +447,7 @@ pub fn polygonise_fast(m: &FeModel<f64>, iso: f64, opts: &FeOptions) -> Result<F
         }
     }
     let rep = coincident_representatives(&vertices, &radius, &origin, &mut oracle);
-    stats.welded_vertices = rep
-        .iter()
-        .enumerate()
-        .filter(|(i, r)| **r != *i as u32)
-        .count();
-    let (kept, triangles, dropped) = weld(&rep, &triangles);
-    stats.degenerate_triangles = dropped;
+    let (kept, triangles) = weld(&rep, &triangles, &mut stats);
     let vertices: Vec<[f64; 3]> = kept.iter().map(|&i| vertices[i as usize]).collect();
     let normals = finish_normals(
         kept.iter().map(|&i| normals[i as usize]).collect(),
@@ -540,13 +526,7 @@ fn world_normal(
 ) -> [f64; 3] {
     // Columns c[d] = ∂x/∂ξ_d. J⁻ᵀ g = (c₁ × c₂ g₀ + c₂ × c₀ g₁ + c₀ × c₁ g₂) / det.
     let c: [[f64; 3]; 3] = std::array::from_fn(|d| data.world(kind, xi, Some(d)));
-    let cross = |a: [f64; 3], b: [f64; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
+    let cross = crate::mesh::cross;
     let rows = [cross(c[1], c[2]), cross(c[2], c[0]), cross(c[0], c[1])];
     let det: f64 = (0..3).map(|a| c[0][a] * rows[0][a]).sum();
     if det == 0.0 || !det.is_finite() {
@@ -676,13 +656,7 @@ fn finish_normals(
     let mut acc = vec![[0.0; 3]; x.len()];
     for t in triangles {
         let [a, b, c] = t.map(|v| x[v as usize]);
-        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let w = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        let nrm = [
-            u[1] * w[2] - u[2] * w[1],
-            u[2] * w[0] - u[0] * w[2],
-            u[0] * w[1] - u[1] * w[0],
-        ];
+        let nrm = crate::mesh::area_vector(a, b, c);
         for &v in t {
             for a in 0..3 {
                 acc[v as usize][a] += nrm[a];

@@ -334,8 +334,18 @@ pub(crate) fn prepare<T>(m: &FeModel<T>, opts: &FeOptions) -> Result<(), FeError
 /// The triangles of a polygonisation after welding: `rep[v]` is the smallest vertex id at
 /// the same world point as `v`. Drops triangles that repeat a representative (Figure 7),
 /// keeps the representatives some triangle uses in increasing id order, and renumbers.
-/// Returns the kept old ids, the renumbered triangles and the number of triangles dropped.
-pub(crate) fn weld(rep: &[u32], triangles: &[[u32; 3]]) -> (Vec<u32>, Vec<[u32; 3]>, usize) {
+/// Returns the kept old ids and the renumbered triangles; counts the merged vertices and
+/// the dropped triangles in `stats`.
+pub(crate) fn weld(
+    rep: &[u32],
+    triangles: &[[u32; 3]],
+    stats: &mut FeStats,
+) -> (Vec<u32>, Vec<[u32; 3]>) {
+    stats.welded_vertices = rep
+        .iter()
+        .enumerate()
+        .filter(|(i, r)| **r != *i as u32)
+        .count();
     let mut kept_tris = Vec::with_capacity(triangles.len());
     let mut used = vec![false; rep.len()];
     for t in triangles {
@@ -348,7 +358,7 @@ pub(crate) fn weld(rep: &[u32], triangles: &[[u32; 3]]) -> (Vec<u32>, Vec<[u32; 
         }
         kept_tris.push(r);
     }
-    let dropped = triangles.len() - kept_tris.len();
+    stats.degenerate_triangles = triangles.len() - kept_tris.len();
     let mut new_id = vec![u32::MAX; rep.len()];
     let mut kept = Vec::new();
     for (v, u) in used.iter().enumerate() {
@@ -360,7 +370,27 @@ pub(crate) fn weld(rep: &[u32], triangles: &[[u32; 3]]) -> (Vec<u32>, Vec<[u32; 
     for t in &mut kept_tris {
         *t = t.map(|v| new_id[v as usize]);
     }
-    (kept, kept_tris, dropped)
+    (kept, kept_tris)
+}
+
+/// Step 3 of Section 3.3: the cell's 8-bit configuration from its corner signs, or `None`
+/// for a cell the surface does not cross; counts cut and ambiguous cells. Returns the
+/// configuration and its ambiguous faces.
+pub(crate) fn classify(
+    positive: impl Fn(usize) -> bool,
+    stats: &mut FeStats,
+) -> Option<(u8, &'static [u8])> {
+    let config = (0..8).fold(0u8, |acc, c| acc | (u8::from(positive(c)) << c));
+    if config == 0 || config == 255 {
+        return None;
+    }
+    stats.cut_cells += 1;
+    let amb = &super::table::table().ambiguous[config as usize];
+    if !amb.is_empty() {
+        stats.ambiguous_cells += 1;
+        stats.ambiguous_faces += amb.len();
+    }
+    Some((config, amb))
 }
 
 /// The lattice point of cell `cell` at its table corner `c` (Bourke numbering).

@@ -7,54 +7,28 @@ use super::{ElementKind, FeModel};
 /// `f_ξd = 2 x_d h` (element size `h = 2/e`) and zero mixed derivatives; the geometry is the
 /// affine map with `x_ξd = h e_d`. The level set `f = r²` (`r < 1`) is a closed sphere.
 pub fn hermite_ball(e: usize) -> FeModel<f64> {
-    let kind = ElementKind::TRICUBIC_HERMITE;
     let h = 2.0 / e as f64;
-    let id = |i: usize, j: usize, k: usize| (i + (e + 1) * (j + (e + 1) * k)) as u32;
-    let mut coordinates = Vec::new();
-    let mut field = Vec::new();
-    for k in 0..=e {
-        for j in 0..=e {
-            for i in 0..=e {
-                let p = [i, j, k].map(|a| -1.0 + h * a as f64);
-                for dof in 0..kind.dofs_per_node() {
-                    let der = kind.derivative_of_dof(dof);
-                    match der.iter().filter(|&&b| b).count() {
-                        0 => {
-                            coordinates.push(p);
-                            field.push(p.iter().map(|x| x * x).sum());
-                        }
-                        1 => {
-                            let d = der.iter().position(|&b| b).expect("one direction");
-                            let mut c = [0.0; 3];
-                            c[d] = h;
-                            coordinates.push(c);
-                            field.push(2.0 * p[d] * h);
-                        }
-                        _ => {
-                            coordinates.push([0.0; 3]);
-                            field.push(0.0);
-                        }
-                    }
-                }
-            }
+    let world = |p: [f64; 3]| p.map(|a| -1.0 + h * a);
+    let value = |p: [f64; 3]| world(p).iter().map(|x| x * x).sum();
+    let derivative = |p: [f64; 3], der: [bool; 3]| match der.iter().filter(|&&b| b).count() {
+        1 => 2.0 * world(p)[der.iter().position(|&b| b).expect("one direction")] * h,
+        _ => 0.0,
+    };
+    let mut m = block(
+        ElementKind::TRICUBIC_HERMITE,
+        [e; 3],
+        &value,
+        &derivative,
+        &world,
+    );
+    // The block's coordinate tangents are unit vectors; the map scales them by h.
+    let ndof = m.kind.dofs_per_node();
+    for (i, c) in m.coordinates.iter_mut().enumerate() {
+        if i % ndof != 0 {
+            *c = c.map(|x| x * h);
         }
     }
-    let mut elements = Vec::new();
-    for k in 0..e {
-        for j in 0..e {
-            for i in 0..e {
-                elements.push(std::array::from_fn(|l| {
-                    id(i + (l & 1), j + (l >> 1 & 1), k + (l >> 2 & 1))
-                }));
-            }
-        }
-    }
-    FeModel {
-        kind,
-        coordinates,
-        field,
-        elements,
-    }
+    m
 }
 
 /// A block of `e[0] × e[1] × e[2]` elements of `kind` over unit cells: node `(i, j, k)` at

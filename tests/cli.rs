@@ -432,6 +432,18 @@ fn mc_extract_nifti_and_fe_demo() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("--dims"));
 
+    // A bad output name: exit 2 and no model file either.
+    let never = tmp("never-model.json");
+    let o = geocert()
+        .args(["mc", "demo", "--model-out"])
+        .arg(&never)
+        .arg("--out")
+        .arg(tmp("never.xyz"))
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!never.exists());
+
     // The heart demo, both paths, and its model file back through `mc fe`.
     let model = tmp("lv.json");
     let mut counts = Vec::new();

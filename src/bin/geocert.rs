@@ -719,6 +719,8 @@ fn mc(c: McCommand) -> Result<ExitCode, String> {
         }
         McCommand::Demo { model_out, fe } => {
             let m = geocert::mc::fe::heart::left_ventricle();
+            // Refuse a bad output name before writing anything.
+            geocert::mesh::Format::from_path(&fe.out).map_err(|e| e.to_string())?;
             if let Some(p) = model_out {
                 let text = serde_json::to_string_pretty(&m).map_err(|e| e.to_string())?;
                 std::fs::write(&p, text).map_err(|e| format!("{}: {e}", p.display()))?;

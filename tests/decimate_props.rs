@@ -23,6 +23,7 @@ fn options(criterion: Criterion, exclude: bool, keep: f64, k: usize) -> Options 
         projection: ProjectionChoice::Auto,
         k,
         max_valence: 64,
+        rebin: true,
     }
 }
 

@@ -98,6 +98,10 @@ enum Command {
         /// The constant k of eq. (1): m = n/k intervals.
         #[arg(long, default_value_t = 10)]
         k: usize,
+        /// Keep the paper's interval boundaries fixed from the initial range (default:
+        /// re-bin the queue when re-evaluated values outgrow it).
+        #[arg(long)]
+        fixed_intervals: bool,
         #[arg(long)]
         json: bool,
     },
@@ -361,6 +365,7 @@ fn run(cli: Cli) -> Result<ExitCode, String> {
             exclude_border,
             projection,
             k,
+            fixed_intervals,
             json,
         } => {
             use geocert::decimate::{BorderPolicy, Criterion, Options, ProjectionChoice, Target};
@@ -386,6 +391,7 @@ fn run(cli: Cli) -> Result<ExitCode, String> {
                     ProjectionArg::PerFan => ProjectionChoice::PerFan,
                 },
                 k,
+                rebin: !fixed_intervals,
                 ..Options::default()
             };
             let path = match path {
@@ -1269,6 +1275,7 @@ fn decimate_cmd(
             "removed": s.removed,
             "refused": s.refused,
             "intervals": s.intervals,
+            "rebuilds": s.rebuilds,
             "projection": if s.projection_xy { "xy" } else { "per-fan" },
         });
         println!("{v}");

@@ -13,6 +13,15 @@
 //!
 //! The queues are intrusive doubly linked lists over node ids: push to the tail, pop from the
 //! head, unlink any node in `O(1)` when it is re-evaluated.
+//!
+//! Re-binning (an extension; [`BucketQueue::rebinning`]): the paper fixes the boundaries from
+//! the initial range, so once re-evaluated values outgrow `ev_max` they all land in the last
+//! interval and leave in FIFO order, unsorted — late in a decimation, when errors are
+//! largest, the queue stops ordering. With re-binning on, once the pushes above the range
+//! since the last rebuild exceed a fraction `1/r` of the queued nodes, the queue is rebuilt
+//! over the queued nodes' current range with `m = ⌊len/k⌋` intervals (eq. 1 on what is
+//! queued), keeping the FIFO order within equal values. A rebuild costs `O(len)` and is paid
+//! for by the `len/r` pushes before it, so every operation stays `O(1)` amortised.
 
 const NONE: u32 = u32::MAX;
 
@@ -40,6 +49,14 @@ pub struct BucketQueue {
     occupied: Vec<u64>,
     summary: Vec<u64>,
     len: usize,
+    /// The value each queued node was filed with.
+    ev: Vec<f64>,
+    /// `Some((k, r))` when re-binning is on.
+    rebin: Option<(usize, usize)>,
+    /// Pushes above the range since the last rebuild.
+    overflow: usize,
+    rebuilds: usize,
+    order: Vec<u32>,
 }
 
 impl BucketQueue {
@@ -64,7 +81,72 @@ impl BucketQueue {
             occupied: vec![0; m.div_ceil(64)],
             summary: vec![0; m.div_ceil(64).div_ceil(64)],
             len: 0,
+            ev: vec![0.0; nodes],
+            rebin: None,
+            overflow: 0,
+            rebuilds: 0,
+            order: Vec::new(),
         }
+    }
+
+    /// Turns re-binning on (see the module docs): rebuild with `⌊len/k⌋` intervals once more
+    /// than `len/r` pushes since the last rebuild were above the range.
+    pub fn rebinning(mut self, k: usize, r: usize) -> BucketQueue {
+        self.rebin = Some((k.max(1), r.max(1)));
+        self
+    }
+
+    /// How many times the queue was re-binned.
+    pub fn rebuilds(&self) -> usize {
+        self.rebuilds
+    }
+
+    /// The queued nodes in pop order.
+    fn queued_in_order(&self, out: &mut Vec<u32>) {
+        out.clear();
+        for (w, &word) in self.occupied.iter().enumerate() {
+            let mut bits = word;
+            while bits != 0 {
+                let j = 64 * w + bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let mut v = self.head[j];
+                while v != NONE {
+                    out.push(v);
+                    v = self.next[v as usize];
+                }
+            }
+        }
+    }
+
+    /// Rebuilds over the queued nodes' range with `⌊len/k⌋` intervals, keeping pop order
+    /// among nodes that land in the same interval.
+    fn rebuild(&mut self, k: usize) {
+        let mut order = std::mem::take(&mut self.order);
+        self.queued_in_order(&mut order);
+        let (lo, hi) = order.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+            let e = self.ev[v as usize];
+            (lo.min(e), hi.max(e))
+        });
+        let m = interval_count(order.len(), k);
+        let fresh = BucketQueue::new(0, m, lo, hi);
+        self.m = fresh.m;
+        self.ev_min = fresh.ev_min;
+        self.delta = fresh.delta;
+        self.ln1p_delta = fresh.ln1p_delta;
+        self.head = fresh.head;
+        self.tail = fresh.tail;
+        self.occupied = fresh.occupied;
+        self.summary = fresh.summary;
+        self.len = 0;
+        for &v in &order {
+            self.bucket[v as usize] = NONE;
+        }
+        for &v in &order {
+            self.file(v, self.ev[v as usize]);
+        }
+        self.overflow = 0;
+        self.rebuilds += 1;
+        self.order = order;
     }
 
     /// The number of intervals.
@@ -120,6 +202,20 @@ impl BucketQueue {
     /// Files `node` at the tail of the interval of `ev` (unlinking it first if queued).
     pub fn push(&mut self, node: u32, ev: f64) {
         self.remove(node);
+        self.file(node, ev);
+        if let Some((k, r)) = self.rebin {
+            if ev > self.ev_min + self.delta {
+                self.overflow += 1;
+                if self.overflow * r > self.len {
+                    self.rebuild(k);
+                }
+            }
+        }
+    }
+
+    /// Links the unqueued `node` at the tail of the interval of `ev`.
+    fn file(&mut self, node: u32, ev: f64) {
+        self.ev[node as usize] = ev;
         let j = self.interval(ev);
         let n = node as usize;
         self.bucket[n] = j as u32;
@@ -227,5 +323,34 @@ mod tests {
         assert!(lo4 < q.interval(0.9));
         assert_eq!(order, vec![3, 4, 0, 2, 1]);
         assert!(q.is_empty());
+    }
+
+    #[test]
+    fn rebinning_orders_values_above_the_range() {
+        // Ten nodes in [0, 1], then six re-filed far above in descending order.
+        let above = [(0u32, 60.0), (1, 50.0), (2, 40.0), (3, 30.0), (4, 20.0), (5, 10.0)];
+        let run = |rebin: bool| {
+            let mut q = BucketQueue::new(10, 10, 0.0, 1.0);
+            if rebin {
+                q = q.rebinning(1, 2);
+            }
+            for v in 0..10 {
+                q.push(v, v as f64 / 10.0);
+            }
+            for (v, ev) in above {
+                q.push(v, ev);
+            }
+            let order: Vec<u32> = std::iter::from_fn(|| q.pop().map(|p| p.0)).collect();
+            (order, q.rebuilds())
+        };
+        // The paper's fixed boundaries: the last interval is FIFO.
+        let (fixed, none) = run(false);
+        assert_eq!(none, 0);
+        assert_eq!(fixed, vec![6, 7, 8, 9, 0, 1, 2, 3, 4, 5]);
+        // Re-binned once more than half the queue overflowed: ascending again, except that
+        // 40, 50 and 60 share the widest (exponential-law) interval and keep their FIFO order.
+        let (rebinned, rebuilds) = run(true);
+        assert_eq!(rebuilds, 1);
+        assert_eq!(rebinned, vec![6, 7, 8, 9, 5, 4, 3, 0, 1, 2]);
     }
 }

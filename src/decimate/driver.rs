@@ -9,6 +9,11 @@ use super::history::fingerprint;
 use super::{History, Options, Outcome, Stats, Target};
 use crate::mesh::Mesh;
 
+/// With re-binning on, the queue is rebuilt once more than `1/REBIN_FRACTION` of the queued
+/// nodes were re-filed above its range (on the 810k grid 2 gave the lowest maximum error
+/// among 1, 2, 4 and 16).
+const REBIN_FRACTION: usize = 2;
+
 /// What an engine provides to the loop.
 pub(crate) trait Engine {
     /// The number of nodes (vertices) of the input.
@@ -28,6 +33,7 @@ pub(crate) struct LoopCounts {
     pub removed: usize,
     pub refused: usize,
     pub intervals: usize,
+    pub rebuilds: usize,
 }
 
 /// Runs the loop to the target; the removal sequence is in `history`.
@@ -62,6 +68,9 @@ pub(crate) fn run(
         });
     let m = interval_count(n, options.k);
     let mut queue = BucketQueue::new(n, m, lo, hi);
+    if options.rebin {
+        queue = queue.rebinning(options.k, REBIN_FRACTION);
+    }
     for &(v, ev) in &initial {
         queue.push(v, ev);
     }
@@ -91,6 +100,7 @@ pub(crate) fn run(
             }
         }
     }
+    counts.rebuilds = queue.rebuilds();
     counts
 }
 
@@ -130,6 +140,7 @@ pub(crate) fn decimate_with<E: Engine>(
             removed: counts.removed,
             refused: counts.refused,
             intervals: counts.intervals,
+            rebuilds: counts.rebuilds,
             projection_xy,
             seconds,
         },

@@ -192,6 +192,9 @@ pub struct Options {
     /// Nodes with more neighbours than this are not removed (the history stores ring
     /// positions in one byte; ear cutting is `O(l²)` in the valence `l`).
     pub max_valence: usize,
+    /// Re-bin the bucket queue when re-evaluated values outgrow its range (an extension,
+    /// [`bucket`]); `false` keeps the paper's boundaries fixed from the initial range.
+    pub rebin: bool,
 }
 
 impl Default for Options {
@@ -203,6 +206,7 @@ impl Default for Options {
             projection: ProjectionChoice::Auto,
             k: 10,
             max_valence: 64,
+            rebin: true,
         }
     }
 }
@@ -243,6 +247,8 @@ pub struct Stats {
     pub refused: usize,
     /// Intervals `m` of eq. (1).
     pub intervals: usize,
+    /// Times the bucket queue was re-binned ([`Options::rebin`]).
+    pub rebuilds: usize,
     /// Whether holes were triangulated in the xy plane (else per fan).
     pub projection_xy: bool,
     /// Seconds of the decimation itself (adjacency, evaluation, queue, removals).

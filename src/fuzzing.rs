@@ -354,6 +354,7 @@ pub fn check_decimate(data: &[u8]) -> Result<(), String> {
         k: 1 + (opts as usize % 5),
         max_valence: 64,
         rebin: true,
+        lazy: true,
     };
     let Ok(out) = decimate(&mesh, &options, Path::Fast) else {
         return Ok(());

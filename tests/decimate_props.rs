@@ -24,6 +24,7 @@ fn options(criterion: Criterion, exclude: bool, keep: f64, k: usize) -> Options 
         k,
         max_valence: 64,
         rebin: true,
+        lazy: true,
     }
 }
 

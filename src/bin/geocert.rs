@@ -102,6 +102,10 @@ enum Command {
         /// re-bin the queue when re-evaluated values outgrow it).
         #[arg(long)]
         fixed_intervals: bool,
+        /// Re-evaluate a removed node's neighbours at once, as the paper does (default:
+        /// lazily, when they reach the front of the queue).
+        #[arg(long)]
+        eager: bool,
         #[arg(long)]
         json: bool,
     },
@@ -366,6 +370,7 @@ fn run(cli: Cli) -> Result<ExitCode, String> {
             projection,
             k,
             fixed_intervals,
+            eager,
             json,
         } => {
             use geocert::decimate::{BorderPolicy, Criterion, Options, ProjectionChoice, Target};
@@ -392,6 +397,7 @@ fn run(cli: Cli) -> Result<ExitCode, String> {
                 },
                 k,
                 rebin: !fixed_intervals,
+                lazy: !eager,
                 ..Options::default()
             };
             let path = match path {
@@ -1276,6 +1282,7 @@ fn decimate_cmd(
             "refused": s.refused,
             "intervals": s.intervals,
             "rebuilds": s.rebuilds,
+            "evaluations": s.evaluations,
             "projection": if s.projection_xy { "xy" } else { "per-fan" },
         });
         println!("{v}");

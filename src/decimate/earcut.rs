@@ -36,14 +36,29 @@ pub fn ear_quality(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
     }
 }
 
-/// The ear cutter, with buffers reused between holes.
-#[derive(Default, Clone, Debug)]
+/// The ear cutter, with buffers reused between holes. The polygon still to cut is a circular
+/// doubly linked list over vertex indices, kept in increasing index order from `head` (the
+/// lowest remaining index), so "lowest position" and "lowest index" coincide.
+#[derive(Clone, Debug)]
 pub struct EarCutter {
-    poly: Vec<u8>,
-    /// `orient(prev, cur, next) > 0` at each polygon position.
-    convex: Vec<bool>,
-    valid: Vec<bool>,
-    quality: Vec<f64>,
+    next: [u8; 256],
+    prev: [u8; 256],
+    /// `orient(prev, v, next) > 0` at vertex `v`.
+    convex: [bool; 256],
+    valid: [bool; 256],
+    quality: [f64; 256],
+}
+
+impl Default for EarCutter {
+    fn default() -> Self {
+        EarCutter {
+            next: [0; 256],
+            prev: [0; 256],
+            convex: [false; 256],
+            valid: [false; 256],
+            quality: [0.0; 256],
+        }
+    }
 }
 
 impl EarCutter {
@@ -62,107 +77,96 @@ impl EarCutter {
         if !(3..=255).contains(&l) {
             return false;
         }
-        self.poly.clear();
-        self.poly.extend(0..l as u8);
-        self.convex.clear();
-        self.convex.resize(l, false);
-        self.valid.clear();
-        self.valid.resize(l, false);
-        self.quality.clear();
-        self.quality.resize(l, 0.0);
+        for i in 0..l {
+            self.next[i] = if i + 1 == l { 0 } else { i as u8 + 1 };
+            self.prev[i] = if i == 0 { (l - 1) as u8 } else { i as u8 - 1 };
+        }
         for i in 0..l {
             self.convex[i] = self.turns_left(i, orient);
         }
+        let mut head = 0usize;
+        let mut n = l;
         for i in 0..l {
-            self.refresh(i, points, orient);
+            self.refresh(i, n, points, orient);
         }
-        while self.poly.len() > 3 {
-            let mut best = self.best();
+        while n > 3 {
+            let mut best = self.best(head, n);
             if best.is_none() {
-                for i in 0..self.poly.len() {
-                    self.refresh(i, points, orient);
+                let mut v = head;
+                for _ in 0..n {
+                    self.refresh(v, n, points, orient);
+                    v = self.next[v] as usize;
                 }
-                best = self.best();
+                best = self.best(head, n);
             }
-            let Some(i) = best else {
+            let Some(b) = best else {
                 return false;
             };
-            let n = self.poly.len();
-            let (a, b, c) = (
-                self.poly[(i + n - 1) % n],
-                self.poly[i],
-                self.poly[(i + 1) % n],
-            );
-            out.push([a, b, c]);
-            self.poly.remove(i);
-            self.convex.remove(i);
-            self.valid.remove(i);
-            self.quality.remove(i);
-            let n = n - 1;
-            let before = (i + n - 1) % n;
-            let after = i % n;
-            self.convex[before] = self.turns_left(before, orient);
-            self.convex[after] = self.turns_left(after, orient);
-            self.refresh(before, points, orient);
-            self.refresh(after, points, orient);
+            let (a, c) = (self.prev[b] as usize, self.next[b] as usize);
+            out.push([a as u8, b as u8, c as u8]);
+            self.next[a] = c as u8;
+            self.prev[c] = a as u8;
+            if b == head {
+                head = c;
+            }
+            n -= 1;
+            self.convex[a] = self.turns_left(a, orient);
+            self.convex[c] = self.turns_left(c, orient);
+            self.refresh(a, n, points, orient);
+            self.refresh(c, n, points, orient);
         }
-        let (a, b, c) = (self.poly[0], self.poly[1], self.poly[2]);
-        if orient.orient(a as usize, b as usize, c as usize) != Ordering::Greater {
+        let (a, b) = (head, self.next[head] as usize);
+        let c = self.next[b] as usize;
+        if orient.orient(a, b, c) != Ordering::Greater {
             return false;
         }
-        out.push([a, b, c]);
+        out.push([a as u8, b as u8, c as u8]);
         true
     }
 
-    fn best(&self) -> Option<usize> {
+    /// The valid ear of best quality, the lowest index on ties.
+    fn best(&self, head: usize, n: usize) -> Option<usize> {
         let mut best: Option<usize> = None;
-        for i in 0..self.poly.len() {
-            if self.valid[i] && best.is_none_or(|b| self.quality[i] > self.quality[b]) {
-                best = Some(i);
+        let mut v = head;
+        for _ in 0..n {
+            if self.valid[v] && best.is_none_or(|b| self.quality[v] > self.quality[b]) {
+                best = Some(v);
             }
+            v = self.next[v] as usize;
         }
         best
     }
 
-    /// `orient(prev, cur, next) > 0` at polygon position `i`.
-    fn turns_left(&self, i: usize, orient: &impl Orient) -> bool {
-        let n = self.poly.len();
-        orient.orient(
-            self.poly[(i + n - 1) % n] as usize,
-            self.poly[i] as usize,
-            self.poly[(i + 1) % n] as usize,
-        ) == Ordering::Greater
+    /// `orient(prev, v, next) > 0` at vertex `v`.
+    #[inline]
+    fn turns_left(&self, v: usize, orient: &impl Orient) -> bool {
+        orient.orient(self.prev[v] as usize, v, self.next[v] as usize) == Ordering::Greater
     }
 
-    /// Recomputes whether the vertex at polygon position `i` is an ear tip. Only vertices
+    /// Recomputes whether vertex `b` (of the `n` remaining) is an ear tip. Only vertices
     /// that do not turn strictly left can lie in an ear's triangle (if any polygon vertex
     /// does, the one farthest from the diagonal is reflex or straight towards the tip), so
     /// only those are tested.
-    fn refresh(&mut self, i: usize, points: &[[f64; 2]], orient: &impl Orient) {
-        let n = self.poly.len();
-        let (a, b, c) = (
-            self.poly[(i + n - 1) % n] as usize,
-            self.poly[i] as usize,
-            self.poly[(i + 1) % n] as usize,
-        );
-        let mut valid = self.convex[i];
+    fn refresh(&mut self, b: usize, n: usize, points: &[[f64; 2]], orient: &impl Orient) {
+        let (a, c) = (self.prev[b] as usize, self.next[b] as usize);
+        let mut valid = self.convex[b];
         if valid && n > 3 {
-            for (k, &p) in self.poly.iter().enumerate() {
-                let p = p as usize;
-                if self.convex[k] || p == a || p == b || p == c {
-                    continue;
-                }
-                if orient.orient(a, b, p) != Ordering::Less
+            // The other vertices: from after c round to before a.
+            let mut p = self.next[c] as usize;
+            while p != a {
+                if !self.convex[p]
+                    && orient.orient(a, b, p) != Ordering::Less
                     && orient.orient(b, c, p) != Ordering::Less
                     && orient.orient(c, a, p) != Ordering::Less
                 {
                     valid = false;
                     break;
                 }
+                p = self.next[p] as usize;
             }
         }
-        self.valid[i] = valid;
-        self.quality[i] = if valid {
+        self.valid[b] = valid;
+        self.quality[b] = if valid {
             ear_quality(points[a], points[b], points[c])
         } else {
             0.0

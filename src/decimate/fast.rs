@@ -37,6 +37,7 @@ fn prev(h: u32) -> u32 {
 }
 
 /// A hole ready to be filled: the fan, its projection and the ear cut.
+#[derive(Clone, Copy)]
 struct Plan {
     border: bool,
     plane: Plane,
@@ -65,6 +66,8 @@ pub(crate) struct FastEngine {
     positions: Vec<u8>,
     outer: Vec<u32>,
     pending: Vec<(u8, u8, u32)>,
+    /// The node whose plan the scratch buffers hold, while nothing has changed since.
+    planned: Option<(u32, Plan)>,
 }
 
 impl FastEngine {
@@ -195,6 +198,7 @@ impl FastEngine {
             positions: Vec::new(),
             outer: Vec::new(),
             pending: Vec::new(),
+            planned: None,
         })
     }
 
@@ -211,6 +215,7 @@ impl FastEngine {
     /// Fills `ring` (counter-clockwise) and `fan` (the half-edges `v → ring[i]`) of `v`;
     /// returns whether `v` is on the border, or `None` when the valence is over the limit.
     fn load_fan(&mut self, v: u32) -> Option<bool> {
+        self.planned = None;
         self.ring.clear();
         self.fan.clear();
         let h0 = self.out[v as usize];
@@ -299,7 +304,9 @@ impl FastEngine {
         {
             return None;
         }
-        Some(Plan { border, plane })
+        let plan = Plan { border, plane };
+        self.planned = Some((v, plan));
+        Some(plan)
     }
 
     /// True when `a` and `b` share an edge.
@@ -349,6 +356,7 @@ impl FastEngine {
     }
 
     fn apply(&mut self, v: u32, border: bool, history: &mut History) {
+        self.planned = None;
         let l = self.ring.len();
         let old = self.fan.len();
         self.slots.clear();
@@ -511,8 +519,12 @@ impl Engine for FastEngine {
     }
 
     fn try_remove(&mut self, v: u32, history: &mut History) -> bool {
-        let Some(plan) = self.plan(v) else {
-            return false;
+        let plan = match self.planned {
+            Some((u, plan)) if u == v => plan,
+            _ => match self.plan(v) {
+                Some(plan) => plan,
+                None => return false,
+            },
         };
         if !self.topology_ok(plan.border) {
             return false;

@@ -195,6 +195,9 @@ pub struct Options {
     /// Re-bin the bucket queue when re-evaluated values outgrow its range (an extension,
     /// [`bucket`]); `false` keeps the paper's boundaries fixed from the initial range.
     pub rebin: bool,
+    /// Re-evaluate a removed node's queued neighbours when they reach the front of the queue
+    /// rather than at once (an extension, [`driver`]); `false` is the paper's step.
+    pub lazy: bool,
 }
 
 impl Default for Options {
@@ -207,6 +210,7 @@ impl Default for Options {
             k: 10,
             max_valence: 64,
             rebin: true,
+            lazy: true,
         }
     }
 }
@@ -249,6 +253,9 @@ pub struct Stats {
     pub intervals: usize,
     /// Times the bucket queue was re-binned ([`Options::rebin`]).
     pub rebuilds: usize,
+    /// Node evaluations after the initial pass (neighbours, and stale nodes with
+    /// [`Options::lazy`]).
+    pub evaluations: usize,
     /// Whether holes were triangulated in the xy plane (else per fan).
     pub projection_xy: bool,
     /// Seconds of the decimation itself (adjacency, evaluation, queue, removals).

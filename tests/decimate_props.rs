@@ -11,7 +11,13 @@ use geocert::mesh::Mesh;
 use geocert::strategies::height_field_mesh;
 use proptest::prelude::*;
 
+/// Options with the default loop (lazy re-evaluation, re-binned queue) when `paper` is
+/// false, the paper's loop as printed when it is true.
 fn options(criterion: Criterion, exclude: bool, keep: f64, k: usize) -> Options {
+    loop_options(criterion, exclude, keep, k, false)
+}
+
+fn loop_options(criterion: Criterion, exclude: bool, keep: f64, k: usize, paper: bool) -> Options {
     Options {
         criterion,
         target: Target::Keep(keep),
@@ -23,8 +29,8 @@ fn options(criterion: Criterion, exclude: bool, keep: f64, k: usize) -> Options 
         projection: ProjectionChoice::Auto,
         k,
         max_valence: 64,
-        rebin: true,
-        lazy: true,
+        rebin: !paper,
+        lazy: !paper,
     }
 }
 
@@ -68,8 +74,9 @@ proptest! {
         keep in 0.02f64..0.9,
         k in 1usize..20,
         back in 0usize..40,
+        paper in any::<bool>(),
     ) {
-        let opts = options(criterion, exclude, keep, k);
+        let opts = loop_options(criterion, exclude, keep, k, paper);
         let out = decimate(&mesh, &opts, Path::Fast).unwrap();
         prop_assert_eq!(out.history.len(), out.stats.removed);
         let v = check::verify(&mesh, &out.history, true, 1).map_err(TestCaseError::fail)?;
@@ -93,8 +100,9 @@ proptest! {
         exclude in any::<bool>(),
         keep in 0.02f64..0.9,
         k in 1usize..20,
+        paper in any::<bool>(),
     ) {
-        let opts = options(criterion, exclude, keep, k);
+        let opts = loop_options(criterion, exclude, keep, k, paper);
         let fast = decimate(&mesh, &opts, Path::Fast).unwrap();
         let exact = decimate(&mesh, &opts, Path::Exact).unwrap();
         prop_assert_eq!(&exact.history, &fast.history, "same removals, slots and triangles");

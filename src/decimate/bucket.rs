@@ -123,10 +123,12 @@ impl BucketQueue {
     fn rebuild(&mut self, k: usize) {
         let mut order = std::mem::take(&mut self.order);
         self.queued_in_order(&mut order);
-        let (lo, hi) = order.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
-            let e = self.ev[v as usize];
-            (lo.min(e), hi.max(e))
-        });
+        let (lo, hi) = order
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                let e = self.ev[v as usize];
+                (lo.min(e), hi.max(e))
+            });
         let m = interval_count(order.len(), k);
         let fresh = BucketQueue::new(0, m, lo, hi);
         self.m = fresh.m;
@@ -328,7 +330,14 @@ mod tests {
     #[test]
     fn rebinning_orders_values_above_the_range() {
         // Ten nodes in [0, 1], then six re-filed far above in descending order.
-        let above = [(0u32, 60.0), (1, 50.0), (2, 40.0), (3, 30.0), (4, 20.0), (5, 10.0)];
+        let above = [
+            (0u32, 60.0),
+            (1, 50.0),
+            (2, 40.0),
+            (3, 30.0),
+            (4, 20.0),
+            (5, 10.0),
+        ];
         let run = |rebin: bool| {
             let mut q = BucketQueue::new(10, 10, 0.0, 1.0);
             if rebin {

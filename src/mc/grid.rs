@@ -316,6 +316,52 @@ fn cut_cells(rows: [&[u64]; 4], cells: usize, out: &mut [u64]) {
     }
 }
 
+/// A cut cell of the fast path, with what its edge vertices need.
+struct CellAt<'a> {
+    i: usize,
+    j: usize,
+    k: usize,
+    nx: usize,
+    v: &'a [f64; 8],
+    iso: f64,
+    /// Vertex ids below these are left over from older layers (see `extract_fast`).
+    previous_start: u32,
+    current_start: u32,
+}
+
+impl CellAt<'_> {
+    /// The id of the vertex on local edge `e`, made (interpolated in the grid frame) on first
+    /// use and remembered in the layer that owns the edge.
+    #[inline(always)]
+    fn edge_vertex(
+        &self,
+        edge_info: &[(usize, [usize; 3]); 12],
+        edge_ends: &[(usize, usize); 12],
+        e: u8,
+        lower: &mut Layer,
+        upper: &mut Layer,
+        mesh: &mut Mesh,
+    ) -> u32 {
+        let (axis, off) = edge_info[e as usize];
+        let (x, y) = (self.i + off[0], self.j + off[1]);
+        let (layer, oldest) = match (off[2], axis) {
+            (0, 0 | 1) => (lower, self.previous_start),
+            (0, _) => (lower, self.current_start),
+            _ => (upper, self.current_start),
+        };
+        let id = &mut layer.ids[x + self.nx * y][axis];
+        if *id == NONE || *id < oldest {
+            let (c0, c1) = edge_ends[e as usize];
+            let (v0, v1) = (self.v[c0], self.v[c1]);
+            let mut p = [x as f64, y as f64, (self.k + off[2]) as f64];
+            p[axis] += (self.iso - v0) / (v1 - v0);
+            mesh.vertices.push(p);
+            *id = (mesh.vertices.len() - 1) as u32;
+        }
+        *id
+    }
+}
+
 /// Fast extraction. Errors on non-finite values or isovalue.
 pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats), VolumeError> {
     if !iso.is_finite() {
@@ -427,25 +473,19 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
                     }
                     let entry = tab.offsets[config as usize] as usize + sub as usize;
                     let mut centre = [u32::MAX; 4];
+                    let cell = CellAt {
+                        i,
+                        j,
+                        k,
+                        nx,
+                        v: &v,
+                        iso,
+                        previous_start,
+                        current_start,
+                    };
                     let edge_vertex =
                         |e: u8, lower: &mut Layer, upper: &mut Layer, mesh: &mut Mesh| {
-                            let (axis, off) = edge_info[e as usize];
-                            let (x, y) = (i + off[0], j + off[1]);
-                            let (layer, oldest) = match (off[2], axis) {
-                                (0, 0 | 1) => (lower, previous_start),
-                                (0, _) => (lower, current_start),
-                                _ => (upper, current_start),
-                            };
-                            let id = &mut layer.ids[x + nx * y][axis];
-                            if *id == NONE || *id < oldest {
-                                let (c0, c1) = edge_ends[e as usize];
-                                let (v0, v1) = (v[c0], v[c1]);
-                                let mut p = [x as f64, y as f64, (k + off[2]) as f64];
-                                p[axis] += (iso - v0) / (v1 - v0);
-                                mesh.vertices.push(p);
-                                *id = (mesh.vertices.len() - 1) as u32;
-                            }
-                            *id
+                            cell.edge_vertex(&edge_info, &edge_ends, e, lower, upper, mesh)
                         };
                     for tri in tab.extraction_triangles(entry) {
                         let mut t = [0u32; 3];

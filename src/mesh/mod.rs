@@ -12,7 +12,6 @@ pub mod shapes;
 pub mod stl;
 pub mod vtk;
 
-use std::collections::HashMap;
 use std::path::Path;
 use thiserror::Error;
 
@@ -169,34 +168,49 @@ impl Mesh {
     /// most two triangles, traversed in opposite directions when shared, and every vertex's
     /// fan a single disc or half-disc. Returns the number of boundary edges.
     pub fn check_manifold(&self) -> Result<usize, MeshError> {
-        let mut directed: HashMap<(u32, u32), usize> =
-            HashMap::with_capacity(3 * self.triangles.len());
-        for (t, tri) in self.triangles.iter().enumerate() {
-            for e in 0..3 {
-                let (a, b) = (tri[e], tri[(e + 1) % 3]);
-                if let Some(other) = directed.insert((a, b), t) {
-                    return Err(MeshError::NonManifold {
-                        a,
-                        b,
-                        why: format!(
-                            "traversed in the same direction by triangles {other} and {t} (inconsistent orientation or more than two triangles)"
-                        ),
-                    });
-                }
+        self.validate()?;
+        let n = self.vertices.len();
+        let tris = &self.triangles;
+        // Half-edge `h` runs from corner `h % 3` of triangle `h / 3` to the next corner; the
+        // half-edges leaving each vertex are listed together (counting sort by source).
+        let source = |h: usize| tris[h / 3][h % 3];
+        let target = |h: usize| tris[h / 3][(h % 3 + 1) % 3];
+        let mut first = vec![0usize; n + 1];
+        for tri in tris {
+            for &a in tri {
+                first[a as usize + 1] += 1;
             }
         }
-        // Each vertex's fan: start at its outgoing boundary edge (an edge with no twin), or at
-        // any outgoing edge for an interior vertex, and rotate through the triangles
-        // (`(v, b, c)` leads from edge `v→b` to edge `v→c`); a single fan visits them all.
-        let n = self.vertices.len();
-        let mut start: Vec<Option<u32>> = vec![None; n];
+        for v in 0..n {
+            first[v + 1] += first[v];
+        }
+        let mut fill = first.clone();
+        let mut leaving = vec![0usize; 3 * tris.len()];
+        for h in 0..3 * tris.len() {
+            let a = source(h) as usize;
+            leaving[fill[a]] = h;
+            fill[a] += 1;
+        }
+        let out = |a: u32| &leaving[first[a as usize]..first[a as usize + 1]];
+        // The half-edge a→b, if any (the lowest when repeated).
+        let find = |a: u32, b: u32| out(a).iter().copied().find(|&g| target(g) == b);
         let mut boundary_start: Vec<Option<u32>> = vec![None; n];
-        let mut degree = vec![0usize; n];
         let mut boundary = 0usize;
-        for &(a, b) in directed.keys() {
-            degree[a as usize] += 1;
-            start[a as usize].get_or_insert(b);
-            if !directed.contains_key(&(b, a)) {
+        for h in 0..3 * tris.len() {
+            let (a, b) = (source(h), target(h));
+            let g = find(a, b).expect("h itself");
+            if g != h {
+                return Err(MeshError::NonManifold {
+                    a,
+                    b,
+                    why: format!(
+                        "traversed in the same direction by triangles {} and {} (inconsistent orientation or more than two triangles)",
+                        g / 3,
+                        h / 3
+                    ),
+                });
+            }
+            if find(b, a).is_none() {
                 boundary += 1;
                 if boundary_start[a as usize].replace(b).is_some() {
                     return Err(MeshError::NonManifold {
@@ -207,33 +221,36 @@ impl Mesh {
                 }
             }
         }
+        // Each vertex's fan: start at its outgoing boundary edge (an edge with no twin), or at
+        // any outgoing edge for an interior vertex, and rotate through the triangles
+        // (`(v, b, c)` leads from edge `v→b` to edge `v→c`); a single fan visits them all.
         let third = |a: u32, b: u32| {
-            directed.get(&(a, b)).map(|&t| {
-                let tri = self.triangles[t];
+            find(a, b).map(|h| {
+                let tri = tris[h / 3];
                 tri[0] ^ tri[1] ^ tri[2] ^ a ^ b
             })
         };
-        for v in 0..n {
-            let Some(first) = boundary_start[v].or(start[v]) else {
+        for v in 0..n as u32 {
+            let degree = out(v).len();
+            let Some(start) = boundary_start[v as usize].or(out(v).first().map(|&h| target(h)))
+            else {
                 continue;
             };
-            let v = v as u32;
-            let mut b = first;
+            let mut b = start;
             let mut visited = 0usize;
             while let Some(c) = third(v, b) {
                 visited += 1;
-                if c == first || visited > degree[v as usize] {
+                if c == start || visited > degree {
                     break;
                 }
                 b = c;
             }
-            if visited != degree[v as usize] {
+            if visited != degree {
                 return Err(MeshError::NonManifold {
                     a: v,
-                    b: first,
+                    b: start,
                     why: format!(
-                        "the {} triangles at vertex {v} form more than one fan (a pinched vertex)",
-                        degree[v as usize]
+                        "the {degree} triangles at vertex {v} form more than one fan (a pinched vertex)"
                     ),
                 });
             }

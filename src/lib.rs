@@ -17,6 +17,7 @@
 //!   splines, Mørken products.
 //! * [`decimate`] — node decimation with the exponential-interval bucket queue, ear cutting,
 //!   exact undecimation (Krivograd et al.), exact and fast engines, an independent checker.
+//! * [`memory`] — large working arrays on transparent huge pages (Linux).
 //! * [`proofs`] — the exhaustive proofs (source in `proofs/`), run by `cargo test` and
 //!   `geocert prove`.
 //! * [`report`] — writes the Markdown reports in `reports/` from measured runs.
@@ -28,6 +29,7 @@ pub mod decimate;
 pub mod ffd;
 pub mod fuzzing;
 pub mod mc;
+pub mod memory;
 pub mod mesh;
 pub mod num;
 #[path = "../proofs/mod.rs"]

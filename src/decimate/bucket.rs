@@ -23,6 +23,8 @@
 //! queued), keeping the FIFO order within equal values. A rebuild costs `O(len)` and is paid
 //! for by the `len/r` pushes before it, so every operation stays `O(1)` amortised.
 
+use crate::memory::huge_vec;
+
 const NONE: u32 = u32::MAX;
 
 /// Eq. (1): the number of intervals `m = ⌊n/k⌋`, at least 1.
@@ -75,13 +77,13 @@ impl BucketQueue {
             ln1p_delta: delta.ln_1p(),
             head: vec![NONE; m],
             tail: vec![NONE; m],
-            next: vec![NONE; nodes],
-            prev: vec![NONE; nodes],
-            bucket: vec![NONE; nodes],
+            next: huge_vec(NONE, nodes),
+            prev: huge_vec(NONE, nodes),
+            bucket: huge_vec(NONE, nodes),
             occupied: vec![0; m.div_ceil(64)],
             summary: vec![0; m.div_ceil(64).div_ceil(64)],
             len: 0,
-            ev: vec![0.0; nodes],
+            ev: huge_vec(0.0, nodes),
             rebin: None,
             overflow: 0,
             rebuilds: 0,

@@ -89,8 +89,10 @@ pub(crate) fn run(
         ..LoopCounts::default()
     };
     let mut present = n;
+    // Removals to come (at most); rings average six nodes on triangle meshes (Euler).
+    history.reserve(n.saturating_sub(target_nodes).min(queue.len()), 7);
     let mut ring: Vec<u32> = Vec::with_capacity(32);
-    let mut stale = vec![false; if options.lazy { n } else { 0 }];
+    let mut stale = crate::memory::huge_vec(false, if options.lazy { n } else { 0 });
     while present > target_nodes {
         let Some((v, j)) = queue.pop() else {
             break;

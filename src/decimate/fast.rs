@@ -13,6 +13,7 @@ use super::{
     canonical_start, check_options, edge_angle, fan_normal, global_plane, BorderPolicy, Criterion,
     DecimateError, Options, Outcome, Plane,
 };
+use crate::memory::{huge_copy, huge_vec};
 use crate::mesh::{Mesh, MeshError, Scalars};
 use std::cmp::Ordering;
 
@@ -83,7 +84,7 @@ impl FastEngine {
             )));
         }
         // Outgoing half-edges by source vertex (CSR).
-        let mut start = vec![0u32; n + 1];
+        let mut start = huge_vec(0u32, n + 1);
         for tri in &mesh.triangles {
             for &a in tri {
                 start[a as usize + 1] += 1;
@@ -93,7 +94,7 @@ impl FastEngine {
             start[v + 1] += start[v];
         }
         let mut fill = start.clone();
-        let mut outgoing = vec![0u32; 3 * t];
+        let mut outgoing = huge_vec(0u32, 3 * t);
         for (s, tri) in mesh.triangles.iter().enumerate() {
             for (c, &a) in tri.iter().enumerate() {
                 outgoing[fill[a as usize] as usize] = (3 * s + c) as u32;
@@ -101,7 +102,7 @@ impl FastEngine {
             }
         }
         let target = |h: u32| mesh.triangles[h as usize / 3][(h as usize % 3 + 1) % 3];
-        let mut twin = vec![NONE; 3 * t];
+        let mut twin = huge_vec(NONE, 3 * t);
         for h in 0..3 * t as u32 {
             let a = mesh.triangles[h as usize / 3][h as usize % 3];
             let b = target(h);
@@ -126,7 +127,7 @@ impl FastEngine {
                 }
             }
         }
-        let mut out = vec![NONE; n];
+        let mut out = huge_vec(NONE, n);
         for v in 0..n {
             let list = &outgoing[start[v] as usize..start[v + 1] as usize];
             let Some(&first) = list.first() else {
@@ -177,13 +178,13 @@ impl FastEngine {
             orient2d(p[0], p[1], p[2]) != Ordering::Greater
         })?;
         Ok(FastEngine {
-            pos: mesh.vertices.clone(),
+            pos: huge_copy(&mesh.vertices),
             values: mesh.scalars.as_ref().map(|s| s.values.clone()),
-            tri: mesh.triangles.clone(),
-            live: vec![true; t],
+            tri: huge_copy(&mesh.triangles),
+            live: huge_vec(true, t),
             twin,
             out,
-            removed: vec![false; n],
+            removed: huge_vec(false, n),
             global,
             criterion: options.criterion,
             border_policy: options.border,

@@ -108,6 +108,32 @@ impl History {
         }
     }
 
+    /// Reserves room for `steps` more steps of about `valence` ring nodes each (on huge
+    /// pages when large), so that a long decimation does not copy its history as it grows.
+    pub fn reserve(&mut self, steps: usize, valence: usize) {
+        use crate::memory::advise_huge_pages;
+        let entries = steps * valence;
+        self.nodes.reserve(steps);
+        self.border.reserve(steps);
+        self.ring_start.reserve(steps);
+        self.coordinates.reserve(steps);
+        self.rings.reserve(entries);
+        self.slots.reserve(entries);
+        self.positions.reserve(entries);
+        self.added.reserve(entries);
+        advise_huge_pages(&mut self.nodes);
+        advise_huge_pages(&mut self.ring_start);
+        advise_huge_pages(&mut self.coordinates);
+        advise_huge_pages(&mut self.rings);
+        advise_huge_pages(&mut self.slots);
+        advise_huge_pages(&mut self.positions);
+        advise_huge_pages(&mut self.added);
+        if self.has_scalars {
+            self.values.reserve(steps);
+            advise_huge_pages(&mut self.values);
+        }
+    }
+
     /// The number of steps.
     pub fn len(&self) -> usize {
         self.nodes.len()

@@ -420,6 +420,8 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
     let cut_total: usize = cut_rows.iter().map(|w| w.count_ones() as usize).sum();
     mesh.vertices.reserve(cut_total + cut_total / 4);
     mesh.triangles.reserve(2 * cut_total + cut_total / 4);
+    crate::memory::advise_huge_pages(&mut mesh.vertices);
+    crate::memory::advise_huge_pages(&mut mesh.triangles);
     // The layers are reused without clearing: vertex ids only grow, so an id is current when
     // it was made during this cell layer (the upper layer, and z-edges of the lower one) or
     // the previous one (x- and y-edges of the lower layer, made as the previous upper layer);

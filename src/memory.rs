@@ -1,0 +1,77 @@
+//! Large working arrays on transparent huge pages.
+//!
+//! The fast paths fill arrays of tens to hundreds of megabytes (an isosurface's vertices and
+//! triangles, a decimation's half-edges). On 4 KiB pages their first touch costs one page
+//! fault per page and their random access one TLB miss per page; on Linux, where transparent
+//! huge pages are commonly enabled in `madvise` mode, asking for 2 MiB pages removes most of
+//! both (on the 256³ gyroid the fast extraction ran about 30 % faster). Elsewhere, or when the
+//! kernel declines, nothing changes.
+
+/// Arrays smaller than this are left alone (one huge page).
+const THRESHOLD: usize = 2 << 20;
+
+/// Asks the kernel to back the pages wholly inside `v`'s allocation (its capacity, filled or
+/// not) with huge pages. Call it before the buffer is first written.
+pub fn advise_huge_pages<T>(v: &mut Vec<T>) {
+    let bytes = v.capacity() * std::mem::size_of::<T>();
+    if bytes < THRESHOLD {
+        return;
+    }
+    advise(v.as_mut_ptr() as usize, bytes);
+}
+
+/// `vec![value; n]`, with [`advise_huge_pages`] applied before it is filled.
+pub fn huge_vec<T: Clone>(value: T, n: usize) -> Vec<T> {
+    let mut v = Vec::with_capacity(n);
+    advise_huge_pages(&mut v);
+    v.resize(n, value);
+    v
+}
+
+/// A copy of `items`, with [`advise_huge_pages`] applied before it is filled.
+pub fn huge_copy<T: Clone>(items: &[T]) -> Vec<T> {
+    let mut v = Vec::with_capacity(items.len());
+    advise_huge_pages(&mut v);
+    v.extend_from_slice(items);
+    v
+}
+
+#[cfg(target_os = "linux")]
+fn advise(start: usize, bytes: usize) {
+    const PAGE: usize = 4096;
+    let first = start.div_ceil(PAGE) * PAGE;
+    let last = (start + bytes) / PAGE * PAGE;
+    if last > first {
+        // SAFETY: `[first, last)` is a page-aligned range inside one live allocation that we
+        // own (a `Vec`'s buffer, aligned inwards). `madvise(MADV_HUGEPAGE)` only records a
+        // paging preference for those pages: it does not read, write, move or free memory,
+        // so no Rust reference or value is affected. Its result is ignored on purpose: when
+        // it fails (THP disabled, old kernel) the memory stays on ordinary pages.
+        unsafe {
+            libc::madvise(
+                first as *mut libc::c_void,
+                last - first,
+                libc::MADV_HUGEPAGE,
+            );
+        }
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn advise(_start: usize, _bytes: usize) {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn huge_vec_is_an_ordinary_vec() {
+        let v = huge_vec(7u32, 3 << 20);
+        assert_eq!(v.len(), 3 << 20);
+        assert!(v.iter().all(|&x| x == 7));
+        let mut w: Vec<u64> = Vec::with_capacity(1 << 20);
+        advise_huge_pages(&mut w);
+        w.extend(0..10);
+        assert_eq!(w[9], 9);
+    }
+}

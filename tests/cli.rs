@@ -511,6 +511,31 @@ fn decimate_undecimate_round_trip_and_refusals() {
     assert_eq!(v["nodes_out"], 1561);
     assert!(v["max_scalar_error"].as_f64().unwrap() > 0.0);
     assert!(v["seconds"].as_f64().unwrap() > 0.0);
+    assert!(v["max_distance_error"].is_null());
+    // Per-fan projection: errors against the closest point of the decimated surface (the
+    // plate is flat, so the distance vanishes and the scalar error remains).
+    let o = geocert()
+        .args([
+            "decimate",
+            "builtin:plate",
+            "--keep",
+            "0.25",
+            "--projection",
+            "per-fan",
+            "--json",
+            "--out",
+            &s(&out),
+            "--history",
+            &s(&hist),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["projection"], "per-fan");
+    assert!(v["max_height_error"].is_null());
+    assert!(v["max_distance_error"].as_f64().unwrap() < 1e-9);
+    assert!(v["max_scalar_error"].as_f64().unwrap() > 0.0);
     // The original, written the same way, and the undecimated mesh are the same bytes.
     let o = geocert()
         .args([

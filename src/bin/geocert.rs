@@ -1254,10 +1254,13 @@ fn decimate_cmd(
     let mesh = decimation_input(input, scalar)?;
     let result =
         geocert::decimate::decimate(&mesh, options, path).map_err(|e| format!("{input}: {e}"))?;
-    let errors = result
-        .stats
-        .projection_xy
-        .then(|| geocert::decimate::quality::xy_errors(&mesh, &result.mesh));
+    // Height fields and planar meshes: errors at the same xy position; other surfaces: the
+    // distance to the decimated surface and the scalar at the closest point.
+    let errors = if result.stats.projection_xy {
+        geocert::decimate::quality::xy_errors(&mesh, &result.mesh)
+    } else {
+        geocert::decimate::quality::surface_errors(&mesh, &result.mesh)
+    };
     // The history goes to a temporary file first so that a failing mesh write leaves nothing.
     let mut tmp = history.as_os_str().to_owned();
     tmp.push(".geocert-history-partial");
@@ -1276,8 +1279,9 @@ fn decimate_cmd(
             "nodes_out": s.nodes_out,
             "triangles_out": s.triangles_out,
             "seconds": s.seconds,
-            "max_scalar_error": errors.and_then(|e| e.max_scalar),
-            "max_height_error": errors.map(|e| e.max_height),
+            "max_scalar_error": errors.max_scalar,
+            "max_height_error": s.projection_xy.then_some(errors.max_height),
+            "max_distance_error": (!s.projection_xy).then_some(errors.max_height),
             "removed": s.removed,
             "refused": s.refused,
             "intervals": s.intervals,
@@ -1297,13 +1301,16 @@ fn decimate_cmd(
             s.refused,
             result.history.len()
         );
-        if let Some(e) = errors {
-            print!("max height error {:.6e}", e.max_height);
-            if let Some(m) = e.max_scalar {
-                print!(", max scalar error {m:.6e}");
-            }
-            println!();
+        let what = if s.projection_xy {
+            "height error"
+        } else {
+            "distance to the decimated surface"
+        };
+        print!("max {what} {:.6e}", errors.max_height);
+        if let Some(m) = errors.max_scalar {
+            print!(", max scalar error {m:.6e}");
         }
+        println!();
     }
     Ok(ExitCode::SUCCESS)
 }

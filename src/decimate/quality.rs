@@ -165,67 +165,101 @@ pub fn closest_point_on_triangle(p: [f64; 3], a: [f64; 3], b: [f64; 3], c: [f64;
     ]
 }
 
-/// The largest distance from a vertex of `from` to the surface `to` (exact closest points
-/// per triangle; triangles found through a hashed uniform grid searched in growing shells).
-pub fn vertex_distance_to_surface(from: &Mesh, to: &Mesh) -> f64 {
-    let (pv, tris) = (&to.vertices, &to.triangles);
-    if tris.is_empty() || from.vertices.is_empty() {
-        return f64::NAN;
-    }
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in pv.iter().chain(&from.vertices) {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
+/// Closest-point queries on a triangle surface: its triangles in a hashed uniform grid
+/// (about one triangle per occupied cell), searched in growing shells around the query.
+pub struct ClosestPoints<'a> {
+    mesh: &'a Mesh,
+    lo: [f64; 3],
+    h: f64,
+    reach: i64,
+    grid: std::collections::HashMap<[i64; 3], Vec<u32>>,
+}
+
+/// The answer of [`ClosestPoints::query`].
+#[derive(Clone, Copy, Debug)]
+pub struct Closest {
+    pub distance: f64,
+    pub triangle: u32,
+    pub point: [f64; 3],
+}
+
+impl<'a> ClosestPoints<'a> {
+    /// The grid over `mesh`'s triangles, sized to cover `also` (the points to be queried)
+    /// too; `None` when `mesh` has no triangles.
+    pub fn new(mesh: &'a Mesh, also: &[[f64; 3]]) -> Option<ClosestPoints<'a>> {
+        let (pv, tris) = (&mesh.vertices, &mesh.triangles);
+        if tris.is_empty() {
+            return None;
         }
-    }
-    let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max);
-    // About one triangle per occupied cell of a surface: h ~ extent / √(triangles).
-    let h = (extent / (tris.len() as f64).sqrt())
-        .max(extent * 1e-9)
-        .max(f64::MIN_POSITIVE);
-    let key =
-        |p: [f64; 3]| -> [i64; 3] { std::array::from_fn(|k| ((p[k] - lo[k]) / h).floor() as i64) };
-    let mut grid: std::collections::HashMap<[i64; 3], Vec<u32>> = std::collections::HashMap::new();
-    for (t, tri) in tris.iter().enumerate() {
-        let ps = tri.map(|i| pv[i as usize]);
-        let a = key(std::array::from_fn(|k| {
-            ps.iter().map(|p| p[k]).fold(f64::INFINITY, f64::min)
-        }));
-        let b = key(std::array::from_fn(|k| {
-            ps.iter().map(|p| p[k]).fold(f64::NEG_INFINITY, f64::max)
-        }));
-        for x in a[0]..=b[0] {
-            for y in a[1]..=b[1] {
-                for z in a[2]..=b[2] {
-                    grid.entry([x, y, z]).or_default().push(t as u32);
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for p in pv.iter().chain(also) {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max);
+        // About one triangle per occupied cell of a surface: h ~ extent / √(triangles).
+        let h = (extent / (tris.len() as f64).sqrt())
+            .max(extent * 1e-9)
+            .max(f64::MIN_POSITIVE);
+        let mut cp = ClosestPoints {
+            mesh,
+            lo,
+            h,
+            reach: ((extent / h).ceil() as i64) + 1,
+            grid: std::collections::HashMap::new(),
+        };
+        for (t, tri) in tris.iter().enumerate() {
+            let ps = tri.map(|i| pv[i as usize]);
+            let a = cp.key(std::array::from_fn(|k| {
+                ps.iter().map(|p| p[k]).fold(f64::INFINITY, f64::min)
+            }));
+            let b = cp.key(std::array::from_fn(|k| {
+                ps.iter().map(|p| p[k]).fold(f64::NEG_INFINITY, f64::max)
+            }));
+            for x in a[0]..=b[0] {
+                for y in a[1]..=b[1] {
+                    for z in a[2]..=b[2] {
+                        cp.grid.entry([x, y, z]).or_default().push(t as u32);
+                    }
                 }
             }
         }
+        Some(cp)
     }
-    let reach = ((extent / h).ceil() as i64) + 1;
-    let mut worst = 0.0f64;
-    for &p in &from.vertices {
-        let c = key(p);
+
+    fn key(&self, p: [f64; 3]) -> [i64; 3] {
+        std::array::from_fn(|k| ((p[k] - self.lo[k]) / self.h).floor() as i64)
+    }
+
+    /// The closest point of the surface to `p` (the first triangle found on ties).
+    pub fn query(&self, p: [f64; 3]) -> Closest {
+        let (pv, tris, h) = (&self.mesh.vertices, &self.mesh.triangles, self.h);
+        let c = self.key(p);
         // Distance from p to its own cell's faces: after shells 0..=r are searched, every
         // triangle not yet seen is at least r·h + margin away.
         let margin = (0..3)
             .map(|k| {
-                let f = (p[k] - lo[k]) / h - c[k] as f64;
+                let f = (p[k] - self.lo[k]) / h - c[k] as f64;
                 f.min(1.0 - f).max(0.0) * h
             })
             .fold(f64::INFINITY, f64::min);
-        let mut best = f64::INFINITY;
+        let mut best = Closest {
+            distance: f64::INFINITY,
+            triangle: 0,
+            point: p,
+        };
         let mut r = 0i64;
         // Shell r holds every cell at Chebyshev distance r.
-        while r <= reach && (r == 0 || best > (r - 1) as f64 * h + margin) {
+        while r <= self.reach && (r == 0 || best.distance > (r - 1) as f64 * h + margin) {
             for x in -r..=r {
                 for y in -r..=r {
                     for z in -r..=r {
                         if x.abs().max(y.abs()).max(z.abs()) != r {
                             continue;
                         }
-                        let Some(list) = grid.get(&[c[0] + x, c[1] + y, c[2] + z]) else {
+                        let Some(list) = self.grid.get(&[c[0] + x, c[1] + y, c[2] + z]) else {
                             continue;
                         };
                         for &t in list {
@@ -235,16 +269,90 @@ pub fn vertex_distance_to_surface(from: &Mesh, to: &Mesh) -> f64 {
                                 + (p[1] - q[1]).powi(2)
                                 + (p[2] - q[2]).powi(2))
                             .sqrt();
-                            best = best.min(d);
+                            if d < best.distance {
+                                best = Closest {
+                                    distance: d,
+                                    triangle: t,
+                                    point: q,
+                                };
+                            }
                         }
                     }
                 }
             }
             r += 1;
         }
-        worst = worst.max(best);
+        best
     }
-    worst
+}
+
+/// The largest distance from a vertex of `from` to the surface `to` (exact closest points
+/// per triangle, found through [`ClosestPoints`]); NaN when either is empty.
+pub fn vertex_distance_to_surface(from: &Mesh, to: &Mesh) -> f64 {
+    if from.vertices.is_empty() {
+        return f64::NAN;
+    }
+    let Some(cp) = ClosestPoints::new(to, &from.vertices) else {
+        return f64::NAN;
+    };
+    from.vertices
+        .iter()
+        .map(|&p| cp.query(p).distance)
+        .fold(0.0, f64::max)
+}
+
+/// The barycentric coordinates of `q` (a point of triangle `abc`) by least squares in 3-D.
+fn barycentric(q: [f64; 3], a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
+    let sub = |u: [f64; 3], v: [f64; 3]| [u[0] - v[0], u[1] - v[1], u[2] - v[2]];
+    let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    let (v0, v1, v2) = (sub(b, a), sub(c, a), sub(q, a));
+    let (d00, d01, d11, d20, d21) = (
+        dot(v0, v0),
+        dot(v0, v1),
+        dot(v1, v1),
+        dot(v2, v0),
+        dot(v2, v1),
+    );
+    let denom = d00 * d11 - d01 * d01;
+    if denom == 0.0 || !denom.is_finite() {
+        return [1.0, 0.0, 0.0];
+    }
+    let v = (d11 * d20 - d01 * d21) / denom;
+    let w = (d00 * d21 - d01 * d20) / denom;
+    [1.0 - v - w, v, w]
+}
+
+/// Errors of a decimated surface that is not a height field: at every original node, its
+/// distance to the decimated surface (in `max_height`/`rms_height`) and the difference
+/// between its scalar and the decimated field interpolated at its closest point.
+pub fn surface_errors(original: &Mesh, decimated: &Mesh) -> Errors {
+    let Some(cp) = ClosestPoints::new(decimated, &original.vertices) else {
+        return Errors::default();
+    };
+    let fields = original.scalars.as_ref().zip(decimated.scalars.as_ref());
+    let mut e = Errors::default();
+    let (mut sum_d, mut sum_s, mut max_s) = (0.0, 0.0, 0.0f64);
+    for (i, &p) in original.vertices.iter().enumerate() {
+        let c = cp.query(p);
+        e.max_height = e.max_height.max(c.distance);
+        sum_d += c.distance * c.distance;
+        if let Some((f, g)) = fields {
+            let tri = decimated.triangles[c.triangle as usize];
+            let [a, b, cc] = tri.map(|k| decimated.vertices[k as usize]);
+            let w = barycentric(c.point, a, b, cc);
+            let at: f64 = (0..3).map(|k| w[k] * g.values[tri[k] as usize]).sum();
+            let d = (f.values[i] - at).abs();
+            max_s = max_s.max(d);
+            sum_s += d * d;
+        }
+    }
+    let n = original.vertices.len().max(1) as f64;
+    e.rms_height = (sum_d / n).sqrt();
+    if fields.is_some() {
+        e.max_scalar = Some(max_s);
+        e.rms_scalar = Some((sum_s / n).sqrt());
+    }
+    e
 }
 
 /// The symmetric Hausdorff distance between two meshes sampled at their vertices:
@@ -276,5 +384,49 @@ mod tests {
             ..Default::default()
         };
         assert!((hausdorff_at_vertices(&square(0.0), &square(0.25)) - 0.25).abs() < 1e-15);
+    }
+
+    #[test]
+    fn surface_errors_on_a_vertical_square() {
+        use crate::mesh::Scalars;
+        // A 3×3 grid on the square [0,1]² of the xz plane (not a height field in xy), the
+        // scalar x²; decimated to its four corners. Distances vanish; the scalar error peaks
+        // at x = 1/2: |1/4 − 1/2|.
+        let mut fine = Mesh::default();
+        for k in 0..3 {
+            for i in 0..3 {
+                fine.vertices.push([i as f64 / 2.0, 0.0, k as f64 / 2.0]);
+            }
+        }
+        fine.triangles = crate::decimate::data::grid_triangles(3, 3);
+        let values = fine.vertices.iter().map(|p| p[0] * p[0]).collect();
+        fine.scalars = Some(Scalars {
+            name: "s".into(),
+            values,
+        });
+        let coarse = Mesh {
+            vertices: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 0.0, 1.0],
+                [1.0, 0.0, 1.0],
+            ],
+            triangles: crate::decimate::data::grid_triangles(2, 2),
+            scalars: Some(Scalars {
+                name: "s".into(),
+                values: vec![0.0, 1.0, 0.0, 1.0],
+            }),
+            normals: None,
+        };
+        let e = surface_errors(&fine, &coarse);
+        assert!(e.max_height < 1e-15, "{}", e.max_height);
+        assert!(
+            (e.max_scalar.unwrap() - 0.25).abs() < 1e-12,
+            "{:?}",
+            e.max_scalar
+        );
+        // Against itself: nothing.
+        let same = surface_errors(&fine, &fine);
+        assert!(same.max_scalar.unwrap() < 1e-15 && same.max_height < 1e-15);
     }
 }

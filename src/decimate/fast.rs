@@ -69,6 +69,13 @@ pub(crate) struct FastEngine {
     pending: Vec<(u8, u8, u32)>,
     /// The node whose plan the scratch buffers hold, while nothing has changed since.
     planned: Option<(u32, Plan)>,
+    /// Holes are cut in the global projection and every fan of the input is a simple star
+    /// in it. Removals keep that true: the new triangles at a ring node tile exactly the
+    /// angular sector its removed triangles covered. Then every fan passes the star test, and
+    /// no diagonal of a hole can repeat an existing edge (that edge would leave its endpoint
+    /// in a direction inside the hole's sector, which no remaining triangle covers), so
+    /// both checks are skipped.
+    embedded: bool,
 }
 
 impl FastEngine {
@@ -177,7 +184,7 @@ impl FastEngine {
             let p = tri.map(|i| Plane::XY.project(mesh.vertices[i as usize]));
             orient2d(p[0], p[1], p[2]) != Ordering::Greater
         })?;
-        Ok(FastEngine {
+        let mut engine = FastEngine {
             pos: huge_copy(&mesh.vertices),
             values: mesh.scalars.as_ref().map(|s| s.values.clone()),
             tri: huge_copy(&mesh.triangles),
@@ -200,7 +207,26 @@ impl FastEngine {
             outer: Vec::new(),
             pending: Vec::new(),
             planned: None,
-        })
+            embedded: false,
+        };
+        engine.embedded = engine.global.is_some() && (0..n as u32).all(|v| engine.fan_embedded(v));
+        Ok(engine)
+    }
+
+    /// True when `v`'s fan, whatever its valence, is a simple star in the global projection.
+    fn fan_embedded(&mut self, v: u32) -> bool {
+        if self.out[v as usize] == NONE {
+            return true;
+        }
+        let limit = std::mem::replace(&mut self.max_valence, usize::MAX);
+        let border = self.load_fan(v).expect("no valence limit");
+        self.max_valence = limit;
+        let plane = self.global.unwrap_or(Plane::XY);
+        self.pts.clear();
+        self.pts
+            .extend(self.ring.iter().map(|&w| plane.project(self.pos[w as usize])));
+        let pv = plane.project(self.pos[v as usize]);
+        star_is_simple(pv, &self.pts, border)
     }
 
     #[inline]
@@ -296,7 +322,7 @@ impl FastEngine {
                 .map(|&w| plane.project(self.pos[w as usize])),
         );
         let pv = plane.project(self.pos[v as usize]);
-        if !star_is_simple(pv, &self.pts, border) {
+        if !self.embedded && !star_is_simple(pv, &self.pts, border) {
             return None;
         }
         if !self
@@ -527,7 +553,7 @@ impl Engine for FastEngine {
                 None => return false,
             },
         };
-        if !self.topology_ok(plan.border) {
+        if !self.embedded && !self.topology_ok(plan.border) {
             return false;
         }
         self.apply(v, plan.border, history);

@@ -10,6 +10,7 @@
 //! lowest non-empty interval, else re-filed at the tail of its new interval. Neighbours that
 //! are not queued are evaluated at once, as in the paper. On the 810k-node grid this takes
 //! 1.7 evaluations per removal instead of 5.9.
+
 use super::bucket::{interval_count, BucketQueue};
 use super::history::fingerprint;
 use super::{History, Options, Outcome, Stats, Target};

@@ -223,8 +223,11 @@ impl FastEngine {
         self.max_valence = limit;
         let plane = self.global.unwrap_or(Plane::XY);
         self.pts.clear();
-        self.pts
-            .extend(self.ring.iter().map(|&w| plane.project(self.pos[w as usize])));
+        self.pts.extend(
+            self.ring
+                .iter()
+                .map(|&w| plane.project(self.pos[w as usize])),
+        );
         let pv = plane.project(self.pos[v as usize]);
         star_is_simple(pv, &self.pts, border)
     }

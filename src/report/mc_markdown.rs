@@ -157,8 +157,10 @@ fn write_grid(s: &mut String, g: &super::mc_grid::GridCampaign) {
         s,
         "## Polygonisation on regular grids\n\n\
          The fast path (one thread; every ambiguous face decided by the certified `f64` decider) \
-         on float volumes, median of {} runs, side by side with VTK's filters on the same data \
-         in the same run (sequential SMP backend, normals, gradients and scalars off). Sphere: \
+         on float volumes, median of {} rounds, side by side with VTK's filters on the same data \
+         in the same run (sequential SMP backend, normals, gradients and scalars off); each \
+         round times one geocert extraction and then one run of each VTK filter, so that both \
+         see the same drift of this shared machine. Sphere: \
          distance to the centre at 0.39 n; gyroid: period 32 voxels at 256³, isovalue 0. The \
          same fields on 48³ grids go through both paths.\n",
         g.runs

@@ -491,22 +491,18 @@ fn decimate_undecimate_round_trip_and_refusals() {
         tmp("full.bin"),
     );
     let s = |p: &std::path::PathBuf| p.to_str().unwrap().to_string();
-    let o = geocert()
-        .args([
-            "decimate",
-            "builtin:plate",
-            "--keep",
-            "0.1",
-            "--json",
-            "--out",
-            &s(&out),
-            "--history",
-            &s(&hist),
-        ])
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    // `geocert decimate builtin:plate ARGS --json --out OUT --history HIST`, parsed.
+    let plate_json = |args: &[&str]| -> serde_json::Value {
+        let o = geocert()
+            .args(["decimate", "builtin:plate"])
+            .args(args)
+            .args(["--json", "--out", &s(&out), "--history", &s(&hist)])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let v = plate_json(&["--keep", "0.1"]);
     assert_eq!(v["nodes_in"], 15606);
     assert_eq!(v["nodes_out"], 1561);
     assert!(v["max_scalar_error"].as_f64().unwrap() > 0.0);
@@ -514,24 +510,7 @@ fn decimate_undecimate_round_trip_and_refusals() {
     assert!(v["max_distance_error"].is_null());
     // Per-fan projection: errors against the closest point of the decimated surface (the
     // plate is flat, so the distance vanishes and the scalar error remains).
-    let o = geocert()
-        .args([
-            "decimate",
-            "builtin:plate",
-            "--keep",
-            "0.25",
-            "--projection",
-            "per-fan",
-            "--json",
-            "--out",
-            &s(&out),
-            "--history",
-            &s(&hist),
-        ])
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let v = plate_json(&["--keep", "0.25", "--projection", "per-fan"]);
     assert_eq!(v["projection"], "per-fan");
     assert!(v["max_height_error"].is_null());
     assert!(v["max_distance_error"].as_f64().unwrap() < 1e-9);

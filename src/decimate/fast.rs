@@ -221,15 +221,19 @@ impl FastEngine {
         let limit = std::mem::replace(&mut self.max_valence, usize::MAX);
         let border = self.load_fan(v).expect("no valence limit");
         self.max_valence = limit;
-        let plane = self.global.unwrap_or(Plane::XY);
+        let pv = self.project_fan(v, self.global.unwrap_or(Plane::XY));
+        star_is_simple(pv, &self.pts, border)
+    }
+
+    /// Projects the loaded ring into `pts` and returns the projection of `v`.
+    fn project_fan(&mut self, v: u32, plane: Plane) -> [f64; 2] {
         self.pts.clear();
         self.pts.extend(
             self.ring
                 .iter()
                 .map(|&w| plane.project(self.pos[w as usize])),
         );
-        let pv = plane.project(self.pos[v as usize]);
-        star_is_simple(pv, &self.pts, border)
+        plane.project(self.pos[v as usize])
     }
 
     #[inline]
@@ -318,13 +322,7 @@ impl FastEngine {
                 Plane::most_aligned(fan_normal(self.pos[v as usize], &self.ring3, !border))
             }
         };
-        self.pts.clear();
-        self.pts.extend(
-            self.ring
-                .iter()
-                .map(|&w| plane.project(self.pos[w as usize])),
-        );
-        let pv = plane.project(self.pos[v as usize]);
+        let pv = self.project_fan(v, plane);
         if !self.embedded && !star_is_simple(pv, &self.pts, border) {
             return None;
         }

@@ -18,6 +18,39 @@ pub struct Errors {
     pub unlocated: usize,
 }
 
+/// Running max and sum of squares of the height (or distance) and scalar errors.
+#[derive(Default)]
+struct Tally {
+    max_height: f64,
+    sum_height: f64,
+    max_scalar: f64,
+    sum_scalar: f64,
+}
+
+impl Tally {
+    fn height(&mut self, d: f64) {
+        self.max_height = self.max_height.max(d);
+        self.sum_height += d * d;
+    }
+
+    fn scalar(&mut self, d: f64) {
+        self.max_scalar = self.max_scalar.max(d);
+        self.sum_scalar += d * d;
+    }
+
+    /// The errors over `nodes` nodes (scalar ones when `scalars`).
+    fn finish(self, nodes: usize, scalars: bool, unlocated: usize) -> Errors {
+        let n = nodes.max(1) as f64;
+        Errors {
+            max_height: self.max_height,
+            rms_height: (self.sum_height / n).sqrt(),
+            max_scalar: scalars.then_some(self.max_scalar),
+            rms_scalar: scalars.then(|| (self.sum_scalar / n).sqrt()),
+            unlocated,
+        }
+    }
+}
+
 /// Interpolation errors of `decimated` against `original`, both in the xy plane. The
 /// decimated mesh's scalar field is read when the original has one.
 pub fn xy_errors(original: &Mesh, decimated: &Mesh) -> Errors {
@@ -58,8 +91,8 @@ pub fn xy_errors(original: &Mesh, decimated: &Mesh) -> Errors {
         }
     }
     let scalars = original.scalars.as_ref().zip(decimated.scalars.as_ref());
-    let mut e = Errors::default();
-    let (mut sum_h, mut sum_s, mut max_s) = (0.0, 0.0, 0.0f64);
+    let mut tally = Tally::default();
+    let mut unlocated = 0;
     for (v, p) in original.vertices.iter().enumerate() {
         let bucket = &grid[cell(p[1], 1) * cells + cell(p[0], 0)];
         let mut best: Option<(f64, u32, [f64; 3])> = None;
@@ -78,31 +111,21 @@ pub fn xy_errors(original: &Mesh, decimated: &Mesh) -> Errors {
             }
         }
         let Some((min, t, l)) = best else {
-            e.unlocated += 1;
+            unlocated += 1;
             continue;
         };
         if min < -1e-9 {
-            e.unlocated += 1;
+            unlocated += 1;
         }
         let tri = tris[t as usize];
         let z: f64 = (0..3).map(|k| l[k] * pv[tri[k] as usize][2]).sum();
-        let dh = (p[2] - z).abs();
-        e.max_height = e.max_height.max(dh);
-        sum_h += dh * dh;
+        tally.height((p[2] - z).abs());
         if let Some((so, sd)) = scalars {
             let f: f64 = (0..3).map(|k| l[k] * sd.values[tri[k] as usize]).sum();
-            let ds = (so.values[v] - f).abs();
-            max_s = max_s.max(ds);
-            sum_s += ds * ds;
+            tally.scalar((so.values[v] - f).abs());
         }
     }
-    let n = original.vertices.len().max(1) as f64;
-    e.rms_height = (sum_h / n).sqrt();
-    if scalars.is_some() {
-        e.max_scalar = Some(max_s);
-        e.rms_scalar = Some((sum_s / n).sqrt());
-    }
-    e
+    tally.finish(original.vertices.len(), scalars.is_some(), unlocated)
 }
 
 /// The closest point of triangle `abc` to `p` (Ericson, *Real-Time Collision Detection*,
@@ -330,29 +353,19 @@ pub fn surface_errors(original: &Mesh, decimated: &Mesh) -> Errors {
         return Errors::default();
     };
     let fields = original.scalars.as_ref().zip(decimated.scalars.as_ref());
-    let mut e = Errors::default();
-    let (mut sum_d, mut sum_s, mut max_s) = (0.0, 0.0, 0.0f64);
+    let mut tally = Tally::default();
     for (i, &p) in original.vertices.iter().enumerate() {
         let c = cp.query(p);
-        e.max_height = e.max_height.max(c.distance);
-        sum_d += c.distance * c.distance;
+        tally.height(c.distance);
         if let Some((f, g)) = fields {
             let tri = decimated.triangles[c.triangle as usize];
             let [a, b, cc] = tri.map(|k| decimated.vertices[k as usize]);
             let w = barycentric(c.point, a, b, cc);
             let at: f64 = (0..3).map(|k| w[k] * g.values[tri[k] as usize]).sum();
-            let d = (f.values[i] - at).abs();
-            max_s = max_s.max(d);
-            sum_s += d * d;
+            tally.scalar((f.values[i] - at).abs());
         }
     }
-    let n = original.vertices.len().max(1) as f64;
-    e.rms_height = (sum_d / n).sqrt();
-    if fields.is_some() {
-        e.max_scalar = Some(max_s);
-        e.rms_scalar = Some((sum_s / n).sqrt());
-    }
-    e
+    tally.finish(original.vertices.len(), fields.is_some(), 0)
 }
 
 /// The symmetric Hausdorff distance between two meshes sampled at their vertices:

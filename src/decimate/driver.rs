@@ -29,6 +29,8 @@ pub(crate) trait Engine {
     /// the border policy and the valence limit; for the error criterion also a triangulable
     /// hole), else `None`.
     fn evaluate(&mut self, v: u32) -> Option<f64>;
+    /// A hint that `v` comes next: start fetching what evaluating and removing it reads.
+    fn prefetch(&self, _v: u32) {}
     /// Removes `v` and records the step, or returns false (nothing changed) when its hole
     /// cannot be re-triangulated validly. Called right after `evaluate(v)`, an engine may
     /// reuse what that evaluation planned.
@@ -93,13 +95,14 @@ pub(crate) fn run(
     // Removals to come (at most); rings average six nodes on triangle meshes (Euler).
     history.reserve(n.saturating_sub(target_nodes).min(queue.len()), 7);
     let mut ring: Vec<u32> = Vec::with_capacity(32);
-    let mut stale = crate::memory::huge_vec(false, if options.lazy { n } else { 0 });
     while present > target_nodes {
-        let Some((v, j)) = queue.pop() else {
+        let Some((v, j, stale)) = queue.pop() else {
             break;
         };
-        if options.lazy && stale[v as usize] {
-            stale[v as usize] = false;
+        if let Some(u) = queue.peek() {
+            engine.prefetch(u);
+        }
+        if stale {
             counts.evaluations += 1;
             match engine.evaluate(v) {
                 Some(ev) if admissible(ev) => {
@@ -120,8 +123,8 @@ pub(crate) fn run(
         ring.clear();
         ring.extend_from_slice(history.step(history.len() - 1).ring);
         for &w in &ring {
-            if options.lazy && queue.contains(w) {
-                stale[w as usize] = true;
+            // Lazy: a queued neighbour is marked stale (the queue's mark).
+            if options.lazy && queue.mark(w) {
                 continue;
             }
             counts.evaluations += 1;

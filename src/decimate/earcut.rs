@@ -178,7 +178,7 @@ impl EarCutter {
 pub struct RobustOrient<'a>(pub &'a [[f64; 2]]);
 
 impl Orient for RobustOrient<'_> {
-    #[inline]
+    #[inline(always)]
     fn orient(&self, a: usize, b: usize, c: usize) -> Ordering {
         orient2d(self.0[a], self.0[b], self.0[c])
     }
@@ -187,7 +187,7 @@ impl Orient for RobustOrient<'_> {
 /// The exact sign of `det[b − a, c − a]` for `f64` points, adaptively: Shewchuk's
 /// first-stage filter (`|det| ≥ (3 + 16ε)ε · (|detleft| + |detright|)` certifies the `f64`
 /// sign) inline, his exact adaptive stages (the `robust` crate) only when it cannot decide.
-#[inline]
+#[inline(always)]
 pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Ordering {
     const EPS: f64 = f64::EPSILON / 2.0;
     const ERRBOUND_A: f64 = (3.0 + 16.0 * EPS) * EPS;
@@ -211,6 +211,13 @@ pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Ordering {
     if det >= bound || -det >= bound {
         return det.partial_cmp(&0.0).unwrap_or(Ordering::Equal);
     }
+    orient2d_adaptive(a, b, c)
+}
+
+/// The exact stages of [`orient2d`], out of line: the filter decides almost every call.
+#[cold]
+#[inline(never)]
+fn orient2d_adaptive(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Ordering {
     let d = robust::orient2d(
         robust::Coord { x: a[0], y: a[1] },
         robust::Coord { x: b[0], y: b[1] },

@@ -28,6 +28,7 @@ pub mod data;
 pub mod driver;
 pub mod earcut;
 pub mod exact;
+pub mod fans;
 pub mod fast;
 pub mod history;
 pub mod quality;

@@ -1,0 +1,283 @@
+//! Per-node fan lists, the fast engine's adjacency (the paper's Figure 4: "a list of
+//! neighbouring nodes at each node", so that the neighbours are reached without a search).
+//!
+//! Node `v`'s list holds its neighbours counter-clockwise, each with the triangle that follows
+//! it around `v`: entry `i` is `(ring[i], t)` where `t` names the triangle
+//! `(v, ring[i], ring[i + 1])` as `slot · 4 + corner`, the corner of `v` in that slot's
+//! triangle. An interior node's list is cyclic (any rotation); a border node's list starts
+//! at the neighbour across its outgoing border edge and its last entry has no triangle
+//! ([`NO_TRIANGLE`]).
+//!
+//! Node `v` owns block `v`, one cache line: a header and up to [`INLINE`] entries. Longer
+//! lists live in an overflow run of `8 · 2^c` entries (size class `c`, a free list per
+//! class) named by the header. Loading a typical fan (six neighbours on a triangle mesh) thus
+//! touches one line found without any lookup, and the ring nodes' lines can be fetched
+//! independently of each other — unlike a half-edge walk, where every step waits for the
+//! previous one.
+
+use crate::memory::huge_vec;
+
+/// The triangle field of a border node's last entry.
+pub const NO_TRIANGLE: u32 = u32::MAX;
+
+/// A neighbour and the triangle that follows it counter-clockwise (`slot · 4 + corner`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Entry {
+    pub node: u32,
+    pub triangle: u32,
+}
+
+impl Entry {
+    /// The triangle slot, when there is a triangle.
+    #[inline]
+    pub fn slot(self) -> u32 {
+        self.triangle >> 2
+    }
+
+    /// The corner of the list's node in that slot's triangle.
+    #[inline]
+    pub fn corner(self) -> u8 {
+        (self.triangle & 3) as u8
+    }
+}
+
+const BLOCK: usize = 8;
+/// Entries held in a node's own block, after its header.
+pub const INLINE: usize = BLOCK - 1;
+
+/// One cache line of entries.
+#[derive(Clone, Copy, Default)]
+#[repr(C, align(64))]
+struct Block([Entry; BLOCK]);
+
+// The header, entry 0 of a node's block: `node` packs the length (bits 0–23), the overflow
+// size class (24–29) and the border flag (31); `triangle` is the overflow run's first block.
+const LEN_MASK: u32 = (1 << 24) - 1;
+const CLASS_SHIFT: u32 = 24;
+const BORDER: u32 = 1 << 31;
+const NO_RUN: u32 = u32::MAX;
+
+/// The lists of all nodes.
+pub struct FanLists {
+    /// Blocks `0..nodes` are the nodes' own; overflow runs follow.
+    blocks: Vec<Block>,
+    /// Free overflow runs per size class.
+    free: Vec<Vec<u32>>,
+}
+
+/// The smallest size class whose run holds `len` entries.
+fn class_for(len: usize) -> u32 {
+    let blocks = len.div_ceil(BLOCK).max(1);
+    blocks.next_power_of_two().trailing_zeros()
+}
+
+impl FanLists {
+    /// Lists for `nodes` nodes, all empty.
+    pub fn new(nodes: usize) -> FanLists {
+        let empty = Block([
+            Entry {
+                node: 0,
+                triangle: NO_RUN,
+            },
+            Entry::default(),
+            Entry::default(),
+            Entry::default(),
+            Entry::default(),
+            Entry::default(),
+            Entry::default(),
+            Entry::default(),
+        ]);
+        let mut blocks = huge_vec(empty, nodes);
+        // Room for some overflow runs without moving the nodes' blocks.
+        blocks.reserve(nodes / 8);
+        FanLists {
+            blocks,
+            free: Vec::new(),
+        }
+    }
+
+    #[inline]
+    fn header(&self, v: u32) -> Entry {
+        self.blocks[v as usize].0[0]
+    }
+
+    /// The number of entries of `v`'s list.
+    #[inline]
+    pub fn len(&self, v: u32) -> usize {
+        (self.header(v).node & LEN_MASK) as usize
+    }
+
+    /// True when `v`'s list is empty (an isolated or removed node).
+    #[inline]
+    pub fn is_empty(&self, v: u32) -> bool {
+        self.len(v) == 0
+    }
+
+    /// True when `v` is on the border (its list is open).
+    #[inline]
+    pub fn is_border(&self, v: u32) -> bool {
+        self.header(v).node & BORDER != 0
+    }
+
+    /// Asks the processor to start fetching `v`'s block.
+    #[inline]
+    pub fn prefetch(&self, v: u32) {
+        crate::memory::prefetch(&self.blocks[v as usize]);
+    }
+
+    /// The entries of `v`'s list, in order, as up to two slices of whole blocks' entries.
+    #[inline]
+    fn slices(&self, v: u32) -> (usize, usize) {
+        let h = self.header(v);
+        let len = (h.node & LEN_MASK) as usize;
+        if len <= INLINE {
+            (v as usize * BLOCK + 1, len)
+        } else {
+            (h.triangle as usize * BLOCK, len)
+        }
+    }
+
+    #[inline]
+    fn at(&self, flat: usize) -> Entry {
+        self.blocks[flat / BLOCK].0[flat % BLOCK]
+    }
+
+    /// Entry `j` of `v`'s list.
+    #[inline]
+    pub fn get(&self, v: u32, j: usize) -> Entry {
+        let (start, _) = self.slices(v);
+        self.at(start + j)
+    }
+
+    /// Calls `f` on every entry of `v`'s list, in order.
+    #[inline]
+    pub fn for_each(&self, v: u32, mut f: impl FnMut(Entry)) {
+        let (start, len) = self.slices(v);
+        for flat in start..start + len {
+            f(self.at(flat));
+        }
+    }
+
+    /// Appends `v`'s list to `out`.
+    #[inline]
+    pub fn read(&self, v: u32, out: &mut Vec<Entry>) {
+        self.for_each(v, |e| out.push(e));
+    }
+
+    /// True when `b` is in `a`'s list.
+    pub fn contains(&self, a: u32, b: u32) -> bool {
+        let mut found = false;
+        self.for_each(a, |e| found |= e.node == b);
+        found
+    }
+
+    /// Replaces `v`'s list by `entries` (`border`: an open list), inline when it fits, else
+    /// in an overflow run (moved to a larger one when it outgrows its own).
+    pub fn store(&mut self, v: u32, entries: &[Entry], border: bool) {
+        let h = self.header(v);
+        let mut run = h.triangle;
+        let mut class = (h.node & !BORDER) >> CLASS_SHIFT;
+        let start = if entries.len() <= INLINE {
+            if run != NO_RUN {
+                self.free_run(run, class);
+                run = NO_RUN;
+                class = 0;
+            }
+            v as usize * BLOCK + 1
+        } else {
+            let needed = class_for(entries.len());
+            if run == NO_RUN || needed > class {
+                if run != NO_RUN {
+                    self.free_run(run, class);
+                }
+                run = self.alloc(needed);
+                class = needed;
+            }
+            run as usize * BLOCK
+        };
+        for (k, &e) in entries.iter().enumerate() {
+            let flat = start + k;
+            self.blocks[flat / BLOCK].0[flat % BLOCK] = e;
+        }
+        self.blocks[v as usize].0[0] = Entry {
+            node: entries.len() as u32 | class << CLASS_SHIFT | if border { BORDER } else { 0 },
+            triangle: run,
+        };
+    }
+
+    /// Empties `v`'s list and frees its overflow run.
+    pub fn clear(&mut self, v: u32) {
+        self.store(v, &[], false);
+    }
+
+    fn alloc(&mut self, class: u32) -> u32 {
+        if let Some(b) = self.free.get_mut(class as usize).and_then(Vec::pop) {
+            return b;
+        }
+        let b = self.blocks.len();
+        self.blocks.resize(b + (1usize << class), Block::default());
+        b as u32
+    }
+
+    fn free_run(&mut self, block: u32, class: u32) {
+        let c = class as usize;
+        if self.free.len() <= c {
+            self.free.resize(c + 1, Vec::new());
+        }
+        self.free[c].push(block);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn entries(n: u32) -> Vec<Entry> {
+        (0..n)
+            .map(|i| Entry {
+                node: 100 + i,
+                triangle: 4 * i + 1,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn lists_grow_shrink_and_reuse_blocks() {
+        let mut lists = FanLists::new(3);
+        lists.store(0, &entries(6), false);
+        lists.store(1, &entries(3), true);
+        assert_eq!(lists.len(0), 6);
+        assert!(lists.is_border(1) && !lists.is_border(0));
+        // Growing past eight entries moves node 0 to a two-block run.
+        lists.store(0, &entries(13), false);
+        let mut got = Vec::new();
+        lists.read(0, &mut got);
+        assert_eq!(got, entries(13));
+        assert_eq!(lists.get(0, 12).slot(), 12);
+        assert_eq!(lists.get(0, 12).corner(), 1);
+        assert!(lists.contains(0, 112) && !lists.contains(0, 113));
+        // Shrinking moves it back inline; node 2 reuses the run node 0 left.
+        let before = lists.blocks.len();
+        lists.store(0, &entries(7), false);
+        got.clear();
+        lists.read(0, &mut got);
+        assert_eq!(got, entries(7));
+        lists.store(2, &entries(16), false);
+        assert_eq!(lists.blocks.len(), before, "the freed two-block run is reused");
+        lists.store(2, &entries(9), true);
+        assert!(lists.is_border(2));
+        lists.clear(0);
+        assert!(lists.is_empty(0) && !lists.is_border(0));
+        lists.store(0, &entries(8), false);
+        assert_eq!(lists.blocks.len(), before + 1, "a new one-block run when none is free");
+        got.clear();
+        lists.read(2, &mut got);
+        assert_eq!(got, entries(9), "shrinking within the overflow keeps the run");
+        got.clear();
+        lists.read(0, &mut got);
+        assert_eq!(got, entries(8));
+        got.clear();
+        lists.read(1, &mut got);
+        assert_eq!(got, entries(3));
+    }
+}

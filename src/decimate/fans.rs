@@ -15,7 +15,7 @@
 //! independently of each other — unlike a half-edge walk, where every step waits for the
 //! previous one.
 
-use crate::memory::huge_vec;
+use crate::memory::advise_huge_pages;
 
 /// The triangle field of a border node's last entry.
 pub const NO_TRIANGLE: u32 = u32::MAX;
@@ -87,9 +87,10 @@ impl FanLists {
             Entry::default(),
             Entry::default(),
         ]);
-        let mut blocks = huge_vec(empty, nodes);
-        // Room for some overflow runs without moving the nodes' blocks.
-        blocks.reserve(nodes / 8);
+        // Room for some overflow runs before the blocks move.
+        let mut blocks = Vec::with_capacity(nodes + nodes / 8);
+        advise_huge_pages(&mut blocks);
+        blocks.resize(nodes, empty);
         FanLists {
             blocks,
             free: Vec::new(),
@@ -263,16 +264,28 @@ mod tests {
         lists.read(0, &mut got);
         assert_eq!(got, entries(7));
         lists.store(2, &entries(16), false);
-        assert_eq!(lists.blocks.len(), before, "the freed two-block run is reused");
+        assert_eq!(
+            lists.blocks.len(),
+            before,
+            "the freed two-block run is reused"
+        );
         lists.store(2, &entries(9), true);
         assert!(lists.is_border(2));
         lists.clear(0);
         assert!(lists.is_empty(0) && !lists.is_border(0));
         lists.store(0, &entries(8), false);
-        assert_eq!(lists.blocks.len(), before + 1, "a new one-block run when none is free");
+        assert_eq!(
+            lists.blocks.len(),
+            before + 1,
+            "a new one-block run when none is free"
+        );
         got.clear();
         lists.read(2, &mut got);
-        assert_eq!(got, entries(9), "shrinking within the overflow keeps the run");
+        assert_eq!(
+            got,
+            entries(9),
+            "shrinking within the overflow keeps the run"
+        );
         got.clear();
         lists.read(0, &mut got);
         assert_eq!(got, entries(8));

@@ -15,19 +15,11 @@ use super::{
     DecimateError, Options, Outcome, Plane,
 };
 use crate::memory::{huge_copy, huge_vec};
-use crate::mesh::{Mesh, MeshError, Scalars};
+use crate::mesh::fans::Fans;
+use crate::mesh::{Mesh, Scalars};
 use std::cmp::Ordering;
 
 const NONE: u32 = u32::MAX;
-
-#[inline]
-fn prev(h: u32) -> u32 {
-    if h.is_multiple_of(3) {
-        h + 2
-    } else {
-        h - 1
-    }
-}
 
 /// A hole ready to be filled: the fan, its projection and the ear cut.
 #[derive(Clone, Copy)]
@@ -84,8 +76,6 @@ pub(crate) struct FastEngine {
 impl FastEngine {
     /// Builds the fan lists, checking that the mesh is an oriented 2-manifold.
     pub(crate) fn new(mesh: &Mesh, options: &Options) -> Result<FastEngine, DecimateError> {
-        mesh.validate()?;
-        check_options(mesh, options)?;
         let n = mesh.vertices.len();
         let t = mesh.triangles.len();
         if 3 * t >= NONE as usize / 2 {
@@ -94,6 +84,7 @@ impl FastEngine {
             )));
         }
         let lists = fan_lists(mesh)?;
+        check_options(mesh, options)?;
         let global = global_plane(mesh, options.projection, |tri| {
             let p = tri.map(|i| Plane::XY.project(mesh.vertices[i as usize]));
             orient2d(p[0], p[1], p[2]) != Ordering::Greater
@@ -515,132 +506,32 @@ fn cross(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
     (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
 }
 
-/// Pairs the mesh's half-edges, checks that it is an oriented 2-manifold (every edge in at
-/// most two triangles, with opposite directions; one fan per vertex) and builds every
-/// vertex's fan list.
+/// Every vertex's fan list, from the mesh's fans ([`Fans`], which checks that the mesh is an
+/// oriented 2-manifold).
 fn fan_lists(mesh: &Mesh) -> Result<FanLists, DecimateError> {
+    let fans = Fans::of(mesh)?;
     let n = mesh.vertices.len();
-    let t = mesh.triangles.len();
-        // Outgoing half-edges by source vertex (CSR).
-        let mut start = huge_vec(0u32, n + 1);
-        for tri in &mesh.triangles {
-            for &a in tri {
-                start[a as usize + 1] += 1;
-            }
-        }
-        for v in 0..n {
-            start[v + 1] += start[v];
-        }
-        let mut fill = start.clone();
-        let mut outgoing = huge_vec(0u32, 3 * t);
-        for (s, tri) in mesh.triangles.iter().enumerate() {
-            for (c, &a) in tri.iter().enumerate() {
-                outgoing[fill[a as usize] as usize] = (3 * s + c) as u32;
-                fill[a as usize] += 1;
-            }
-        }
-        let target = |h: u32| mesh.triangles[h as usize / 3][(h as usize % 3 + 1) % 3];
-        let mut twin = huge_vec(NONE, 3 * t);
-        for h in 0..3 * t as u32 {
-            let a = mesh.triangles[h as usize / 3][h as usize % 3];
-            let b = target(h);
-            let of = |v: u32| &outgoing[start[v as usize] as usize..start[v as usize + 1] as usize];
-            for &g in of(a) {
-                if g != h && target(g) == b {
-                    return Err(MeshError::NonManifold {
-                        a,
-                        b,
-                        why: format!(
-                            "traversed in the same direction by triangles {} and {} (inconsistent orientation or more than two triangles)",
-                            g / 3,
-                            h / 3
-                        ),
-                    }
-                    .into());
-                }
-            }
-            for &g in of(b) {
-                if target(g) == a {
-                    twin[h as usize] = g;
-                }
-            }
-        }
-        let mut out = huge_vec(NONE, n);
-        for v in 0..n {
-            let list = &outgoing[start[v] as usize..start[v + 1] as usize];
-            let Some(&first) = list.first() else {
-                continue;
-            };
-            let mut chosen = first;
-            let mut borders = 0;
-            for &h in list {
-                if twin[h as usize] == NONE {
-                    borders += 1;
-                    chosen = h;
-                }
-            }
-            if borders > 1 {
-                return Err(MeshError::NonManifold {
-                    a: v as u32,
-                    b: target(chosen),
-                    why: format!("vertex {v} has two boundary fans (a bow-tie vertex)"),
-                }
-                .into());
-            }
-            out[v] = chosen;
-            // One fan must visit every outgoing half-edge.
-            let mut h = chosen;
-            let mut visited = 0;
-            loop {
-                visited += 1;
-                let p = twin[prev(h) as usize];
-                if p == NONE || p == chosen || visited > list.len() {
-                    break;
-                }
-                h = p;
-            }
-            if visited != list.len() {
-                return Err(MeshError::NonManifold {
-                    a: v as u32,
-                    b: target(chosen),
-                    why: format!(
-                        "the {} triangles at vertex {v} form more than one fan (a pinched vertex)",
-                        list.len()
-                    ),
-                }
-                .into());
-            }
-        }
+    let corner = |h: u32, k: usize| mesh.triangles[h as usize / 3][(h as usize % 3 + k) % 3];
     let mut lists = FanLists::new(n);
     let mut list = Vec::new();
-    for v in 0..n {
-        let h0 = out[v];
-        if h0 == NONE {
+    for v in 0..n as u32 {
+        let corners = fans.corners(v);
+        let Some(&last) = corners.last() else {
             continue;
-        }
-        // Rotate counter-clockwise (h ← twin[prev(h)]) from the border half-edge, if any.
-        list.clear();
-        let mut h = h0;
-        let border = loop {
-            list.push(Entry {
-                node: target(h),
-                triangle: 4 * (h / 3) + h % 3,
-            });
-            let p = prev(h);
-            let o = twin[p as usize];
-            if o == NONE {
-                list.push(Entry {
-                    node: mesh.triangles[p as usize / 3][p as usize % 3],
-                    triangle: NO_TRIANGLE,
-                });
-                break true;
-            }
-            if o == h0 {
-                break false;
-            }
-            h = o;
         };
-        lists.store(v as u32, &list, border);
+        list.clear();
+        list.extend(corners.iter().map(|&h| Entry {
+            node: corner(h, 1),
+            triangle: 4 * (h / 3) + h % 3,
+        }));
+        let border = fans.is_border(v);
+        if border {
+            list.push(Entry {
+                node: corner(last, 2),
+                triangle: NO_TRIANGLE,
+            });
+        }
+        lists.store(v, &list, border);
     }
     Ok(lists)
 }

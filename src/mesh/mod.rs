@@ -6,6 +6,7 @@
 //! Every reader validates what it returns: finite coordinates, indices in range, no triangle
 //! repeating a vertex. Errors name the file's element (line, face or vertex number) at fault.
 
+pub mod fans;
 pub mod obj;
 pub mod ply;
 pub mod shapes;
@@ -168,94 +169,7 @@ impl Mesh {
     /// most two triangles, traversed in opposite directions when shared, and every vertex's
     /// fan a single disc or half-disc. Returns the number of boundary edges.
     pub fn check_manifold(&self) -> Result<usize, MeshError> {
-        self.validate()?;
-        let n = self.vertices.len();
-        let tris = &self.triangles;
-        // Half-edge `h` runs from corner `h % 3` of triangle `h / 3` to the next corner; the
-        // half-edges leaving each vertex are listed together (counting sort by source).
-        let source = |h: usize| tris[h / 3][h % 3];
-        let target = |h: usize| tris[h / 3][(h % 3 + 1) % 3];
-        let mut first = vec![0usize; n + 1];
-        for tri in tris {
-            for &a in tri {
-                first[a as usize + 1] += 1;
-            }
-        }
-        for v in 0..n {
-            first[v + 1] += first[v];
-        }
-        let mut fill = first.clone();
-        let mut leaving = vec![0usize; 3 * tris.len()];
-        for h in 0..3 * tris.len() {
-            let a = source(h) as usize;
-            leaving[fill[a]] = h;
-            fill[a] += 1;
-        }
-        let out = |a: u32| &leaving[first[a as usize]..first[a as usize + 1]];
-        // The half-edge a→b, if any (the lowest when repeated).
-        let find = |a: u32, b: u32| out(a).iter().copied().find(|&g| target(g) == b);
-        let mut boundary_start: Vec<Option<u32>> = vec![None; n];
-        let mut boundary = 0usize;
-        for h in 0..3 * tris.len() {
-            let (a, b) = (source(h), target(h));
-            let g = find(a, b).expect("h itself");
-            if g != h {
-                return Err(MeshError::NonManifold {
-                    a,
-                    b,
-                    why: format!(
-                        "traversed in the same direction by triangles {} and {} (inconsistent orientation or more than two triangles)",
-                        g / 3,
-                        h / 3
-                    ),
-                });
-            }
-            if find(b, a).is_none() {
-                boundary += 1;
-                if boundary_start[a as usize].replace(b).is_some() {
-                    return Err(MeshError::NonManifold {
-                        a,
-                        b,
-                        why: format!("vertex {a} has two boundary fans (a bow-tie vertex)"),
-                    });
-                }
-            }
-        }
-        // Each vertex's fan: start at its outgoing boundary edge (an edge with no twin), or at
-        // any outgoing edge for an interior vertex, and rotate through the triangles
-        // (`(v, b, c)` leads from edge `v→b` to edge `v→c`); a single fan visits them all.
-        let third = |a: u32, b: u32| {
-            find(a, b).map(|h| {
-                let tri = tris[h / 3];
-                tri[0] ^ tri[1] ^ tri[2] ^ a ^ b
-            })
-        };
-        for v in 0..n as u32 {
-            let degree = out(v).len();
-            let Some(start) = boundary_start[v as usize].or(out(v).first().map(|&h| target(h)))
-            else {
-                continue;
-            };
-            let mut b = start;
-            let mut visited = 0usize;
-            while let Some(c) = third(v, b) {
-                visited += 1;
-                if c == start || visited > degree {
-                    break;
-                }
-                b = c;
-            }
-            if visited != degree {
-                return Err(MeshError::NonManifold {
-                    a: v,
-                    b: start,
-                    why: format!(
-                        "the {degree} triangles at vertex {v} form more than one fan (a pinched vertex)"
-                    ),
-                });
-            }
-        }
-        Ok(boundary)
+        Ok(fans::Fans::of(self)?.border_edges())
     }
 
     /// Euler characteristic `V − E + F` over the vertices the triangles use.

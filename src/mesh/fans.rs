@@ -213,7 +213,7 @@ mod tests {
         let m = mesh(vec![[4, 0, 1], [4, 1, 2], [4, 2, 3], [4, 3, 0], [1, 5, 2]]);
         let f = Fans::of(&m).unwrap();
         assert!(!f.is_border(4));
-        let ring: Vec<u32> = f.corners(4).iter().map(|&h| (h / 3) as u32).collect();
+        let ring: Vec<u32> = f.corners(4).iter().map(|&h| h / 3).collect();
         // Some rotation of triangles 0, 1, 2, 3.
         let r = ring.iter().position(|&t| t == 0).unwrap();
         let rotated: Vec<u32> = (0..4).map(|k| ring[(r + k) % 4]).collect();

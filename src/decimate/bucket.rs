@@ -214,6 +214,12 @@ impl BucketQueue {
         }
     }
 
+    /// Asks the processor to start fetching `node`'s record.
+    #[inline]
+    pub fn prefetch(&self, node: u32) {
+        crate::memory::prefetch(&self.nodes[node as usize]);
+    }
+
     /// True when `node` is queued.
     pub fn contains(&self, node: u32) -> bool {
         self.nodes[node as usize].bucket != NONE

@@ -29,8 +29,11 @@ pub(crate) trait Engine {
     /// the border policy and the valence limit; for the error criterion also a triangulable
     /// hole), else `None`.
     fn evaluate(&mut self, v: u32) -> Option<f64>;
-    /// A hint that `v` comes next: start fetching what evaluating and removing it reads.
+    /// A hint that `v` comes soon: start fetching its own data.
     fn prefetch(&self, _v: u32) {}
+    /// A hint that `v` comes next, its own data fetched already: start fetching its
+    /// neighbours' data, and call `each` on every neighbour.
+    fn prefetch_ring(&self, _v: u32, _each: impl FnMut(u32)) {}
     /// Removes `v` and records the step, or returns false (nothing changed) when its hole
     /// cannot be re-triangulated validly. Called right after `evaluate(v)`, an engine may
     /// reuse what that evaluation planned.
@@ -122,6 +125,11 @@ pub(crate) fn run(
         counts.removed += 1;
         ring.clear();
         ring.extend_from_slice(history.step(history.len() - 1).ring);
+        if options.lazy {
+            for &w in &ring {
+                queue.prefetch(w);
+            }
+        }
         for &w in &ring {
             // Lazy: a queued neighbour is marked stale (the queue's mark).
             if options.lazy && queue.mark(w) {
@@ -132,6 +140,9 @@ pub(crate) fn run(
                 Some(ev) if admissible(ev) => queue.push(w, ev),
                 _ => queue.remove(w),
             }
+        }
+        if let Some(u) = queue.peek() {
+            engine.prefetch_ring(u, |w| queue.prefetch(w));
         }
     }
     counts.rebuilds = queue.rebuilds();

@@ -455,6 +455,14 @@ impl Engine for FastEngine {
         crate::memory::prefetch(&self.pos[v as usize]);
     }
 
+    fn prefetch_ring(&self, v: u32, mut each: impl FnMut(u32)) {
+        self.lists.for_each(v, |e| {
+            self.lists.prefetch(e.node);
+            crate::memory::prefetch(&self.pos[e.node as usize]);
+            each(e.node);
+        });
+    }
+
     fn try_remove(&mut self, v: u32, history: &mut History) -> bool {
         let plan = match self.planned {
             Some((u, plan)) if u == v => plan,

@@ -319,8 +319,13 @@ impl Orient for RobustOrient<'_> {
 }
 
 /// The exact sign of `det[b − a, c − a]` for `f64` points, adaptively: Shewchuk's
-/// first-stage filter (`|det| ≥ (3 + 16ε)ε · (|detleft| + |detright|)` certifies the `f64`
-/// sign) inline, his exact adaptive stages (the `robust` crate) only when it cannot decide.
+/// first-stage filter inline, his exact adaptive stages (the `robust` crate) only when it
+/// cannot decide. The filter is written without branches on the products' signs (which
+/// mispredict on mixed input): with `detleft`, `detright` the two rounded products,
+/// `|detleft − detright| > (3 + 16ε)ε · (|detleft| + |detright|)` certifies the sign when they
+/// have the same sign (Shewchuk's bound `ccwerrboundA`), and holds trivially when they have
+/// opposite signs, where the subtraction cannot cancel. When both are zero the exact stages
+/// decide (a product can underflow to zero).
 #[inline(always)]
 pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Ordering {
     const EPS: f64 = f64::EPSILON / 2.0;
@@ -328,22 +333,12 @@ pub fn orient2d(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Ordering {
     let left = (a[0] - c[0]) * (b[1] - c[1]);
     let right = (a[1] - c[1]) * (b[0] - c[0]);
     let det = left - right;
-    let sum = if left > 0.0 {
-        if right <= 0.0 {
-            return det.partial_cmp(&0.0).unwrap_or(Ordering::Equal);
-        }
-        left + right
-    } else if left < 0.0 {
-        if right >= 0.0 {
-            return det.partial_cmp(&0.0).unwrap_or(Ordering::Equal);
-        }
-        -left - right
-    } else {
-        return det.partial_cmp(&0.0).unwrap_or(Ordering::Equal);
-    };
-    let bound = ERRBOUND_A * sum;
-    if det >= bound || -det >= bound {
-        return det.partial_cmp(&0.0).unwrap_or(Ordering::Equal);
+    if det.abs() > ERRBOUND_A * (left.abs() + right.abs()) {
+        return if det > 0.0 {
+            Ordering::Greater
+        } else {
+            Ordering::Less
+        };
     }
     orient2d_adaptive(a, b, c)
 }

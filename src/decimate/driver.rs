@@ -29,6 +29,13 @@ pub(crate) trait Engine {
     /// the border policy and the valence limit; for the error criterion also a triangulable
     /// hole), else `None`.
     fn evaluate(&mut self, v: u32) -> Option<f64>;
+    /// `(v, evaluate(v))` for every node in increasing order whose value `keep` accepts (the
+    /// initial pass).
+    fn evaluate_all(&mut self, keep: impl Fn(f64) -> bool + Sync) -> Vec<(u32, f64)> {
+        (0..self.node_count() as u32)
+            .filter_map(|v| self.evaluate(v).filter(|&ev| keep(ev)).map(|ev| (v, ev)))
+            .collect()
+    }
     /// A hint that `v` comes soon: start fetching its own data.
     fn prefetch(&self, _v: u32) {}
     /// A hint that `v` comes next, its own data fetched already: start fetching its
@@ -68,14 +75,7 @@ pub(crate) fn run(
         Target::ErrorBound(_) => 0,
     };
     let admissible = |ev: f64| bound.is_none_or(|b| ev <= b);
-    let mut initial = Vec::with_capacity(n);
-    for v in 0..n as u32 {
-        if let Some(ev) = engine.evaluate(v) {
-            if admissible(ev) {
-                initial.push((v, ev));
-            }
-        }
-    }
+    let initial = engine.evaluate_all(admissible);
     let (lo, hi) = initial
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &(_, ev)| {

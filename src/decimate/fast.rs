@@ -17,6 +17,7 @@ use super::{
 use crate::memory::{huge_copy, huge_vec};
 use crate::mesh::fans::Fans;
 use crate::mesh::{Mesh, Scalars};
+use rayon::prelude::*;
 use std::cmp::Ordering;
 
 const NONE: u32 = u32::MAX;
@@ -38,7 +39,8 @@ struct Corner {
     triangle: u32,
 }
 
-pub(crate) struct FastEngine {
+/// The mesh as the decimation leaves it, and the settings.
+struct State {
     pos: Vec<[f64; 3]>,
     values: Option<Vec<f64>>,
     slot_count: usize,
@@ -48,7 +50,18 @@ pub(crate) struct FastEngine {
     criterion: Criterion,
     border_policy: BorderPolicy,
     max_valence: usize,
-    // Scratch.
+    /// Holes are cut in the global projection and every fan of the input is a simple star
+    /// in it. Removals keep that true: the new triangles at a ring node tile exactly the
+    /// angular sector its removed triangles covered. Then every fan passes the star test, and
+    /// no diagonal of a hole can repeat an existing edge (that edge would leave its endpoint
+    /// in a direction inside the hole's sector, which no remaining triangle covers), so
+    /// both checks are skipped.
+    embedded: bool,
+}
+
+/// Buffers for planning one removal; one per thread when nodes are evaluated in parallel.
+#[derive(Default)]
+struct Scratch {
     ring: Vec<u32>,
     /// The triangles of the loaded fan (`slot · 4 + corner`), `(v, ring[i], ring[i + 1])`.
     fan: Vec<u32>,
@@ -62,15 +75,13 @@ pub(crate) struct FastEngine {
     list: Vec<Entry>,
     chain: Vec<Entry>,
     rebuilt: Vec<Entry>,
-    /// The node whose plan the scratch buffers hold, while nothing has changed since.
+    /// The node whose plan the buffers hold, while nothing has changed since.
     planned: Option<(u32, Plan)>,
-    /// Holes are cut in the global projection and every fan of the input is a simple star
-    /// in it. Removals keep that true: the new triangles at a ring node tile exactly the
-    /// angular sector its removed triangles covered. Then every fan passes the star test, and
-    /// no diagonal of a hole can repeat an existing edge (that edge would leave its endpoint
-    /// in a direction inside the hole's sector, which no remaining triangle covers), so
-    /// both checks are skipped.
-    embedded: bool,
+}
+
+pub(crate) struct FastEngine {
+    st: State,
+    sc: Scratch,
 }
 
 impl FastEngine {
@@ -89,7 +100,7 @@ impl FastEngine {
             let p = tri.map(|i| Plane::XY.project(mesh.vertices[i as usize]));
             orient2d(p[0], p[1], p[2]) != Ordering::Greater
         })?;
-        let mut engine = FastEngine {
+        let mut st = State {
             pos: huge_copy(&mesh.vertices),
             values: mesh.scalars.as_ref().map(|s| s.values.clone()),
             slot_count: t,
@@ -99,64 +110,55 @@ impl FastEngine {
             criterion: options.criterion,
             border_policy: options.border,
             max_valence: options.max_valence,
-            ring: Vec::new(),
-            fan: Vec::new(),
-            pts: Vec::new(),
-            ring3: Vec::new(),
-            tris: Vec::new(),
-            cutter: EarCutter::default(),
-            slots: Vec::new(),
-            positions: Vec::new(),
-            corners: Vec::new(),
-            list: Vec::new(),
-            chain: Vec::new(),
-            rebuilt: Vec::new(),
-            planned: None,
             embedded: false,
         };
-        engine.embedded = engine.global.is_some() && (0..n as u32).all(|v| engine.fan_embedded(v));
-        Ok(engine)
+        st.embedded = st.global.is_some()
+            && (0..n as u32)
+                .into_par_iter()
+                .map_init(Scratch::default, |sc, v| sc.fan_embedded(&st, v))
+                .all(|simple| simple);
+        Ok(FastEngine {
+            st,
+            sc: Scratch::default(),
+        })
     }
+}
 
+impl Scratch {
     /// True when `v`'s fan, whatever its valence, is a simple star in the global projection.
-    fn fan_embedded(&mut self, v: u32) -> bool {
-        if self.lists.is_empty(v) {
+    fn fan_embedded(&mut self, st: &State, v: u32) -> bool {
+        if st.lists.is_empty(v) {
             return true;
         }
-        let limit = std::mem::replace(&mut self.max_valence, usize::MAX);
-        let border = self.load_fan(v).expect("no valence limit");
-        self.max_valence = limit;
-        let pv = self.project_fan(v, self.global.unwrap_or(Plane::XY));
+        let border = self.load_fan(st, v, usize::MAX).expect("no valence limit");
+        let pv = self.project_fan(st, v, st.global.unwrap_or(Plane::XY));
         star_is_simple(pv, &self.pts, border)
     }
 
     /// Projects the loaded ring into `pts` and returns the projection of `v`.
-    fn project_fan(&mut self, v: u32, plane: Plane) -> [f64; 2] {
+    fn project_fan(&mut self, st: &State, v: u32, plane: Plane) -> [f64; 2] {
         self.pts.clear();
-        self.pts.extend(
-            self.ring
-                .iter()
-                .map(|&w| plane.project(self.pos[w as usize])),
-        );
-        plane.project(self.pos[v as usize])
+        self.pts
+            .extend(self.ring.iter().map(|&w| plane.project(st.pos[w as usize])));
+        plane.project(st.pos[v as usize])
     }
 
     /// Fills `ring` (counter-clockwise) and `fan` (the triangles `(v, ring[i], ring[i + 1])`)
-    /// of `v`; returns whether `v` is on the border, or `None` when the valence is over the
-    /// limit. Interior rings start at the lowest id, as in the exact path.
-    fn load_fan(&mut self, v: u32) -> Option<bool> {
+    /// of `v`; returns whether `v` is on the border, or `None` when the valence is over
+    /// `limit`. Interior rings start at the lowest id, as in the exact path.
+    fn load_fan(&mut self, st: &State, v: u32, limit: usize) -> Option<bool> {
         self.planned = None;
         self.ring.clear();
         self.fan.clear();
-        if self.lists.len(v) > self.max_valence {
+        if st.lists.len(v) > limit {
             return None;
         }
         let (ring, fan) = (&mut self.ring, &mut self.fan);
-        self.lists.for_each(v, |e| {
+        st.lists.for_each(v, |e| {
             ring.push(e.node);
             fan.push(e.triangle);
         });
-        if self.lists.is_border(v) {
+        if st.lists.is_border(v) {
             self.fan.pop();
             return Some(true);
         }
@@ -168,11 +170,11 @@ impl FastEngine {
 
     /// True when the border node `v` lies exactly on the segment between its two border
     /// neighbours (the border stays intact without it).
-    fn border_intact(&self, v: u32) -> bool {
-        let a = self.pos[*self.ring.last().unwrap() as usize];
-        let b = self.pos[self.ring[0] as usize];
-        let p = self.pos[v as usize];
-        match self.global {
+    fn border_intact(&self, st: &State, v: u32) -> bool {
+        let a = st.pos[*self.ring.last().unwrap() as usize];
+        let b = st.pos[self.ring[0] as usize];
+        let p = st.pos[v as usize];
+        match st.global {
             // The domain's outline in the global projection stays the same.
             Some(plane) => {
                 let flat = |q: [f64; 3]| {
@@ -185,31 +187,37 @@ impl FastEngine {
         }
     }
 
-    /// Checks that `v` may go and its hole can be filled: loads the fan, applies the border
-    /// policy, projects, checks the fan is a simple star in the projection, cuts the ears.
-    fn plan(&mut self, v: u32) -> Option<Plan> {
-        if self.lists.is_empty(v) {
+    /// Loads `v`'s fan and applies the border policy; returns whether `v` is on the border
+    /// and the plane its hole is cut in, or `None` when `v` may not go.
+    fn candidate(&mut self, st: &State, v: u32) -> Option<(bool, Plane)> {
+        if st.lists.is_empty(v) {
             return None;
         }
-        let border = self.load_fan(v)?;
-        let l = self.ring.len();
-        if l < 3 {
+        let border = self.load_fan(st, v, st.max_valence)?;
+        if border && (st.border_policy == BorderPolicy::Exclude || !self.border_intact(st, v)) {
             return None;
         }
-        if border && (self.border_policy == BorderPolicy::Exclude || !self.border_intact(v)) {
-            return None;
-        }
-        let plane = match self.global {
+        let plane = match st.global {
             Some(p) => p,
             None => {
                 self.ring3.clear();
                 self.ring3
-                    .extend(self.ring.iter().map(|&w| self.pos[w as usize]));
-                Plane::most_aligned(fan_normal(self.pos[v as usize], &self.ring3, !border))
+                    .extend(self.ring.iter().map(|&w| st.pos[w as usize]));
+                Plane::most_aligned(fan_normal(st.pos[v as usize], &self.ring3, !border))
             }
         };
-        let pv = self.project_fan(v, plane);
-        if !self.embedded && !star_is_simple(pv, &self.pts, border) {
+        Some((border, plane))
+    }
+
+    /// Checks that `v` may go and its hole can be filled: loads the fan, applies the border
+    /// policy, projects, checks the fan is a simple star in the projection, cuts the ears.
+    fn plan(&mut self, st: &State, v: u32) -> Option<Plan> {
+        let (border, plane) = self.candidate(st, v)?;
+        if self.ring.len() < 3 {
+            return None;
+        }
+        let pv = self.project_fan(st, v, plane);
+        if !st.embedded && !star_is_simple(pv, &self.pts, border) {
             return None;
         }
         if !self
@@ -223,32 +231,84 @@ impl FastEngine {
         Some(plan)
     }
 
+    /// The evaluation value of `v` ([`Engine::evaluate`]).
+    fn evaluate(&mut self, st: &State, v: u32) -> Option<f64> {
+        if st.criterion == Criterion::Error {
+            let plan = self.plan(st, v)?;
+            return Some(self.removal_error(st, v, plan.plane));
+        }
+        let (_, plane) = self.candidate(st, v)?;
+        let p = st.pos[v as usize];
+        let mut sum = 0.0;
+        for &w in &self.ring {
+            let w = w as usize;
+            sum += if st.criterion == Criterion::Angle {
+                let q = st.pos[w];
+                edge_angle([q[0] - p[0], q[1] - p[1], q[2] - p[2]], plane)
+            } else {
+                let f = st.values.as_ref()?;
+                (f[w] - f[v as usize]).abs()
+            };
+        }
+        Some(sum / self.ring.len() as f64)
+    }
+
+    /// The error criterion: `|h(v) − h_interp|` over the planned triangles, `h` the scalar or
+    /// the height along the projection normal; the triangle is the one whose smallest
+    /// barycentric coordinate at `v` is largest.
+    fn removal_error(&self, st: &State, v: u32, plane: Plane) -> f64 {
+        let pv = plane.project(st.pos[v as usize]);
+        let height = |w: usize| match &st.values {
+            Some(f) => f[w],
+            None => st.pos[w][plane.drop],
+        };
+        let mut best = (f64::NEG_INFINITY, height(self.ring[0] as usize));
+        for t in &self.tris {
+            let [a, b, c] = t.map(|p| self.pts[p as usize]);
+            let area = cross(a, b, c);
+            if area.is_nan() || area <= 0.0 {
+                continue;
+            }
+            let l0 = cross(pv, b, c) / area;
+            let l1 = cross(a, pv, c) / area;
+            let l2 = 1.0 - l0 - l1;
+            let min = l0.min(l1).min(l2);
+            if min > best.0 {
+                let [wa, wb, wc] = t.map(|p| self.ring[p as usize] as usize);
+                let h = l0 * height(wa) + l1 * height(wb) + l2 * height(wc);
+                best = (min, h);
+            }
+        }
+        (height(v as usize) - best.1).abs()
+    }
+
     /// The new triangles must not repeat an edge or a triangle the mesh has outside the hole
     /// (a closed surface seen in a per-fan projection can offer such holes).
-    fn topology_ok(&self, border: bool) -> bool {
+    fn topology_ok(&self, st: &State, border: bool) -> bool {
         let l = self.ring.len();
         for t in &self.tris {
             for e in 0..3 {
                 let (pa, pb, pc) = (t[e] as usize, t[(e + 1) % 3] as usize, t[(e + 2) % 3]);
                 if border && pa == l - 1 && pb == 0 {
                     // The closing edge at a border node is new: it must not exist already.
-                    if self.lists.contains(self.ring[pa], self.ring[pb]) {
+                    if st.lists.contains(self.ring[pa], self.ring[pb]) {
                         return false;
                     }
                 } else if pb == (pa + 1) % l {
                     // Link edge: the triangle across it must not be this one reversed.
-                    if self.outer_apex(self.ring[pa], self.ring[pb]) == Some(self.ring[pc as usize])
-                    {
+                    if st.outer_apex(self.ring[pa], self.ring[pb]) == Some(self.ring[pc as usize]) {
                         return false;
                     }
-                } else if pa < pb && self.lists.contains(self.ring[pa], self.ring[pb]) {
+                } else if pa < pb && st.lists.contains(self.ring[pa], self.ring[pb]) {
                     return false;
                 }
             }
         }
         true
     }
+}
 
+impl State {
     /// The third node of the triangle `(b, a, y)` on the far side of the edge `a → b`, if
     /// any: around `a` it is `(a, y, b)`, so `y` is the entry before `b` in `a`'s list.
     fn outer_apex(&self, a: u32, b: u32) -> Option<u32> {
@@ -265,34 +325,36 @@ impl FastEngine {
         (e.triangle != NO_TRIANGLE).then_some(e.node)
     }
 
-    fn apply(&mut self, v: u32, border: bool, history: &mut History) {
-        self.planned = None;
-        let l = self.ring.len();
-        for &w in &self.ring {
+    /// Removes `v` as planned in `sc`: records the step, reuses the fan's slots for the new
+    /// triangles and rewrites the ring nodes' lists.
+    fn apply(&mut self, sc: &mut Scratch, v: u32, border: bool, history: &mut History) {
+        sc.planned = None;
+        let l = sc.ring.len();
+        for &w in &sc.ring {
             self.lists.prefetch(w);
         }
-        self.slots.clear();
-        self.positions.clear();
-        for &t in &self.fan {
-            self.slots.push(t >> 2);
-            self.positions.push((t & 3) as u8);
+        sc.slots.clear();
+        sc.positions.clear();
+        for &t in &sc.fan {
+            sc.slots.push(t >> 2);
+            sc.positions.push((t & 3) as u8);
         }
         history.push(
             v,
             border,
-            &self.ring,
-            &self.slots,
-            &self.positions,
-            &self.tris,
+            &sc.ring,
+            &sc.slots,
+            &sc.positions,
+            &sc.tris,
             self.pos[v as usize],
             self.values.as_ref().map(|f| f[v as usize]),
         );
         // New triangle k takes the fan's k-th slot; the slots after l − 2 fall free.
-        self.corners.clear();
-        for (k, t) in self.tris.iter().enumerate() {
-            let s = self.slots[k];
+        sc.corners.clear();
+        for (k, t) in sc.tris.iter().enumerate() {
+            let s = sc.slots[k];
             for e in 0..3 {
-                self.corners.push(Corner {
+                sc.corners.push(Corner {
                     at: t[e],
                     from: t[(e + 1) % 3],
                     to: t[(e + 2) % 3],
@@ -301,7 +363,7 @@ impl FastEngine {
             }
         }
         for i in 0..l {
-            self.relink(v, i);
+            self.relink(sc, v, i);
         }
         self.lists.clear(v);
         self.removed[v as usize] = true;
@@ -312,58 +374,58 @@ impl FastEngine {
     /// not wrap: its ends gain the closing edge) that replaces the sector `v` held: `v`'s
     /// entry gives way to the chain's inner nodes and the entry before it, `ring[i + 1]`,
     /// now names the chain's first triangle.
-    fn relink(&mut self, v: u32, i: usize) {
-        let l = self.ring.len();
-        let w = self.ring[i];
+    fn relink(&mut self, sc: &mut Scratch, v: u32, i: usize) {
+        let l = sc.ring.len();
+        let w = sc.ring[i];
         let last = ((i + l - 1) % l) as u8;
-        self.list.clear();
-        self.lists.read(w, &mut self.list);
+        sc.list.clear();
+        self.lists.read(w, &mut sc.list);
         let w_border = self.lists.is_border(w);
-        let len = self.list.len();
-        let q = self
+        let len = sc.list.len();
+        let q = sc
             .list
             .iter()
             .position(|e| e.node == v)
             .expect("a ring node lists the removed node");
         // The chain: (x_j, the new triangle (w, x_j, x_j+1)) from x_0 = ring[i + 1] on.
-        self.chain.clear();
+        sc.chain.clear();
         let mut from = ((i + 1) % l) as u8;
-        while from != last && self.chain.len() < l {
-            let c = *self
+        while from != last && sc.chain.len() < l {
+            let c = *sc
                 .corners
                 .iter()
                 .find(|c| c.at as usize == i && c.from == from)
                 .expect("the new triangles at a ring node form a chain");
-            self.chain.push(Entry {
-                node: self.ring[from as usize],
+            sc.chain.push(Entry {
+                node: sc.ring[from as usize],
                 triangle: c.triangle,
             });
             from = c.to;
         }
-        self.rebuilt.clear();
+        sc.rebuilt.clear();
         if w_border && q == 0 {
             // v's entry opened w's border list: w's new border edge leads to x_0.
-            self.rebuilt.extend_from_slice(&self.chain);
+            sc.rebuilt.extend_from_slice(&sc.chain);
         } else {
             // The entry before v's is x_0; it now names the chain's first triangle.
             let p = if q > 0 { q - 1 } else { len - 1 };
-            debug_assert_eq!(self.list[p].node, self.chain[0].node);
-            self.list[p].triangle = self.chain[0].triangle;
-            self.rebuilt.extend_from_slice(&self.list[..q]);
-            self.rebuilt.extend_from_slice(&self.chain[1..]);
+            debug_assert_eq!(sc.list[p].node, sc.chain[0].node);
+            sc.list[p].triangle = sc.chain[0].triangle;
+            sc.rebuilt.extend_from_slice(&sc.list[..q]);
+            sc.rebuilt.extend_from_slice(&sc.chain[1..]);
             if w_border && q == len - 1 {
                 // v's entry closed w's border list: the closing edge's far node closes it.
-                self.rebuilt.push(Entry {
-                    node: self.ring[last as usize],
+                sc.rebuilt.push(Entry {
+                    node: sc.ring[last as usize],
                     triangle: NO_TRIANGLE,
                 });
             }
         }
-        self.rebuilt.extend_from_slice(&self.list[q + 1..]);
-        self.lists.store(w, &self.rebuilt, w_border);
+        sc.rebuilt.extend_from_slice(&sc.list[q + 1..]);
+        self.lists.store(w, &sc.rebuilt, w_border);
     }
 
-    /// The decimated mesh and the stage's fingerprint inputs.
+    /// The decimated mesh.
     fn to_mesh(&self, name: Option<&str>) -> Mesh {
         let mut new_id = vec![NONE; self.pos.len()];
         let mut vertices = Vec::new();
@@ -405,108 +467,52 @@ impl FastEngine {
 
 impl Engine for FastEngine {
     fn node_count(&self) -> usize {
-        self.pos.len()
+        self.st.pos.len()
     }
 
     fn evaluate(&mut self, v: u32) -> Option<f64> {
-        match self.criterion {
-            Criterion::Angle | Criterion::Scalar => {
-                if self.lists.is_empty(v) {
-                    return None;
-                }
-                let border = self.load_fan(v)?;
-                if border && (self.border_policy == BorderPolicy::Exclude || !self.border_intact(v))
-                {
-                    return None;
-                }
-                let p = self.pos[v as usize];
-                let plane = match self.global {
-                    Some(plane) => plane,
-                    None => {
-                        self.ring3.clear();
-                        self.ring3
-                            .extend(self.ring.iter().map(|&w| self.pos[w as usize]));
-                        Plane::most_aligned(fan_normal(p, &self.ring3, !border))
-                    }
-                };
-                let l = self.ring.len();
-                let mut sum = 0.0;
-                for i in 0..l {
-                    let w = self.ring[i] as usize;
-                    sum += if self.criterion == Criterion::Angle {
-                        let q = self.pos[w];
-                        edge_angle([q[0] - p[0], q[1] - p[1], q[2] - p[2]], plane)
-                    } else {
-                        let f = self.values.as_ref()?;
-                        (f[w] - f[v as usize]).abs()
-                    };
-                }
-                Some(sum / l as f64)
-            }
-            Criterion::Error => {
-                let plan = self.plan(v)?;
-                Some(self.removal_error(v, plan.plane))
-            }
-        }
+        self.sc.evaluate(&self.st, v)
+    }
+
+    /// In parallel (rayon), each thread with its own scratch buffers.
+    fn evaluate_all(&mut self, keep: impl Fn(f64) -> bool + Sync) -> Vec<(u32, f64)> {
+        let st = &self.st;
+        (0..st.pos.len() as u32)
+            .into_par_iter()
+            .map_init(Scratch::default, |sc, v| {
+                sc.evaluate(st, v).filter(|&ev| keep(ev)).map(|ev| (v, ev))
+            })
+            .flatten_iter()
+            .collect()
     }
 
     fn prefetch(&self, v: u32) {
-        self.lists.prefetch(v);
-        crate::memory::prefetch(&self.pos[v as usize]);
+        self.st.lists.prefetch(v);
+        crate::memory::prefetch(&self.st.pos[v as usize]);
     }
 
     fn prefetch_ring(&self, v: u32, mut each: impl FnMut(u32)) {
-        self.lists.for_each(v, |e| {
-            self.lists.prefetch(e.node);
-            crate::memory::prefetch(&self.pos[e.node as usize]);
+        self.st.lists.for_each(v, |e| {
+            self.st.lists.prefetch(e.node);
+            crate::memory::prefetch(&self.st.pos[e.node as usize]);
             each(e.node);
         });
     }
 
     fn try_remove(&mut self, v: u32, history: &mut History) -> bool {
-        let plan = match self.planned {
+        let (st, sc) = (&mut self.st, &mut self.sc);
+        let plan = match sc.planned {
             Some((u, plan)) if u == v => plan,
-            _ => match self.plan(v) {
+            _ => match sc.plan(st, v) {
                 Some(plan) => plan,
                 None => return false,
             },
         };
-        if !self.embedded && !self.topology_ok(plan.border) {
+        if !st.embedded && !sc.topology_ok(st, plan.border) {
             return false;
         }
-        self.apply(v, plan.border, history);
+        st.apply(sc, v, plan.border, history);
         true
-    }
-}
-
-impl FastEngine {
-    /// The error criterion: `|h(v) − h_interp|` over the planned triangles, `h` the scalar or
-    /// the height along the projection normal; the triangle is the one whose smallest
-    /// barycentric coordinate at `v` is largest.
-    fn removal_error(&mut self, v: u32, plane: Plane) -> f64 {
-        let pv = plane.project(self.pos[v as usize]);
-        let height = |s: &Self, w: usize| match &s.values {
-            Some(f) => f[w],
-            None => s.pos[w][plane.drop],
-        };
-        let mut best = (f64::NEG_INFINITY, height(self, self.ring[0] as usize));
-        for t in &self.tris {
-            let [a, b, c] = t.map(|p| self.pts[p as usize]);
-            let area = cross(a, b, c);
-            if area.is_nan() || area <= 0.0 {
-                continue;
-            }
-            let l0 = cross(pv, b, c) / area;
-            let l1 = cross(a, pv, c) / area;
-            let l2 = 1.0 - l0 - l1;
-            let min = l0.min(l1).min(l2);
-            if min > best.0 {
-                let [wa, wb, wc] = t.map(|p| self.ring[p as usize] as usize);
-                let h = l0 * height(self, wa) + l1 * height(self, wb) + l2 * height(self, wc);
-                best = (min, h);
-            }
-        }
-        (height(self, v as usize) - best.1).abs()
     }
 }
 
@@ -596,7 +602,7 @@ pub fn decimate(mesh: &Mesh, options: &Options) -> Result<Outcome, DecimateError
         || FastEngine::new(mesh, options),
         |e| {
             let name = mesh.scalars.as_ref().map(|s| s.name.as_str());
-            (e.to_mesh(name), e.global.is_some())
+            (e.st.to_mesh(name), e.st.global.is_some())
         },
     )
 }

@@ -1,7 +1,7 @@
 //! Large working arrays on transparent huge pages.
 //!
 //! The fast paths fill arrays of tens to hundreds of megabytes (an isosurface's vertices and
-//! triangles, a decimation's half-edges). On 4 KiB pages their first touch costs one page
+//! triangles, a decimation's fan lists). On 4 KiB pages their first touch costs one page
 //! fault per page and their random access one TLB miss per page; on Linux, where transparent
 //! huge pages are commonly enabled in `madvise` mode, asking for 2 MiB pages removes most of
 //! both (on the 256³ gyroid the fast extraction ran about 30 % faster). Elsewhere, or when the

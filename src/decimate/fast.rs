@@ -2,9 +2,15 @@
 //! Figure 4) naming the triangle slots that removals reuse (Fig. 5), orientation signs from
 //! Shewchuk's adaptive predicates.
 //!
-//! The input's half-edges pair up once, to check that the mesh is an oriented 2-manifold and
-//! to order every fan; the decimation then works on the lists alone. The triangles are read
-//! off the lists at the end (every live slot is named by its three corners).
+//! The input's fans are ordered once ([`Fans`], which checks that the mesh is an oriented
+//! 2-manifold); the decimation then works on the lists alone. The triangles are read off the
+//! lists at the end (every live slot is named by its three corners).
+//!
+//! The engine is the mesh state plus scratch buffers for planning a removal; the initial
+//! evaluation of every node and the embedding check run on all cores (rayon), each thread
+//! with its own scratch, and the decimation loop itself is sequential. The loop prefetches:
+//! the next node's list and position when it reaches the front of the queue, its ring's lists,
+//! positions and queue records at the end of the step before it is taken.
 
 use super::driver::{self, Engine};
 use super::earcut::{orient2d, EarCutter, RobustOrient};

@@ -12,8 +12,9 @@
 //! * [`exact`] — the reference path: rational coordinates and scalars, adjacency as per-node
 //!   sets of incident triangles, orientation by exact rational determinants, criteria in
 //!   exact arithmetic (rounded once to `f64` to file the node);
-//! * [`fast`] — `f64` coordinates, a half-edge structure whose triangles live in reusable
-//!   slots, adaptive robust orientation predicates (Shewchuk's, from the `robust` crate).
+//! * [`fast`] — `f64` coordinates, per-node fan lists in cache-line blocks ([`fans`], the
+//!   paper's Figure 4) naming triangles that live in reusable slots, adaptive robust
+//!   orientation predicates (Shewchuk's, from the `robust` crate).
 //!
 //! Both use exact signs for every validity decision, so they take the same decisions; the
 //! heuristics (which ear to cut first, which axis plane to project a fan into, the angle

@@ -93,7 +93,7 @@ pub fn grid_rows(sides: &[usize]) -> (Vec<GridRow>, Option<(Mesh, Mesh)>) {
     let mut last = None;
     for &side in sides {
         let mesh = data::height_grid(side);
-        let runs = if side <= 500 { 3 } else { 1 };
+        let runs = 3;
         let (mut dec, mut und) = (Vec::new(), Vec::new());
         let mut exact = true;
         let mut outcome = None;

@@ -205,15 +205,22 @@ impl EarCutter {
     /// The ear of best quality among `candidates`, the lowest index on ties.
     #[inline]
     fn best_small(&self, mut candidates: u64) -> Option<usize> {
-        let mut best: Option<usize> = None;
+        if candidates == 0 {
+            return None;
+        }
+        let mut best = candidates.trailing_zeros() as usize;
+        let mut best_quality = self.quality[best];
+        candidates &= candidates - 1;
+        // Selects rather than branches: which ear wins is data, not a pattern to predict.
         while candidates != 0 {
             let v = candidates.trailing_zeros() as usize;
             candidates &= candidates - 1;
-            if best.is_none_or(|b| self.quality[v] > self.quality[b]) {
-                best = Some(v);
-            }
+            let q = self.quality[v];
+            let better = q > best_quality;
+            best = if better { v } else { best };
+            best_quality = if better { q } else { best_quality };
         }
-        best
+        Some(best)
     }
 
     /// [`refresh`](Self::refresh) on masks: the candidate blockers are the remaining vertices

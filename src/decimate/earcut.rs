@@ -161,6 +161,10 @@ impl EarCutter {
         for i in 0..l {
             masks.convex |= (self.turns_left(i, orient) as u64) << i;
         }
+        if masks.convex == masks.alive && winds_once(points) {
+            self.cut_convex(points, masks.alive, out);
+            return true;
+        }
         let mut n = l;
         for i in 0..l {
             self.refresh_small(i, n, &mut masks, points, orient);
@@ -200,6 +204,38 @@ impl EarCutter {
         }
         out.push([a as u8, b as u8, c as u8]);
         true
+    }
+
+    /// [`cut_small`](Self::cut_small) on a simple polygon whose every vertex turns strictly
+    /// left (`alive`: all of them): a strictly convex polygon. Every vertex is then an ear tip
+    /// with no vertex inside its triangle, and stays one after any cut (a subset of points in
+    /// strictly convex position, in order, is strictly convex), so the general loop would
+    /// find every ear valid, never a blocker, and a positive last triangle: only the
+    /// qualities of the cut ear's two neighbours change. The same ears, without orientation
+    /// tests.
+    fn cut_convex(&mut self, points: &[[f64; 2]], mut alive: u64, out: &mut Vec<[u8; 3]>) {
+        let quality = |cutter: &Self, v: usize| {
+            let (a, c) = (cutter.prev[v] as usize, cutter.next[v] as usize);
+            ear_quality(points[a], points[v], points[c])
+        };
+        for v in 0..points.len() {
+            self.quality[v] = quality(self, v);
+        }
+        let mut n = points.len();
+        while n > 3 {
+            let b = self.best_small(alive).expect("a convex polygon has ears");
+            let (a, c) = (self.prev[b] as usize, self.next[b] as usize);
+            out.push([a as u8, b as u8, c as u8]);
+            self.next[a] = c as u8;
+            self.prev[c] = a as u8;
+            alive &= !(1 << b);
+            n -= 1;
+            self.quality[a] = quality(self, a);
+            self.quality[c] = quality(self, c);
+        }
+        let a = alive.trailing_zeros() as usize;
+        let b = self.next[a] as usize;
+        out.push([a as u8, b as u8, self.next[b]]);
     }
 
     /// The ear of best quality among `candidates`, the lowest index on ties.
@@ -308,6 +344,28 @@ impl EarCutter {
     }
 }
 
+/// True when the closed polygon's edge directions pass angle 0 exactly once going round
+/// (lower half-plane to upper, with the positive x axis upper). For a polygon whose every
+/// vertex turns strictly left each step turns by less than π, so this counts its windings: one
+/// means it is simple and convex. Exact: the signs of `f64` differences are exact.
+fn winds_once(points: &[[f64; 2]]) -> bool {
+    let l = points.len();
+    let upper = |i: usize| {
+        let (p, q) = (points[i], points[(i + 1) % l]);
+        let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
+        dy > 0.0 || (dy == 0.0 && dx > 0.0)
+    };
+    let mut wraps = 0;
+    let first = upper(0);
+    let mut was = first;
+    for i in 1..=l {
+        let now = if i == l { first } else { upper(i) };
+        wraps += (!was && now) as usize;
+        was = now;
+    }
+    wraps == 1
+}
+
 /// The small cutter's state: bit `v` of each mask for polygon vertex `v`.
 struct Masks {
     alive: u64,
@@ -409,16 +467,18 @@ mod tests {
             seed ^= seed << 17;
             seed % k
         };
-        let (mut agreed, mut failed) = (0, 0);
+        let (mut agreed, mut failed, mut convex) = (0, 0, 0);
         for _ in 0..3000 {
             let l = 3 + rand(62) as usize;
             let mut angles: Vec<u64> = (0..l).map(|_| rand(720)).collect();
             angles.sort_unstable();
             angles.dedup();
+            // A third on one circle: mostly convex (the convex path), some collinear runs.
+            let on_circle = rand(3) == 0;
             let points: Vec<[f64; 2]> = angles
                 .iter()
                 .map(|&a| {
-                    let r = 1.0 + rand(3) as f64;
+                    let r = if on_circle { 3.0 } else { 1.0 + rand(3) as f64 };
                     let t = a as f64 * std::f64::consts::PI / 360.0;
                     [(r * t.cos() * 64.0).round(), (r * t.sin() * 64.0).round()]
                 })
@@ -426,6 +486,12 @@ mod tests {
             if points.len() < 3 {
                 continue;
             }
+            let all_left = (0..points.len()).all(|i| {
+                let l = points.len();
+                orient2d(points[(i + l - 1) % l], points[i], points[(i + 1) % l])
+                    == Ordering::Greater
+            });
+            convex += (all_left && winds_once(&points)) as usize;
             let (mut small, mut list) = (Vec::new(), Vec::new());
             let mut cutter = EarCutter::default();
             let a = cutter.cut_small(&points, &RobustOrient(&points), &mut small);
@@ -438,8 +504,32 @@ mod tests {
                 failed += 1;
             }
         }
-        println!("small = list cutter: {agreed} triangulated, {failed} refused alike");
-        assert!(agreed > 1000 && failed > 0, "{agreed} {failed}");
+        println!(
+            "small = list cutter: {agreed} triangulated ({convex} strictly convex), {failed} refused alike"
+        );
+        assert!(
+            agreed > 1000 && failed > 0 && convex > 200,
+            "{agreed} {failed} {convex}"
+        );
+    }
+
+    #[test]
+    fn winding_count() {
+        let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        assert!(winds_once(&square));
+        // A pentagram: every vertex turns left, twice round.
+        let star: Vec<[f64; 2]> = (0..5)
+            .map(|k| {
+                let t = (2 * k) as f64 * 2.0 * std::f64::consts::PI / 5.0;
+                [t.cos(), t.sin()]
+            })
+            .collect();
+        assert!(!winds_once(&star));
+        let mut out = Vec::new();
+        let cut = EarCutter::default().cut(&star, &RobustOrient(&star), &mut out);
+        let mut list = Vec::new();
+        let by_list = EarCutter::default().cut_list(&star, &RobustOrient(&star), &mut list);
+        assert_eq!((cut, &out), (by_list, &list));
     }
 
     #[test]

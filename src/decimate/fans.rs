@@ -74,27 +74,41 @@ fn class_for(len: usize) -> u32 {
 impl FanLists {
     /// Lists for `nodes` nodes, all empty.
     pub fn new(nodes: usize) -> FanLists {
-        let empty = Block([
-            Entry {
-                node: 0,
-                triangle: NO_RUN,
-            },
-            Entry::default(),
-            Entry::default(),
-            Entry::default(),
-            Entry::default(),
-            Entry::default(),
-            Entry::default(),
-            Entry::default(),
-        ]);
+        FanLists::build(nodes, |_, _| false)
+    }
+
+    /// Lists for `nodes` nodes, node `v`'s written by `fill(v, list)` (which returns whether
+    /// it is a border list), in one pass over the blocks.
+    pub fn build(nodes: usize, mut fill: impl FnMut(u32, &mut Vec<Entry>) -> bool) -> FanLists {
         // Room for some overflow runs before the blocks move.
         let mut blocks = Vec::with_capacity(nodes + nodes / 8);
         advise_huge_pages(&mut blocks);
-        blocks.resize(nodes, empty);
-        FanLists {
+        let mut long = Vec::new();
+        let mut list = Vec::new();
+        for v in 0..nodes as u32 {
+            list.clear();
+            let border = fill(v, &mut list);
+            let mut block = Block::default();
+            block.0[0] = Entry {
+                node: if border { BORDER } else { 0 },
+                triangle: NO_RUN,
+            };
+            if list.len() <= INLINE {
+                block.0[0].node |= list.len() as u32;
+                block.0[1..=list.len()].copy_from_slice(&list);
+            } else {
+                long.push((v, border, list.clone()));
+            }
+            blocks.push(block);
+        }
+        let mut lists = FanLists {
             blocks,
             free: Vec::new(),
+        };
+        for (v, border, list) in long {
+            lists.store(v, &list, border);
         }
+        lists
     }
 
     #[inline]
@@ -240,6 +254,22 @@ mod tests {
                 triangle: 4 * i + 1,
             })
             .collect()
+    }
+
+    #[test]
+    fn built_lists_read_back() {
+        let lists = FanLists::build(3, |v, list| {
+            list.extend(entries([9, 3, 0][v as usize]));
+            v == 1
+        });
+        let mut got = Vec::new();
+        for (v, n) in [(0, 9), (1, 3), (2, 0)] {
+            got.clear();
+            lists.read(v, &mut got);
+            assert_eq!(got, entries(n));
+            assert_eq!(lists.is_border(v), v == 1);
+        }
+        assert!(lists.is_empty(2));
     }
 
     #[test]

@@ -532,14 +532,11 @@ fn fan_lists(mesh: &Mesh) -> Result<FanLists, DecimateError> {
     let fans = Fans::of(mesh)?;
     let n = mesh.vertices.len();
     let corner = |h: u32, k: usize| mesh.triangles[h as usize / 3][(h as usize % 3 + k) % 3];
-    let mut lists = FanLists::new(n);
-    let mut list = Vec::new();
-    for v in 0..n as u32 {
+    let lists = FanLists::build(n, |v, list| {
         let corners = fans.corners(v);
         let Some(&last) = corners.last() else {
-            continue;
+            return false;
         };
-        list.clear();
         list.extend(corners.iter().map(|&h| Entry {
             node: corner(h, 1),
             triangle: 4 * (h / 3) + h % 3,
@@ -551,8 +548,8 @@ fn fan_lists(mesh: &Mesh) -> Result<FanLists, DecimateError> {
                 triangle: NO_TRIANGLE,
             });
         }
-        lists.store(v, &list, border);
-    }
+        border
+    });
     Ok(lists)
 }
 

@@ -164,19 +164,34 @@ impl FanLists {
         self.at(start + j)
     }
 
+    /// Calls `f` on every run of consecutive entries of `v`'s list, in order: the inline
+    /// entries, or an overflow run block by block.
+    #[inline]
+    fn for_each_chunk(&self, v: u32, mut f: impl FnMut(&[Entry])) {
+        let (start, len) = self.slices(v);
+        if len <= INLINE {
+            f(&self.blocks[v as usize].0[1..=len]);
+            return;
+        }
+        let (mut b, mut left) = (start / BLOCK, len);
+        while left > 0 {
+            let take = left.min(BLOCK);
+            f(&self.blocks[b].0[..take]);
+            left -= take;
+            b += 1;
+        }
+    }
+
     /// Calls `f` on every entry of `v`'s list, in order.
     #[inline]
     pub fn for_each(&self, v: u32, mut f: impl FnMut(Entry)) {
-        let (start, len) = self.slices(v);
-        for flat in start..start + len {
-            f(self.at(flat));
-        }
+        self.for_each_chunk(v, |chunk| chunk.iter().for_each(|&e| f(e)));
     }
 
     /// Appends `v`'s list to `out`.
     #[inline]
     pub fn read(&self, v: u32, out: &mut Vec<Entry>) {
-        self.for_each(v, |e| out.push(e));
+        self.for_each_chunk(v, |chunk| out.extend_from_slice(chunk));
     }
 
     /// True when `b` is in `a`'s list.
@@ -210,9 +225,12 @@ impl FanLists {
             }
             run as usize * BLOCK
         };
-        for (k, &e) in entries.iter().enumerate() {
-            let flat = start + k;
-            self.blocks[flat / BLOCK].0[flat % BLOCK] = e;
+        if entries.len() <= INLINE {
+            self.blocks[v as usize].0[1..=entries.len()].copy_from_slice(entries);
+        } else {
+            for (k, chunk) in entries.chunks(BLOCK).enumerate() {
+                self.blocks[start / BLOCK + k].0[..chunk.len()].copy_from_slice(chunk);
+            }
         }
         self.blocks[v as usize].0[0] = Entry {
             node: entries.len() as u32 | class << CLASS_SHIFT | if border { BORDER } else { 0 },

@@ -78,6 +78,10 @@ struct Scratch {
     slots: Vec<u32>,
     positions: Vec<u8>,
     corners: Vec<Corner>,
+    /// `corners` by ring position: those at position `i` are
+    /// `by_at[at_start[i]..at_start[i + 1]]`.
+    at_start: Vec<u16>,
+    by_at: Vec<u16>,
     list: Vec<Entry>,
     chain: Vec<Entry>,
     rebuilt: Vec<Entry>,
@@ -368,6 +372,24 @@ impl State {
                 });
             }
         }
+        // The corners by ring position (a counting sort), for the chains.
+        sc.at_start.clear();
+        sc.at_start.resize(l + 1, 0);
+        for c in &sc.corners {
+            sc.at_start[c.at as usize + 1] += 1;
+        }
+        for i in 0..l {
+            sc.at_start[i + 1] += sc.at_start[i];
+        }
+        sc.by_at.clear();
+        sc.by_at.resize(sc.corners.len(), 0);
+        let mut fill = [0u16; 256];
+        fill[..l].copy_from_slice(&sc.at_start[..l]);
+        for (k, c) in sc.corners.iter().enumerate() {
+            let at = c.at as usize;
+            sc.by_at[fill[at] as usize] = k as u16;
+            fill[at] += 1;
+        }
         for i in 0..l {
             self.relink(sc, v, i);
         }
@@ -397,10 +419,11 @@ impl State {
         sc.chain.clear();
         let mut from = ((i + 1) % l) as u8;
         while from != last && sc.chain.len() < l {
-            let c = *sc
-                .corners
+            let at_i = &sc.by_at[sc.at_start[i] as usize..sc.at_start[i + 1] as usize];
+            let c = at_i
                 .iter()
-                .find(|c| c.at as usize == i && c.from == from)
+                .map(|&k| sc.corners[k as usize])
+                .find(|c| c.from == from)
                 .expect("the new triangles at a ring node form a chain");
             sc.chain.push(Entry {
                 node: sc.ring[from as usize],

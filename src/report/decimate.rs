@@ -91,7 +91,7 @@ fn keep_one_percent() -> Options {
 const GRID_ROUNDS: usize = 3;
 
 /// Table 1: grids of `sides²` nodes decimated by 99 % (fast path, error criterion), the
-/// median of [`GRID_ROUNDS`] rounds over all sizes; also returns the 900² grid (or the last)
+/// median of 3 rounds over all sizes (`GRID_ROUNDS`); also returns the 900² grid (or the last)
 /// and its decimation for the peers.
 pub fn grid_rows(sides: &[usize]) -> (Vec<GridRow>, Option<(Mesh, Mesh)>) {
     let mut dec = vec![Vec::new(); sides.len()];

@@ -77,6 +77,7 @@ impl EarCutter {
         if !(3..=255).contains(&l) {
             return false;
         }
+        self.link(l);
         if l <= 64 {
             self.cut_small(points, orient, out)
         } else {
@@ -84,7 +85,15 @@ impl EarCutter {
         }
     }
 
-    /// [`cut`](Self::cut) on a linked list, for any size.
+    /// Links the polygon `0..l` into the circular list.
+    fn link(&mut self, l: usize) {
+        for i in 0..l {
+            self.next[i] = if i + 1 == l { 0 } else { i as u8 + 1 };
+            self.prev[i] = if i == 0 { (l - 1) as u8 } else { i as u8 - 1 };
+        }
+    }
+
+    /// [`cut`](Self::cut) on a linked list, for any size (after [`link`](Self::link)).
     fn cut_list(
         &mut self,
         points: &[[f64; 2]],
@@ -92,10 +101,6 @@ impl EarCutter {
         out: &mut Vec<[u8; 3]>,
     ) -> bool {
         let l = points.len();
-        for i in 0..l {
-            self.next[i] = if i + 1 == l { 0 } else { i as u8 + 1 };
-            self.prev[i] = if i == 0 { (l - 1) as u8 } else { i as u8 - 1 };
-        }
         for i in 0..l {
             self.convex[i] = self.turns_left(i, orient);
         }
@@ -117,10 +122,7 @@ impl EarCutter {
             let Some(b) = best else {
                 return false;
             };
-            let (a, c) = (self.prev[b] as usize, self.next[b] as usize);
-            out.push([a as u8, b as u8, c as u8]);
-            self.next[a] = c as u8;
-            self.prev[c] = a as u8;
+            let (a, c) = self.cut_ear(b, out);
             if b == head {
                 head = c;
             }
@@ -130,16 +132,10 @@ impl EarCutter {
             self.refresh(a, n, points, orient);
             self.refresh(c, n, points, orient);
         }
-        let (a, b) = (head, self.next[head] as usize);
-        let c = self.next[b] as usize;
-        if orient.orient(a, b, c) != Ordering::Greater {
-            return false;
-        }
-        out.push([a as u8, b as u8, c as u8]);
-        true
+        self.last_triangle(head, orient, out)
     }
 
-    /// [`cut`](Self::cut) for polygons of at most 64 vertices, with the remaining, convex and
+    /// [`cut`](Self::cut) for polygons of at most 64 vertices (after [`link`](Self::link)), with the remaining, convex and
     /// valid vertices as bit masks: the same ears, in the same order (the unit tests compare
     /// the two), without walking the list to find blockers or the best ear.
     fn cut_small(
@@ -149,10 +145,6 @@ impl EarCutter {
         out: &mut Vec<[u8; 3]>,
     ) -> bool {
         let l = points.len();
-        for i in 0..l {
-            self.next[i] = if i + 1 == l { 0 } else { i as u8 + 1 };
-            self.prev[i] = if i == 0 { (l - 1) as u8 } else { i as u8 - 1 };
-        }
         let mut masks = Masks {
             alive: if l == 64 { !0 } else { (1u64 << l) - 1 },
             convex: 0,
@@ -183,10 +175,7 @@ impl EarCutter {
             let Some(b) = best else {
                 return false;
             };
-            let (a, c) = (self.prev[b] as usize, self.next[b] as usize);
-            out.push([a as u8, b as u8, c as u8]);
-            self.next[a] = c as u8;
-            self.prev[c] = a as u8;
+            let (a, c) = self.cut_ear(b, out);
             masks.alive &= !(1 << b);
             n -= 1;
             for v in [a, c] {
@@ -196,13 +185,27 @@ impl EarCutter {
             self.refresh_small(a, n, &mut masks, points, orient);
             self.refresh_small(c, n, &mut masks, points, orient);
         }
-        let a = masks.alive.trailing_zeros() as usize;
-        let b = self.next[a] as usize;
+        self.last_triangle(masks.alive.trailing_zeros() as usize, orient, out)
+    }
+
+    /// Cuts the ear at `b`: records `(prev, b, next)` and unlinks `b`; returns its neighbours.
+    #[inline]
+    fn cut_ear(&mut self, b: usize, out: &mut Vec<[u8; 3]>) -> (usize, usize) {
+        let (a, c) = (self.prev[b] as usize, self.next[b] as usize);
+        out.push([a as u8, b as u8, c as u8]);
+        self.next[a] = c as u8;
+        self.prev[c] = a as u8;
+        (a, c)
+    }
+
+    /// The triangle left from `head`, kept when it turns counter-clockwise.
+    fn last_triangle(&self, head: usize, orient: &impl Orient, out: &mut Vec<[u8; 3]>) -> bool {
+        let b = self.next[head] as usize;
         let c = self.next[b] as usize;
-        if orient.orient(a, b, c) != Ordering::Greater {
+        if orient.orient(head, b, c) != Ordering::Greater {
             return false;
         }
-        out.push([a as u8, b as u8, c as u8]);
+        out.push([head as u8, b as u8, c as u8]);
         true
     }
 
@@ -224,10 +227,7 @@ impl EarCutter {
         let mut n = points.len();
         while n > 3 {
             let b = self.best_small(alive).expect("a convex polygon has ears");
-            let (a, c) = (self.prev[b] as usize, self.next[b] as usize);
-            out.push([a as u8, b as u8, c as u8]);
-            self.next[a] = c as u8;
-            self.prev[c] = a as u8;
+            let (a, c) = self.cut_ear(b, out);
             alive &= !(1 << b);
             n -= 1;
             self.quality[a] = quality(self, a);
@@ -277,10 +277,7 @@ impl EarCutter {
             while blockers != 0 {
                 let p = blockers.trailing_zeros() as usize;
                 blockers &= blockers - 1;
-                if orient.orient(a, b, p) != Ordering::Less
-                    && orient.orient(b, c, p) != Ordering::Less
-                    && orient.orient(c, a, p) != Ordering::Less
-                {
+                if in_closed_triangle(orient, [a, b, c], p) {
                     valid = false;
                     break;
                 }
@@ -324,11 +321,7 @@ impl EarCutter {
             // The other vertices: from after c round to before a.
             let mut p = self.next[c] as usize;
             while p != a {
-                if !self.convex[p]
-                    && orient.orient(a, b, p) != Ordering::Less
-                    && orient.orient(b, c, p) != Ordering::Less
-                    && orient.orient(c, a, p) != Ordering::Less
-                {
+                if !self.convex[p] && in_closed_triangle(orient, [a, b, c], p) {
                     valid = false;
                     break;
                 }
@@ -342,6 +335,14 @@ impl EarCutter {
             0.0
         };
     }
+}
+
+/// True when vertex `p` lies in the closed counter-clockwise triangle `t`.
+#[inline]
+fn in_closed_triangle(orient: &impl Orient, [a, b, c]: [usize; 3], p: usize) -> bool {
+    orient.orient(a, b, p) != Ordering::Less
+        && orient.orient(b, c, p) != Ordering::Less
+        && orient.orient(c, a, p) != Ordering::Less
 }
 
 /// True when the closed polygon's edge directions pass angle 0 exactly once going round
@@ -494,7 +495,9 @@ mod tests {
             convex += (all_left && winds_once(&points)) as usize;
             let (mut small, mut list) = (Vec::new(), Vec::new());
             let mut cutter = EarCutter::default();
+            cutter.link(points.len());
             let a = cutter.cut_small(&points, &RobustOrient(&points), &mut small);
+            cutter.link(points.len());
             let b = cutter.cut_list(&points, &RobustOrient(&points), &mut list);
             assert_eq!(a, b, "{points:?}");
             if a {
@@ -528,7 +531,9 @@ mod tests {
         let mut out = Vec::new();
         let cut = EarCutter::default().cut(&star, &RobustOrient(&star), &mut out);
         let mut list = Vec::new();
-        let by_list = EarCutter::default().cut_list(&star, &RobustOrient(&star), &mut list);
+        let mut cutter = EarCutter::default();
+        cutter.link(star.len());
+        let by_list = cutter.cut_list(&star, &RobustOrient(&star), &mut list);
         assert_eq!((cut, &out), (by_list, &list));
     }
 

@@ -319,6 +319,13 @@ impl Scratch {
 }
 
 impl State {
+    /// Starts fetching `v`'s list block and position.
+    #[inline]
+    fn prefetch(&self, v: u32) {
+        self.lists.prefetch(v);
+        crate::memory::prefetch(&self.pos[v as usize]);
+    }
+
     /// The third node of the triangle `(b, a, y)` on the far side of the edge `a → b`, if
     /// any: around `a` it is `(a, y, b)`, so `y` is the entry before `b` in `a`'s list.
     fn outer_apex(&self, a: u32, b: u32) -> Option<u32> {
@@ -516,14 +523,12 @@ impl Engine for FastEngine {
     }
 
     fn prefetch(&self, v: u32) {
-        self.st.lists.prefetch(v);
-        crate::memory::prefetch(&self.st.pos[v as usize]);
+        self.st.prefetch(v);
     }
 
     fn prefetch_ring(&self, v: u32, mut each: impl FnMut(u32)) {
         self.st.lists.for_each(v, |e| {
-            self.st.lists.prefetch(e.node);
-            crate::memory::prefetch(&self.st.pos[e.node as usize]);
+            self.st.prefetch(e.node);
             each(e.node);
         });
     }

@@ -355,6 +355,7 @@ pub fn check_decimate(data: &[u8]) -> Result<(), String> {
         max_valence: 64,
         rebin: true,
         lazy: true,
+        look_ahead: opts & 0x40 != 0,
     };
     let Ok(out) = decimate(&mesh, &options, Path::Fast) else {
         return Ok(());

@@ -31,6 +31,7 @@ fn loop_options(criterion: Criterion, exclude: bool, keep: f64, k: usize, paper:
         max_valence: 64,
         rebin: !paper,
         lazy: !paper,
+        look_ahead: true,
     }
 }
 

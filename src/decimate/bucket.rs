@@ -12,9 +12,10 @@
 //! the formula accurate for small `Δ`, where it tends to equal-width intervals.
 //!
 //! The queues are intrusive doubly linked lists over node ids: push to the tail, pop from the
-//! head, unlink any node in `O(1)` when it is re-evaluated. A node's links, interval, value
-//! and mark (a flag the caller may set on a queued node, [`BucketQueue::mark`]) share one
-//! record, so that touching a node costs one cache miss, not four.
+//! head, unlink any node in `O(1)` when it is re-evaluated. A node's links, interval, value,
+//! mark (a flag the caller may set on a queued node, [`BucketQueue::mark`]) and ticket (see
+//! [`BucketQueue::hand_over`]) share one record, so that touching a node costs one cache miss,
+//! not five.
 //!
 //! Re-binning (an extension; [`BucketQueue::rebinning`]): the paper fixes the boundaries from
 //! the initial range, so once re-evaluated values outgrow `ev_max` they all land in the last
@@ -34,25 +35,41 @@ pub fn interval_count(n: usize, k: usize) -> usize {
     (n / k.max(1)).max(1)
 }
 
-/// What the queue keeps per node.
+/// What the queue keeps per node (32 bytes, two to a cache line).
 #[derive(Clone, Copy, Debug)]
+#[repr(C, align(32))]
 struct Node {
     next: u32,
     prev: u32,
     /// The interval the node is filed in, or `NONE`.
     bucket: u32,
-    marked: bool,
+    /// The ticket [`BucketQueue::hand_over`] gave it, or `NONE`.
+    ticket: u32,
     /// The value it was filed with.
     ev: f64,
+    marked: bool,
 }
 
 const UNQUEUED: Node = Node {
     next: NONE,
     prev: NONE,
     bucket: NONE,
-    marked: false,
+    ticket: NONE,
     ev: 0.0,
+    marked: false,
 };
+
+/// A node taken from the queue ([`BucketQueue::pop`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Taken {
+    pub node: u32,
+    /// The interval it was taken from.
+    pub interval: usize,
+    /// Whether it was marked.
+    pub marked: bool,
+    /// Its ticket, when it was handed over and neither marked nor moved since; else `None`.
+    pub ticket: Option<u32>,
+}
 
 /// The bucket queue.
 #[derive(Clone, Debug)]
@@ -226,11 +243,36 @@ impl BucketQueue {
     }
 
     /// Marks `node` if it is queued, and returns whether it is. Filing or unlinking a node
-    /// clears its mark; [`pop`](Self::pop) reports it.
+    /// clears its mark; [`pop`](Self::pop) reports it. Marking voids the node's ticket.
     pub fn mark(&mut self, node: u32) -> bool {
         let n = &mut self.nodes[node as usize];
         n.marked |= n.bucket != NONE;
+        n.ticket = NONE;
         n.bucket != NONE
+    }
+
+    /// Hands over the queued node that pops right after `from`, or the front node when
+    /// `from` is `None` or no longer queued, giving it `ticket`; returns it and whether it
+    /// was the front node. A ticket stays with its node until the node is marked, filed
+    /// again or unlinked, so a popped node's ticket says that it has neither been marked nor
+    /// moved since it was handed over (what a caller computed for it then, from data that
+    /// only changes when it is marked, still holds).
+    pub fn hand_over(&mut self, from: Option<u32>, ticket: u32) -> Option<(u32, bool)> {
+        let (v, front) = match from {
+            Some(h) if self.contains(h) => (self.after(h)?, false),
+            _ => (self.peek()?, true),
+        };
+        self.nodes[v as usize].ticket = ticket;
+        Some((v, front))
+    }
+
+    /// The queued node that pops right after the queued `node`.
+    fn after(&self, node: u32) -> Option<u32> {
+        let n = &self.nodes[node as usize];
+        if n.next != NONE {
+            return Some(n.next);
+        }
+        self.first_from(n.bucket as usize + 1).map(|j| self.head[j])
     }
 
     /// Files `node` at the tail of the interval of `ev` (unlinking it first if queued).
@@ -254,8 +296,9 @@ impl BucketQueue {
             next: NONE,
             prev: self.tail[j],
             bucket: j as u32,
-            marked: false,
+            ticket: NONE,
             ev,
+            marked: false,
         };
         if self.tail[j] == NONE {
             self.head[j] = node;
@@ -292,8 +335,7 @@ impl BucketQueue {
                 self.summary[j / 4096] &= !(1 << ((j / 64) % 64));
             }
         }
-        self.nodes[node as usize].bucket = NONE;
-        self.nodes[node as usize].marked = false;
+        self.nodes[node as usize] = UNQUEUED;
         self.len -= 1;
     }
 
@@ -302,13 +344,31 @@ impl BucketQueue {
         if self.len == 0 {
             return None;
         }
-        let s = self
-            .summary
-            .iter()
-            .position(|&w| w != 0)
-            .expect("a queued node's interval is marked");
-        let word = 64 * s + self.summary[s].trailing_zeros() as usize;
-        Some(64 * word + self.occupied[word].trailing_zeros() as usize)
+        self.first_from(0)
+    }
+
+    /// The lowest non-empty interval from `j` on.
+    fn first_from(&self, j: usize) -> Option<usize> {
+        if j >= self.m {
+            return None;
+        }
+        let word = j / 64;
+        let bits = self.occupied[word] & (!0u64 << (j % 64));
+        if bits != 0 {
+            return Some(64 * word + bits.trailing_zeros() as usize);
+        }
+        // The next non-empty word, by the summary.
+        let after = word + 1;
+        let mut s = after / 64;
+        let mut bits = self.summary.get(s)? & (!0u64 << (after % 64));
+        loop {
+            if bits != 0 {
+                let word = 64 * s + bits.trailing_zeros() as usize;
+                return Some(64 * word + self.occupied[word].trailing_zeros() as usize);
+            }
+            s += 1;
+            bits = *self.summary.get(s)?;
+        }
     }
 
     /// The node [`pop`](Self::pop) would take now.
@@ -316,14 +376,18 @@ impl BucketQueue {
         self.front().map(|j| self.head[j])
     }
 
-    /// Takes the node at the front of the lowest non-empty interval: the node, its interval
-    /// and whether it was marked.
-    pub fn pop(&mut self) -> Option<(u32, usize, bool)> {
+    /// Takes the node at the front of the lowest non-empty interval.
+    pub fn pop(&mut self) -> Option<Taken> {
         let j = self.front()?;
         let node = self.head[j];
-        let marked = self.nodes[node as usize].marked;
+        let n = self.nodes[node as usize];
         self.remove(node);
-        Some((node, j, marked))
+        Some(Taken {
+            node,
+            interval: j,
+            marked: n.marked,
+            ticket: (n.ticket != NONE).then_some(n.ticket),
+        })
     }
 }
 
@@ -368,7 +432,8 @@ mod tests {
         assert_eq!(q.len(), 5);
         assert_eq!(q.peek(), Some(3));
         assert!(q.mark(3) && !q.mark(5));
-        let order: Vec<(u32, bool)> = std::iter::from_fn(|| q.pop().map(|p| (p.0, p.2))).collect();
+        let order: Vec<(u32, bool)> =
+            std::iter::from_fn(|| q.pop().map(|p| (p.node, p.marked))).collect();
         let lo4 = q.interval(0.5);
         assert!(lo4 < q.interval(0.9));
         assert_eq!(
@@ -377,6 +442,41 @@ mod tests {
         );
         assert_eq!(q.peek(), None);
         assert!(q.is_empty());
+    }
+
+    #[test]
+    fn tickets_survive_until_marked_or_moved() {
+        let mut q = BucketQueue::new(8, 4, 0.0, 1.0);
+        for (v, ev) in [(0, 0.9), (1, 0.0), (2, 0.5), (3, 0.0), (4, 0.9)] {
+            q.push(v, ev);
+        }
+        // Pop order 1, 3, 2, 0, 4: the walk crosses intervals.
+        let mut walked = Vec::new();
+        let mut from = None;
+        while let Some((v, front)) = q.hand_over(from, 10 + walked.len() as u32) {
+            assert_eq!(front, from.is_none());
+            walked.push(v);
+            from = Some(v);
+        }
+        assert_eq!(walked, vec![1, 3, 2, 0, 4]);
+        q.mark(2);
+        q.push(0, 0.95);
+        let taken: Vec<(u32, Option<u32>)> =
+            std::iter::from_fn(|| q.pop().map(|t| (t.node, t.ticket))).collect();
+        assert_eq!(
+            taken,
+            vec![
+                (1, Some(10)),
+                (3, Some(11)),
+                (2, None),
+                (4, Some(14)),
+                (0, None)
+            ]
+        );
+        // A cursor that is no longer queued restarts from the front.
+        q.push(5, 0.3);
+        assert_eq!(q.hand_over(Some(1), 20), Some((5, true)));
+        assert_eq!(q.hand_over(Some(5), 21), None);
     }
 
     #[test]
@@ -401,7 +501,7 @@ mod tests {
             for (v, ev) in above {
                 q.push(v, ev);
             }
-            let order: Vec<u32> = std::iter::from_fn(|| q.pop().map(|p| p.0)).collect();
+            let order: Vec<u32> = std::iter::from_fn(|| q.pop().map(|p| p.node)).collect();
             (order, q.rebuilds())
         };
         // The paper's fixed boundaries: the last interval is FIFO.

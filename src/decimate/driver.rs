@@ -36,6 +36,17 @@ pub(crate) trait Engine {
             .filter_map(|v| self.evaluate(v).filter(|&ev| keep(ev)).map(|ev| (v, ev)))
             .collect()
     }
+    /// How many nodes ahead of the loop the engine wants to hear of the nodes it will take
+    /// ([`look_ahead`](Self::look_ahead)); 0 for none.
+    fn look_ahead_lead(&self) -> usize {
+        0
+    }
+    /// A node the loop expects to take later, after those it was told of before (tickets
+    /// increase by one): the engine may evaluate it meanwhile, from its list as it is now.
+    fn look_ahead(&mut self, _v: u32, _ticket: u32) {}
+    /// `v` is taken next. `ticket` is the one it was handed over with when its list is
+    /// unchanged since (the queue's promise), so what was evaluated from it then holds.
+    fn take(&mut self, _v: u32, _ticket: Option<u32>) {}
     /// A hint that `v` comes soon: start fetching its own data.
     fn prefetch(&self, _v: u32) {}
     /// A hint that `v` comes next, its own data fetched already: start fetching its
@@ -98,12 +109,22 @@ pub(crate) fn run(
     // Removals to come (at most); rings average six nodes on triangle meshes (Euler).
     history.reserve(n.saturating_sub(target_nodes).min(queue.len()), 7);
     let mut ring: Vec<u32> = Vec::with_capacity(32);
+    let lead = engine.look_ahead_lead();
+    let mut ahead = LookAheadState::default();
     while present > target_nodes {
-        let Some((v, j, stale)) = queue.pop() else {
+        if lead > 0 {
+            ahead.step(&mut queue, engine, lead);
+        }
+        let Some(taken) = queue.pop() else {
             break;
         };
+        let (v, j, stale) = (taken.node, taken.interval, taken.marked);
+        engine.take(v, taken.ticket);
+        // The next node's list arrived a step ago (or when it was handed over): fetch its
+        // ring's lists, positions and queue records, and its own record.
         if let Some(u) = queue.peek() {
-            engine.prefetch(u);
+            engine.prefetch_ring(u, |w| queue.prefetch(w));
+            queue.prefetch(u);
         }
         if stale {
             counts.evaluations += 1;
@@ -147,6 +168,53 @@ pub(crate) fn run(
     }
     counts.rebuilds = queue.rebuilds();
     counts
+}
+
+/// The hand-over to an engine that looks ahead: a cursor walking the queue in pop order,
+/// `lead` nodes ahead of the loop.
+#[derive(Default)]
+struct LookAheadState {
+    /// The last node handed over.
+    cursor: Option<u32>,
+    /// The node the cursor reached at the step before, and its ticket: its record and
+    /// list were fetched then, it is told to the engine now.
+    walked: Option<(u32, u32)>,
+    next_ticket: u32,
+}
+
+impl LookAheadState {
+    /// Called before each take: hands one more node over, so that the cursor keeps its
+    /// lead (each take removes one node ahead of it). When the cursor starts from the front
+    /// (at the beginning, or when the loop caught up with it) it walks the whole lead at
+    /// once; otherwise one node per step, whose record and list are fetched a step before
+    /// they are read.
+    fn step(&mut self, queue: &mut BucketQueue, engine: &mut impl Engine, lead: usize) {
+        if let Some((v, ticket)) = self.walked.take() {
+            engine.look_ahead(v, ticket);
+        }
+        let Some((v, front)) = queue.hand_over(self.cursor, self.next_ticket) else {
+            return;
+        };
+        let mut ticket = self.next_ticket;
+        self.next_ticket = self.next_ticket.wrapping_add(1);
+        self.cursor = Some(v);
+        if front {
+            engine.look_ahead(v, ticket);
+            for _ in 1..lead {
+                let Some((w, _)) = queue.hand_over(self.cursor, self.next_ticket) else {
+                    return;
+                };
+                ticket = self.next_ticket;
+                self.next_ticket = self.next_ticket.wrapping_add(1);
+                self.cursor = Some(w);
+                engine.look_ahead(w, ticket);
+            }
+            return;
+        }
+        queue.prefetch(v);
+        engine.prefetch(v);
+        self.walked = Some((v, ticket));
+    }
 }
 
 /// Runs an engine built by `build` on `mesh` and packages the outcome: the decimated mesh

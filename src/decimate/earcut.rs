@@ -337,6 +337,50 @@ impl EarCutter {
     }
 }
 
+/// Polygons of up to this many vertices have packed cuts ([`pack_cut`]).
+pub const PACKED_MAX: usize = 16;
+
+/// A cut of a polygon of `l ≤ PACKED_MAX` vertices packed into the low 56 bits of a word:
+/// `l − 3` in bits 0–3, then the ear tips in cut order, four bits each. The cutter writes
+/// `(prev, tip, next)` per ear and ends with the lowest remaining vertex and its two
+/// successors, so the tips alone determine every triangle ([`unpack_cut`]). `None` for larger
+/// polygons or a list that is not a cut of `l` vertices.
+pub fn pack_cut(l: usize, tris: &[[u8; 3]]) -> Option<u64> {
+    if !(3..=PACKED_MAX).contains(&l) || tris.len() != l - 2 {
+        return None;
+    }
+    let mut bits = (l - 3) as u64;
+    for (k, t) in tris[..l - 3].iter().enumerate() {
+        bits |= u64::from(t[1]) << (4 + 4 * k);
+    }
+    Some(bits)
+}
+
+/// The triangles of a cut packed by [`pack_cut`] (bits above 56 ignored), written to `out`;
+/// returns the polygon's vertex count.
+pub fn unpack_cut(bits: u64, out: &mut Vec<[u8; 3]>) -> usize {
+    let l = (bits & 15) as usize + 3;
+    let (mut next, mut prev) = ([0u8; PACKED_MAX], [0u8; PACKED_MAX]);
+    for i in 0..l {
+        next[i] = ((i + 1) % l) as u8;
+        prev[i] = ((i + l - 1) % l) as u8;
+    }
+    let mut alive = (1u32 << l) - 1;
+    out.clear();
+    for k in 0..l - 3 {
+        let b = ((bits >> (4 + 4 * k)) & 15) as u8;
+        let (a, c) = (prev[b as usize], next[b as usize]);
+        out.push([a, b, c]);
+        next[a as usize] = c;
+        prev[c as usize] = a;
+        alive &= !(1 << b);
+    }
+    let a = alive.trailing_zeros() as u8;
+    let b = next[a as usize];
+    out.push([a, b, next[b as usize]]);
+    l
+}
+
 /// True when vertex `p` lies in the closed counter-clockwise triangle `t`.
 #[inline]
 fn in_closed_triangle(orient: &impl Orient, [a, b, c]: [usize; 3], p: usize) -> bool {
@@ -468,7 +512,7 @@ mod tests {
             seed ^= seed << 17;
             seed % k
         };
-        let (mut agreed, mut failed, mut convex) = (0, 0, 0);
+        let (mut agreed, mut failed, mut convex, mut packed) = (0, 0, 0, 0);
         for _ in 0..3000 {
             let l = 3 + rand(62) as usize;
             let mut angles: Vec<u64> = (0..l).map(|_| rand(720)).collect();
@@ -502,17 +546,23 @@ mod tests {
             assert_eq!(a, b, "{points:?}");
             if a {
                 assert_eq!(small, list, "{points:?}");
+                if let Some(bits) = pack_cut(points.len(), &small) {
+                    let mut back = Vec::new();
+                    assert_eq!(unpack_cut(bits, &mut back), points.len());
+                    assert_eq!(back, small, "the packed cut unpacks to the same triangles");
+                    packed += 1;
+                }
                 agreed += 1;
             } else {
                 failed += 1;
             }
         }
         println!(
-            "small = list cutter: {agreed} triangulated ({convex} strictly convex), {failed} refused alike"
+            "small = list cutter: {agreed} triangulated ({convex} strictly convex, {packed} packed and unpacked alike), {failed} refused alike"
         );
         assert!(
-            agreed > 1000 && failed > 0 && convex > 200,
-            "{agreed} {failed} {convex}"
+            agreed > 1000 && failed > 0 && convex > 200 && packed > 100,
+            "{agreed} {failed} {convex} {packed}"
         );
     }
 

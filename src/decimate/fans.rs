@@ -41,6 +41,66 @@ impl Entry {
     }
 }
 
+/// Read access to nodes' lists: the live [`FanLists`], or a copy of one list
+/// ([`CopiedList`]) that a node can be evaluated from on another thread.
+pub trait Lists {
+    /// The number of entries of `v`'s list.
+    fn len(&self, v: u32) -> usize;
+    /// True when `v` is on the border (its list is open).
+    fn is_border(&self, v: u32) -> bool;
+    /// Calls `f` on every entry of `v`'s list, in order.
+    fn for_each(&self, v: u32, f: impl FnMut(Entry));
+    /// True when `v`'s list is empty (an isolated or removed node).
+    fn is_empty(&self, v: u32) -> bool {
+        self.len(v) == 0
+    }
+}
+
+/// One node's list, copied: the lists of all other nodes read as empty.
+#[derive(Clone, Copy, Debug)]
+pub struct CopiedList<'a> {
+    pub node: u32,
+    pub entries: &'a [Entry],
+    pub border: bool,
+}
+
+impl Lists for CopiedList<'_> {
+    fn len(&self, v: u32) -> usize {
+        if v == self.node {
+            self.entries.len()
+        } else {
+            0
+        }
+    }
+
+    fn is_border(&self, v: u32) -> bool {
+        v == self.node && self.border
+    }
+
+    fn for_each(&self, v: u32, f: impl FnMut(Entry)) {
+        if v == self.node {
+            self.entries.iter().copied().for_each(f);
+        }
+    }
+}
+
+impl Lists for FanLists {
+    #[inline]
+    fn len(&self, v: u32) -> usize {
+        FanLists::len(self, v)
+    }
+
+    #[inline]
+    fn is_border(&self, v: u32) -> bool {
+        FanLists::is_border(self, v)
+    }
+
+    #[inline]
+    fn for_each(&self, v: u32, f: impl FnMut(Entry)) {
+        FanLists::for_each(self, v, f)
+    }
+}
+
 const BLOCK: usize = 8;
 /// Entries held in a node's own block, after its header.
 pub const INLINE: usize = BLOCK - 1;

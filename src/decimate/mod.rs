@@ -23,6 +23,7 @@
 //! file nodes into the same intervals, and both undecimate to the original bit for bit.
 //! [`check`] re-verifies every step independently.
 
+pub mod ahead;
 pub mod bucket;
 pub mod check;
 pub mod data;
@@ -200,6 +201,10 @@ pub struct Options {
     /// Re-evaluate a removed node's queued neighbours when they reach the front of the queue
     /// rather than at once (an extension, [`driver`]); `false` is the paper's step.
     pub lazy: bool,
+    /// Let the fast path evaluate the nodes the queue gives next on a second thread while
+    /// the loop removes (when the machine has more than one core; [`ahead`]). The result is
+    /// the same either way.
+    pub look_ahead: bool,
 }
 
 impl Default for Options {
@@ -213,6 +218,7 @@ impl Default for Options {
             max_valence: 64,
             rebin: true,
             lazy: true,
+            look_ahead: true,
         }
     }
 }

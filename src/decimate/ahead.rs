@@ -1,0 +1,255 @@
+//! Evaluation ahead: the fast engine's second core (an extension; the removal sequence is the
+//! same with it or without it).
+//!
+//! The loop takes nodes from the bucket queue one at a time, and most of what it does with a
+//! taken node is evaluating it: loading its fan, cutting the ears of its hole, measuring the
+//! removal error. That work reads only the node's own fan list and data that never change
+//! (positions, values, settings), and the queue knows long in advance which nodes come next.
+//! So the loop hands the coming nodes over, in pop order, a lead of two batches ahead of
+//! itself, with copies of their lists ([`Lookahead::add`]); a worker thread evaluates them a
+//! batch at a time meanwhile and sends back each node's value and plan (its hole's cut,
+//! packed in a word). When the loop takes a node it
+//! uses what was evaluated ahead if the queue vouches that the node's list is unchanged since
+//! it was handed over (the node still holds its ticket, [`BucketQueue::hand_over`]), and
+//! evaluates it itself otherwise, or when the result has not come back yet.
+//!
+//! Both threads run the same code on the same `f64` inputs, so a result evaluated ahead is
+//! bit for bit what the loop would have computed: the removal sequence cannot depend on
+//! timing. On the 810k-node grid a list changes within a thousand removals of being handed
+//! over almost never, so nearly every evaluation moves to the worker.
+//!
+//! [`BucketQueue::hand_over`]: super::bucket::BucketQueue::hand_over
+
+use super::fans::{Entry, FanLists};
+use super::Plane;
+use std::sync::mpsc::{channel, Receiver, Sender, TryRecvError};
+use std::thread::JoinHandle;
+
+/// Nodes per batch. Small batches come back soon; on the 810k-node grid 32 left 2 % of the
+/// taken nodes to the loop, 256 left 20 % (nodes re-filed behind the lead, and results that
+/// had not come back).
+pub const BATCH: usize = 32;
+/// The lead the loop keeps, in batches.
+const LEAD: usize = 2;
+/// Batches whose results have not come back, at most; beyond that a batch is dropped (the
+/// worker is behind, and the loop evaluates those nodes itself).
+const IN_FLIGHT: usize = 8;
+/// How long the worker polls for the next batch before it sleeps: the loop sends one every
+/// few tens of microseconds, and waking a sleeping thread costs the sender a system call.
+const POLL: std::time::Duration = std::time::Duration::from_micros(200);
+/// Results are kept by ticket modulo this (a power of two).
+const KEPT: usize = 64 * BATCH;
+
+/// A node's plan as evaluated ahead.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Planned {
+    /// Its hole cannot be filled: it may not go.
+    Refused,
+    /// Its hole is filled by the packed cut (`earcut::pack_cut`) in `plane`.
+    Cut {
+        border: bool,
+        plane: Plane,
+        cut: u64,
+    },
+    /// Not kept (a hole too large to pack): the loop plans it itself.
+    NotKept,
+}
+
+/// What was evaluated ahead for one node.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Evaluated {
+    pub node: u32,
+    pub ticket: u32,
+    /// The evaluation value, `None` when the node may not be removed now.
+    pub ev: Option<f64>,
+    pub plan: Planned,
+}
+
+/// One hand-over: nodes with copies of their lists.
+#[derive(Default)]
+pub struct Job {
+    /// The first node's ticket; the others follow in order.
+    pub first_ticket: u32,
+    /// `(node, start, len, border)`: the node's list is `entries[start..start + len]`.
+    pub nodes: Vec<(u32, u32, u32, bool)>,
+    pub entries: Vec<Entry>,
+}
+
+/// The worker thread and the results that came back.
+pub struct Lookahead {
+    jobs: Option<Sender<Job>>,
+    done: Receiver<Vec<Evaluated>>,
+    worker: Option<JoinHandle<()>>,
+    batch: usize,
+    /// The batch being filled.
+    pending: Job,
+    in_flight: usize,
+    /// Wait for results instead of evaluating in the loop (tests: every taken node then
+    /// uses what was evaluated ahead, unless its hand-over was dropped).
+    wait: bool,
+    kept: Vec<Evaluated>,
+    /// How many taken nodes used a result evaluated ahead.
+    pub used: usize,
+}
+
+impl Lookahead {
+    /// Starts the worker: `evaluate` appends one [`Evaluated`] per node of a job, in order;
+    /// jobs have `batch` nodes. `None` when no thread can be started (the loop then evaluates
+    /// everything itself).
+    pub fn spawn(
+        mut evaluate: impl FnMut(&Job, &mut Vec<Evaluated>) + Send + 'static,
+        batch: usize,
+        wait: bool,
+    ) -> Option<Lookahead> {
+        let (jobs, inbox) = channel::<Job>();
+        let (outbox, done) = channel();
+        let worker = std::thread::Builder::new()
+            .name("geocert-lookahead".into())
+            .spawn(move || {
+                while let Some(job) = next_job(&inbox) {
+                    let mut out = Vec::with_capacity(job.nodes.len());
+                    evaluate(&job, &mut out);
+                    if outbox.send(out).is_err() {
+                        break;
+                    }
+                }
+            })
+            .ok()?;
+        Some(Lookahead {
+            jobs: Some(jobs),
+            done,
+            worker: Some(worker),
+            batch: batch.max(1),
+            pending: Job::default(),
+            in_flight: 0,
+            wait,
+            kept: vec![
+                Evaluated {
+                    node: u32::MAX,
+                    ticket: u32::MAX,
+                    ev: None,
+                    plan: Planned::NotKept,
+                };
+                KEPT
+            ],
+            used: 0,
+        })
+    }
+
+    /// The lead the loop should keep.
+    pub fn lead(&self) -> usize {
+        LEAD * self.batch
+    }
+
+    /// Adds `v` (with `ticket`, one more than the node added before, or else a new batch
+    /// starts) to the batch being filled, with a copy of its list; a full batch goes to the
+    /// worker, unless [`IN_FLIGHT`] batches are still out (then it is dropped).
+    pub fn add(&mut self, v: u32, ticket: u32, lists: &FanLists) {
+        let job = &self.pending;
+        if !job.nodes.is_empty() && job.first_ticket.wrapping_add(job.nodes.len() as u32) != ticket
+        {
+            self.flush();
+        }
+        let job = &mut self.pending;
+        if job.nodes.is_empty() {
+            job.first_ticket = ticket;
+        }
+        let start = job.entries.len() as u32;
+        lists.for_each(v, |e| job.entries.push(e));
+        let len = job.entries.len() as u32 - start;
+        job.nodes.push((v, start, len, lists.is_border(v)));
+        if job.nodes.len() >= self.batch {
+            self.flush();
+        }
+    }
+
+    /// Sends the batch being filled to the worker (or drops it when the worker is behind).
+    fn flush(&mut self) {
+        let job = std::mem::take(&mut self.pending);
+        if job.nodes.is_empty() {
+            return;
+        }
+        self.collect();
+        if self.in_flight >= IN_FLIGHT && !self.wait {
+            return;
+        }
+        if let Some(jobs) = &self.jobs {
+            if jobs.send(job).is_ok() {
+                self.in_flight += 1;
+            }
+        }
+    }
+
+    /// Files the results that came back.
+    fn collect(&mut self) {
+        loop {
+            match self.done.try_recv() {
+                Ok(results) => self.file(results),
+                Err(TryRecvError::Empty) => return,
+                Err(TryRecvError::Disconnected) => {
+                    // The worker is gone: hand nothing over any more.
+                    self.jobs = None;
+                    self.in_flight = 0;
+                    return;
+                }
+            }
+        }
+    }
+
+    fn file(&mut self, results: Vec<Evaluated>) {
+        self.in_flight -= 1;
+        for r in results {
+            self.kept[r.ticket as usize % KEPT] = r;
+        }
+    }
+
+    /// What was evaluated ahead for `node` under `ticket`, if it has come back.
+    pub fn result(&mut self, node: u32, ticket: u32) -> Option<Evaluated> {
+        let slot = ticket as usize % KEPT;
+        let hit = |r: &Evaluated| r.ticket == ticket && r.node == node;
+        if !hit(&self.kept[slot]) {
+            if self.wait {
+                self.flush();
+            }
+            self.collect();
+            while self.wait && self.in_flight > 0 && !hit(&self.kept[slot]) {
+                match self.done.recv() {
+                    Ok(results) => self.file(results),
+                    Err(_) => break,
+                }
+            }
+        }
+        let r = self.kept[slot];
+        if hit(&r) {
+            self.used += 1;
+            Some(r)
+        } else {
+            None
+        }
+    }
+}
+
+/// The next job: polled for [`POLL`], then waited for; `None` once the loop has hung up.
+fn next_job(inbox: &Receiver<Job>) -> Option<Job> {
+    let start = std::time::Instant::now();
+    loop {
+        match inbox.try_recv() {
+            Ok(job) => return Some(job),
+            Err(TryRecvError::Disconnected) => return None,
+            Err(TryRecvError::Empty) if start.elapsed() < POLL => std::hint::spin_loop(),
+            Err(TryRecvError::Empty) => return inbox.recv().ok(),
+        }
+    }
+}
+
+impl Drop for Lookahead {
+    fn drop(&mut self) {
+        // Closing the job channel ends the worker's loop.
+        self.jobs = None;
+        if let Some(worker) = self.worker.take() {
+            // A worker that panicked only means results that never came back; the loop
+            // evaluated those nodes itself.
+            let _ = worker.join();
+        }
+    }
+}

@@ -298,6 +298,33 @@ impl FanLists {
         };
     }
 
+    /// A copy of `v`'s entries and their number, when they are held inline (in the node's
+    /// own block).
+    #[inline]
+    pub fn inline(&self, v: u32) -> Option<([Entry; INLINE], usize)> {
+        let len = self.len(v);
+        if len > INLINE {
+            return None;
+        }
+        let mut entries = [Entry::default(); INLINE];
+        entries.copy_from_slice(&self.blocks[v as usize].0[1..]);
+        Some((entries, len))
+    }
+
+    /// Replaces `v`'s inline list by the first `len` of `entries` (`len ≤ INLINE`; `v`'s list
+    /// must be inline now, [`inline`](Self::inline)). Copies the whole block's worth, which
+    /// costs no more than copying `len` entries.
+    #[inline]
+    pub fn store_inline(&mut self, v: u32, entries: &[Entry; INLINE], len: usize, border: bool) {
+        debug_assert!(len <= INLINE && self.len(v) <= INLINE);
+        let block = &mut self.blocks[v as usize].0;
+        block[1..].copy_from_slice(entries);
+        block[0] = Entry {
+            node: len as u32 | if border { BORDER } else { 0 },
+            triangle: NO_RUN,
+        };
+    }
+
     /// Empties `v`'s list and frees its overflow run.
     pub fn clear(&mut self, v: u32) {
         self.store(v, &[], false);

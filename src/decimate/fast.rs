@@ -17,7 +17,7 @@
 use super::ahead::{self, Evaluated, Job, Lookahead, Planned};
 use super::driver::{self, Engine};
 use super::earcut::{orient2d, pack_cut, unpack_cut, EarCutter, RobustOrient};
-use super::fans::{CopiedList, Entry, FanLists, Lists, NO_TRIANGLE};
+use super::fans::{CopiedList, Entry, FanLists, Lists, INLINE, NO_TRIANGLE};
 use super::history::History;
 use super::{
     canonical_start, check_options, edge_angle, fan_normal, global_plane, BorderPolicy, Criterion,
@@ -37,16 +37,6 @@ const NONE: u32 = u32::MAX;
 struct Plan {
     border: bool,
     plane: Plane,
-}
-
-/// A corner of a new triangle: at ring position `at`, the triangle runs from position `from`
-/// to position `to` counter-clockwise; `triangle` is its `slot · 4 + corner`.
-#[derive(Clone, Copy)]
-struct Corner {
-    at: u8,
-    from: u8,
-    to: u8,
-    triangle: u32,
 }
 
 /// What never changes during a decimation: the nodes' data and the settings (shared with the
@@ -87,11 +77,9 @@ struct Scratch {
     cutter: EarCutter,
     slots: Vec<u32>,
     positions: Vec<u8>,
-    corners: Vec<Corner>,
-    /// `corners` by ring position: those at position `i` are
-    /// `by_at[at_start[i]..at_start[i + 1]]`.
-    at_start: Vec<u16>,
-    by_at: Vec<u16>,
+    /// The new triangles' corners by ring positions, `succ[at · l + from] = (to, triangle)`
+    /// ([`State::apply`]).
+    succ: Vec<u64>,
     list: Vec<Entry>,
     chain: Vec<Entry>,
     rebuilt: Vec<Entry>,
@@ -444,36 +432,21 @@ impl State {
             self.geo.pos[v as usize],
             self.geo.values.as_ref().map(|f| f[v as usize]),
         );
-        // New triangle k takes the fan's k-th slot; the slots after l − 2 fall free.
-        sc.corners.clear();
+        // New triangle k takes the fan's k-th slot; the slots after l − 2 fall free. Its
+        // corner at ring position `at` leads from `from` to `to` around `at`:
+        // succ[at · l + from] = (to, slot · 4 + corner).
+        if sc.succ.len() < l * l {
+            sc.succ.resize(l * l, 0);
+        }
         for (k, t) in sc.tris.iter().enumerate() {
             let s = sc.slots[k];
-            for e in 0..3 {
-                sc.corners.push(Corner {
-                    at: t[e],
-                    from: t[(e + 1) % 3],
-                    to: t[(e + 2) % 3],
-                    triangle: 4 * s + e as u32,
-                });
+            for (e, (at, from, to)) in [(t[0], t[1], t[2]), (t[1], t[2], t[0]), (t[2], t[0], t[1])]
+                .into_iter()
+                .enumerate()
+            {
+                sc.succ[at as usize * l + from as usize] =
+                    u64::from(4 * s + e as u32) | u64::from(to) << 32;
             }
-        }
-        // The corners by ring position (a counting sort), for the chains.
-        sc.at_start.clear();
-        sc.at_start.resize(l + 1, 0);
-        for c in &sc.corners {
-            sc.at_start[c.at as usize + 1] += 1;
-        }
-        for i in 0..l {
-            sc.at_start[i + 1] += sc.at_start[i];
-        }
-        sc.by_at.clear();
-        sc.by_at.resize(sc.corners.len(), 0);
-        let mut fill = [0u16; 256];
-        fill[..l].copy_from_slice(&sc.at_start[..l]);
-        for (k, c) in sc.corners.iter().enumerate() {
-            let at = c.at as usize;
-            sc.by_at[fill[at] as usize] = k as u16;
-            fill[at] += 1;
         }
         for i in 0..l {
             self.relink(sc, v, i);
@@ -490,53 +463,46 @@ impl State {
     fn relink(&mut self, sc: &mut Scratch, v: u32, i: usize) {
         let l = sc.ring.len();
         let w = sc.ring[i];
-        let last = ((i + l - 1) % l) as u8;
-        sc.list.clear();
-        self.lists.read(w, &mut sc.list);
-        let w_border = self.lists.is_border(w);
-        let len = sc.list.len();
-        let q = sc
-            .list
-            .iter()
-            .position(|e| e.node == v)
-            .expect("a ring node lists the removed node");
+        let last = if i == 0 { l - 1 } else { i - 1 };
         // The chain: (x_j, the new triangle (w, x_j, x_j+1)) from x_0 = ring[i + 1] on.
         sc.chain.clear();
-        let mut from = ((i + 1) % l) as u8;
+        let row = &sc.succ[i * l..(i + 1) * l];
+        let mut from = if i + 1 == l { 0 } else { i + 1 };
         while from != last && sc.chain.len() < l {
-            let at_i = &sc.by_at[sc.at_start[i] as usize..sc.at_start[i + 1] as usize];
-            let c = at_i
-                .iter()
-                .map(|&k| sc.corners[k as usize])
-                .find(|c| c.from == from)
-                .expect("the new triangles at a ring node form a chain");
+            let step = row[from];
             sc.chain.push(Entry {
-                node: sc.ring[from as usize],
-                triangle: c.triangle,
+                node: sc.ring[from],
+                triangle: step as u32,
             });
-            from = c.to;
+            from = (step >> 32) as usize;
         }
-        sc.rebuilt.clear();
-        if w_border && q == 0 {
-            // v's entry opened w's border list: w's new border edge leads to x_0.
-            sc.rebuilt.extend_from_slice(&sc.chain);
-        } else {
-            // The entry before v's is x_0; it now names the chain's first triangle.
-            let p = if q > 0 { q - 1 } else { len - 1 };
-            debug_assert_eq!(sc.list[p].node, sc.chain[0].node);
-            sc.list[p].triangle = sc.chain[0].triangle;
-            sc.rebuilt.extend_from_slice(&sc.list[..q]);
-            sc.rebuilt.extend_from_slice(&sc.chain[1..]);
-            if w_border && q == len - 1 {
-                // v's entry closed w's border list: the closing edge's far node closes it.
-                sc.rebuilt.push(Entry {
-                    node: sc.ring[last as usize],
-                    triangle: NO_TRIANGLE,
+        let closing = Entry {
+            node: sc.ring[last],
+            triangle: NO_TRIANGLE,
+        };
+        let border = self.lists.is_border(w);
+        if let Some((mut list, len)) = self.lists.inline(w) {
+            // v's entry gives way to the chain less its first node (already listed), and a
+            // border list may gain the closing entry: at most this long.
+            if len + sc.chain.len() + usize::from(border) - 2 <= INLINE {
+                let mut out = [Entry::default(); INLINE];
+                let mut n = 0;
+                resplice(&mut list[..len], v, border, &sc.chain, closing, |e| {
+                    out[n] = e;
+                    n += 1;
                 });
+                self.lists.store_inline(w, &out, n, border);
+                return;
             }
         }
-        sc.rebuilt.extend_from_slice(&sc.list[q + 1..]);
-        self.lists.store(w, &sc.rebuilt, w_border);
+        sc.list.clear();
+        self.lists.read(w, &mut sc.list);
+        sc.rebuilt.clear();
+        let rebuilt = &mut sc.rebuilt;
+        resplice(&mut sc.list, v, border, &sc.chain, closing, |e| {
+            rebuilt.push(e)
+        });
+        self.lists.store(w, &sc.rebuilt, border);
     }
 
     /// The decimated mesh.
@@ -658,6 +624,40 @@ impl Engine for FastEngine {
         st.apply(sc, v, plan.border, history);
         true
     }
+}
+
+/// Emits ring node `w`'s new list ([`State::relink`]) from its old `list` (which names the
+/// removed node `v`), whether it is a border list, the `chain` of new entries from `ring[i + 1]`
+/// on, and the entry that closes a border list when `v` closed it.
+fn resplice(
+    list: &mut [Entry],
+    v: u32,
+    border: bool,
+    chain: &[Entry],
+    closing: Entry,
+    mut put: impl FnMut(Entry),
+) {
+    let len = list.len();
+    let q = list
+        .iter()
+        .position(|e| e.node == v)
+        .expect("a ring node lists the removed node");
+    if border && q == 0 {
+        // v's entry opened w's border list: w's new border edge leads to x_0.
+        chain.iter().for_each(|&e| put(e));
+    } else {
+        // The entry before v's is x_0; it now names the chain's first triangle.
+        let p = if q > 0 { q - 1 } else { len - 1 };
+        debug_assert_eq!(list[p].node, chain[0].node);
+        list[p].triangle = chain[0].triangle;
+        list[..q].iter().for_each(|&e| put(e));
+        chain[1..].iter().for_each(|&e| put(e));
+        if border && q == len - 1 {
+            // v's entry closed w's border list: the closing edge's far node closes it.
+            put(closing);
+        }
+    }
+    list[q + 1..].iter().for_each(|&e| put(e));
 }
 
 fn cross(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {

@@ -1287,6 +1287,8 @@ fn decimate_cmd(
             "intervals": s.intervals,
             "rebuilds": s.rebuilds,
             "evaluations": s.evaluations,
+            "taken": s.taken,
+            "evaluated_ahead": s.evaluated_ahead,
             "projection": if s.projection_xy { "xy" } else { "per-fan" },
         });
         println!("{v}");

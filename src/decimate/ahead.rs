@@ -22,7 +22,9 @@
 
 use super::fans::{Entry, FanLists};
 use super::Plane;
+use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::mpsc::{channel, Receiver, Sender, TryRecvError};
+use std::sync::Arc;
 use std::thread::JoinHandle;
 
 /// Nodes per batch. Small batches come back soon; on the 810k-node grid 32 left 2 % of the
@@ -80,6 +82,10 @@ pub struct Lookahead {
     jobs: Option<Sender<Job>>,
     done: Receiver<Vec<Evaluated>>,
     worker: Option<JoinHandle<()>>,
+    /// The ticket of the last node the loop took with one: the worker skips nodes the loop
+    /// has passed (when it falls behind, it catches up instead of computing what nobody
+    /// will read).
+    progress: Arc<AtomicU32>,
     batch: usize,
     /// The batch being filled.
     pending: Job,
@@ -93,22 +99,28 @@ pub struct Lookahead {
 }
 
 impl Lookahead {
-    /// Starts the worker: `evaluate` appends one [`Evaluated`] per node of a job, in order;
-    /// jobs have `batch` nodes. `None` when no thread can be started (the loop then evaluates
+    /// Starts the worker: `evaluate` appends an [`Evaluated`] for every node of a job, in
+    /// order, except those whose ticket `passed` says the loop has gone by; jobs have
+    /// `batch` nodes. `None` when no thread can be started (the loop then evaluates
     /// everything itself).
     pub fn spawn(
-        mut evaluate: impl FnMut(&Job, &mut Vec<Evaluated>) + Send + 'static,
+        mut evaluate: impl FnMut(&Job, &mut Vec<Evaluated>, &dyn Fn(u32) -> bool) + Send + 'static,
         batch: usize,
         wait: bool,
     ) -> Option<Lookahead> {
         let (jobs, inbox) = channel::<Job>();
         let (outbox, done) = channel();
+        let progress = Arc::new(AtomicU32::new(0));
+        let seen = Arc::clone(&progress);
+        // Tickets increase along the queue (wrapping), so "passed" is a signed distance.
+        let passed =
+            move |ticket: u32| (seen.load(Ordering::Relaxed).wrapping_sub(ticket) as i32) > 0;
         let worker = std::thread::Builder::new()
             .name("geocert-lookahead".into())
             .spawn(move || {
                 while let Some(job) = next_job(&inbox) {
                     let mut out = Vec::with_capacity(job.nodes.len());
-                    evaluate(&job, &mut out);
+                    evaluate(&job, &mut out, &passed);
                     if outbox.send(out).is_err() {
                         break;
                     }
@@ -119,6 +131,7 @@ impl Lookahead {
             jobs: Some(jobs),
             done,
             worker: Some(worker),
+            progress,
             batch: batch.max(1),
             pending: Job::default(),
             in_flight: 0,
@@ -203,8 +216,12 @@ impl Lookahead {
         }
     }
 
-    /// What was evaluated ahead for `node` under `ticket`, if it has come back.
+    /// What was evaluated ahead for `node` under `ticket`, if it has come back; the loop is
+    /// taking it now.
     pub fn result(&mut self, node: u32, ticket: u32) -> Option<Evaluated> {
+        if !self.wait {
+            self.progress.store(ticket, Ordering::Relaxed);
+        }
         let slot = ticket as usize % KEPT;
         let hit = |r: &Evaluated| r.ticket == ticket && r.node == node;
         if !hit(&self.kept[slot]) {

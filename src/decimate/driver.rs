@@ -47,6 +47,10 @@ pub(crate) trait Engine {
     /// `v` is taken next. `ticket` is the one it was handed over with when its list is
     /// unchanged since (the queue's promise), so what was evaluated from it then holds.
     fn take(&mut self, _v: u32, _ticket: Option<u32>) {}
+    /// How many taken nodes used what was evaluated ahead.
+    fn evaluated_ahead(&self) -> usize {
+        0
+    }
     /// A hint that `v` comes soon: start fetching its own data.
     fn prefetch(&self, _v: u32) {}
     /// A hint that `v` comes next, its own data fetched already: start fetching its
@@ -67,6 +71,8 @@ pub(crate) struct LoopCounts {
     pub rebuilds: usize,
     /// Evaluations after the initial pass.
     pub evaluations: usize,
+    pub taken: usize,
+    pub evaluated_ahead: usize,
 }
 
 /// Runs the loop to the target; the removal sequence is in `history`.
@@ -119,6 +125,7 @@ pub(crate) fn run(
             break;
         };
         let (v, j, stale) = (taken.node, taken.interval, taken.marked);
+        counts.taken += 1;
         engine.take(v, taken.ticket);
         // The next node's list arrived a step ago (or when it was handed over): fetch its
         // ring's lists, positions and queue records, and its own record.
@@ -167,6 +174,7 @@ pub(crate) fn run(
         }
     }
     counts.rebuilds = queue.rebuilds();
+    counts.evaluated_ahead = engine.evaluated_ahead();
     counts
 }
 
@@ -255,6 +263,8 @@ pub(crate) fn decimate_with<E: Engine>(
             intervals: counts.intervals,
             rebuilds: counts.rebuilds,
             evaluations: counts.evaluations,
+            taken: counts.taken,
+            evaluated_ahead: counts.evaluated_ahead,
             projection_xy,
             seconds,
         },

@@ -144,7 +144,11 @@ impl FastEngine {
             let geo = Arc::clone(&geo);
             let mut sc = Scratch::default();
             let batch = if wait { 8 } else { ahead::BATCH };
-            Lookahead::spawn(move |job, out| sc.evaluate_job(&geo, job, out), batch, wait)
+            Lookahead::spawn(
+                move |job, out, passed| sc.evaluate_job(&geo, job, out, passed),
+                batch,
+                wait,
+            )
         });
         Ok(FastEngine {
             st: State {
@@ -185,9 +189,20 @@ impl Scratch {
     }
 
     /// Evaluates a job's nodes from their copied lists (on the lookahead thread): the value,
-    /// and the plan (for the error criterion the evaluation's own).
-    fn evaluate_job(&mut self, geo: &Geometry, job: &Job, out: &mut Vec<Evaluated>) {
+    /// and the plan (for the error criterion the evaluation's own). Skips the nodes whose
+    /// tickets the loop has `passed`.
+    fn evaluate_job(
+        &mut self,
+        geo: &Geometry,
+        job: &Job,
+        out: &mut Vec<Evaluated>,
+        passed: &dyn Fn(u32) -> bool,
+    ) {
         for (k, &(v, start, len, border)) in job.nodes.iter().enumerate() {
+            let ticket = job.first_ticket.wrapping_add(k as u32);
+            if passed(ticket) {
+                continue;
+            }
             let list = CopiedList {
                 node: v,
                 entries: &job.entries[start as usize..(start + len) as usize],
@@ -212,7 +227,7 @@ impl Scratch {
             };
             out.push(Evaluated {
                 node: v,
-                ticket: job.first_ticket.wrapping_add(k as u32),
+                ticket,
                 ev,
                 plan,
             });
@@ -580,6 +595,10 @@ impl Engine for FastEngine {
         if let Some(ahead) = &mut self.ahead {
             ahead.add(v, ticket, &self.st.lists);
         }
+    }
+
+    fn evaluated_ahead(&self) -> usize {
+        self.ahead.as_ref().map_or(0, |a| a.used)
     }
 
     fn take(&mut self, v: u32, ticket: Option<u32>) {

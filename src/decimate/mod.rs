@@ -264,6 +264,11 @@ pub struct Stats {
     /// Node evaluations after the initial pass (neighbours, and stale nodes with
     /// [`Options::lazy`]).
     pub evaluations: usize,
+    /// Nodes taken from the queue.
+    pub taken: usize,
+    /// Taken nodes whose evaluation and plan came from the lookahead thread
+    /// ([`Options::look_ahead`]).
+    pub evaluated_ahead: usize,
     /// Whether holes were triangulated in the xy plane (else per fan).
     pub projection_xy: bool,
     /// Seconds of the decimation itself (adjacency, evaluation, queue, removals).

@@ -198,7 +198,19 @@ impl Scratch {
         out: &mut Vec<Evaluated>,
         passed: &dyn Fn(u32) -> bool,
     ) {
+        // The positions of the node two ahead start coming now (the lists are in the job).
+        let fetch = |k: usize| {
+            if let Some(&(u, start, len, _)) = job.nodes.get(k) {
+                crate::memory::prefetch(&geo.pos[u as usize]);
+                for e in &job.entries[start as usize..(start + len) as usize] {
+                    crate::memory::prefetch(&geo.pos[e.node as usize]);
+                }
+            }
+        };
+        fetch(0);
+        fetch(1);
         for (k, &(v, start, len, border)) in job.nodes.iter().enumerate() {
+            fetch(k + 2);
             let ticket = job.first_ticket.wrapping_add(k as u32);
             if passed(ticket) {
                 continue;

@@ -75,12 +75,16 @@ pub struct Job {
     /// `(node, start, len, border)`: the node's list is `entries[start..start + len]`.
     pub nodes: Vec<(u32, u32, u32, bool)>,
     pub entries: Vec<Entry>,
+    /// Filled by the worker, which sends the job back (its buffers are reused).
+    pub results: Vec<Evaluated>,
 }
 
 /// The worker thread and the results that came back.
 pub struct Lookahead {
     jobs: Option<Sender<Job>>,
-    done: Receiver<Vec<Evaluated>>,
+    done: Receiver<Job>,
+    /// Emptied jobs, for their buffers.
+    spare: Vec<Job>,
     worker: Option<JoinHandle<()>>,
     /// The ticket of the last node the loop took with one: the worker skips nodes the loop
     /// has passed (when it falls behind, it catches up instead of computing what nobody
@@ -118,10 +122,11 @@ impl Lookahead {
         let worker = std::thread::Builder::new()
             .name("geocert-lookahead".into())
             .spawn(move || {
-                while let Some(job) = next_job(&inbox) {
-                    let mut out = Vec::with_capacity(job.nodes.len());
+                while let Some(mut job) = next_job(&inbox) {
+                    let mut out = std::mem::take(&mut job.results);
                     evaluate(&job, &mut out, &passed);
-                    if outbox.send(out).is_err() {
+                    job.results = out;
+                    if outbox.send(job).is_err() {
                         break;
                     }
                 }
@@ -130,6 +135,7 @@ impl Lookahead {
         Some(Lookahead {
             jobs: Some(jobs),
             done,
+            spare: Vec::new(),
             worker: Some(worker),
             progress,
             batch: batch.max(1),
@@ -178,12 +184,14 @@ impl Lookahead {
 
     /// Sends the batch being filled to the worker (or drops it when the worker is behind).
     fn flush(&mut self) {
-        let job = std::mem::take(&mut self.pending);
-        if job.nodes.is_empty() {
+        if self.pending.nodes.is_empty() {
             return;
         }
+        let fresh = self.spare.pop().unwrap_or_default();
+        let job = std::mem::replace(&mut self.pending, fresh);
         self.collect();
         if self.in_flight >= IN_FLIGHT && !self.wait {
+            self.recycle(job);
             return;
         }
         if let Some(jobs) = &self.jobs {
@@ -193,11 +201,19 @@ impl Lookahead {
         }
     }
 
+    /// Keeps an emptied job's buffers for a later batch.
+    fn recycle(&mut self, mut job: Job) {
+        job.nodes.clear();
+        job.entries.clear();
+        job.results.clear();
+        self.spare.push(job);
+    }
+
     /// Files the results that came back.
     fn collect(&mut self) {
         loop {
             match self.done.try_recv() {
-                Ok(results) => self.file(results),
+                Ok(job) => self.file(job),
                 Err(TryRecvError::Empty) => return,
                 Err(TryRecvError::Disconnected) => {
                     // The worker is gone: hand nothing over any more.
@@ -209,11 +225,12 @@ impl Lookahead {
         }
     }
 
-    fn file(&mut self, results: Vec<Evaluated>) {
+    fn file(&mut self, job: Job) {
         self.in_flight -= 1;
-        for r in results {
+        for &r in &job.results {
             self.kept[r.ticket as usize % KEPT] = r;
         }
+        self.recycle(job);
     }
 
     /// What was evaluated ahead for `node` under `ticket`, if it has come back; the loop is
@@ -231,7 +248,7 @@ impl Lookahead {
             self.collect();
             while self.wait && self.in_flight > 0 && !hit(&self.kept[slot]) {
                 match self.done.recv() {
-                    Ok(results) => self.file(results),
+                    Ok(job) => self.file(job),
                     Err(_) => break,
                 }
             }

@@ -251,19 +251,27 @@ impl BucketQueue {
         n.bucket != NONE
     }
 
-    /// Hands over the queued node that pops right after `from`, or the front node when
-    /// `from` is `None` or no longer queued, giving it `ticket`; returns it and whether it
-    /// was the front node. A ticket stays with its node until the node is marked, filed
-    /// again or unlinked, so a popped node's ticket says that it has neither been marked nor
-    /// moved since it was handed over (what a caller computed for it then, from data that
-    /// only changes when it is marked, still holds).
-    pub fn hand_over(&mut self, from: Option<u32>, ticket: u32) -> Option<(u32, bool)> {
-        let (v, front) = match from {
-            Some(h) if self.contains(h) => (self.after(h)?, false),
-            _ => (self.peek()?, true),
-        };
-        self.nodes[v as usize].ticket = ticket;
-        Some((v, front))
+    /// The queued node that pops right after `from`, or the front node when `from` is
+    /// `None` or no longer queued; and whether it is the front node.
+    pub fn next_after(&self, from: Option<u32>) -> Option<(u32, bool)> {
+        match from {
+            Some(h) if self.contains(h) => Some((self.after(h)?, false)),
+            _ => Some((self.peek()?, true)),
+        }
+    }
+
+    /// Gives the queued `node` a ticket (and returns true; false when it is not queued). A
+    /// ticket stays with its node until the node is marked, filed again or unlinked, so a
+    /// popped node's ticket says that it has neither been marked nor moved since it got it:
+    /// what a caller computed for it then, from data that only changes when it is marked,
+    /// still holds.
+    pub fn give_ticket(&mut self, node: u32, ticket: u32) -> bool {
+        let n = &mut self.nodes[node as usize];
+        if n.bucket == NONE {
+            return false;
+        }
+        n.ticket = ticket;
+        true
     }
 
     /// The queued node that pops right after the queued `node`.
@@ -277,8 +285,14 @@ impl BucketQueue {
 
     /// Files `node` at the tail of the interval of `ev` (unlinking it first if queued).
     pub fn push(&mut self, node: u32, ev: f64) {
+        self.push_to(node, ev, self.interval(ev));
+    }
+
+    /// [`push`](Self::push) when the caller has `interval(ev)` already.
+    pub fn push_to(&mut self, node: u32, ev: f64, interval: usize) {
+        debug_assert_eq!(interval, self.interval(ev));
         self.remove(node);
-        self.file(node, ev);
+        self.file_in(node, ev, interval);
         if let Some((k, r)) = self.rebin {
             if ev > self.ev_min + self.delta {
                 self.overflow += 1;
@@ -291,7 +305,11 @@ impl BucketQueue {
 
     /// Links the unqueued `node` at the tail of the interval of `ev`.
     fn file(&mut self, node: u32, ev: f64) {
-        let j = self.interval(ev);
+        self.file_in(node, ev, self.interval(ev));
+    }
+
+    /// Links the unqueued `node` at the tail of interval `j`, filed with `ev`.
+    fn file_in(&mut self, node: u32, ev: f64, j: usize) {
         self.nodes[node as usize] = Node {
             next: NONE,
             prev: self.tail[j],
@@ -453,8 +471,9 @@ mod tests {
         // Pop order 1, 3, 2, 0, 4: the walk crosses intervals.
         let mut walked = Vec::new();
         let mut from = None;
-        while let Some((v, front)) = q.hand_over(from, 10 + walked.len() as u32) {
+        while let Some((v, front)) = q.next_after(from) {
             assert_eq!(front, from.is_none());
+            assert!(q.give_ticket(v, 10 + walked.len() as u32));
             walked.push(v);
             from = Some(v);
         }
@@ -475,8 +494,9 @@ mod tests {
         );
         // A cursor that is no longer queued restarts from the front.
         q.push(5, 0.3);
-        assert_eq!(q.hand_over(Some(1), 20), Some((5, true)));
-        assert_eq!(q.hand_over(Some(5), 21), None);
+        assert_eq!(q.next_after(Some(1)), Some((5, true)));
+        assert_eq!(q.next_after(Some(5)), None);
+        assert!(!q.give_ticket(1, 20), "an unqueued node gets no ticket");
     }
 
     #[test]

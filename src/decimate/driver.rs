@@ -137,8 +137,9 @@ pub(crate) fn run(
             counts.evaluations += 1;
             match engine.evaluate(v) {
                 Some(ev) if admissible(ev) => {
-                    if queue.interval(ev) > j {
-                        queue.push(v, ev);
+                    let to = queue.interval(ev);
+                    if to > j {
+                        queue.push_to(v, ev, to);
                         continue;
                     }
                 }
@@ -184,9 +185,9 @@ pub(crate) fn run(
 struct LookAheadState {
     /// The last node handed over.
     cursor: Option<u32>,
-    /// The node the cursor reached at the step before, and its ticket: its record and
-    /// list were fetched then, it is told to the engine now.
-    walked: Option<(u32, u32)>,
+    /// The node after the cursor, found at the step before: its record and list were
+    /// fetched then, it gets its ticket and is told to the engine now.
+    found: Option<u32>,
     next_ticket: u32,
 }
 
@@ -197,31 +198,34 @@ impl LookAheadState {
     /// once; otherwise one node per step, whose record and list are fetched a step before
     /// they are read.
     fn step(&mut self, queue: &mut BucketQueue, engine: &mut impl Engine, lead: usize) {
-        if let Some((v, ticket)) = self.walked.take() {
-            engine.look_ahead(v, ticket);
+        if let Some(v) = self.found.take() {
+            self.hand(queue, engine, v);
         }
-        let Some((v, front)) = queue.hand_over(self.cursor, self.next_ticket) else {
+        let Some((v, front)) = queue.next_after(self.cursor) else {
             return;
         };
-        let mut ticket = self.next_ticket;
-        self.next_ticket = self.next_ticket.wrapping_add(1);
-        self.cursor = Some(v);
-        if front {
-            engine.look_ahead(v, ticket);
-            for _ in 1..lead {
-                let Some((w, _)) = queue.hand_over(self.cursor, self.next_ticket) else {
-                    return;
-                };
-                ticket = self.next_ticket;
-                self.next_ticket = self.next_ticket.wrapping_add(1);
-                self.cursor = Some(w);
-                engine.look_ahead(w, ticket);
-            }
+        if !front {
+            queue.prefetch(v);
+            engine.prefetch(v);
+            self.found = Some(v);
             return;
         }
-        queue.prefetch(v);
-        engine.prefetch(v);
-        self.walked = Some((v, ticket));
+        self.hand(queue, engine, v);
+        for _ in 1..lead {
+            match queue.next_after(self.cursor) {
+                Some((w, false)) => self.hand(queue, engine, w),
+                _ => return,
+            }
+        }
+    }
+
+    /// Gives `v` the next ticket and tells the engine, when `v` is still queued.
+    fn hand(&mut self, queue: &mut BucketQueue, engine: &mut impl Engine, v: u32) {
+        if queue.give_ticket(v, self.next_ticket) {
+            engine.look_ahead(v, self.next_ticket);
+            self.next_ticket = self.next_ticket.wrapping_add(1);
+            self.cursor = Some(v);
+        }
     }
 }
 

@@ -20,8 +20,8 @@ use super::earcut::{orient2d, pack_cut, unpack_cut, EarCutter, RobustOrient};
 use super::fans::{CopiedList, Entry, FanLists, Lists, INLINE, NO_TRIANGLE};
 use super::history::History;
 use super::{
-    canonical_start, check_options, edge_angle, fan_normal, global_plane, BorderPolicy, Criterion,
-    DecimateError, Options, Outcome, Plane,
+    check_options, edge_angle, fan_normal, global_plane, BorderPolicy, Criterion, DecimateError,
+    Options, Outcome, Plane,
 };
 use crate::memory::{huge_copy, huge_vec};
 use crate::mesh::fans::Fans;
@@ -256,18 +256,28 @@ impl Scratch {
         if lists.len(v) > limit {
             return None;
         }
-        let (ring, fan) = (&mut self.ring, &mut self.fan);
-        lists.for_each(v, |e| {
-            ring.push(e.node);
-            fan.push(e.triangle);
-        });
         if lists.is_border(v) {
+            let (ring, fan) = (&mut self.ring, &mut self.fan);
+            lists.for_each(v, |e| {
+                ring.push(e.node);
+                fan.push(e.triangle);
+            });
             self.fan.pop();
             return Some(true);
         }
-        let start = canonical_start(&self.ring, false);
-        self.ring.rotate_left(start);
-        self.fan.rotate_left(start);
+        // Interior: from the lowest id on (rotated while copied).
+        self.list.clear();
+        let list = &mut self.list;
+        let (mut start, mut lowest) = (0, u32::MAX);
+        lists.for_each(v, |e| {
+            if e.node < lowest {
+                (start, lowest) = (list.len(), e.node);
+            }
+            list.push(e);
+        });
+        let rotated = || self.list[start..].iter().chain(&self.list[..start]);
+        self.ring.extend(rotated().map(|e| e.node));
+        self.fan.extend(rotated().map(|e| e.triangle));
         Some(false)
     }
 

@@ -16,6 +16,8 @@
 //! previous one.
 
 use crate::memory::advise_huge_pages;
+use rayon::prelude::*;
+use std::sync::Mutex;
 
 /// The triangle field of a border node's last entry.
 pub const NO_TRIANGLE: u32 = u32::MAX;
@@ -138,33 +140,43 @@ impl FanLists {
     }
 
     /// Lists for `nodes` nodes, node `v`'s written by `fill(v, list)` (which returns whether
-    /// it is a border list), in one pass over the blocks.
-    pub fn build(nodes: usize, mut fill: impl FnMut(u32, &mut Vec<Entry>) -> bool) -> FanLists {
+    /// it is a border list), in one parallel pass over the blocks (lists too long for their
+    /// block then move to overflow runs, in node order).
+    pub fn build(nodes: usize, fill: impl Fn(u32, &mut Vec<Entry>) -> bool + Sync) -> FanLists {
         // Room for some overflow runs before the blocks move.
         let mut blocks = Vec::with_capacity(nodes + nodes / 8);
         advise_huge_pages(&mut blocks);
-        let mut long = Vec::new();
-        let mut list = Vec::new();
-        for v in 0..nodes as u32 {
-            list.clear();
-            let border = fill(v, &mut list);
-            let mut block = Block::default();
-            block.0[0] = Entry {
-                node: if border { BORDER } else { 0 },
-                triangle: NO_RUN,
-            };
-            if list.len() <= INLINE {
-                block.0[0].node |= list.len() as u32;
-                block.0[1..=list.len()].copy_from_slice(&list);
-            } else {
-                long.push((v, border, list.clone()));
-            }
-            blocks.push(block);
-        }
+        let long = Mutex::new(Vec::new());
+        blocks.par_extend(
+            (0..nodes as u32)
+                .into_par_iter()
+                .map_init(Vec::new, |list, v| {
+                    list.clear();
+                    let border = fill(v, list);
+                    let mut block = Block::default();
+                    block.0[0] = Entry {
+                        node: if border { BORDER } else { 0 },
+                        triangle: NO_RUN,
+                    };
+                    if list.len() <= INLINE {
+                        block.0[0].node |= list.len() as u32;
+                        block.0[1..=list.len()].copy_from_slice(list);
+                    } else {
+                        long.lock().unwrap_or_else(|e| e.into_inner()).push((
+                            v,
+                            border,
+                            list.clone(),
+                        ));
+                    }
+                    block
+                }),
+        );
         let mut lists = FanLists {
             blocks,
             free: Vec::new(),
         };
+        let mut long = long.into_inner().unwrap_or_else(|e| e.into_inner());
+        long.sort_unstable_by_key(|&(v, _, _)| v);
         for (v, border, list) in long {
             lists.store(v, &list, border);
         }

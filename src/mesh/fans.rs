@@ -10,6 +10,7 @@
 //! triangle at an interior vertex) visits every triangle at `v` (else the vertex is pinched).
 
 use super::{Mesh, MeshError};
+use rayon::prelude::*;
 
 /// Every vertex's corners in counter-clockwise order, and which vertices are on the border.
 #[derive(Clone, Debug)]
@@ -51,15 +52,33 @@ impl Fans {
                 }
             }
         }
+        // Vertices are ordered independently: in parallel, in runs of vertices whose corners
+        // are contiguous; the first error in vertex order is reported.
         let mut border = vec![false; n];
-        let mut order = Order::default();
-        for v in 0..n {
-            let range = start[v] as usize..start[v + 1] as usize;
-            if range.is_empty() {
-                continue;
-            }
-            border[v] = order.sort(v as u32, &mut corners[range], tris)?;
+        let mut runs = Vec::with_capacity(n.div_ceil(RUN));
+        let (mut rest, mut border_rest) = (&mut corners[..], &mut border[..]);
+        for v0 in (0..n).step_by(RUN) {
+            let v1 = (v0 + RUN).min(n);
+            let (cs, tail) = rest.split_at_mut((start[v1] - start[v0]) as usize);
+            let (bs, border_tail) = border_rest.split_at_mut(v1 - v0);
+            (rest, border_rest) = (tail, border_tail);
+            runs.push((v0, cs, bs));
         }
+        let outcomes: Vec<Result<(), MeshError>> = runs
+            .into_par_iter()
+            .map_init(Order::default, |order, (v0, cs, bs)| {
+                let base = start[v0] as usize;
+                for (k, is_border) in bs.iter_mut().enumerate() {
+                    let v = v0 + k;
+                    let range = start[v] as usize - base..start[v + 1] as usize - base;
+                    if !range.is_empty() {
+                        *is_border = order.sort(v as u32, &mut cs[range], tris)?;
+                    }
+                }
+                Ok(())
+            })
+            .collect();
+        outcomes.into_iter().collect::<Result<(), MeshError>>()?;
         Ok(Fans {
             start,
             corners,
@@ -193,6 +212,9 @@ impl Order {
 
 /// Fans up to this many triangles are searched linearly.
 const SMALL: usize = 16;
+
+/// Vertices per parallel run.
+const RUN: usize = 4096;
 
 #[cfg(test)]
 mod tests {

@@ -113,9 +113,13 @@ pub const INLINE: usize = BLOCK - 1;
 struct Block([Entry; BLOCK]);
 
 // The header, entry 0 of a node's block: `node` packs the length (bits 0–23), the overflow
-// size class (24–29) and the border flag (31); `triangle` is the overflow run's first block.
+// size class (24–29), the removed mark (30) and the border flag (31); `triangle` is the
+// overflow run's first block.
 const LEN_MASK: u32 = (1 << 24) - 1;
 const CLASS_SHIFT: u32 = 24;
+const CLASS_MASK: u32 = (1 << 6) - 1;
+/// Set in the header of a node that was removed ([`FanLists::retire`]).
+const RETIRED: u32 = 1 << 30;
 const BORDER: u32 = 1 << 31;
 const NO_RUN: u32 = u32::MAX;
 
@@ -278,7 +282,7 @@ impl FanLists {
     pub fn store(&mut self, v: u32, entries: &[Entry], border: bool) {
         let h = self.header(v);
         let mut run = h.triangle;
-        let mut class = (h.node & !BORDER) >> CLASS_SHIFT;
+        let mut class = (h.node >> CLASS_SHIFT) & CLASS_MASK;
         let start = if entries.len() <= INLINE {
             if run != NO_RUN {
                 self.free_run(run, class);
@@ -335,6 +339,19 @@ impl FanLists {
             node: len as u32 | if border { BORDER } else { 0 },
             triangle: NO_RUN,
         };
+    }
+
+    /// Empties `v`'s list, frees its overflow run and marks `v` removed: its header, which
+    /// is written anyway, carries the mark (no separate array to touch).
+    pub fn retire(&mut self, v: u32) {
+        self.clear(v);
+        self.blocks[v as usize].0[0].node |= RETIRED;
+    }
+
+    /// True when `v` was [`retire`](Self::retire)d.
+    #[inline]
+    pub fn is_retired(&self, v: u32) -> bool {
+        self.header(v).node & RETIRED != 0
     }
 
     /// Empties `v`'s list and frees its overflow run.
@@ -419,7 +436,7 @@ mod tests {
         lists.store(2, &entries(9), true);
         assert!(lists.is_border(2));
         lists.clear(0);
-        assert!(lists.is_empty(0) && !lists.is_border(0));
+        assert!(lists.is_empty(0) && !lists.is_border(0) && !lists.is_retired(0));
         lists.store(0, &entries(8), false);
         assert_eq!(
             lists.blocks.len(),
@@ -439,5 +456,12 @@ mod tests {
         got.clear();
         lists.read(1, &mut got);
         assert_eq!(got, entries(3));
+        // Retiring frees the run and marks the node; a later list elsewhere reuses the run.
+        let blocks = lists.blocks.len();
+        lists.retire(2);
+        assert!(lists.is_retired(2) && lists.is_empty(2) && !lists.is_border(2));
+        lists.store(1, &entries(12), true);
+        assert_eq!(lists.blocks.len(), blocks, "node 2's run is reused");
+        assert!(!lists.is_retired(1) && lists.is_border(1));
     }
 }

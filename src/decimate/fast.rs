@@ -23,7 +23,7 @@ use super::{
     check_options, edge_angle, fan_normal, global_plane, BorderPolicy, Criterion, DecimateError,
     Options, Outcome, Plane,
 };
-use crate::memory::{huge_copy, huge_vec};
+use crate::memory::huge_copy;
 use crate::mesh::fans::Fans;
 use crate::mesh::{Mesh, Scalars};
 use rayon::prelude::*;
@@ -62,7 +62,6 @@ struct State {
     geo: Arc<Geometry>,
     slot_count: usize,
     lists: FanLists,
-    removed: Vec<bool>,
 }
 
 /// Buffers for planning one removal; one per thread when nodes are evaluated in parallel.
@@ -155,7 +154,6 @@ impl FastEngine {
                 geo,
                 slot_count: t,
                 lists,
-                removed: huge_vec(false, n),
             },
             sc: Scratch::default(),
             ahead,
@@ -488,8 +486,7 @@ impl State {
         for i in 0..l {
             self.relink(sc, v, i);
         }
-        self.lists.clear(v);
-        self.removed[v as usize] = true;
+        self.lists.retire(v);
     }
 
     /// Rewrites the list of ring node `w = ring[i]` after `v`'s removal. Around `w` the new
@@ -549,7 +546,7 @@ impl State {
         let mut vertices = Vec::new();
         let mut values = Vec::new();
         for v in 0..geo.pos.len() {
-            if !self.removed[v] {
+            if !self.lists.is_retired(v as u32) {
                 new_id[v] = vertices.len() as u32;
                 vertices.push(geo.pos[v]);
                 if let Some(f) = &geo.values {

@@ -27,6 +27,7 @@
 //! for by the `len/r` pushes before it, so every operation stays `O(1)` amortised.
 
 use crate::memory::huge_vec;
+use rayon::prelude::*;
 
 const NONE: u32 = u32::MAX;
 
@@ -283,6 +284,65 @@ impl BucketQueue {
         self.first_from(n.bucket as usize + 1).map(|j| self.head[j])
     }
 
+    /// Pushes `items` (distinct nodes) in order, as [`push`](Self::push) one by one would.
+    /// Into an empty queue, When no value lies above the range (no push would count towards re-binning)
+    /// the intervals are computed in parallel and each interval's list is linked in one
+    /// go, without chasing tails across the node records.
+    pub fn push_all(&mut self, items: &[(u32, f64)]) {
+        let top = self.ev_min + self.delta;
+        let overflows = self.rebin.is_some() && items.iter().any(|&(_, ev)| ev > top);
+        if !self.is_empty() || overflows {
+            for &(v, ev) in items {
+                self.push(v, ev);
+            }
+            return;
+        }
+        let intervals: Vec<u32> = items
+            .par_iter()
+            .map(|&(_, ev)| self.interval(ev) as u32)
+            .collect();
+        // A stable counting sort by interval keeps the push order within each interval.
+        let mut start = vec![0u32; self.m + 1];
+        for &j in &intervals {
+            start[j as usize + 1] += 1;
+        }
+        for j in 0..self.m {
+            start[j + 1] += start[j];
+        }
+        let mut sorted = vec![0u32; items.len()];
+        let mut fill = start.clone();
+        for (k, &j) in intervals.iter().enumerate() {
+            sorted[fill[j as usize] as usize] = k as u32;
+            fill[j as usize] += 1;
+        }
+        for j in 0..self.m {
+            let run = &sorted[start[j] as usize..start[j + 1] as usize];
+            let (Some(&first), Some(&last)) = (run.first(), run.last()) else {
+                continue;
+            };
+            self.head[j] = items[first as usize].0;
+            self.tail[j] = items[last as usize].0;
+            self.occupied[j / 64] |= 1 << (j % 64);
+            self.summary[j / 4096] |= 1 << ((j / 64) % 64);
+            for (i, &k) in run.iter().enumerate() {
+                let (v, ev) = items[k as usize];
+                let node = |i: Option<usize>| {
+                    i.and_then(|i| run.get(i))
+                        .map_or(NONE, |&k| items[k as usize].0)
+                };
+                self.nodes[v as usize] = Node {
+                    next: node(Some(i + 1)),
+                    prev: node(i.checked_sub(1)),
+                    bucket: j as u32,
+                    ticket: NONE,
+                    ev,
+                    marked: false,
+                };
+            }
+        }
+        self.len = items.len();
+    }
+
     /// Files `node` at the tail of the interval of `ev` (unlinking it first if queued).
     pub fn push(&mut self, node: u32, ev: f64) {
         self.push_to(node, ev, self.interval(ev));
@@ -460,6 +520,51 @@ mod tests {
         );
         assert_eq!(q.peek(), None);
         assert!(q.is_empty());
+    }
+
+    #[test]
+    fn pushing_all_at_once_is_pushing_one_by_one() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rand = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for round in 0..20 {
+            let n = 1 + (rand() % 3000) as usize;
+            let mut nodes: Vec<u32> = (0..n as u32).collect();
+            for i in (1..n).rev() {
+                nodes.swap(i, (rand() % (i as u64 + 1)) as usize);
+            }
+            // Values with ties, and (odd rounds) a few above the range given.
+            let items: Vec<(u32, f64)> = nodes
+                .iter()
+                .map(|&v| {
+                    let above = round % 2 == 1 && rand() % 50 == 0;
+                    (
+                        v,
+                        if above {
+                            9.0
+                        } else {
+                            (rand() % 40) as f64 / 8.0
+                        },
+                    )
+                })
+                .collect();
+            let popped = |bulk: bool| {
+                let mut q = BucketQueue::new(n, 1 + n / 10, 0.0, 5.0).rebinning(10, 2);
+                if bulk {
+                    q.push_all(&items);
+                } else {
+                    items.iter().for_each(|&(v, ev)| q.push(v, ev));
+                }
+                let order: Vec<(u32, usize)> =
+                    std::iter::from_fn(|| q.pop().map(|t| (t.node, t.interval))).collect();
+                (order, q.rebuilds())
+            };
+            assert_eq!(popped(true), popped(false), "round {round}");
+        }
     }
 
     #[test]

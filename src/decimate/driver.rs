@@ -103,9 +103,7 @@ pub(crate) fn run(
     if options.rebin {
         queue = queue.rebinning(options.k, REBIN_FRACTION);
     }
-    for &(v, ev) in &initial {
-        queue.push(v, ev);
-    }
+    queue.push_all(&initial);
     drop(initial);
     let mut counts = LoopCounts {
         intervals: m,

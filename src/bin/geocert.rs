@@ -106,6 +106,11 @@ enum Command {
         /// lazily, when they reach the front of the queue).
         #[arg(long)]
         eager: bool,
+        /// Do not evaluate the nodes the loop takes next on a second thread (the fast path's
+        /// default when the machine has two cores or more; the result is the same). With
+        /// RAYON_NUM_THREADS=1 everything runs on one thread.
+        #[arg(long)]
+        no_look_ahead: bool,
         #[arg(long)]
         json: bool,
     },
@@ -371,6 +376,7 @@ fn run(cli: Cli) -> Result<ExitCode, String> {
             k,
             fixed_intervals,
             eager,
+            no_look_ahead,
             json,
         } => {
             use geocert::decimate::{BorderPolicy, Criterion, Options, ProjectionChoice, Target};
@@ -398,6 +404,7 @@ fn run(cli: Cli) -> Result<ExitCode, String> {
                 k,
                 rebin: !fixed_intervals,
                 lazy: !eager,
+                look_ahead: !no_look_ahead,
                 ..Options::default()
             };
             let path = match path {

@@ -10,7 +10,7 @@
 //! batch at a time meanwhile and sends back each node's value and plan (its hole's cut,
 //! packed in a word). When the loop takes a node it
 //! uses what was evaluated ahead if the queue vouches that the node's list is unchanged since
-//! it was handed over (the node still holds its ticket, [`BucketQueue::hand_over`]), and
+//! it was handed over (the node still holds its ticket, [`BucketQueue::give_ticket`]), and
 //! evaluates it itself otherwise, or when the result has not come back yet.
 //!
 //! Both threads run the same code on the same `f64` inputs, so a result evaluated ahead is
@@ -18,7 +18,7 @@
 //! timing. On the 810k-node grid a list changes within a thousand removals of being handed
 //! over almost never, so nearly every evaluation moves to the worker.
 //!
-//! [`BucketQueue::hand_over`]: super::bucket::BucketQueue::hand_over
+//! [`BucketQueue::give_ticket`]: super::bucket::BucketQueue::give_ticket
 
 use super::fans::{Entry, FanLists};
 use super::Plane;
@@ -162,7 +162,7 @@ impl Lookahead {
 
     /// Adds `v` (with `ticket`, one more than the node added before, or else a new batch
     /// starts) to the batch being filled, with a copy of its list; a full batch goes to the
-    /// worker, unless [`IN_FLIGHT`] batches are still out (then it is dropped).
+    /// worker, unless too many batches are still out (then it is dropped).
     pub fn add(&mut self, v: u32, ticket: u32, lists: &FanLists) {
         let job = &self.pending;
         if !job.nodes.is_empty() && job.first_ticket.wrapping_add(job.nodes.len() as u32) != ticket

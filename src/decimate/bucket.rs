@@ -14,7 +14,7 @@
 //! The queues are intrusive doubly linked lists over node ids: push to the tail, pop from the
 //! head, unlink any node in `O(1)` when it is re-evaluated. A node's links, interval, value,
 //! mark (a flag the caller may set on a queued node, [`BucketQueue::mark`]) and ticket (see
-//! [`BucketQueue::hand_over`]) share one record, so that touching a node costs one cache miss,
+//! [`BucketQueue::give_ticket`]) share one record, so that touching a node costs one cache miss,
 //! not five.
 //!
 //! Re-binning (an extension; [`BucketQueue::rebinning`]): the paper fixes the boundaries from
@@ -44,7 +44,7 @@ struct Node {
     prev: u32,
     /// The interval the node is filed in, or `NONE`.
     bucket: u32,
-    /// The ticket [`BucketQueue::hand_over`] gave it, or `NONE`.
+    /// The ticket [`BucketQueue::give_ticket`] gave it, or `NONE`.
     ticket: u32,
     /// The value it was filed with.
     ev: f64,

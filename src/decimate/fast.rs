@@ -10,7 +10,7 @@
 //! planning a removal. The initial evaluation of every node and the embedding check run on
 //! all cores (rayon), each thread with its own scratch. The decimation loop is sequential,
 //! but the nodes it will take next are evaluated ahead on a second thread
-//! ([`ahead`](super::ahead)) from copies of their lists. The loop prefetches: the next node's
+//! ([`ahead`]) from copies of their lists. The loop prefetches: the next node's
 //! list and position when it reaches the front of the queue, its ring's lists, positions and
 //! queue records at the end of the step before it is taken.
 

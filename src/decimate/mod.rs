@@ -14,7 +14,9 @@
 //!   exact arithmetic (rounded once to `f64` to file the node);
 //! * [`fast`] — `f64` coordinates, per-node fan lists in cache-line blocks ([`fans`], the
 //!   paper's Figure 4) naming triangles that live in reusable slots, adaptive robust
-//!   orientation predicates (Shewchuk's, from the `robust` crate).
+//!   orientation predicates (Shewchuk's, from the `robust` crate); while the loop removes,
+//!   the nodes it takes next are evaluated ahead on a second thread ([`ahead`]), which
+//!   changes the speed, not the removals.
 //!
 //! Both use exact signs for every validity decision, so they take the same decisions; the
 //! heuristics (which ear to cut first, which axis plane to project a fan into, the angle

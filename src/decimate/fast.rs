@@ -32,6 +32,10 @@ use std::sync::Arc;
 
 const NONE: u32 = u32::MAX;
 
+/// Smaller meshes are decimated without the lookahead thread: starting and joining it
+/// would cost more than it saves.
+pub const LOOK_AHEAD_NODES: usize = 10_000;
+
 /// A hole ready to be filled: the fan, its projection and the ear cut.
 #[derive(Clone, Copy)]
 struct Plan {
@@ -96,11 +100,13 @@ pub(crate) struct FastEngine {
 
 impl FastEngine {
     /// Builds the fan lists, checking that the mesh is an oriented 2-manifold; starts the
-    /// lookahead thread when [`Options::look_ahead`] asks for it and the machine has more
-    /// than one core.
+    /// lookahead thread when [`Options::look_ahead`] asks for it, the machine has more than
+    /// one core and the mesh has at least [`LOOK_AHEAD_NODES`] nodes.
     pub(crate) fn new(mesh: &Mesh, options: &Options) -> Result<FastEngine, DecimateError> {
         let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-        let look_ahead = (options.look_ahead && cores > 1).then_some(false);
+        let look_ahead =
+            (options.look_ahead && cores > 1 && mesh.vertices.len() >= LOOK_AHEAD_NODES)
+                .then_some(false);
         FastEngine::build(mesh, options, look_ahead)
     }
 

@@ -204,8 +204,8 @@ pub struct Options {
     /// rather than at once (an extension, [`driver`]); `false` is the paper's step.
     pub lazy: bool,
     /// Let the fast path evaluate the nodes the queue gives next on a second thread while
-    /// the loop removes (when the machine has more than one core; [`ahead`]). The result is
-    /// the same either way.
+    /// the loop removes (when the machine has more than one core and the mesh at least
+    /// [`fast::LOOK_AHEAD_NODES`] nodes; [`ahead`]). The result is the same either way.
     pub look_ahead: bool,
 }
 

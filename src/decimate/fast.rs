@@ -816,10 +816,45 @@ mod tests {
         (out.history.to_bytes(), used.get(), out.stats.removed)
     }
 
+    /// A hub with `spokes` neighbours, two rings, a scalar field flat on the hub and the
+    /// inner ring (so the hub, whose hole is too large to pack, goes first).
+    fn wheel(spokes: u32) -> Mesh {
+        let mut vertices = vec![[0.0, 0.0, 0.0]];
+        let mut values = vec![5.0];
+        for ring in 1..=2u32 {
+            for k in 0..spokes {
+                let t =
+                    (k as f64 + 0.5 * (ring - 1) as f64) * std::f64::consts::TAU / spokes as f64;
+                vertices.push([ring as f64 * t.cos(), ring as f64 * t.sin(), 0.0]);
+                values.push(if ring == 1 { 5.0 } else { (k % 7) as f64 });
+            }
+        }
+        let (inner, outer) = (|k: u32| 1 + k % spokes, |k: u32| 1 + spokes + k % spokes);
+        let triangles = (0..spokes)
+            .flat_map(|k| {
+                [
+                    [0, inner(k), inner(k + 1)],
+                    [inner(k), outer(k), inner(k + 1)],
+                    [inner(k + 1), outer(k), outer(k + 1)],
+                ]
+            })
+            .collect();
+        Mesh {
+            normals: None,
+            vertices,
+            triangles,
+            scalars: Some(Scalars {
+                name: "s".into(),
+                values,
+            }),
+        }
+    }
+
     #[test]
     fn evaluating_ahead_changes_nothing() {
         let grid = height_grid(60);
         let plate = paper_plate();
+        let hub = wheel(40);
         let options = |criterion, projection, lazy| Options {
             criterion,
             projection,
@@ -857,6 +892,14 @@ mod tests {
                 "plate, error",
                 &plate,
                 options(Criterion::Error, ProjectionChoice::Auto, true),
+            ),
+            (
+                "wheel of 40 spokes, scalar",
+                &hub,
+                Options {
+                    target: Target::Keep(0.5),
+                    ..options(Criterion::Scalar, ProjectionChoice::Auto, true)
+                },
             ),
         ];
         for (name, mesh, options) in cases {

@@ -4,8 +4,8 @@
 //! original mesh bit for bit; undo and redo of any number of steps are inverse.
 
 use geocert::decimate::{
-    check, decimate, BorderPolicy, Criterion, History, Options, Path, ProjectionChoice, Stage,
-    Target,
+    check, data, decimate, BorderPolicy, Criterion, History, Options, Path, ProjectionChoice,
+    Stage, Target,
 };
 use geocert::mesh::Mesh;
 use geocert::strategies::height_field_mesh;
@@ -329,49 +329,10 @@ proptest! {
     }
 }
 
-/// A wheel: a centre node joined to `spokes` inner-ring nodes, and an outer ring (the border),
-/// with integer scalars: 5 at the centre and the inner ring (so that the centre, at 0 by the
-/// scalar criterion, goes first with its whole ring), varied on the outer ring. The centre's
-/// valence passes both the fan lists' inline capacity and the small ear cutter's 64
-/// vertices, so the overflow runs and the list cutter take part.
-fn wheel(spokes: u32) -> Mesh {
-    let mut vertices = vec![[0.0, 0.0, 0.0]];
-    let mut values = vec![5.0];
-    for ring in 1..=2u32 {
-        for k in 0..spokes {
-            let t = (k as f64 + 0.5 * (ring - 1) as f64) * std::f64::consts::TAU / spokes as f64;
-            let r = ring as f64;
-            vertices.push([r * t.cos(), r * t.sin(), 0.0]);
-            values.push(if ring == 1 {
-                5.0
-            } else {
-                ((k * 7) % 11) as f64
-            });
-        }
-    }
-    let inner = |k: u32| 1 + k % spokes;
-    let outer = |k: u32| 1 + spokes + k % spokes;
-    let mut triangles = Vec::new();
-    for k in 0..spokes {
-        triangles.push([0, inner(k), inner(k + 1)]);
-        triangles.push([inner(k), outer(k), inner(k + 1)]);
-        triangles.push([inner(k + 1), outer(k), outer(k + 1)]);
-    }
-    Mesh {
-        normals: None,
-        vertices,
-        triangles,
-        scalars: Some(geocert::mesh::Scalars {
-            name: "s".into(),
-            values,
-        }),
-    }
-}
-
 #[test]
 fn high_valence_fans_agree_and_verify() {
     for spokes in [9, 70, 120] {
-        let mesh = wheel(spokes);
+        let mesh = data::wheel(spokes);
         for paper in [false, true] {
             let opts = Options {
                 max_valence: 255,

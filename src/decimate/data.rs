@@ -141,6 +141,48 @@ pub fn paper_plate() -> Mesh {
     kirsch_plate(306, 51)
 }
 
+/// A wheel: a centre node joined to `spokes` inner-ring nodes, and an outer ring (the border),
+/// with integer scalars named `s`: 5 at the centre and the inner ring (so that the centre, at
+/// 0 by the scalar criterion, goes first with its whole ring), varied on the outer ring. For
+/// tests of large holes: with more than 16 spokes the centre's cut is too large to pack, with
+/// more than 64 it passes the small ear cutter and the fan lists' inline capacity.
+pub fn wheel(spokes: u32) -> Mesh {
+    let mut vertices = vec![[0.0, 0.0, 0.0]];
+    let mut values = vec![5.0];
+    for ring in 1..=2u32 {
+        for k in 0..spokes {
+            let t = (k as f64 + 0.5 * (ring - 1) as f64) * std::f64::consts::TAU / spokes as f64;
+            let r = ring as f64;
+            vertices.push([r * t.cos(), r * t.sin(), 0.0]);
+            values.push(if ring == 1 {
+                5.0
+            } else {
+                ((k * 7) % 11) as f64
+            });
+        }
+    }
+    let inner = |k: u32| 1 + k % spokes;
+    let outer = |k: u32| 1 + spokes + k % spokes;
+    let triangles = (0..spokes)
+        .flat_map(|k| {
+            [
+                [0, inner(k), inner(k + 1)],
+                [inner(k), outer(k), inner(k + 1)],
+                [inner(k + 1), outer(k), outer(k + 1)],
+            ]
+        })
+        .collect();
+    Mesh {
+        normals: None,
+        vertices,
+        triangles,
+        scalars: Some(Scalars {
+            name: "s".into(),
+            values,
+        }),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -795,7 +795,7 @@ pub fn decimate(mesh: &Mesh, options: &Options) -> Result<Outcome, DecimateError
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::decimate::data::{height_grid, paper_plate};
+    use crate::decimate::data::{height_grid, paper_plate, wheel};
     use crate::decimate::{ProjectionChoice, Target};
 
     /// The history (as bytes) and how many taken nodes used a result evaluated ahead, with
@@ -816,93 +816,30 @@ mod tests {
         (out.history.to_bytes(), used.get(), out.stats.removed)
     }
 
-    /// A hub with `spokes` neighbours, two rings, a scalar field flat on the hub and the
-    /// inner ring (so the hub, whose hole is too large to pack, goes first).
-    fn wheel(spokes: u32) -> Mesh {
-        let mut vertices = vec![[0.0, 0.0, 0.0]];
-        let mut values = vec![5.0];
-        for ring in 1..=2u32 {
-            for k in 0..spokes {
-                let t =
-                    (k as f64 + 0.5 * (ring - 1) as f64) * std::f64::consts::TAU / spokes as f64;
-                vertices.push([ring as f64 * t.cos(), ring as f64 * t.sin(), 0.0]);
-                values.push(if ring == 1 { 5.0 } else { (k % 7) as f64 });
-            }
-        }
-        let (inner, outer) = (|k: u32| 1 + k % spokes, |k: u32| 1 + spokes + k % spokes);
-        let triangles = (0..spokes)
-            .flat_map(|k| {
-                [
-                    [0, inner(k), inner(k + 1)],
-                    [inner(k), outer(k), inner(k + 1)],
-                    [inner(k + 1), outer(k), outer(k + 1)],
-                ]
-            })
-            .collect();
-        Mesh {
-            normals: None,
-            vertices,
-            triangles,
-            scalars: Some(Scalars {
-                name: "s".into(),
-                values,
-            }),
-        }
-    }
-
     #[test]
     fn evaluating_ahead_changes_nothing() {
         let grid = height_grid(60);
         let plate = paper_plate();
         let hub = wheel(40);
-        let options = |criterion, projection, lazy| Options {
-            criterion,
-            projection,
-            lazy,
-            target: Target::Keep(0.05),
-            ..Options::default()
-        };
+        use Criterion::{Angle, Error, Scalar};
+        use ProjectionChoice::{Auto, PerFan};
         let cases = [
-            (
-                "grid, error",
-                &grid,
-                options(Criterion::Error, ProjectionChoice::Auto, true),
-            ),
-            (
-                "grid, angle",
-                &grid,
-                options(Criterion::Angle, ProjectionChoice::Auto, true),
-            ),
-            (
-                "grid, per-fan",
-                &grid,
-                options(Criterion::Error, ProjectionChoice::PerFan, true),
-            ),
-            (
-                "grid, eager",
-                &grid,
-                options(Criterion::Error, ProjectionChoice::Auto, false),
-            ),
-            (
-                "plate, scalar",
-                &plate,
-                options(Criterion::Scalar, ProjectionChoice::Auto, true),
-            ),
-            (
-                "plate, error",
-                &plate,
-                options(Criterion::Error, ProjectionChoice::Auto, true),
-            ),
-            (
-                "wheel of 40 spokes, scalar",
-                &hub,
-                Options {
-                    target: Target::Keep(0.5),
-                    ..options(Criterion::Scalar, ProjectionChoice::Auto, true)
-                },
-            ),
+            ("grid, error", &grid, Error, Auto, true, 0.05),
+            ("grid, angle", &grid, Angle, Auto, true, 0.05),
+            ("grid, per-fan", &grid, Error, PerFan, true, 0.05),
+            ("grid, eager", &grid, Error, Auto, false, 0.05),
+            ("plate, scalar", &plate, Scalar, Auto, true, 0.05),
+            ("plate, error", &plate, Error, Auto, true, 0.05),
+            ("wheel of 40 spokes, scalar", &hub, Scalar, Auto, true, 0.5),
         ];
-        for (name, mesh, options) in cases {
+        for (name, mesh, criterion, projection, lazy, keep) in cases {
+            let options = Options {
+                criterion,
+                projection,
+                lazy,
+                target: Target::Keep(keep),
+                ..Options::default()
+            };
             let (alone, none, removed) = run(mesh, &options, None);
             let (helped, _, _) = run(mesh, &options, Some(false));
             let (waited, used, _) = run(mesh, &options, Some(true));

@@ -576,3 +576,23 @@ fn decimate_undecimate_round_trip_and_refusals() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("edge ("));
     assert!(!bo.exists() && !bh.exists());
 }
+
+#[test]
+fn closed_stdout_ends_quietly() {
+    // The reader is gone before geocert writes: `geocert … --json | head -c0`.
+    let mut child = geocert()
+        .args(["decimate", "builtin:grid:30", "--json"])
+        .arg("--out")
+        .arg(tmp("pipe.ply"))
+        .arg("--history")
+        .arg(tmp("pipe.bin"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "status {:?}: {stderr}", out.status);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}

@@ -15,6 +15,30 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+/// Like std's `println!`, but a closed stdout (`geocert … | head`) ends the process quietly.
+macro_rules! println {
+    () => { say(format_args!("\n")) };
+    ($($arg:tt)*) => { say(format_args!("{}\n", format_args!($($arg)*))) };
+}
+
+/// Like std's `print!`, but a closed stdout ends the process quietly.
+macro_rules! print {
+    ($($arg:tt)*) => { say(format_args!($($arg)*)) };
+}
+
+/// Writes to stdout; exits with status 0 when the reader has gone (broken pipe), with
+/// status 2 and a message on any other write error, instead of panicking as `println!` does.
+fn say(args: std::fmt::Arguments) {
+    use std::io::Write;
+    if let Err(e) = std::io::stdout().lock().write_fmt(args) {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("error: cannot write to stdout: {e}");
+        std::process::exit(2);
+    }
+}
+
 #[derive(Parser)]
 #[command(
     name = "geocert",

@@ -73,13 +73,17 @@ pub(crate) struct LoopCounts {
     pub evaluations: usize,
     pub taken: usize,
     pub evaluated_ahead: usize,
+    /// Seconds on `clock` when the first node was taken.
+    pub setup_seconds: f64,
 }
 
 /// Runs the loop to the target; the removal sequence is in `history`.
+/// `clock` started with the decimation (for [`LoopCounts::setup_seconds`]).
 pub(crate) fn run(
     engine: &mut impl Engine,
     options: &Options,
     history: &mut History,
+    clock: std::time::Instant,
 ) -> LoopCounts {
     let n = engine.node_count();
     let bound = match options.target {
@@ -107,6 +111,7 @@ pub(crate) fn run(
     drop(initial);
     let mut counts = LoopCounts {
         intervals: m,
+        setup_seconds: clock.elapsed().as_secs_f64(),
         ..LoopCounts::default()
     };
     let mut present = n;
@@ -244,7 +249,7 @@ pub(crate) fn decimate_with<E: Engine>(
         mesh.triangles.len(),
         mesh.scalars.is_some(),
     );
-    let counts = run(&mut engine, options, &mut history);
+    let counts = run(&mut engine, options, &mut history, clock);
     let (out, projection_xy) = finish(&engine);
     let seconds = clock.elapsed().as_secs_f64();
     history.original_fingerprint = fingerprint(mesh);
@@ -269,6 +274,7 @@ pub(crate) fn decimate_with<E: Engine>(
             evaluated_ahead: counts.evaluated_ahead,
             projection_xy,
             seconds,
+            setup_seconds: counts.setup_seconds,
         },
         history,
         mesh: out,

@@ -362,9 +362,11 @@ pub fn unpack_cut(bits: u64, out: &mut Vec<[u8; 3]>) -> usize {
     let l = (bits & 15) as usize + 3;
     let (mut next, mut prev) = ([0u8; PACKED_MAX], [0u8; PACKED_MAX]);
     for i in 0..l {
-        next[i] = ((i + 1) % l) as u8;
-        prev[i] = ((i + l - 1) % l) as u8;
+        next[i] = i as u8 + 1;
+        prev[i] = (i as u8).wrapping_sub(1);
     }
+    next[l - 1] = 0;
+    prev[0] = (l - 1) as u8;
     let mut alive = (1u32 << l) - 1;
     out.clear();
     for k in 0..l - 3 {
@@ -394,17 +396,23 @@ fn in_closed_triangle(orient: &impl Orient, [a, b, c]: [usize; 3], p: usize) -> 
 /// vertex turns strictly left each step turns by less than π, so this counts its windings: one
 /// means it is simple and convex. Exact: the signs of `f64` differences are exact.
 fn winds_once(points: &[[f64; 2]]) -> bool {
-    let l = points.len();
-    let upper = |i: usize| {
-        let (p, q) = (points[i], points[(i + 1) % l]);
+    let (Some(&first), Some(&last)) = (points.first(), points.last()) else {
+        return false;
+    };
+    let upper = |p: [f64; 2], q: [f64; 2]| {
         let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
         dy > 0.0 || (dy == 0.0 && dx > 0.0)
     };
+    let mut edges = points
+        .windows(2)
+        .map(|w| upper(w[0], w[1]))
+        .chain([upper(last, first)]);
+    let Some(opening) = edges.next() else {
+        return false;
+    };
     let mut wraps = 0;
-    let first = upper(0);
-    let mut was = first;
-    for i in 1..=l {
-        let now = if i == l { first } else { upper(i) };
+    let mut was = opening;
+    for now in edges.chain([opening]) {
         wraps += (!was && now) as usize;
         was = now;
     }

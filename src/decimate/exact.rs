@@ -307,7 +307,7 @@ fn xy(c: &[Rational; 3]) -> [Rational; 2] {
 /// `centre`) and the lower (`[π, 2π)`), counter-clockwise steps of less than `π` pass angle 0
 /// exactly when they go from lower to upper; one such step is one winding. Border: every
 /// inner ring point lies strictly left of the line from the last ring point to the first.
-fn simple_star(centre: &[Rational; 2], ring: &[[Rational; 2]], border: bool) -> bool {
+pub(crate) fn simple_star(centre: &[Rational; 2], ring: &[[Rational; 2]], border: bool) -> bool {
     let l = ring.len();
     let count = if border { l - 1 } else { l };
     if (0..count).any(|i| orient(centre, &ring[i], &ring[(i + 1) % l]) != Ordering::Greater) {

@@ -28,6 +28,7 @@ use crate::mesh::fans::Fans;
 use crate::mesh::{Mesh, Scalars};
 use rayon::prelude::*;
 use std::cmp::Ordering;
+use std::sync::atomic::{AtomicBool, Ordering as AtomicOrdering};
 use std::sync::Arc;
 
 const NONE: u32 = u32::MAX;
@@ -94,6 +95,9 @@ pub(crate) struct FastEngine {
     st: State,
     sc: Scratch,
     ahead: Option<Lookahead>,
+    /// The lookahead thread to start once the initial pass has set [`Geometry::embedded`]:
+    /// `Some(wait)` ([`FastEngine::build`]).
+    start_ahead: Option<bool>,
     /// What was evaluated ahead for the node being taken.
     ready: Option<Evaluated>,
 }
@@ -111,13 +115,14 @@ impl FastEngine {
     }
 
     /// [`new`](Self::new) with the lookahead thread chosen: `None` for none, `Some(wait)`
-    /// for one (`wait`: the loop waits for its results rather than evaluating itself).
+    /// for one (`wait`: the loop waits for its results rather than evaluating itself). The
+    /// thread starts after the initial pass ([`Engine::evaluate_all`]), which also decides
+    /// [`Geometry::embedded`].
     fn build(
         mesh: &Mesh,
         options: &Options,
         look_ahead: Option<bool>,
     ) -> Result<FastEngine, DecimateError> {
-        let n = mesh.vertices.len();
         let t = mesh.triangles.len();
         if 3 * t >= NONE as usize / 2 {
             return Err(DecimateError::BadOption(format!(
@@ -130,7 +135,7 @@ impl FastEngine {
             let p = tri.map(|i| Plane::XY.project(mesh.vertices[i as usize]));
             orient2d(p[0], p[1], p[2]) != Ordering::Greater
         })?;
-        let mut geo = Geometry {
+        let geo = Geometry {
             pos: huge_copy(&mesh.vertices),
             values: mesh.scalars.as_ref().map(|s| s.values.clone()),
             global,
@@ -139,46 +144,68 @@ impl FastEngine {
             max_valence: options.max_valence,
             embedded: false,
         };
-        geo.embedded = geo.global.is_some()
-            && (0..n as u32)
-                .into_par_iter()
-                .map_init(Scratch::default, |sc, v| sc.fan_embedded(&geo, &lists, v))
-                .all(|simple| simple);
-        let geo = Arc::new(geo);
-        let ahead = look_ahead.and_then(|wait| {
-            let geo = Arc::clone(&geo);
-            let mut sc = Scratch::default();
-            let batch = if wait { 8 } else { ahead::BATCH };
-            Lookahead::spawn(
-                move |job, out, passed| sc.evaluate_job(&geo, job, out, passed),
-                batch,
-                wait,
-            )
-        });
         Ok(FastEngine {
             st: State {
-                geo,
+                geo: Arc::new(geo),
                 slot_count: t,
                 lists,
             },
             sc: Scratch::default(),
-            ahead,
+            ahead: None,
+            start_ahead: look_ahead,
             ready: None,
         })
+    }
+
+    /// Starts the lookahead thread if one was asked for and none runs.
+    fn start_lookahead(&mut self) {
+        let Some(wait) = self.start_ahead.take() else {
+            return;
+        };
+        let geo = Arc::clone(&self.st.geo);
+        let mut sc = Scratch::default();
+        let batch = if wait { 8 } else { ahead::BATCH };
+        self.ahead = Lookahead::spawn(
+            move |job, out, passed| sc.evaluate_job(&geo, job, out, passed),
+            batch,
+            wait,
+        );
     }
 }
 
 impl Scratch {
-    /// True when `v`'s fan, whatever its valence, is a simple star in the global projection.
-    fn fan_embedded(&mut self, geo: &Geometry, lists: &FanLists, v: u32) -> bool {
+    /// The initial pass at `v` when holes are cut in the `global` plane: `v`'s evaluation
+    /// value ([`evaluate`](Self::evaluate) with [`Geometry::embedded`] not yet known, so
+    /// false) and whether `v`'s fan, whatever its valence, is a simple star in that plane
+    /// (all of them: `embedded`). One fan load and projection serve both.
+    fn evaluate_initial(
+        &mut self,
+        geo: &Geometry,
+        lists: &FanLists,
+        v: u32,
+        global: Plane,
+    ) -> (Option<f64>, bool) {
         if lists.is_empty(v) {
-            return true;
+            return (None, true);
         }
         let border = self
             .load_fan(lists, v, usize::MAX)
             .expect("no valence limit");
-        let pv = self.project_fan(geo, v, geo.global.unwrap_or(Plane::XY));
-        star_is_simple(pv, &self.pts, border)
+        let pv = self.project_fan(geo, v, global);
+        let simple = star_is_simple(pv, &self.pts, border);
+        if self.ring.len() > geo.max_valence {
+            return (None, simple);
+        }
+        let Some((border, plane)) = self.admit(geo, v, border) else {
+            return (None, simple);
+        };
+        let ev = if geo.criterion == Criterion::Error {
+            self.cut_projected(v, border, plane, simple)
+                .map(|plan| self.removal_error(geo, v, plan.plane))
+        } else {
+            self.mean_value(geo, v, plane)
+        };
+        (ev, simple)
     }
 
     /// Projects the loaded ring into `pts` and returns the projection of `v`.
@@ -311,6 +338,12 @@ impl Scratch {
             return None;
         }
         let border = self.load_fan(lists, v, geo.max_valence)?;
+        self.admit(geo, v, border)
+    }
+
+    /// The border policy and the projection plane for `v`'s loaded fan
+    /// ([`candidate`](Self::candidate) after the load).
+    fn admit(&mut self, geo: &Geometry, v: u32, border: bool) -> Option<(bool, Plane)> {
         if border && (geo.border_policy == BorderPolicy::Exclude || !self.border_intact(geo, v)) {
             return None;
         }
@@ -334,7 +367,14 @@ impl Scratch {
             return None;
         }
         let pv = self.project_fan(geo, v, plane);
-        if !geo.embedded && !star_is_simple(pv, &self.pts, border) {
+        let simple = geo.embedded || star_is_simple(pv, &self.pts, border);
+        self.cut_projected(v, border, plane, simple)
+    }
+
+    /// Cuts the ears of `v`'s loaded and projected hole, unless its fan is not a `simple`
+    /// star ([`plan`](Self::plan) after the projection).
+    fn cut_projected(&mut self, v: u32, border: bool, plane: Plane, simple: bool) -> Option<Plan> {
+        if self.ring.len() < 3 || !simple {
             return None;
         }
         if !self
@@ -355,6 +395,11 @@ impl Scratch {
             return Some(self.removal_error(geo, v, plan.plane));
         }
         let (_, plane) = self.candidate(geo, lists, v)?;
+        self.mean_value(geo, v, plane)
+    }
+
+    /// The angle or scalar criterion over `v`'s loaded ring.
+    fn mean_value(&self, geo: &Geometry, v: u32, plane: Plane) -> Option<f64> {
         let p = geo.pos[v as usize];
         let mut sum = 0.0;
         for &w in &self.ring {
@@ -598,18 +643,33 @@ impl Engine for FastEngine {
         self.sc.evaluate(&self.st.geo, &self.st.lists, v)
     }
 
-    /// In parallel (rayon), each thread with its own scratch buffers.
+    /// In parallel (rayon), each thread with its own scratch buffers. With a global plane
+    /// the same pass decides [`Geometry::embedded`]; then the lookahead thread starts.
     fn evaluate_all(&mut self, keep: impl Fn(f64) -> bool + Sync) -> Vec<(u32, f64)> {
         let (geo, lists) = (&*self.st.geo, &self.st.lists);
-        (0..geo.pos.len() as u32)
+        let all_simple = AtomicBool::new(geo.global.is_some());
+        let initial = (0..geo.pos.len() as u32)
             .into_par_iter()
             .map_init(Scratch::default, |sc, v| {
-                sc.evaluate(geo, lists, v)
-                    .filter(|&ev| keep(ev))
-                    .map(|ev| (v, ev))
+                let ev = match geo.global {
+                    Some(global) => {
+                        let (ev, simple) = sc.evaluate_initial(geo, lists, v, global);
+                        if !simple {
+                            all_simple.store(false, AtomicOrdering::Relaxed);
+                        }
+                        ev
+                    }
+                    None => sc.evaluate(geo, lists, v),
+                };
+                ev.filter(|&ev| keep(ev)).map(|ev| (v, ev))
             })
             .flatten_iter()
-            .collect()
+            .collect();
+        if let Some(geo) = Arc::get_mut(&mut self.st.geo) {
+            geo.embedded = all_simple.into_inner();
+        }
+        self.start_lookahead();
+        initial
     }
 
     fn look_ahead_lead(&self) -> usize {
@@ -753,28 +813,24 @@ pub(crate) fn collinear_between(a: [f64; 3], p: [f64; 3], b: [f64; 3]) -> bool {
 /// counter-clockwise, and an interior fan winds exactly once around `pv` (a border fan stays
 /// strictly left of the line from its last to its first ring point, through `pv`).
 pub(crate) fn star_is_simple(pv: [f64; 2], pts: &[[f64; 2]], border: bool) -> bool {
-    let l = pts.len();
-    let count = if border { l - 1 } else { l };
-    for i in 0..count {
-        if orient2d(pv, pts[i], pts[(i + 1) % l]) != Ordering::Greater {
+    let (Some(&first), Some(&last)) = (pts.first(), pts.last()) else {
+        return false;
+    };
+    // The angle around pv, from the positive x direction: in [0, π) "upper", else "lower".
+    let lower = |p: [f64; 2]| !(p[1] > pv[1] || (p[1] == pv[1] && p[0] > pv[0]));
+    // Every step turns counter-clockwise, so it is less than π; an interior fan winds once
+    // when exactly one step crosses from the lower half to the upper (angle 2π to 0).
+    let mut wraps = 0;
+    let closing = (!border).then_some((last, first));
+    for (a, b) in pts.windows(2).map(|w| (w[0], w[1])).chain(closing) {
+        if orient2d(pv, a, b) != Ordering::Greater {
             return false;
         }
+        wraps += (lower(a) && !lower(b)) as usize;
     }
     if border {
-        return (1..l - 1).all(|i| orient2d(pts[l - 1], pts[0], pts[i]) == Ordering::Greater);
-    }
-    // Count the steps whose angle around pv decreases: exactly one for a single winding.
-    let half = |p: [f64; 2]| !(p[1] > pv[1] || (p[1] == pv[1] && p[0] > pv[0]));
-    let mut wraps = 0;
-    for i in 0..l {
-        let (a, b) = (pts[i], pts[(i + 1) % l]);
-        let (ha, hb) = (half(a), half(b));
-        let decreases = if ha != hb {
-            ha && !hb
-        } else {
-            orient2d(pv, a, b) == Ordering::Less
-        };
-        wraps += decreases as usize;
+        let mut inner = pts.iter().skip(1).take(pts.len().saturating_sub(2));
+        return inner.all(|&p| orient2d(last, first, p) == Ordering::Greater);
     }
     wraps == 1
 }
@@ -814,6 +870,44 @@ mod tests {
         )
         .expect("decimates");
         (out.history.to_bytes(), used.get(), out.stats.removed)
+    }
+
+    /// The fast star test agrees with the exact path's on small fans full of collinear and
+    /// repeated points (integer coordinates in `-2..=2`), interior and border.
+    #[test]
+    fn star_test_agrees_with_the_exact_path() {
+        use crate::num::rational_from_f64;
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |m: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % m
+        };
+        let (mut simple, mut cases) = (0, 0);
+        for _ in 0..40_000 {
+            let l = 1 + next(8) as usize;
+            let border = next(2) == 1;
+            let mut point = || [next(5) as f64 - 2.0, next(5) as f64 - 2.0];
+            let pv = point();
+            let pts: Vec<[f64; 2]> = (0..l).map(|_| point()).collect();
+            let exact =
+                |p: [f64; 2]| p.map(|x| rational_from_f64(x, "coordinate").expect("finite"));
+            let ring: Vec<_> = pts.iter().map(|&p| exact(p)).collect();
+            let want = super::super::exact::simple_star(&exact(pv), &ring, border);
+            assert_eq!(
+                star_is_simple(pv, &pts, border),
+                want,
+                "{pv:?} {pts:?} {border}"
+            );
+            simple += want as usize;
+            cases += 1;
+        }
+        println!("star test: {cases} fans, {simple} simple stars, fast = exact on all");
+        assert!(
+            simple > 1000,
+            "the cases exercise simple stars too: {simple}"
+        );
     }
 
     #[test]

@@ -275,6 +275,9 @@ pub struct Stats {
     pub projection_xy: bool,
     /// Seconds of the decimation itself (adjacency, evaluation, queue, removals).
     pub seconds: f64,
+    /// Of `seconds`, those before the first removal: the adjacency, the initial evaluation
+    /// and the queue fill.
+    pub setup_seconds: f64,
 }
 
 /// A finished decimation: its history (from which the decimated mesh and every stage back to

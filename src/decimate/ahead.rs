@@ -40,6 +40,9 @@ const IN_FLIGHT: usize = 8;
 /// How long the worker polls for the next batch before it sleeps: the loop sends one every
 /// few tens of microseconds, and waking a sleeping thread costs the sender a system call.
 const POLL: std::time::Duration = std::time::Duration::from_micros(200);
+/// The loop publishes its progress to the worker at every this many tickets (the worker
+/// then skips up to this many nodes later than it could).
+const PROGRESS_EVERY: u32 = 16;
 /// Results are kept by ticket modulo this (a power of two).
 const KEPT: usize = 64 * BATCH;
 
@@ -91,6 +94,8 @@ pub struct Lookahead {
     /// has passed (when it falls behind, it catches up instead of computing what nobody
     /// will read).
     progress: Arc<AtomicU32>,
+    /// The last ticket stored in `progress`.
+    published: u32,
     batch: usize,
     /// The batch being filled.
     pending: Job,
@@ -139,6 +144,7 @@ impl Lookahead {
             spare: Vec::new(),
             worker: Some(worker),
             progress,
+            published: 0,
             batch: batch.max(1),
             pending: Job::default(),
             in_flight: 0,
@@ -237,8 +243,10 @@ impl Lookahead {
     /// What was evaluated ahead for `node` under `ticket`, if it has come back; the loop is
     /// taking it now.
     pub fn result(&mut self, node: u32, ticket: u32) -> Option<Evaluated> {
-        if !self.wait {
+        // Every PROGRESS_EVERY tickets: each store takes the line from the worker's core.
+        if !self.wait && ticket.wrapping_sub(self.published) >= PROGRESS_EVERY {
             self.progress.store(ticket, Ordering::Relaxed);
+            self.published = ticket;
         }
         let slot = ticket as usize % KEPT;
         let hit = |r: &Evaluated| r.ticket == ticket && r.node == node;

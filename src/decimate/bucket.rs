@@ -224,7 +224,8 @@ impl BucketQueue {
         }
         // d_j = ev  ⇔  1 + Δ(1 − j/m) = (1+Δ)^t  ⇔  j/m = 1 − ((1+Δ)^t − 1)/Δ.
         let frac = 1.0 - (t * self.ln1p_delta).exp_m1() / self.delta;
-        let j = (frac * self.m as f64).floor();
+        // ⌊j⌋ by truncation (no libm call): the same for positive j, NaN maps to 0.
+        let j = frac * self.m as f64;
         if j <= 0.0 {
             0
         } else {

@@ -132,7 +132,8 @@ pub(crate) fn run(
         engine.take(v, taken.ticket);
         // The next node's list arrived a step ago (or when it was handed over): fetch its
         // ring's lists, positions and queue records, and its own record.
-        if let Some(u) = queue.peek() {
+        let next = queue.peek();
+        if let Some(u) = next {
             engine.prefetch_ring(u, |w| queue.prefetch(w));
             queue.prefetch(u);
         }
@@ -173,7 +174,8 @@ pub(crate) fn run(
                 _ => queue.remove(w),
             }
         }
-        if let Some(u) = queue.peek() {
+        // Unless the removal changed the next node (a neighbour filed in front).
+        if let Some(u) = queue.peek().filter(|&u| Some(u) != next) {
             engine.prefetch_ring(u, |w| queue.prefetch(w));
         }
     }

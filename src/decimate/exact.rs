@@ -394,8 +394,7 @@ impl Engine for ExactEngine {
             v,
             hole.fan.border,
             ring,
-            &hole.fan.slots,
-            &positions,
+            hole.fan.slots.iter().copied().zip(positions),
             &hole.triangles,
             self.float[v as usize],
             self.values

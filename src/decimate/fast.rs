@@ -79,8 +79,6 @@ struct Scratch {
     ring3: Vec<[f64; 3]>,
     tris: Vec<[u8; 3]>,
     cutter: EarCutter,
-    slots: Vec<u32>,
-    positions: Vec<u8>,
     /// The new triangles' corners by ring positions, `succ[at · l + from] = (to, triangle)`
     /// ([`State::apply`]).
     succ: Vec<u64>,
@@ -502,18 +500,11 @@ impl State {
         for &w in &sc.ring {
             self.lists.prefetch(w);
         }
-        sc.slots.clear();
-        sc.positions.clear();
-        for &t in &sc.fan {
-            sc.slots.push(t >> 2);
-            sc.positions.push((t & 3) as u8);
-        }
         history.push(
             v,
             border,
             &sc.ring,
-            &sc.slots,
-            &sc.positions,
+            sc.fan.iter().map(|&t| (t >> 2, (t & 3) as u8)),
             &sc.tris,
             self.geo.pos[v as usize],
             self.geo.values.as_ref().map(|f| f[v as usize]),
@@ -525,7 +516,7 @@ impl State {
             sc.succ.resize(l * l, 0);
         }
         for (k, t) in sc.tris.iter().enumerate() {
-            let s = sc.slots[k];
+            let s = sc.fan[k] >> 2;
             for (e, (at, from, to)) in [(t[0], t[1], t[2]), (t[1], t[2], t[0]), (t[2], t[0], t[1])]
                 .into_iter()
                 .enumerate()

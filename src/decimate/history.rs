@@ -167,7 +167,7 @@ impl History {
         )
     }
 
-    /// Appends a step. `slots`/`positions` hold one entry per removed triangle (`l`, or
+    /// Appends a step. `removed` gives `(slot, position)` per removed triangle (`l`, or
     /// `l − 1` at the border), `added` the `l − 2` new triangles as ring positions.
     #[allow(clippy::too_many_arguments)]
     pub fn push(
@@ -175,25 +175,30 @@ impl History {
         node: u32,
         border: bool,
         ring: &[u32],
-        slots: &[u32],
-        positions: &[u8],
+        removed: impl IntoIterator<Item = (u32, u8)>,
         added: &[[u8; 3]],
         coordinates: [f64; 3],
         value: Option<f64>,
     ) {
-        let l = ring.len();
-        debug_assert_eq!(slots.len(), l - border as usize);
-        debug_assert_eq!(added.len(), l - 2);
+        debug_assert_eq!(added.len(), ring.len() - 2);
         self.nodes.push(node);
         self.border.push(border);
-        self.rings.extend_from_slice(ring);
-        self.slots.extend_from_slice(slots);
-        self.positions.extend_from_slice(positions);
+        // Element-wise copies: these slices are a few entries long, too short for memcpy.
+        self.rings.extend(ring.iter().copied());
+        for (slot, position) in removed {
+            self.slots.push(slot);
+            self.positions.push(position);
+        }
+        debug_assert_eq!(
+            self.slots.len(),
+            self.rings.len() - border as usize,
+            "one removed triangle per ring node, less one at the border"
+        );
         if border {
             self.slots.push(u32::MAX);
             self.positions.push(0);
         }
-        self.added.extend_from_slice(added);
+        self.added.extend(added.iter().copied());
         self.ring_start.push(self.rings.len() as u32);
         self.coordinates.push(coordinates);
         if self.has_scalars {
@@ -332,7 +337,15 @@ impl History {
             }
             let c = [r.f64()?, r.f64()?, r.f64()?];
             let v = if has_scalars { Some(r.f64()?) } else { None };
-            h.push(node, border, &ring, &slots, &pos, &added, c, v);
+            h.push(
+                node,
+                border,
+                &ring,
+                slots.iter().copied().zip(pos.iter().copied()),
+                &added,
+                c,
+                v,
+            );
         }
         if r.at + 8 > bytes.len() {
             return Err(HistoryError::Truncated(bytes.len()));

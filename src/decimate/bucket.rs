@@ -525,13 +525,8 @@ mod tests {
 
     #[test]
     fn pushing_all_at_once_is_pushing_one_by_one() {
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut rand = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
+        let mut rng = crate::decimate::TestRng(0x9e37_79b9_7f4a_7c15);
+        let mut rand = || rng.word();
         for round in 0..20 {
             let n = 1 + (rand() % 3000) as usize;
             let mut nodes: Vec<u32> = (0..n as u32).collect();

@@ -513,13 +513,8 @@ mod tests {
     fn small_and_list_cutters_cut_the_same_ears() {
         // Star-shaped polygons around the origin on a coarse grid of radii and angles, so
         // that collinear runs, reflex vertices, ties in quality and failures all occur.
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut rand = |k: u64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed % k
-        };
+        let mut rng = crate::decimate::TestRng(0x2545_f491_4f6c_dd1d);
+        let mut rand = |k: u64| rng.below(k);
         let (mut agreed, mut failed, mut convex, mut packed) = (0, 0, 0, 0);
         for _ in 0..3000 {
             let l = 3 + rand(62) as usize;

@@ -868,13 +868,8 @@ mod tests {
     #[test]
     fn star_test_agrees_with_the_exact_path() {
         use crate::num::rational_from_f64;
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = |m: u64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed % m
-        };
+        let mut rng = crate::decimate::TestRng(0x2545_f491_4f6c_dd1d);
+        let mut next = |m: u64| rng.below(m);
         let (mut simple, mut cases) = (0, 0);
         for _ in 0..40_000 {
             let l = 1 + next(8) as usize;

@@ -356,3 +356,23 @@ pub fn canonical_start(ring: &[u32], border: bool) -> usize {
     }
     best
 }
+
+/// A small deterministic generator for the unit tests (xorshift64).
+#[cfg(test)]
+pub(crate) struct TestRng(pub u64);
+
+#[cfg(test)]
+impl TestRng {
+    /// The next 64-bit word.
+    pub(crate) fn word(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+
+    /// The next word modulo `m`.
+    pub(crate) fn below(&mut self, m: u64) -> u64 {
+        self.word() % m
+    }
+}

@@ -314,31 +314,59 @@ impl FanLists {
         };
     }
 
-    /// A copy of `v`'s entries and their number, when they are held inline (in the node's
-    /// own block).
+    /// The position of the first entry of `v`'s list that names `node`.
     #[inline]
-    pub fn inline(&self, v: u32) -> Option<([Entry; INLINE], usize)> {
-        let len = self.len(v);
-        if len > INLINE {
-            return None;
+    pub fn position(&self, v: u32, node: u32) -> Option<usize> {
+        let (start, len) = self.slices(v);
+        if len <= INLINE {
+            let block = &self.blocks[v as usize].0;
+            return block[1..=len].iter().position(|e| e.node == node);
         }
-        let mut entries = [Entry::default(); INLINE];
-        entries.copy_from_slice(&self.blocks[v as usize].0[1..]);
-        Some((entries, len))
+        (0..len).find(|&j| self.at(start + j).node == node)
     }
 
-    /// Replaces `v`'s inline list by the first `len` of `entries` (`len ≤ INLINE`; `v`'s list
-    /// must be inline now, [`inline`](Self::inline)). Copies the whole block's worth, which
-    /// costs no more than copying `len` entries.
+    /// Sets the triangle of entry `j` of `v`'s list (`j` below its length).
     #[inline]
-    pub fn store_inline(&mut self, v: u32, entries: &[Entry; INLINE], len: usize, border: bool) {
-        debug_assert!(len <= INLINE && self.len(v) <= INLINE);
-        let block = &mut self.blocks[v as usize].0;
-        block[1..].copy_from_slice(entries);
-        block[0] = Entry {
-            node: len as u32 | if border { BORDER } else { 0 },
-            triangle: NO_RUN,
-        };
+    pub fn set_triangle(&mut self, v: u32, j: usize, triangle: u32) {
+        let (start, len) = self.slices(v);
+        debug_assert!(j < len);
+        let flat = start + j;
+        self.blocks[flat / BLOCK].0[flat % BLOCK].triangle = triangle;
+    }
+
+    /// Replaces entry `q` of `v`'s list (`q` below its length) by the entries `with`; the
+    /// border flag stays. In place when the list is inline and stays so (nearly always: the
+    /// entries after `q` move within the node's own line), else through `spare` and
+    /// [`store`](Self::store).
+    #[inline]
+    pub fn replace(&mut self, v: u32, q: usize, with: &[Entry], spare: &mut Vec<Entry>) {
+        let h = self.header(v);
+        let len = (h.node & LEN_MASK) as usize;
+        debug_assert!(q < len);
+        let new_len = len - 1 + with.len();
+        if len <= INLINE && new_len <= INLINE {
+            // Entry j (at block[j + 1]) moves to j − 1 + with.len() for j after q; a few
+            // entries, moved one by one rather than through memmove.
+            let block = &mut self.blocks[v as usize].0;
+            if with.len() > 1 {
+                for j in (q + 1..len).rev() {
+                    block[j + with.len()] = block[j + 1];
+                }
+            } else if with.is_empty() {
+                for j in q + 1..len {
+                    block[j] = block[j + 1];
+                }
+            }
+            for (k, &e) in with.iter().enumerate() {
+                block[q + 1 + k] = e;
+            }
+            block[0].node = (h.node & !LEN_MASK) | new_len as u32;
+            return;
+        }
+        spare.clear();
+        self.read(v, spare);
+        spare.splice(q..=q, with.iter().copied());
+        self.store(v, spare, h.node & BORDER != 0);
     }
 
     /// Empties `v`'s list, frees its overflow run and marks `v` removed: its header, which
@@ -463,5 +491,51 @@ mod tests {
         lists.store(1, &entries(12), true);
         assert_eq!(lists.blocks.len(), blocks, "node 2's run is reused");
         assert!(!lists.is_retired(1) && lists.is_border(1));
+    }
+
+    /// `replace` agrees with splicing a copy, in place and across the inline limit both ways;
+    /// `position` and `set_triangle` address the same entries.
+    #[test]
+    fn replace_splices_in_place_and_across_the_limit() {
+        let mut lists = FanLists::new(2);
+        let mut spare = Vec::new();
+        let mut expected = entries(5);
+        lists.store(0, &expected, true);
+        lists.store(1, &entries(3), false);
+        let new = |n: u32| Entry {
+            node: 500 + n,
+            triangle: 7 * n,
+        };
+        // (position, entries to put there): in place, growing to overflow, shrinking back.
+        let steps: [(usize, Vec<Entry>); 5] = [
+            (2, vec![new(1), new(2)]),
+            (0, vec![]),
+            (4, vec![new(3), new(4), new(5), new(6)]),
+            (7, vec![new(7)]),
+            (1, vec![]),
+        ];
+        let mut longest = 0;
+        for (q, with) in steps {
+            let node = expected[q].node;
+            assert_eq!(lists.position(0, node), Some(q));
+            lists.replace(0, q, &with, &mut spare);
+            expected.splice(q..=q, with);
+            let mut got = Vec::new();
+            lists.read(0, &mut got);
+            assert_eq!(got, expected, "after replacing position {q}");
+            assert!(lists.is_border(0));
+            longest = longest.max(expected.len());
+        }
+        assert!(
+            longest > INLINE && expected.len() <= INLINE,
+            "out of the block and back"
+        );
+        let last = expected.len() - 1;
+        lists.set_triangle(0, last, 99);
+        assert_eq!(lists.get(0, last).triangle, 99);
+        assert_eq!(lists.position(0, 12345), None);
+        let mut other = Vec::new();
+        lists.read(1, &mut other);
+        assert_eq!(other, entries(3), "the neighbouring block is untouched");
     }
 }

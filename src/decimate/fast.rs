@@ -17,7 +17,7 @@
 use super::ahead::{self, Evaluated, Job, Lookahead, Planned};
 use super::driver::{self, Engine};
 use super::earcut::{orient2d, pack_cut, unpack_cut, EarCutter, RobustOrient};
-use super::fans::{CopiedList, Entry, FanLists, Lists, INLINE, NO_TRIANGLE};
+use super::fans::{CopiedList, Entry, FanLists, Lists, NO_TRIANGLE};
 use super::history::History;
 use super::{
     check_options, edge_angle, fan_normal, global_plane, BorderPolicy, Criterion, DecimateError,
@@ -84,7 +84,6 @@ struct Scratch {
     succ: Vec<u64>,
     list: Vec<Entry>,
     chain: Vec<Entry>,
-    rebuilt: Vec<Entry>,
     /// The node whose plan the buffers hold, while nothing has changed since.
     planned: Option<(u32, Plan)>,
 }
@@ -552,33 +551,31 @@ impl State {
             });
             from = (step >> 32) as usize;
         }
-        let closing = Entry {
-            node: sc.ring[last],
-            triangle: NO_TRIANGLE,
-        };
         let border = self.lists.is_border(w);
-        if let Some((mut list, len)) = self.lists.inline(w) {
-            // v's entry gives way to the chain less its first node (already listed), and a
-            // border list may gain the closing entry: at most this long.
-            if len + sc.chain.len() + usize::from(border) - 2 <= INLINE {
-                let mut out = [Entry::default(); INLINE];
-                let mut n = 0;
-                resplice(&mut list[..len], v, border, &sc.chain, closing, |e| {
-                    out[n] = e;
-                    n += 1;
+        let len = self.lists.len(w);
+        let q = self
+            .lists
+            .position(w, v)
+            .expect("a ring node lists the removed node");
+        // What takes v's place: the chain, less x_0 where x_0 is listed already (the entry
+        // before v's, which now names the chain's first triangle). Where v's entry opened a
+        // border list, x_0 is new: w's border edge now leads to it. Where v's entry closed a
+        // border list, the closing edge's far node closes it now.
+        let with = if border && q == 0 {
+            &sc.chain[..]
+        } else {
+            let p = if q > 0 { q - 1 } else { len - 1 };
+            debug_assert_eq!(self.lists.get(w, p).node, sc.chain[0].node);
+            self.lists.set_triangle(w, p, sc.chain[0].triangle);
+            if border && q == len - 1 {
+                sc.chain.push(Entry {
+                    node: sc.ring[last],
+                    triangle: NO_TRIANGLE,
                 });
-                self.lists.store_inline(w, &out, n, border);
-                return;
             }
-        }
-        sc.list.clear();
-        self.lists.read(w, &mut sc.list);
-        sc.rebuilt.clear();
-        let rebuilt = &mut sc.rebuilt;
-        resplice(&mut sc.list, v, border, &sc.chain, closing, |e| {
-            rebuilt.push(e)
-        });
-        self.lists.store(w, &sc.rebuilt, border);
+            &sc.chain[1..]
+        };
+        self.lists.replace(w, q, with, &mut sc.list);
     }
 
     /// The decimated mesh.
@@ -719,40 +716,6 @@ impl Engine for FastEngine {
         st.apply(sc, v, plan.border, history);
         true
     }
-}
-
-/// Emits ring node `w`'s new list ([`State::relink`]) from its old `list` (which names the
-/// removed node `v`), whether it is a border list, the `chain` of new entries from `ring[i + 1]`
-/// on, and the entry that closes a border list when `v` closed it.
-fn resplice(
-    list: &mut [Entry],
-    v: u32,
-    border: bool,
-    chain: &[Entry],
-    closing: Entry,
-    mut put: impl FnMut(Entry),
-) {
-    let len = list.len();
-    let q = list
-        .iter()
-        .position(|e| e.node == v)
-        .expect("a ring node lists the removed node");
-    if border && q == 0 {
-        // v's entry opened w's border list: w's new border edge leads to x_0.
-        chain.iter().for_each(|&e| put(e));
-    } else {
-        // The entry before v's is x_0; it now names the chain's first triangle.
-        let p = if q > 0 { q - 1 } else { len - 1 };
-        debug_assert_eq!(list[p].node, chain[0].node);
-        list[p].triangle = chain[0].triangle;
-        list[..q].iter().for_each(|&e| put(e));
-        chain[1..].iter().for_each(|&e| put(e));
-        if border && q == len - 1 {
-            // v's entry closed w's border list: the closing edge's far node closes it.
-            put(closing);
-        }
-    }
-    list[q + 1..].iter().for_each(|&e| put(e));
 }
 
 fn cross(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {

@@ -367,8 +367,8 @@ impl BucketQueue {
                     }
                 });
         } else {
-            for k in 0..items.len() {
-                self.nodes[items[k].0 as usize] = record(k);
+            for (k, &(v, _)) in items.iter().enumerate() {
+                self.nodes[v as usize] = record(k);
             }
         }
         self.len = items.len();

@@ -26,14 +26,25 @@ pub trait Orient {
 
 /// The shape heuristic of an ear: `2·area / (|ab|² + |bc|² + |ca|²)` in `f64`.
 pub fn ear_quality(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
+    quality_of(a, b, c, dist2(a, b) + dist2(b, c) + dist2(c, a))
+}
+
+/// [`ear_quality`] given the sum `s` of its squared sides.
+#[inline]
+fn quality_of(a: [f64; 2], b: [f64; 2], c: [f64; 2], s: f64) -> f64 {
     let area2 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-    let d = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2);
-    let s = d(a, b) + d(b, c) + d(c, a);
     if s > 0.0 {
         area2 / s
     } else {
         0.0
     }
+}
+
+/// `|p − q|²` in `f64` (the same value for `(p, q)` and `(q, p)`: a square does not see
+/// the sign).
+#[inline]
+fn dist2(p: [f64; 2], q: [f64; 2]) -> f64 {
+    (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)
 }
 
 /// The ear cutter, with buffers reused between holes. The polygon still to cut is a circular
@@ -47,6 +58,10 @@ pub struct EarCutter {
     convex: [bool; 256],
     valid: [bool; 256],
     quality: [f64; 256],
+    /// In [`cut_convex`](Self::cut_convex): `|v next(v)|²`, and `|next(v) prev(v)|²` (the
+    /// diagonal that cutting `v` makes an edge).
+    edge: [f64; 256],
+    diagonal: [f64; 256],
 }
 
 impl Default for EarCutter {
@@ -57,6 +72,8 @@ impl Default for EarCutter {
             convex: [false; 256],
             valid: [false; 256],
             quality: [0.0; 256],
+            edge: [0.0; 256],
+            diagonal: [0.0; 256],
         }
     }
 }
@@ -215,14 +232,13 @@ impl EarCutter {
     /// strictly convex position, in order, is strictly convex), so the general loop would
     /// find every ear valid, never a blocker, and a positive last triangle: only the
     /// qualities of the cut ear's two neighbours change. The same ears, without orientation
-    /// tests.
+    /// tests, and with each squared side computed once (the same qualities bit for bit).
     fn cut_convex(&mut self, points: &[[f64; 2]], mut alive: u64, out: &mut Vec<[u8; 3]>) {
-        let quality = |cutter: &Self, v: usize| {
-            let (a, c) = (cutter.prev[v] as usize, cutter.next[v] as usize);
-            ear_quality(points[a], points[v], points[c])
-        };
         for v in 0..points.len() {
-            self.quality[v] = quality(self, v);
+            self.edge[v] = dist2(points[v], points[self.next[v] as usize]);
+        }
+        for v in 0..points.len() {
+            self.convex_quality(points, v);
         }
         let mut n = points.len();
         while n > 3 {
@@ -230,12 +246,23 @@ impl EarCutter {
             let (a, c) = self.cut_ear(b, out);
             alive &= !(1 << b);
             n -= 1;
-            self.quality[a] = quality(self, a);
-            self.quality[c] = quality(self, c);
+            self.edge[a] = self.diagonal[b];
+            self.convex_quality(points, a);
+            self.convex_quality(points, c);
         }
         let a = alive.trailing_zeros() as usize;
         let b = self.next[a] as usize;
         out.push([a as u8, b as u8, self.next[b]]);
+    }
+
+    /// The quality of the ear at `v` from the cached sides ([`cut_convex`](Self::cut_convex)).
+    #[inline]
+    fn convex_quality(&mut self, points: &[[f64; 2]], v: usize) {
+        let (a, c) = (self.prev[v] as usize, self.next[v] as usize);
+        let diagonal = dist2(points[c], points[a]);
+        self.diagonal[v] = diagonal;
+        let s = self.edge[a] + self.edge[v] + diagonal;
+        self.quality[v] = quality_of(points[a], points[v], points[c], s);
     }
 
     /// The ear of best quality among `candidates`, the lowest index on ties.

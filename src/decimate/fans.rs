@@ -233,6 +233,11 @@ impl FanLists {
         self.blocks[flat / BLOCK].0[flat % BLOCK]
     }
 
+    #[inline]
+    fn flat_mut(&mut self, flat: usize) -> &mut Entry {
+        &mut self.blocks[flat / BLOCK].0[flat % BLOCK]
+    }
+
     /// Entry `j` of `v`'s list.
     #[inline]
     pub fn get(&self, v: u32, j: usize) -> Entry {
@@ -330,8 +335,7 @@ impl FanLists {
     pub fn set_triangle(&mut self, v: u32, j: usize, triangle: u32) {
         let (start, len) = self.slices(v);
         debug_assert!(j < len);
-        let flat = start + j;
-        self.blocks[flat / BLOCK].0[flat % BLOCK].triangle = triangle;
+        self.flat_mut(start + j).triangle = triangle;
     }
 
     /// Replaces entry `q` of `v`'s list (`q` below its length) by the entries `with`; the
@@ -345,8 +349,8 @@ impl FanLists {
         debug_assert!(q < len);
         let new_len = len - 1 + with.len();
         if len <= INLINE && new_len <= INLINE {
-            // Entry j (at block[j + 1]) moves to j − 1 + with.len() for j after q; a few
-            // entries, moved one by one rather than through memmove.
+            // As `splice_within` does, on the node's own line (block[j + 1] holds entry j):
+            // with fixed bounds, the moves need no checks.
             let block = &mut self.blocks[v as usize].0;
             if with.len() > 1 {
                 for j in (q + 1..len).rev() {
@@ -365,15 +369,21 @@ impl FanLists {
         }
         spare.clear();
         self.read(v, spare);
-        spare.splice(q..=q, with.iter().copied());
-        self.store(v, spare, h.node & BORDER != 0);
+        spare.resize(len.max(new_len), Entry::default());
+        splice_within(spare, q, len, with);
+        self.store(v, &spare[..new_len], h.node & BORDER != 0);
     }
 
     /// Empties `v`'s list, frees its overflow run and marks `v` removed: its header, which
     /// is written anyway, carries the mark (no separate array to touch).
     pub fn retire(&mut self, v: u32) {
-        self.clear(v);
-        self.blocks[v as usize].0[0].node |= RETIRED;
+        if self.header(v).triangle != NO_RUN {
+            self.clear(v);
+        }
+        self.blocks[v as usize].0[0] = Entry {
+            node: RETIRED,
+            triangle: NO_RUN,
+        };
     }
 
     /// True when `v` was [`retire`](Self::retire)d.
@@ -402,6 +412,25 @@ impl FanLists {
             self.free.resize(c + 1, Vec::new());
         }
         self.free[c].push(block);
+    }
+}
+
+/// In `entries[..len]`, entry `q` gives way to `with`: the entries after it move (one by
+/// one: a few entries, too short for memmove) to make room or close the gap. `entries`
+/// must hold `len − 1 + with.len()`.
+#[inline]
+fn splice_within(entries: &mut [Entry], q: usize, len: usize, with: &[Entry]) {
+    if with.len() > 1 {
+        for j in (q + 1..len).rev() {
+            entries[j - 1 + with.len()] = entries[j];
+        }
+    } else if with.is_empty() {
+        for j in q + 1..len {
+            entries[j - 1] = entries[j];
+        }
+    }
+    for (k, &e) in with.iter().enumerate() {
+        entries[q + k] = e;
     }
 }
 
@@ -506,12 +535,19 @@ mod tests {
             node: 500 + n,
             triangle: 7 * n,
         };
-        // (position, entries to put there): in place, growing to overflow, shrinking back.
-        let steps: [(usize, Vec<Entry>); 5] = [
+        // (position, entries to put there): inline in place; out to a one-block run; within
+        // it; out to a two-block run; within it across its blocks, growing and shrinking;
+        // back inline.
+        let steps: [(usize, Vec<Entry>); 10] = [
             (2, vec![new(1), new(2)]),
             (0, vec![]),
             (4, vec![new(3), new(4), new(5), new(6)]),
             (7, vec![new(7)]),
+            (2, vec![new(8), new(9)]),
+            (5, vec![new(10), new(11), new(12)]),
+            (0, vec![]),
+            (9, vec![]),
+            (1, vec![]),
             (1, vec![]),
         ];
         let mut longest = 0;

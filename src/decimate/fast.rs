@@ -284,29 +284,29 @@ impl Scratch {
         if lists.len(v) > limit {
             return None;
         }
-        if lists.is_border(v) {
-            let (ring, fan) = (&mut self.ring, &mut self.fan);
-            lists.for_each(v, |e| {
-                ring.push(e.node);
-                fan.push(e.triangle);
-            });
-            self.fan.pop();
-            return Some(true);
-        }
-        // Interior: from the lowest id on (rotated while copied).
         self.list.clear();
         let list = &mut self.list;
-        let (mut start, mut lowest) = (0, u32::MAX);
-        lists.for_each(v, |e| {
-            if e.node < lowest {
-                (start, lowest) = (list.len(), e.node);
+        lists.for_each(v, |e| list.push(e));
+        let border = lists.is_border(v);
+        // Interior: from the lowest id on (the first lowest: ids in a fan are distinct).
+        let mut start = 0;
+        if !border {
+            for (j, e) in self.list.iter().enumerate() {
+                if e.node < self.list[start].node {
+                    start = j;
+                }
             }
-            list.push(e);
-        });
-        let rotated = || self.list[start..].iter().chain(&self.list[..start]);
-        self.ring.extend(rotated().map(|e| e.node));
-        self.fan.extend(rotated().map(|e| e.triangle));
-        Some(false)
+        }
+        let (rest, head) = (&self.list[start..], &self.list[..start]);
+        self.ring.extend(rest.iter().map(|e| e.node));
+        self.ring.extend(head.iter().map(|e| e.node));
+        self.fan.extend(rest.iter().map(|e| e.triangle));
+        self.fan.extend(head.iter().map(|e| e.triangle));
+        if border {
+            // The last entry has no triangle.
+            self.fan.pop();
+        }
+        Some(border)
     }
 
     /// True when the border node `v` lies exactly on the segment between its two border
@@ -514,6 +514,10 @@ impl State {
         if sc.succ.len() < l * l {
             sc.succ.resize(l * l, 0);
         }
+        // Room for the longest chain (l − 1 entries) and a closing entry.
+        if sc.chain.len() < l + 1 {
+            sc.chain.resize(l + 1, Entry::default());
+        }
         for (k, t) in sc.tris.iter().enumerate() {
             let s = sc.fan[k] >> 2;
             for (e, (at, from, to)) in [(t[0], t[1], t[2]), (t[1], t[2], t[0]), (t[2], t[0], t[1])]
@@ -539,16 +543,18 @@ impl State {
         let l = sc.ring.len();
         let w = sc.ring[i];
         let last = if i == 0 { l - 1 } else { i - 1 };
-        // The chain: (x_j, the new triangle (w, x_j, x_j+1)) from x_0 = ring[i + 1] on.
-        sc.chain.clear();
+        // The chain: (x_j, the new triangle (w, x_j, x_j+1)) from x_0 = ring[i + 1] on, in
+        // `chain[..k]` (sized by `apply`).
         let row = &sc.succ[i * l..(i + 1) * l];
         let mut from = if i + 1 == l { 0 } else { i + 1 };
-        while from != last && sc.chain.len() < l {
+        let mut k = 0;
+        while from != last && k < l {
             let step = row[from];
-            sc.chain.push(Entry {
+            sc.chain[k] = Entry {
                 node: sc.ring[from],
                 triangle: step as u32,
-            });
+            };
+            k += 1;
             from = (step >> 32) as usize;
         }
         let border = self.lists.is_border(w);
@@ -562,18 +568,19 @@ impl State {
         // border list, x_0 is new: w's border edge now leads to it. Where v's entry closed a
         // border list, the closing edge's far node closes it now.
         let with = if border && q == 0 {
-            &sc.chain[..]
+            &sc.chain[..k]
         } else {
             let p = if q > 0 { q - 1 } else { len - 1 };
             debug_assert_eq!(self.lists.get(w, p).node, sc.chain[0].node);
             self.lists.set_triangle(w, p, sc.chain[0].triangle);
             if border && q == len - 1 {
-                sc.chain.push(Entry {
+                sc.chain[k] = Entry {
                     node: sc.ring[last],
                     triangle: NO_TRIANGLE,
-                });
+                };
+                k += 1;
             }
-            &sc.chain[1..]
+            &sc.chain[1..k]
         };
         self.lists.replace(w, q, with, &mut sc.list);
     }

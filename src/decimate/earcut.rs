@@ -22,6 +22,11 @@ use std::cmp::Ordering;
 pub trait Orient {
     /// `Greater` when `a, b, c` turn counter-clockwise, `Equal` when collinear.
     fn orient(&self, a: usize, b: usize, c: usize) -> Ordering;
+    /// True only when `p` lies outside the bounding box of `t` (so outside the closed
+    /// triangle): a cheap exact pre-test; `false` decides nothing.
+    fn outside_box(&self, _t: [usize; 3], _p: usize) -> bool {
+        false
+    }
 }
 
 /// The shape heuristic of an ear: `2·area / (|ab|² + |bc|² + |ca|²)` in `f64`.
@@ -413,7 +418,8 @@ pub fn unpack_cut(bits: u64, out: &mut Vec<[u8; 3]>) -> usize {
 /// True when vertex `p` lies in the closed counter-clockwise triangle `t`.
 #[inline]
 fn in_closed_triangle(orient: &impl Orient, [a, b, c]: [usize; 3], p: usize) -> bool {
-    orient.orient(a, b, p) != Ordering::Less
+    !orient.outside_box([a, b, c], p)
+        && orient.orient(a, b, p) != Ordering::Less
         && orient.orient(b, c, p) != Ordering::Less
         && orient.orient(c, a, p) != Ordering::Less
 }
@@ -460,6 +466,16 @@ impl Orient for RobustOrient<'_> {
     #[inline(always)]
     fn orient(&self, a: usize, b: usize, c: usize) -> Ordering {
         orient2d(self.0[a], self.0[b], self.0[c])
+    }
+
+    /// Comparisons of `f64` coordinates: exact.
+    #[inline(always)]
+    fn outside_box(&self, [a, b, c]: [usize; 3], p: usize) -> bool {
+        let (a, b, c, p) = (self.0[a], self.0[b], self.0[c], self.0[p]);
+        (0..2).any(|k| {
+            (p[k] < a[k] && p[k] < b[k] && p[k] < c[k])
+                || (p[k] > a[k] && p[k] > b[k] && p[k] > c[k])
+        })
     }
 }
 

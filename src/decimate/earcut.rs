@@ -293,7 +293,7 @@ impl EarCutter {
 
     /// [`refresh`](Self::refresh) on masks: the candidate blockers are the remaining vertices
     /// that do not turn strictly left, other than the ear's own three.
-    #[inline]
+    #[inline(always)]
     fn refresh_small(
         &mut self,
         b: usize,
@@ -416,7 +416,7 @@ pub fn unpack_cut(bits: u64, out: &mut Vec<[u8; 3]>) -> usize {
 }
 
 /// True when vertex `p` lies in the closed counter-clockwise triangle `t`.
-#[inline]
+#[inline(always)]
 fn in_closed_triangle(orient: &impl Orient, [a, b, c]: [usize; 3], p: usize) -> bool {
     !orient.outside_box([a, b, c], p)
         && orient.orient(a, b, p) != Ordering::Less

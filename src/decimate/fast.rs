@@ -65,7 +65,6 @@ struct Geometry {
 /// The mesh as the decimation leaves it.
 struct State {
     geo: Arc<Geometry>,
-    slot_count: usize,
     lists: FanLists,
 }
 
@@ -144,7 +143,6 @@ impl FastEngine {
         Ok(FastEngine {
             st: State {
                 geo: Arc::new(geo),
-                slot_count: t,
                 lists,
             },
             sc: Scratch::default(),
@@ -588,32 +586,33 @@ impl State {
     /// The decimated mesh.
     fn to_mesh(&self, name: Option<&str>) -> Mesh {
         let geo = &self.geo;
-        let mut new_id = vec![NONE; geo.pos.len()];
-        let mut vertices = Vec::new();
-        let mut values = Vec::new();
-        for v in 0..geo.pos.len() {
-            if !self.lists.is_retired(v as u32) {
-                new_id[v] = vertices.len() as u32;
-                vertices.push(geo.pos[v]);
-                if let Some(f) = &geo.values {
-                    values.push(f[v]);
+        // The nodes left, in order (one pass over the headers, on all cores).
+        let kept: Vec<u32> = (0..geo.pos.len() as u32)
+            .into_par_iter()
+            .filter(|&v| !self.lists.is_retired(v))
+            .collect();
+        let vertices = kept.iter().map(|&v| geo.pos[v as usize]).collect();
+        let values = match &geo.values {
+            Some(f) => kept.iter().map(|&v| f[v as usize]).collect(),
+            None => Vec::new(),
+        };
+        // Every live slot, from the list of its corner 0: entry (a, t) at v with v at corner 0
+        // of t is the triangle (v, a, b), b the next entry's node; in slot order.
+        let mut live: Vec<(u32, [u32; 3])> = Vec::new();
+        let mut list = Vec::new();
+        for &v in &kept {
+            list.clear();
+            self.lists.read(v, &mut list);
+            for (i, e) in list.iter().enumerate() {
+                if e.triangle != NO_TRIANGLE && e.corner() == 0 {
+                    let b = list[if i + 1 == list.len() { 0 } else { i + 1 }].node;
+                    live.push((e.slot(), [v, e.node, b]));
                 }
             }
         }
-        // Every live slot is named by the lists of its three corners.
-        let mut tri = vec![[NONE; 3]; self.slot_count];
-        for v in 0..geo.pos.len() as u32 {
-            self.lists.for_each(v, |e| {
-                if e.triangle != NO_TRIANGLE {
-                    tri[e.slot() as usize][e.corner() as usize] = v;
-                }
-            });
-        }
-        let triangles = tri
-            .iter()
-            .filter(|t| t[0] != NONE)
-            .map(|t| t.map(|i| new_id[i as usize]))
-            .collect();
+        live.sort_unstable_by_key(|&(slot, _)| slot);
+        let new_id = |v: u32| kept.binary_search(&v).map_or(NONE, |i| i as u32);
+        let triangles = live.iter().map(|&(_, t)| t.map(new_id)).collect();
         Mesh {
             normals: None,
             vertices,

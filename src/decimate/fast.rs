@@ -187,7 +187,8 @@ impl Scratch {
             .load_fan(lists, v, usize::MAX)
             .expect("no valence limit");
         let pv = self.project_fan(geo, v, global);
-        let simple = star_is_simple(pv, &self.pts, border);
+        // The fan's triangles are the input's, all counter-clockwise in the global plane.
+        let simple = star_winds_once(pv, &self.pts, border);
         if self.ring.len() > geo.max_valence {
             return (None, simple);
         }
@@ -773,6 +774,19 @@ pub(crate) fn collinear_between(a: [f64; 3], p: [f64; 3], b: [f64; 3]) -> bool {
 /// counter-clockwise, and an interior fan winds exactly once around `pv` (a border fan stays
 /// strictly left of the line from its last to its first ring point, through `pv`).
 pub(crate) fn star_is_simple(pv: [f64; 2], pts: &[[f64; 2]], border: bool) -> bool {
+    star_test(pv, pts, border, true)
+}
+
+/// [`star_is_simple`] for a fan whose every triangle is known to turn counter-clockwise (an
+/// input fan in the global plane, which [`global_plane`](super::global_plane) checked): the
+/// winding, or for a border fan the line test, alone.
+fn star_winds_once(pv: [f64; 2], pts: &[[f64; 2]], border: bool) -> bool {
+    star_test(pv, pts, border, false)
+}
+
+/// [`star_is_simple`], testing the triangles' turns only when `turns` is set.
+#[inline(always)]
+fn star_test(pv: [f64; 2], pts: &[[f64; 2]], border: bool, turns: bool) -> bool {
     let (Some(&first), Some(&last)) = (pts.first(), pts.last()) else {
         return false;
     };
@@ -783,7 +797,7 @@ pub(crate) fn star_is_simple(pv: [f64; 2], pts: &[[f64; 2]], border: bool) -> bo
     let mut wraps = 0;
     let closing = (!border).then_some((last, first));
     for (a, b) in pts.windows(2).map(|w| (w[0], w[1])).chain(closing) {
-        if orient2d(pv, a, b) != Ordering::Greater {
+        if turns && orient2d(pv, a, b) != Ordering::Greater {
             return false;
         }
         wraps += (lower(a) && !lower(b)) as usize;
@@ -839,7 +853,7 @@ mod tests {
         use crate::num::rational_from_f64;
         let mut rng = crate::decimate::TestRng(0x2545_f491_4f6c_dd1d);
         let mut next = |m: u64| rng.below(m);
-        let (mut simple, mut cases) = (0, 0);
+        let (mut simple, mut cases, mut turning_fans) = (0, 0, 0);
         for _ in 0..40_000 {
             let l = 1 + next(8) as usize;
             let border = next(2) == 1;
@@ -855,10 +869,23 @@ mod tests {
                 want,
                 "{pv:?} {pts:?} {border}"
             );
+            // Where every fan triangle turns counter-clockwise, the winding test alone says
+            // the same.
+            let steps = pts.len() - border as usize;
+            let turning = (0..steps)
+                .all(|i| orient2d(pv, pts[i], pts[(i + 1) % pts.len()]) == Ordering::Greater);
+            if turning {
+                assert_eq!(star_winds_once(pv, &pts, border), want, "{pv:?} {pts:?}");
+                turning_fans += 1;
+            }
             simple += want as usize;
             cases += 1;
         }
-        println!("star test: {cases} fans, {simple} simple stars, fast = exact on all");
+        println!(
+            "star test: {cases} fans, {simple} simple stars, fast = exact on all; \
+             {turning_fans} turning left throughout, winding test alone = exact on those"
+        );
+        assert!(turning_fans > simple, "{turning_fans}");
         assert!(
             simple > 1000,
             "the cases exercise simple stars too: {simple}"

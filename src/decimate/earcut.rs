@@ -429,23 +429,19 @@ fn in_closed_triangle(orient: &impl Orient, [a, b, c]: [usize; 3], p: usize) -> 
 /// vertex turns strictly left each step turns by less than π, so this counts its windings: one
 /// means it is simple and convex. Exact: the signs of `f64` differences are exact.
 fn winds_once(points: &[[f64; 2]]) -> bool {
-    let (Some(&first), Some(&last)) = (points.first(), points.last()) else {
+    let l = points.len();
+    if l == 0 {
         return false;
-    };
+    }
     let upper = |p: [f64; 2], q: [f64; 2]| {
         let (dx, dy) = (q[0] - p[0], q[1] - p[1]);
         dy > 0.0 || (dy == 0.0 && dx > 0.0)
     };
-    let mut edges = points
-        .windows(2)
-        .map(|w| upper(w[0], w[1]))
-        .chain([upper(last, first)]);
-    let Some(opening) = edges.next() else {
-        return false;
-    };
+    // Cyclically over the edges (p_i, p_i+1), from the closing edge on.
+    let mut was = upper(points[l - 1], points[0]);
     let mut wraps = 0;
-    let mut was = opening;
-    for now in edges.chain([opening]) {
+    for i in 0..l {
+        let now = upper(points[i], points[if i + 1 == l { 0 } else { i + 1 }]);
         wraps += (!was && now) as usize;
         was = now;
     }

@@ -94,6 +94,9 @@ pub struct BucketQueue {
     overflow: usize,
     rebuilds: usize,
     order: Vec<u32>,
+    /// No interval below this one is non-empty: a bound that filing lowers and
+    /// [`pop`](Self::pop) raises, so that the front is found without scanning from 0.
+    lowest: usize,
 }
 
 impl BucketQueue {
@@ -120,6 +123,7 @@ impl BucketQueue {
             overflow: 0,
             rebuilds: 0,
             order: Vec::new(),
+            lowest: 0,
         }
     }
 
@@ -174,6 +178,7 @@ impl BucketQueue {
         self.occupied = fresh.occupied;
         self.summary = fresh.summary;
         self.len = 0;
+        self.lowest = 0;
         for &v in &order {
             let node = &mut self.nodes[v as usize];
             let marked = node.marked;
@@ -372,6 +377,7 @@ impl BucketQueue {
             }
         }
         self.len = items.len();
+        self.lowest = 0;
     }
 
     /// Files `node` at the tail of the interval of `ev` (unlinking it first if queued).
@@ -401,6 +407,7 @@ impl BucketQueue {
 
     /// Links the unqueued `node` at the tail of interval `j`, filed with `ev`.
     fn file_in(&mut self, node: u32, ev: f64, j: usize) {
+        self.lowest = self.lowest.min(j);
         self.nodes[node as usize] = Node {
             next: NONE,
             prev: self.tail[j],
@@ -453,7 +460,7 @@ impl BucketQueue {
         if self.len == 0 {
             return None;
         }
-        self.first_from(0)
+        self.first_from(self.lowest)
     }
 
     /// The lowest non-empty interval from `j` on.
@@ -488,6 +495,7 @@ impl BucketQueue {
     /// Takes the node at the front of the lowest non-empty interval.
     pub fn pop(&mut self) -> Option<Taken> {
         let j = self.front()?;
+        self.lowest = j;
         let node = self.head[j];
         let n = self.nodes[node as usize];
         self.remove(node);

@@ -181,7 +181,7 @@ impl Lookahead {
             job.first_ticket = ticket;
         }
         let start = job.entries.len() as u32;
-        lists.for_each(v, |e| job.entries.push(e));
+        lists.read(v, &mut job.entries);
         let len = job.entries.len() as u32 - start;
         job.nodes.push((v, start, len, lists.is_border(v)));
         if job.nodes.len() >= self.batch {

@@ -52,6 +52,10 @@ pub trait Lists {
     fn is_border(&self, v: u32) -> bool;
     /// Calls `f` on every entry of `v`'s list, in order.
     fn for_each(&self, v: u32, f: impl FnMut(Entry));
+    /// Appends `v`'s list to `out`.
+    fn read(&self, v: u32, out: &mut Vec<Entry>) {
+        self.for_each(v, |e| out.push(e));
+    }
     /// True when `v`'s list is empty (an isolated or removed node).
     fn is_empty(&self, v: u32) -> bool {
         self.len(v) == 0
@@ -84,6 +88,12 @@ impl Lists for CopiedList<'_> {
             self.entries.iter().copied().for_each(f);
         }
     }
+
+    fn read(&self, v: u32, out: &mut Vec<Entry>) {
+        if v == self.node {
+            out.extend_from_slice(self.entries);
+        }
+    }
 }
 
 impl Lists for FanLists {
@@ -100,6 +110,11 @@ impl Lists for FanLists {
     #[inline]
     fn for_each(&self, v: u32, f: impl FnMut(Entry)) {
         FanLists::for_each(self, v, f)
+    }
+
+    #[inline]
+    fn read(&self, v: u32, out: &mut Vec<Entry>) {
+        FanLists::read(self, v, out)
     }
 }
 

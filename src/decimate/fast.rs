@@ -284,8 +284,7 @@ impl Scratch {
             return None;
         }
         self.list.clear();
-        let list = &mut self.list;
-        lists.for_each(v, |e| list.push(e));
+        lists.read(v, &mut self.list);
         let border = lists.is_border(v);
         // Interior: from the lowest id on (the first lowest: ids in a fan are distinct).
         let mut start = 0;

@@ -117,7 +117,6 @@ pub(crate) fn run(
     let mut present = n;
     // Removals to come (at most); rings average six nodes on triangle meshes (Euler).
     history.reserve(n.saturating_sub(target_nodes).min(queue.len()), 7);
-    let mut ring: Vec<u32> = Vec::with_capacity(32);
     let lead = engine.look_ahead_lead();
     let mut ahead = LookAheadState::default();
     while present > target_nodes {
@@ -156,14 +155,13 @@ pub(crate) fn run(
         }
         present -= 1;
         counts.removed += 1;
-        ring.clear();
-        ring.extend_from_slice(history.step(history.len() - 1).ring);
+        let ring = history.last_ring();
         if options.lazy {
-            for &w in &ring {
+            for &w in ring {
                 queue.prefetch(w);
             }
         }
-        for &w in &ring {
+        for &w in ring {
             // Lazy: a queued neighbour is marked stale (the queue's mark).
             if options.lazy && queue.mark(w) {
                 continue;

@@ -159,6 +159,12 @@ impl History {
         }
     }
 
+    /// The ring of the last step (empty when there is none).
+    pub fn last_ring(&self) -> &[u32] {
+        let from = self.ring_start[self.len().saturating_sub(1)] as usize;
+        &self.rings[from..]
+    }
+
     /// The removed node of step `s`: its coordinates and scalar.
     pub fn node_data(&self, s: usize) -> ([f64; 3], Option<f64>) {
         (

@@ -359,7 +359,19 @@ impl FanLists {
     /// [`store`](Self::store).
     #[inline]
     pub fn replace(&mut self, v: u32, q: usize, with: &[Entry], spare: &mut Vec<Entry>) {
-        let h = self.header(v);
+        self.replace_under(v, self.header(v), q, with, spare);
+    }
+
+    /// [`replace`](Self::replace) with `v`'s header `h` read already.
+    #[inline(always)]
+    fn replace_under(
+        &mut self,
+        v: u32,
+        h: Entry,
+        q: usize,
+        with: &[Entry],
+        spare: &mut Vec<Entry>,
+    ) {
         let len = (h.node & LEN_MASK) as usize;
         debug_assert!(q < len);
         let new_len = len - 1 + with.len();
@@ -387,6 +399,44 @@ impl FanLists {
         spare.resize(len.max(new_len), Entry::default());
         splice_within(spare, q, len, with);
         self.store(v, &spare[..new_len], h.node & BORDER != 0);
+    }
+
+    /// The edit at node `w` when its neighbour `v` is removed and the new triangles at `w`
+    /// form the chain `chain[..k]`, `k = chain.len() − 1`: entries `(x_j, (w, x_j, x_j+1))`
+    /// from `x_0`, the neighbour before `v` around `w`; `chain[k]` is the entry that closes
+    /// `w`'s list when it is a border list that `v`'s entry closed. `v`'s entry gives way to
+    /// the chain less `x_0`, which is listed already and now names the chain's first
+    /// triangle; where `v`'s entry opened a border list, `x_0` is new (the border edge now
+    /// leads to it) and the whole chain goes in. One header read; in place when the list
+    /// stays inline ([`replace`](Self::replace)).
+    #[inline]
+    pub fn give_way(&mut self, w: u32, v: u32, chain: &[Entry], spare: &mut Vec<Entry>) {
+        let k = chain.len() - 1;
+        let h = self.header(w);
+        let (len, border) = ((h.node & LEN_MASK) as usize, h.node & BORDER != 0);
+        let start = if len <= INLINE {
+            w as usize * BLOCK + 1
+        } else {
+            h.triangle as usize * BLOCK
+        };
+        let q = if len <= INLINE {
+            self.blocks[w as usize].0[1..=len]
+                .iter()
+                .position(|e| e.node == v)
+        } else {
+            (0..len).find(|&j| self.at(start + j).node == v)
+        }
+        .expect("a ring node lists the removed node");
+        let with = if border && q == 0 {
+            &chain[..k]
+        } else {
+            let p = if q > 0 { q - 1 } else { len - 1 };
+            debug_assert_eq!(self.at(start + p).node, chain[0].node);
+            self.flat_mut(start + p).triangle = chain[0].triangle;
+            let closes = border && q == len - 1;
+            &chain[1..k + closes as usize]
+        };
+        self.replace_under(w, h, q, with, spare);
     }
 
     /// Empties `v`'s list, frees its overflow run and marks `v` removed: its header, which

@@ -534,9 +534,8 @@ impl State {
 
     /// Rewrites the list of ring node `w = ring[i]` after `v`'s removal. Around `w` the new
     /// triangles form a chain from `ring[i + 1]` to `ring[i − 1]` (a border node's ring does
-    /// not wrap: its ends gain the closing edge) that replaces the sector `v` held: `v`'s
-    /// entry gives way to the chain's inner nodes and the entry before it, `ring[i + 1]`,
-    /// now names the chain's first triangle.
+    /// not wrap: its ends gain the closing edge) that replaces the sector `v` held
+    /// ([`FanLists::give_way`]).
     fn relink(&mut self, sc: &mut Scratch, v: u32, i: usize) {
         let l = sc.ring.len();
         let w = sc.ring[i];
@@ -555,32 +554,11 @@ impl State {
             k += 1;
             from = (step >> 32) as usize;
         }
-        let border = self.lists.is_border(w);
-        let len = self.lists.len(w);
-        let q = self
-            .lists
-            .position(w, v)
-            .expect("a ring node lists the removed node");
-        // What takes v's place: the chain, less x_0 where x_0 is listed already (the entry
-        // before v's, which now names the chain's first triangle). Where v's entry opened a
-        // border list, x_0 is new: w's border edge now leads to it. Where v's entry closed a
-        // border list, the closing edge's far node closes it now.
-        let with = if border && q == 0 {
-            &sc.chain[..k]
-        } else {
-            let p = if q > 0 { q - 1 } else { len - 1 };
-            debug_assert_eq!(self.lists.get(w, p).node, sc.chain[0].node);
-            self.lists.set_triangle(w, p, sc.chain[0].triangle);
-            if border && q == len - 1 {
-                sc.chain[k] = Entry {
-                    node: sc.ring[last],
-                    triangle: NO_TRIANGLE,
-                };
-                k += 1;
-            }
-            &sc.chain[1..k]
+        sc.chain[k] = Entry {
+            node: sc.ring[last],
+            triangle: NO_TRIANGLE,
         };
-        self.lists.replace(w, q, with, &mut sc.list);
+        self.lists.give_way(w, v, &sc.chain[..=k], &mut sc.list);
     }
 
     /// The decimated mesh.

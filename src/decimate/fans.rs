@@ -334,25 +334,6 @@ impl FanLists {
         };
     }
 
-    /// The position of the first entry of `v`'s list that names `node`.
-    #[inline]
-    pub fn position(&self, v: u32, node: u32) -> Option<usize> {
-        let (start, len) = self.slices(v);
-        if len <= INLINE {
-            let block = &self.blocks[v as usize].0;
-            return block[1..=len].iter().position(|e| e.node == node);
-        }
-        (0..len).find(|&j| self.at(start + j).node == node)
-    }
-
-    /// Sets the triangle of entry `j` of `v`'s list (`j` below its length).
-    #[inline]
-    pub fn set_triangle(&mut self, v: u32, j: usize, triangle: u32) {
-        let (start, len) = self.slices(v);
-        debug_assert!(j < len);
-        self.flat_mut(start + j).triangle = triangle;
-    }
-
     /// Replaces entry `q` of `v`'s list (`q` below its length) by the entries `with`; the
     /// border flag stays. In place when the list is inline and stays so (nearly always: the
     /// entries after `q` move within the node's own line), else through `spare` and
@@ -587,8 +568,44 @@ mod tests {
         assert!(!lists.is_retired(1) && lists.is_border(1));
     }
 
-    /// `replace` agrees with splicing a copy, in place and across the inline limit both ways;
-    /// `position` and `set_triangle` address the same entries.
+    /// `give_way` at an interior node (the entry before v's wraps round), at a border node
+    /// whose list v's entry opened, and at one whose list v's entry closed.
+    #[test]
+    fn give_way_splices_the_chain_for_the_removed_node() {
+        let e = |node: u32, triangle: u32| Entry { node, triangle };
+        let (v, x0, y1, z) = (9, 20, 21, 22);
+        // The chain (x0, T0), (y1, T1) and the closing entry (z, none).
+        let chain = [e(x0, 100), e(y1, 101), e(z, NO_TRIANGLE)];
+        let cases: [(Vec<Entry>, bool, Vec<Entry>); 3] = [
+            (
+                vec![e(v, 1), e(5, 2), e(6, 3), e(x0, 4)],
+                false,
+                vec![e(y1, 101), e(5, 2), e(6, 3), e(x0, 100)],
+            ),
+            (
+                vec![e(v, 1), e(5, 2), e(6, NO_TRIANGLE)],
+                true,
+                vec![e(x0, 100), e(y1, 101), e(5, 2), e(6, NO_TRIANGLE)],
+            ),
+            (
+                vec![e(5, 1), e(x0, 2), e(v, NO_TRIANGLE)],
+                true,
+                vec![e(5, 1), e(x0, 100), e(y1, 101), e(z, NO_TRIANGLE)],
+            ),
+        ];
+        let mut spare = Vec::new();
+        for (before, border, after) in cases {
+            let mut lists = FanLists::new(1);
+            lists.store(0, &before, border);
+            lists.give_way(0, v, &chain, &mut spare);
+            let mut got = Vec::new();
+            lists.read(0, &mut got);
+            assert_eq!(got, after, "{before:?}");
+            assert_eq!(lists.is_border(0), border);
+        }
+    }
+
+    /// `replace` agrees with splicing a copy, in place and across the inline limit both ways.
     #[test]
     fn replace_splices_in_place_and_across_the_limit() {
         let mut lists = FanLists::new(2);
@@ -617,8 +634,6 @@ mod tests {
         ];
         let mut longest = 0;
         for (q, with) in steps {
-            let node = expected[q].node;
-            assert_eq!(lists.position(0, node), Some(q));
             lists.replace(0, q, &with, &mut spare);
             expected.splice(q..=q, with);
             let mut got = Vec::new();
@@ -631,10 +646,6 @@ mod tests {
             longest > INLINE && expected.len() <= INLINE,
             "out of the block and back"
         );
-        let last = expected.len() - 1;
-        lists.set_triangle(0, last, 99);
-        assert_eq!(lists.get(0, last).triangle, 99);
-        assert_eq!(lists.position(0, 12345), None);
         let mut other = Vec::new();
         lists.read(1, &mut other);
         assert_eq!(other, entries(3), "the neighbouring block is untouched");

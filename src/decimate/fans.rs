@@ -234,7 +234,12 @@ impl FanLists {
     /// The entries of `v`'s list, in order, as up to two slices of whole blocks' entries.
     #[inline]
     fn slices(&self, v: u32) -> (usize, usize) {
-        let h = self.header(v);
+        Self::slices_under(v, self.header(v))
+    }
+
+    /// [`slices`](Self::slices) with `v`'s header `h` read already.
+    #[inline]
+    fn slices_under(v: u32, h: Entry) -> (usize, usize) {
         let len = (h.node & LEN_MASK) as usize;
         if len <= INLINE {
             (v as usize * BLOCK + 1, len)
@@ -358,7 +363,8 @@ impl FanLists {
         let new_len = len - 1 + with.len();
         if len <= INLINE && new_len <= INLINE {
             // As `splice_within` does, on the node's own line (block[j + 1] holds entry j):
-            // with fixed bounds, the moves need no checks.
+            // indices into the fixed-size line need fewer checks than into a slice (measured:
+            // `splice_within` here costs ~3 % more instructions per removal).
             let block = &mut self.blocks[v as usize].0;
             if with.len() > 1 {
                 for j in (q + 1..len).rev() {
@@ -394,12 +400,8 @@ impl FanLists {
     pub fn give_way(&mut self, w: u32, v: u32, chain: &[Entry], spare: &mut Vec<Entry>) {
         let k = chain.len() - 1;
         let h = self.header(w);
-        let (len, border) = ((h.node & LEN_MASK) as usize, h.node & BORDER != 0);
-        let start = if len <= INLINE {
-            w as usize * BLOCK + 1
-        } else {
-            h.triangle as usize * BLOCK
-        };
+        let (start, len) = Self::slices_under(w, h);
+        let border = h.node & BORDER != 0;
         let q = if len <= INLINE {
             self.blocks[w as usize].0[1..=len]
                 .iter()

@@ -5,7 +5,7 @@
 
 use super::campaign::median;
 use crate::decimate::{
-    check, data, decimate, quality, History, Options, Path, Stage, Stats, Target,
+    check, data, decimate, quality, History, Options, Path, Stage, Target,
 };
 use crate::mesh::Mesh;
 use std::fmt::Write as _;
@@ -94,6 +94,8 @@ fn keep_one_percent() -> Options {
 /// Rounds of Table 1: every size once per round, so that the drift of a shared machine falls
 /// on all sizes alike rather than on whichever ran during a slow spell.
 const GRID_ROUNDS: usize = 5;
+/// geocert / meshoptimizer run pairs on the peers' grid (each pair back to back).
+const PAIRS: usize = 5;
 
 /// Table 1: grids of `sides²` nodes decimated by 99 % (fast path, error criterion), the
 /// median of 5 rounds over all sizes (`GRID_ROUNDS`); also returns the 900² grid (or the last)
@@ -137,54 +139,62 @@ pub fn grid_rows(sides: &[usize]) -> (Vec<GridRow>, Option<(Mesh, Mesh)>) {
     (rows, last)
 }
 
-fn meshopt_row(mesh: &Mesh, triangles: usize, runs: usize) -> PeerRow {
-    let positions: Vec<f32> = mesh
-        .vertices
-        .iter()
-        .flat_map(|p| p.map(|x| x as f32))
-        .collect();
-    let bytes: Vec<u8> = positions.iter().flat_map(|x| x.to_le_bytes()).collect();
-    let indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
-    let adapter = match meshopt::VertexDataAdapter::new(&bytes, 12, 0) {
-        Ok(a) => a,
-        Err(e) => {
-            return PeerRow {
-                name: "meshoptimizer (meshopt crate)".into(),
-                seconds: None,
-                triangles: 0,
-                errors: None,
-                hausdorff: None,
-                note: e.to_string(),
-            }
+/// meshoptimizer's `simplify` on one mesh: its inputs prepared once, each run timed alone.
+struct Meshopt {
+    bytes: Vec<u8>,
+    indices: Vec<u32>,
+}
+
+impl Meshopt {
+    fn new(mesh: &Mesh) -> Meshopt {
+        Meshopt {
+            bytes: mesh
+                .vertices
+                .iter()
+                .flat_map(|p| p.map(|x| x as f32))
+                .flat_map(|x| x.to_le_bytes())
+                .collect(),
+            indices: mesh.triangles.iter().flatten().copied().collect(),
         }
-    };
-    let mut times = Vec::new();
-    let mut result = Vec::new();
-    for _ in 0..runs {
+    }
+
+    /// One simplification to `triangles` triangles: its seconds and its index buffer.
+    fn run(&self, triangles: usize) -> Result<(f64, Vec<u32>), String> {
+        let adapter =
+            meshopt::VertexDataAdapter::new(&self.bytes, 12, 0).map_err(|e| e.to_string())?;
         let clock = Instant::now();
-        result = meshopt::simplify(
-            &indices,
+        let result = meshopt::simplify(
+            &self.indices,
             &adapter,
             3 * triangles,
             1.0,
             meshopt::SimplifyOptions::None,
             None,
         );
-        times.push(clock.elapsed().as_secs_f64());
+        Ok((clock.elapsed().as_secs_f64(), result))
     }
+}
+
+/// The meshoptimizer row from its timed runs (`paired`: the median of the per-pair ratios
+/// to geocert's runs) and its last result.
+fn meshopt_row(mesh: &Mesh, triangles: usize, times: Vec<f64>, result: &[u32], paired: f64) -> PeerRow {
     let out = Mesh {
         normals: None,
         vertices: mesh.vertices.clone(),
         triangles: result.chunks(3).map(|c| [c[0], c[1], c[2]]).collect(),
         scalars: None,
     };
+    let runs = times.len();
     PeerRow {
         name: "meshoptimizer 0.7 `simplify` (edge collapse, meshopt crate)".into(),
         seconds: Some(median(times)),
         triangles: out.triangles.len(),
         errors: Some(quality::xy_errors(mesh, &out)),
         hausdorff: Some(quality::hausdorff_at_vertices(mesh, &out)),
-        note: format!("median of {runs}; target {} triangles", triangles),
+        note: format!(
+            "median of {runs}, each run right after one of geocert's (median of the {runs} \
+             paired ratios: geocert {paired:.2}× faster); target {triangles} triangles"
+        ),
     }
 }
 
@@ -311,12 +321,25 @@ pub fn decimate_campaign(root: &FsPath, sides: &[usize]) -> DecimateCampaign {
     let peer_nodes = last.as_ref().map(|(m, _)| m.vertices.len()).unwrap_or(0);
     let peer_row = grids.iter().find(|g| g.nodes_in == peer_nodes);
     if let (Some((mesh, ours)), Some(_)) = (&last, peer_row) {
-        // Timed again right before the peers, which follow at once, so that all of them see
-        // about the same state of this shared machine.
-        let runs: Vec<Stats> = (0..3)
-            .filter_map(|_| decimate(mesh, &keep_one_percent(), Path::Fast).ok())
-            .map(|o| o.stats)
-            .collect();
+        // Timed again, each run paired with a meshoptimizer run at once after it, so that
+        // both see the same state of this shared machine (its speed drifts over seconds).
+        let meshopt = Meshopt::new(mesh);
+        let (mut runs, mut meshopt_times, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
+        let mut meshopt_last = Ok(Vec::new());
+        for _ in 0..PAIRS {
+            let Ok(o) = decimate(mesh, &keep_one_percent(), Path::Fast) else {
+                continue;
+            };
+            match meshopt.run(ours.triangles.len()) {
+                Ok((t, result)) => {
+                    ratios.push(t / o.stats.seconds);
+                    meshopt_times.push(t);
+                    meshopt_last = Ok(result);
+                }
+                Err(e) => meshopt_last = Err(e),
+            }
+            runs.push(o.stats);
+        }
         let ahead = runs
             .iter()
             .map(|r| r.evaluated_ahead as f64 / r.taken.max(1) as f64)
@@ -328,7 +351,8 @@ pub fn decimate_campaign(root: &FsPath, sides: &[usize]) -> DecimateCampaign {
             errors: Some(quality::xy_errors(mesh, ours)),
             hausdorff: Some(quality::hausdorff_at_vertices(mesh, ours)),
             note: format!(
-                "median of 3, timed just before the peers; lazy re-evaluation, re-binned queue; \
+                "median of {PAIRS}, each run followed by a meshoptimizer run; lazy \
+                 re-evaluation, re-binned queue; \
                  initial pass on {} threads, the loop on one with the nodes it takes next \
                  evaluated ahead on a second (at least {:.0} % of taken nodes used that); \
                  {:.2} s (median) before the first removal: adjacency, initial pass, queue fill",
@@ -376,7 +400,19 @@ pub fn decimate_campaign(root: &FsPath, sides: &[usize]) -> DecimateCampaign {
             });
         }
         peers.push(vtk_row(root, mesh, ours.triangles.len()));
-        peers.push(meshopt_row(mesh, ours.triangles.len(), 3));
+        peers.push(match meshopt_last {
+            Ok(result) if !meshopt_times.is_empty() => {
+                meshopt_row(mesh, ours.triangles.len(), meshopt_times, &result, median(ratios))
+            }
+            Ok(_) | Err(_) => PeerRow {
+                name: "meshoptimizer (meshopt crate)".into(),
+                seconds: None,
+                triangles: 0,
+                errors: None,
+                hausdorff: None,
+                note: meshopt_last.err().unwrap_or_default(),
+            },
+        });
     }
     let (plate, plate_verified, plate_verify_s) = plate_rows();
     DecimateCampaign {

@@ -181,9 +181,19 @@ impl Lookahead {
             job.first_ticket = ticket;
         }
         let start = job.entries.len() as u32;
-        lists.read(v, &mut job.entries);
-        let len = job.entries.len() as u32 - start;
-        job.nodes.push((v, start, len, lists.is_border(v)));
+        // An inline list goes over as its whole line (header first): one fixed-size copy.
+        let (start, len, border) = match lists.inline_line(v) {
+            Some((line, len, border)) => {
+                job.entries.extend_from_slice(&line);
+                (start + 1, len as u32, border)
+            }
+            None => {
+                lists.read(v, &mut job.entries);
+                let len = job.entries.len() as u32 - start;
+                (start, len, lists.is_border(v))
+            }
+        };
+        job.nodes.push((v, start, len, border));
         if job.nodes.len() >= self.batch {
             self.flush();
         }

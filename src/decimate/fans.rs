@@ -118,7 +118,8 @@ impl Lists for FanLists {
     }
 }
 
-const BLOCK: usize = 8;
+/// Entries per cache line (a node's block: its header and [`INLINE`] entries).
+pub const BLOCK: usize = 8;
 /// Entries held in a node's own block, after its header.
 pub const INLINE: usize = BLOCK - 1;
 
@@ -223,6 +224,17 @@ impl FanLists {
     #[inline]
     pub fn is_border(&self, v: u32) -> bool {
         self.header(v).node & BORDER != 0
+    }
+
+    /// `v`'s whole line when its list is inline: the header, then the list's entries from
+    /// index 1 (the rest of the line is unspecified); with the list's length and border
+    /// flag. `None` for a list in an overflow run. One fixed-size copy of a cache line,
+    /// cheaper than reading a few entries one by one.
+    #[inline]
+    pub fn inline_line(&self, v: u32) -> Option<([Entry; BLOCK], usize, bool)> {
+        let line = self.blocks[v as usize].0;
+        let len = (line[0].node & LEN_MASK) as usize;
+        (len <= INLINE).then_some((line, len, line[0].node & BORDER != 0))
     }
 
     /// Asks the processor to start fetching `v`'s block.

@@ -172,12 +172,15 @@ pub fn fan_normal(centre: [f64; 3], ring: &[[f64; 3]], closed: bool) -> [f64; 3]
 pub(crate) fn global_plane(
     mesh: &Mesh,
     choice: ProjectionChoice,
-    nonpositive_in_xy: impl Fn(&[u32; 3]) -> bool,
+    nonpositive_in_xy: impl Fn(&[u32; 3]) -> bool + Sync + Send,
 ) -> Result<Option<Plane>, DecimateError> {
+    use rayon::prelude::*;
     if choice == ProjectionChoice::PerFan {
         return Ok(None);
     }
-    match (choice, mesh.triangles.iter().position(nonpositive_in_xy)) {
+    // On all cores; the first offending triangle in order is reported.
+    let first = mesh.triangles.par_iter().position_first(nonpositive_in_xy);
+    match (choice, first) {
         (_, None) => Ok(Some(Plane::XY)),
         (ProjectionChoice::Xy, Some(t)) => Err(DecimateError::NotProjectable {
             triangle: t,

@@ -20,6 +20,7 @@
 //!
 //! [`BucketQueue::give_ticket`]: super::bucket::BucketQueue::give_ticket
 
+use super::bucket::Scale;
 use super::fans::{Entry, FanLists};
 use super::Plane;
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -69,6 +70,9 @@ pub struct Evaluated {
     /// The evaluation value, `None` when the node may not be removed now.
     pub ev: Option<f64>,
     pub plan: Planned,
+    /// `(version, interval)`: the queue interval of `ev` under the job's [`Scale`] of that
+    /// version (so that the loop need not compute it while the queue keeps that scale).
+    pub interval: Option<(u32, u32)>,
 }
 
 /// One hand-over: nodes with copies of their lists.
@@ -81,6 +85,8 @@ pub struct Job {
     pub entries: Vec<Entry>,
     /// Filled by the worker, which sends the job back (its buffers are reused).
     pub results: Vec<Evaluated>,
+    /// The queue's scale and its version when the nodes were handed over.
+    pub scale: Option<(Scale, u32)>,
 }
 
 /// The worker thread and the results that came back.
@@ -155,6 +161,7 @@ impl Lookahead {
                     ticket: u32::MAX,
                     ev: None,
                     plan: Planned::NotKept,
+                    interval: None,
                 };
                 KEPT
             ],
@@ -169,16 +176,20 @@ impl Lookahead {
 
     /// Adds `v` (with `ticket`, one more than the node added before, or else a new batch
     /// starts) to the batch being filled, with a copy of its list; a full batch goes to the
-    /// worker, unless too many batches are still out (then it is dropped).
-    pub fn add(&mut self, v: u32, ticket: u32, lists: &FanLists) {
+    /// worker, unless too many batches are still out (then it is dropped). `scale`: the
+    /// queue's, with its version (a batch holds nodes handed over under one version).
+    pub fn add(&mut self, v: u32, ticket: u32, lists: &FanLists, scale: Option<(Scale, u32)>) {
         let job = &self.pending;
-        if !job.nodes.is_empty() && job.first_ticket.wrapping_add(job.nodes.len() as u32) != ticket
+        if !job.nodes.is_empty()
+            && (job.first_ticket.wrapping_add(job.nodes.len() as u32) != ticket
+                || job.scale.map(|s| s.1) != scale.map(|s| s.1))
         {
             self.flush();
         }
         let job = &mut self.pending;
         if job.nodes.is_empty() {
             job.first_ticket = ticket;
+            job.scale = scale;
         }
         let start = job.entries.len() as u32;
         // An inline list goes over as its whole line (header first): one fixed-size copy.

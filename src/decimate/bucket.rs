@@ -99,6 +99,39 @@ pub struct BucketQueue {
     lowest: usize,
 }
 
+/// The boundaries of a queue's intervals (eq. 3): enough to map a value to its interval away
+/// from the queue (the lookahead thread does, for the nodes it evaluates).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Scale {
+    m: usize,
+    ev_min: f64,
+    delta: f64,
+    /// `ln(1 + Δ)`.
+    ln1p_delta: f64,
+}
+
+impl Scale {
+    /// Eq. (3), normalised: the interval of evaluation value `ev`.
+    pub fn interval(&self, ev: f64) -> usize {
+        if self.delta == 0.0 || ev.is_nan() || ev <= self.ev_min {
+            return 0;
+        }
+        let t = (self.ev_min + self.delta - ev) / self.delta;
+        if t <= 0.0 {
+            return self.m - 1;
+        }
+        // d_j = ev  ⇔  1 + Δ(1 − j/m) = (1+Δ)^t  ⇔  j/m = 1 − ((1+Δ)^t − 1)/Δ.
+        let frac = 1.0 - (t * self.ln1p_delta).exp_m1() / self.delta;
+        // ⌊j⌋ by truncation (no libm call): the same for positive j, NaN maps to 0.
+        let j = frac * self.m as f64;
+        if j <= 0.0 {
+            0
+        } else {
+            (j as usize).min(self.m - 1)
+        }
+    }
+}
+
 impl BucketQueue {
     /// A queue for node ids `0..nodes`, with `m` intervals over `[ev_min, ev_max]`.
     pub fn new(nodes: usize, m: usize, ev_min: f64, ev_max: f64) -> BucketQueue {
@@ -219,25 +252,22 @@ impl BucketQueue {
     }
 
     /// Eq. (3), normalised: the interval of evaluation value `ev`.
+    #[inline]
     pub fn interval(&self, ev: f64) -> usize {
-        if self.delta == 0.0 || ev.is_nan() || ev <= self.ev_min {
-            return 0;
-        }
-        let t = (self.ev_min + self.delta - ev) / self.delta;
-        if t <= 0.0 {
-            return self.m - 1;
-        }
-        // d_j = ev  ⇔  1 + Δ(1 − j/m) = (1+Δ)^t  ⇔  j/m = 1 − ((1+Δ)^t − 1)/Δ.
-        let frac = 1.0 - (t * self.ln1p_delta).exp_m1() / self.delta;
-        // ⌊j⌋ by truncation (no libm call): the same for positive j, NaN maps to 0.
-        let j = frac * self.m as f64;
-        if j <= 0.0 {
-            0
-        } else {
-            (j as usize).min(self.m - 1)
-        }
+        self.scale().interval(ev)
     }
 
+    /// The intervals' boundaries as they are now; they change only when the queue is re-binned
+    /// (then [`rebuilds`](Self::rebuilds) counts one more).
+    #[inline]
+    pub fn scale(&self) -> Scale {
+        Scale {
+            m: self.m,
+            ev_min: self.ev_min,
+            delta: self.delta,
+            ln1p_delta: self.ln1p_delta,
+        }
+    }
     /// Asks the processor to start fetching `node`'s record.
     #[inline]
     pub fn prefetch(&self, node: u32) {

@@ -11,7 +11,7 @@
 //! are not queued are evaluated at once, as in the paper. On the 810k-node grid this takes
 //! 1.7 evaluations per removal instead of 5.9.
 
-use super::bucket::{interval_count, BucketQueue};
+use super::bucket::{interval_count, BucketQueue, Scale};
 use super::history::fingerprint;
 use super::{History, Options, Outcome, Stats, Target};
 use crate::mesh::Mesh;
@@ -47,6 +47,14 @@ pub(crate) trait Engine {
     /// `v` is taken next. `ticket` is the one it was handed over with when its list is
     /// unchanged since (the queue's promise), so what was evaluated from it then holds.
     fn take(&mut self, _v: u32, _ticket: Option<u32>) {}
+    /// The queue's intervals are now `scale` (`version` counts its changes): an engine that
+    /// looks ahead may compute the intervals of the values it evaluates ahead.
+    fn set_scale(&mut self, _scale: Scale, _version: usize) {}
+    /// The interval of the value [`evaluate`](Self::evaluate) just gave for `v`, when the
+    /// engine computed it under the scale of `version`.
+    fn interval_of(&self, _v: u32, _version: usize) -> Option<usize> {
+        None
+    }
     /// How many taken nodes used what was evaluated ahead.
     fn evaluated_ahead(&self) -> usize {
         0
@@ -119,7 +127,12 @@ pub(crate) fn run(
     history.reserve(n.saturating_sub(target_nodes).min(queue.len()), 7);
     let lead = engine.look_ahead_lead();
     let mut ahead = LookAheadState::default();
+    let mut scale_version = None;
     while present > target_nodes {
+        if lead > 0 && scale_version != Some(queue.rebuilds()) {
+            scale_version = Some(queue.rebuilds());
+            engine.set_scale(queue.scale(), queue.rebuilds());
+        }
         if lead > 0 {
             ahead.step(&mut queue, engine, lead);
         }
@@ -140,7 +153,9 @@ pub(crate) fn run(
             counts.evaluations += 1;
             match engine.evaluate(v) {
                 Some(ev) if admissible(ev) => {
-                    let to = queue.interval(ev);
+                    let to = engine
+                        .interval_of(v, queue.rebuilds())
+                        .unwrap_or_else(|| queue.interval(ev));
                     if to > j {
                         queue.push_to(v, ev, to);
                         continue;

@@ -15,6 +15,7 @@
 //! it reaches the front of the queue (and again after a removal, which may change its ring).
 
 use super::ahead::{self, Evaluated, Job, Lookahead, Planned};
+use super::bucket::Scale;
 use super::driver::{self, Engine};
 use super::earcut::{orient2d, pack_cut, unpack_cut, EarCutter, RobustOrient};
 use super::fans::{CopiedList, Entry, FanLists, Lists, NO_TRIANGLE};
@@ -96,6 +97,8 @@ pub(crate) struct FastEngine {
     start_ahead: Option<bool>,
     /// What was evaluated ahead for the node being taken.
     ready: Option<Evaluated>,
+    /// The queue's scale and its version ([`Engine::set_scale`]), handed over with the nodes.
+    scale: Option<(Scale, u32)>,
 }
 
 impl FastEngine {
@@ -149,6 +152,7 @@ impl FastEngine {
             ahead: None,
             start_ahead: look_ahead,
             ready: None,
+            scale: None,
         })
     }
 
@@ -264,11 +268,16 @@ impl Scratch {
                     None => Planned::NotKept,
                 },
             };
+            let interval = match (ev, job.scale) {
+                (Some(ev), Some((scale, version))) => Some((version, scale.interval(ev) as u32)),
+                _ => None,
+            };
             out.push(Evaluated {
                 node: v,
                 ticket,
                 ev,
                 plan,
+                interval,
             });
         }
     }
@@ -650,8 +659,17 @@ impl Engine for FastEngine {
 
     fn look_ahead(&mut self, v: u32, ticket: u32) {
         if let Some(ahead) = &mut self.ahead {
-            ahead.add(v, ticket, &self.st.lists);
+            ahead.add(v, ticket, &self.st.lists, self.scale);
         }
+    }
+
+    fn set_scale(&mut self, scale: Scale, version: usize) {
+        self.scale = Some((scale, version as u32));
+    }
+
+    fn interval_of(&self, v: u32, version: usize) -> Option<usize> {
+        let (ver, j) = self.ready.filter(|r| r.node == v)?.interval?;
+        (ver == version as u32).then_some(j as usize)
     }
 
     fn evaluated_ahead(&self) -> usize {

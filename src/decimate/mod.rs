@@ -178,8 +178,19 @@ pub(crate) fn global_plane(
     if choice == ProjectionChoice::PerFan {
         return Ok(None);
     }
-    // On all cores; the first offending triangle in order is reported.
-    let first = mesh.triangles.par_iter().position_first(nonpositive_in_xy);
+    // On all cores, in chunks (a plain loop each); the first offending triangle in order is
+    // reported.
+    const CHUNK: usize = 1 << 16;
+    let first = mesh
+        .triangles
+        .par_chunks(CHUNK)
+        .enumerate()
+        .filter_map(|(i, tris)| {
+            tris.iter()
+                .position(&nonpositive_in_xy)
+                .map(|k| i * CHUNK + k)
+        })
+        .min();
     match (choice, first) {
         (_, None) => Ok(Some(Plane::XY)),
         (ProjectionChoice::Xy, Some(t)) => Err(DecimateError::NotProjectable {

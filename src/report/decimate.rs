@@ -4,9 +4,7 @@
 //! plate, undecimation exactness, and the exact-vs-fast agreement.
 
 use super::campaign::median;
-use crate::decimate::{
-    check, data, decimate, quality, History, Options, Path, Stage, Target,
-};
+use crate::decimate::{check, data, decimate, quality, History, Options, Path, Stage, Target};
 use crate::mesh::Mesh;
 use std::fmt::Write as _;
 use std::path::{Path as FsPath, PathBuf};
@@ -177,7 +175,13 @@ impl Meshopt {
 
 /// The meshoptimizer row from its timed runs (`paired`: the median of the per-pair ratios
 /// to geocert's runs) and its last result.
-fn meshopt_row(mesh: &Mesh, triangles: usize, times: Vec<f64>, result: &[u32], paired: f64) -> PeerRow {
+fn meshopt_row(
+    mesh: &Mesh,
+    triangles: usize,
+    times: Vec<f64>,
+    result: &[u32],
+    paired: f64,
+) -> PeerRow {
     let out = Mesh {
         normals: None,
         vertices: mesh.vertices.clone(),
@@ -401,9 +405,13 @@ pub fn decimate_campaign(root: &FsPath, sides: &[usize]) -> DecimateCampaign {
         }
         peers.push(vtk_row(root, mesh, ours.triangles.len()));
         peers.push(match meshopt_last {
-            Ok(result) if !meshopt_times.is_empty() => {
-                meshopt_row(mesh, ours.triangles.len(), meshopt_times, &result, median(ratios))
-            }
+            Ok(result) if !meshopt_times.is_empty() => meshopt_row(
+                mesh,
+                ours.triangles.len(),
+                meshopt_times,
+                &result,
+                median(ratios),
+            ),
             Ok(_) | Err(_) => PeerRow {
                 name: "meshoptimizer (meshopt crate)".into(),
                 seconds: None,

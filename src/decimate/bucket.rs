@@ -268,6 +268,7 @@ impl BucketQueue {
             ln1p_delta: self.ln1p_delta,
         }
     }
+
     /// Asks the processor to start fetching `node`'s record.
     #[inline]
     pub fn prefetch(&self, node: u32) {

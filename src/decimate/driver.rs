@@ -129,11 +129,11 @@ pub(crate) fn run(
     let mut ahead = LookAheadState::default();
     let mut scale_version = None;
     while present > target_nodes {
-        if lead > 0 && scale_version != Some(queue.rebuilds()) {
-            scale_version = Some(queue.rebuilds());
-            engine.set_scale(queue.scale(), queue.rebuilds());
-        }
         if lead > 0 {
+            if scale_version != Some(queue.rebuilds()) {
+                scale_version = Some(queue.rebuilds());
+                engine.set_scale(queue.scale(), queue.rebuilds());
+            }
             ahead.step(&mut queue, engine, lead);
         }
         let Some(taken) = queue.pop() else {

@@ -107,19 +107,11 @@ impl Plane {
     };
 
     /// The two kept coordinate axes, in the order that makes the projection orientation
-    /// preserving for a normal pointing along +drop (or −drop when flipped).
-    #[inline]
+    /// preserving for a normal pointing along +drop (or −drop when flipped): the projection
+    /// of the point whose coordinates are their own indices.
     pub fn axes(self) -> (usize, usize) {
-        let (a, b) = match self.drop {
-            0 => (1, 2),
-            1 => (2, 0),
-            _ => (0, 1),
-        };
-        if self.flip {
-            (b, a)
-        } else {
-            (a, b)
-        }
+        let [a, b] = self.project([0.0, 1.0, 2.0]);
+        (a as usize, b as usize)
     }
 
     /// The projection of `p` (exact: it only selects coordinates). The axes are constants

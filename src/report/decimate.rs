@@ -37,6 +37,20 @@ pub struct PeerRow {
     pub note: String,
 }
 
+impl PeerRow {
+    /// A row with no measurement yet (or none possible): `note` says why.
+    fn absent(name: &str, note: String) -> PeerRow {
+        PeerRow {
+            name: name.into(),
+            seconds: None,
+            triangles: 0,
+            errors: None,
+            hausdorff: None,
+            note,
+        }
+    }
+}
+
 /// One row of the Table-2-like plate table.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct PlateRow {
@@ -173,22 +187,18 @@ impl Meshopt {
     }
 }
 
-/// The meshoptimizer row from its timed runs (`paired`: the median of the per-pair ratios
-/// to geocert's runs) and its last result.
-fn meshopt_row(
-    mesh: &Mesh,
-    triangles: usize,
-    times: Vec<f64>,
-    result: &[u32],
-    paired: f64,
-) -> PeerRow {
+/// The meshoptimizer row from the timed pairs `(geocert's seconds, meshoptimizer's)` and
+/// its last result.
+fn meshopt_row(mesh: &Mesh, triangles: usize, pairs: &[(f64, f64)], result: &[u32]) -> PeerRow {
+    let runs = pairs.len();
+    let paired = median(pairs.iter().map(|&(ours, theirs)| theirs / ours).collect());
+    let times = pairs.iter().map(|&(_, theirs)| theirs).collect();
     let out = Mesh {
         normals: None,
         vertices: mesh.vertices.clone(),
         triangles: result.chunks(3).map(|c| [c[0], c[1], c[2]]).collect(),
         scalars: None,
     };
-    let runs = times.len();
     PeerRow {
         name: "meshoptimizer 0.7 `simplify` (edge collapse, meshopt crate)".into(),
         seconds: Some(median(times)),
@@ -203,14 +213,10 @@ fn meshopt_row(
 }
 
 fn vtk_row(root: &FsPath, mesh: &Mesh, triangles: usize) -> PeerRow {
-    let mut row = PeerRow {
-        name: "vtkDecimatePro (vertex removal, PreserveTopology)".into(),
-        seconds: None,
-        triangles: 0,
-        errors: None,
-        hausdorff: None,
-        note: String::new(),
-    };
+    let mut row = PeerRow::absent(
+        "vtkDecimatePro (vertex removal, PreserveTopology)",
+        String::new(),
+    );
     let python = root.join(".venv-peers/bin/python");
     if !python.exists() {
         row.note = "`.venv-peers` not found (run benches/peers/setup.sh)".into();
@@ -328,20 +334,16 @@ pub fn decimate_campaign(root: &FsPath, sides: &[usize]) -> DecimateCampaign {
         // Timed again, each run paired with a meshoptimizer run at once after it, so that
         // both see the same state of this shared machine (its speed drifts over seconds).
         let meshopt = Meshopt::new(mesh);
-        let (mut runs, mut meshopt_times, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
-        let mut meshopt_last = Ok(Vec::new());
+        let (mut runs, mut pairs) = (Vec::new(), Vec::new());
+        let mut meshopt_out = Ok(Vec::new());
         for _ in 0..PAIRS {
             let Ok(o) = decimate(mesh, &keep_one_percent(), Path::Fast) else {
                 continue;
             };
-            match meshopt.run(ours.triangles.len()) {
-                Ok((t, result)) => {
-                    ratios.push(t / o.stats.seconds);
-                    meshopt_times.push(t);
-                    meshopt_last = Ok(result);
-                }
-                Err(e) => meshopt_last = Err(e),
-            }
+            meshopt_out = meshopt.run(ours.triangles.len()).map(|(t, result)| {
+                pairs.push((o.stats.seconds, t));
+                result
+            });
             runs.push(o.stats);
         }
         let ahead = runs
@@ -404,22 +406,14 @@ pub fn decimate_campaign(root: &FsPath, sides: &[usize]) -> DecimateCampaign {
             });
         }
         peers.push(vtk_row(root, mesh, ours.triangles.len()));
-        peers.push(match meshopt_last {
-            Ok(result) if !meshopt_times.is_empty() => meshopt_row(
-                mesh,
-                ours.triangles.len(),
-                meshopt_times,
-                &result,
-                median(ratios),
+        peers.push(match meshopt_out {
+            Ok(result) if !pairs.is_empty() => {
+                meshopt_row(mesh, ours.triangles.len(), &pairs, &result)
+            }
+            other => PeerRow::absent(
+                "meshoptimizer (meshopt crate)",
+                other.err().unwrap_or_default(),
             ),
-            Ok(_) | Err(_) => PeerRow {
-                name: "meshoptimizer (meshopt crate)".into(),
-                seconds: None,
-                triangles: 0,
-                errors: None,
-                hausdorff: None,
-                note: meshopt_last.err().unwrap_or_default(),
-            },
         });
     }
     let (plate, plate_verified, plate_verify_s) = plate_rows();

@@ -1320,6 +1320,7 @@ fn decimate_cmd(
             "evaluations": s.evaluations,
             "taken": s.taken,
             "evaluated_ahead": s.evaluated_ahead,
+            "remembered": s.remembered,
             "setup_seconds": s.setup_seconds,
             "projection": if s.projection_xy { "xy" } else { "per-fan" },
         });

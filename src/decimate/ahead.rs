@@ -11,7 +11,9 @@
 //! packed in a word). When the loop takes a node it uses what was evaluated ahead if the
 //! queue vouches that the node's list is unchanged since it was handed over (the node still
 //! holds its ticket, [`BucketQueue::give_ticket`]), and evaluates it itself otherwise, or
-//! when the result has not come back yet.
+//! when the result has not come back yet. A node not marked since it was filed is not handed
+//! over at all: the engine remembers the plan of the evaluation it was filed after, and that
+//! plan still holds.
 //!
 //! Both threads run the same code on the same `f64` inputs, so a result evaluated ahead is
 //! bit for bit what the loop would have computed: the removal sequence cannot depend on

@@ -289,6 +289,12 @@ impl BucketQueue {
         n.bucket != NONE
     }
 
+    /// True when `node` is queued and marked.
+    #[inline]
+    pub fn is_marked(&self, node: u32) -> bool {
+        self.nodes[node as usize].marked
+    }
+
     /// The queued node that pops right after `from`, or the front node when `from` is
     /// `None` or no longer queued; and whether it is the front node.
     pub fn next_after(&self, from: Option<u32>) -> Option<(u32, bool)> {

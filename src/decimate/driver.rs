@@ -44,9 +44,16 @@ pub(crate) trait Engine {
     /// A node the loop expects to take later, after those it was told of before (tickets
     /// increase by one): the engine may evaluate it meanwhile, from its list as it is now.
     fn look_ahead(&mut self, _v: u32, _ticket: u32) {}
+    /// Whether the engine kept the plan of its last evaluation of `v`: when `v` is taken
+    /// unchanged since it was last filed, that plan holds and nothing need be evaluated ahead.
+    fn remembers(&self, _v: u32) -> bool {
+        false
+    }
     /// `v` is taken next. `ticket` is the one it was handed over with when its list is
-    /// unchanged since (the queue's promise), so what was evaluated from it then holds.
-    fn take(&mut self, _v: u32, _ticket: Option<u32>) {}
+    /// unchanged since (the queue's promise), so what was evaluated from it then holds;
+    /// `unchanged`: its list is unchanged since it was last filed, so what the evaluation it
+    /// was filed after planned holds ([`remembers`](Self::remembers)).
+    fn take(&mut self, _v: u32, _ticket: Option<u32>, _unchanged: bool) {}
     /// The queue's intervals are now `scale` (`version` counts its changes): an engine that
     /// looks ahead may compute the intervals of the values it evaluates ahead.
     fn set_scale(&mut self, _scale: Scale, _version: usize) {}
@@ -57,6 +64,10 @@ pub(crate) trait Engine {
     }
     /// How many taken nodes used what was evaluated ahead.
     fn evaluated_ahead(&self) -> usize {
+        0
+    }
+    /// How many taken nodes were removed by a remembered plan ([`remembers`](Self::remembers)).
+    fn remembered(&self) -> usize {
         0
     }
     /// A hint that `v` comes soon: start fetching its own data.
@@ -81,6 +92,7 @@ pub(crate) struct LoopCounts {
     pub evaluations: usize,
     pub taken: usize,
     pub evaluated_ahead: usize,
+    pub remembered: usize,
     /// Seconds on `clock` when the first node was taken.
     pub setup_seconds: f64,
 }
@@ -141,7 +153,7 @@ pub(crate) fn run(
         };
         let (v, j, stale) = (taken.node, taken.interval, taken.marked);
         counts.taken += 1;
-        engine.take(v, taken.ticket);
+        engine.take(v, taken.ticket, !stale);
         // The next node's list arrived a step ago (or when it was handed over): fetch its
         // ring's lists, positions and queue records, and its own record.
         let next = queue.peek();
@@ -194,6 +206,7 @@ pub(crate) fn run(
     }
     counts.rebuilds = queue.rebuilds();
     counts.evaluated_ahead = engine.evaluated_ahead();
+    counts.remembered = engine.remembered();
     counts
 }
 
@@ -237,9 +250,12 @@ impl LookAheadState {
         }
     }
 
-    /// Gives `v` the next ticket and tells the engine, when `v` is still queued.
+    /// Gives `v` the next ticket and tells the engine, when `v` is still queued and the
+    /// engine does not remember a plan that holds (`v` unmarked since it was filed).
     fn hand(&mut self, queue: &mut BucketQueue, engine: &mut impl Engine, v: u32) {
-        if queue.give_ticket(v, self.next_ticket) {
+        if queue.contains(v) && !queue.is_marked(v) && engine.remembers(v) {
+            self.cursor = Some(v);
+        } else if queue.give_ticket(v, self.next_ticket) {
             engine.look_ahead(v, self.next_ticket);
             self.next_ticket = self.next_ticket.wrapping_add(1);
             self.cursor = Some(v);
@@ -287,6 +303,7 @@ pub(crate) fn decimate_with<E: Engine>(
             evaluations: counts.evaluations,
             taken: counts.taken,
             evaluated_ahead: counts.evaluated_ahead,
+            remembered: counts.remembered,
             projection_xy,
             seconds,
             setup_seconds: counts.setup_seconds,

@@ -15,6 +15,10 @@
 //! `f64`, the lowest position on ties): a heuristic, computed from the same `f64` coordinates
 //! by both paths so that they cut the same ears. Ear status is cached and recomputed for the
 //! two neighbours of each cut ear; when no cached ear is valid all are recomputed.
+//!
+//! Convex holes (every vertex turning left, or some straight between their neighbours,
+//! common on grids) are cut by masks and cached sides alone, without orientation tests after
+//! the first pass: the same ears, as the unit tests check against the general loop.
 
 use std::cmp::Ordering;
 
@@ -85,7 +89,8 @@ impl Default for EarCutter {
 
 impl EarCutter {
     /// Triangulates the counter-clockwise polygon `0..l` (`points` are its projected `f64`
-    /// coordinates for the heuristic). Writes `l − 2` triangles of polygon positions to `out`
+    /// coordinates, exactly: the heuristic reads them, and so do the exact comparisons that
+    /// recognise a convex polygon). Writes `l − 2` triangles of polygon positions to `out`
     /// and returns true, or returns false when no valid ear exists at some stage.
     /// `l` must be at most 255.
     pub fn cut(
@@ -172,12 +177,20 @@ impl EarCutter {
             convex: 0,
             valid: 0,
         };
+        let (mut straight, mut reflex) = (0u64, false);
         for i in 0..l {
-            masks.convex |= (self.turns_left(i, orient) as u64) << i;
+            match orient.orient(self.prev[i] as usize, i, self.next[i] as usize) {
+                Ordering::Greater => masks.convex |= 1 << i,
+                Ordering::Equal => straight |= 1 << i,
+                Ordering::Less => reflex = true,
+            }
         }
-        if masks.convex == masks.alive && winds_once(points) {
-            self.cut_convex(points, masks.alive, out);
-            return true;
+        if !reflex && self.straight_between(points, straight) && winds_once(points) {
+            if straight == 0 {
+                self.cut_convex(points, masks.alive, out);
+                return true;
+            }
+            return self.cut_weakly_convex(points, masks.alive, masks.convex, out);
         }
         let mut n = l;
         for i in 0..l {
@@ -258,6 +271,94 @@ impl EarCutter {
         let a = alive.trailing_zeros() as usize;
         let b = self.next[a] as usize;
         out.push([a as u8, b as u8, self.next[b]]);
+    }
+
+    /// True when every vertex in `straight` (collinear with its neighbours) lies strictly
+    /// between them: no spike turning back and no repeated point (exact comparisons).
+    fn straight_between(&self, points: &[[f64; 2]], mut straight: u64) -> bool {
+        while straight != 0 {
+            let v = straight.trailing_zeros() as usize;
+            straight &= straight - 1;
+            let (a, p, b) = (
+                points[self.prev[v] as usize],
+                points[v],
+                points[self.next[v] as usize],
+            );
+            let inside =
+                (0..2).all(|k| (a[k] <= p[k] && p[k] <= b[k]) || (b[k] <= p[k] && p[k] <= a[k]));
+            if p == a || p == b || !inside {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// [`cut_small`](Self::cut_small) on a simple polygon without reflex vertices whose
+    /// straight vertices (`alive & !convex`, each strictly between its neighbours) are not
+    /// all of them: a convex polygon with points on its sides. The same ears as the general
+    /// loop, from masks alone and without orientation tests, because in such a polygon
+    /// (it stays one after every cut, with positive area):
+    /// - cutting the ear at a strictly convex `b` leaves its neighbours `a`, `c` strictly
+    ///   convex (a straight `a` had `c` strictly left of its line; a strictly convex `a`
+    ///   turning straight would put `b` outside the supporting line of the side before `a`);
+    /// - a vertex in the closed ear triangle `(a, b, c)` lies on the polygon's boundary, so
+    ///   on the open diagonal `a c`, so all of the chain from `c` round to `a` does: the ear
+    ///   at `b` is blocked exactly when every remaining vertex but `a`, `b`, `c` is straight;
+    /// - so no cut changes the validity of an ear other than its neighbours' (the general
+    ///   loop's cache is exact), and a valid ear always exists.
+    ///
+    /// Qualities come from cached sides as in [`cut_convex`](Self::cut_convex).
+    fn cut_weakly_convex(
+        &mut self,
+        points: &[[f64; 2]],
+        mut alive: u64,
+        mut convex: u64,
+        out: &mut Vec<[u8; 3]>,
+    ) -> bool {
+        for v in 0..points.len() {
+            self.edge[v] = dist2(points[v], points[self.next[v] as usize]);
+        }
+        let mut left = convex;
+        while left != 0 {
+            let v = left.trailing_zeros() as usize;
+            left &= left - 1;
+            self.convex_quality(points, v);
+        }
+        let mut n = points.len();
+        while n > 3 {
+            let tips = alive & convex;
+            // An ear is valid unless every other remaining vertex is straight: with more
+            // than three strictly convex vertices none is blocked.
+            let valid = if tips.count_ones() > 3 {
+                tips
+            } else {
+                let mut valid = 0;
+                let mut left = tips;
+                while left != 0 {
+                    let v = left.trailing_zeros() as usize;
+                    left &= left - 1;
+                    let own = 1 << v | 1 << self.prev[v] | 1 << self.next[v];
+                    if tips & !own != 0 {
+                        valid |= 1 << v;
+                    }
+                }
+                valid
+            };
+            let Some(b) = self.best_small(valid) else {
+                return false;
+            };
+            let (a, c) = self.cut_ear(b, out);
+            alive &= !(1 << b);
+            convex |= 1 << a | 1 << c;
+            n -= 1;
+            self.edge[a] = self.diagonal[b];
+            self.convex_quality(points, a);
+            self.convex_quality(points, c);
+        }
+        let a = alive.trailing_zeros() as usize;
+        let b = self.next[a] as usize;
+        out.push([a as u8, b as u8, self.next[b]]);
+        true
     }
 
     /// The quality of the ear at `v` from the cached sides ([`cut_convex`](Self::cut_convex)).
@@ -606,6 +707,89 @@ mod tests {
             agreed > 1000 && failed > 0 && convex > 200 && packed > 100,
             "{agreed} {failed} {convex} {packed}"
         );
+    }
+
+    /// The counter-clockwise convex hull of lattice points with the points on its sides
+    /// kept (monotone chain popping only right turns).
+    fn hull_with_sides(mut pts: Vec<[i64; 2]>) -> Vec<[i64; 2]> {
+        pts.sort_unstable();
+        pts.dedup();
+        let turn = |o: [i64; 2], a: [i64; 2], b: [i64; 2]| {
+            (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+        };
+        let chain = |points: &mut dyn Iterator<Item = [i64; 2]>| {
+            let mut h: Vec<[i64; 2]> = Vec::new();
+            for p in points {
+                while h.len() >= 2 && turn(h[h.len() - 2], h[h.len() - 1], p) < 0 {
+                    h.pop();
+                }
+                h.push(p);
+            }
+            h.pop();
+            h
+        };
+        let mut hull = chain(&mut pts.iter().copied());
+        hull.extend(chain(&mut pts.iter().rev().copied()));
+        hull
+    }
+
+    #[test]
+    fn weakly_convex_polygons_cut_as_the_general_loop_does() {
+        // Convex lattice polygons with lattice points on their sides (straight vertices),
+        // some of them dropped, from every starting vertex: the masks-only path must cut
+        // the ears the general loop cuts (which `cut_list` runs on every polygon).
+        let mut rng = crate::decimate::TestRng(0x9e37_79b9_7f4a_7c15);
+        let (mut weakly, mut degenerate, mut checked) = (0, 0, 0);
+        for _ in 0..8000 {
+            let span = 2 + rng.below(6) as i64;
+            let k = 3 + rng.below(8);
+            let pts: Vec<[i64; 2]> = (0..k)
+                .map(|_| {
+                    [
+                        rng.below(span as u64 + 1) as i64,
+                        rng.below(span as u64 + 1) as i64,
+                    ]
+                })
+                .collect();
+            let mut hull = hull_with_sides(pts);
+            // Drop some points, then start anywhere.
+            hull.retain(|_| rng.below(5) != 0);
+            if hull.len() < 3 || hull.len() > 64 {
+                continue;
+            }
+            let start = rng.below(hull.len() as u64) as usize;
+            hull.rotate_left(start);
+            let points: Vec<[f64; 2]> = hull.iter().map(|p| [p[0] as f64, p[1] as f64]).collect();
+            let l = points.len();
+            let turns: Vec<Ordering> = (0..l)
+                .map(|i| orient2d(points[(i + l - 1) % l], points[i], points[(i + 1) % l]))
+                .collect();
+            let straight = turns.iter().filter(|&&t| t == Ordering::Equal).count();
+            let strict = turns.iter().filter(|&&t| t == Ordering::Greater).count();
+            if turns.contains(&Ordering::Less) || straight == 0 {
+                continue;
+            }
+            if strict < 3 {
+                degenerate += 1;
+            } else {
+                weakly += 1;
+            }
+            let (mut small, mut list) = (Vec::new(), Vec::new());
+            let mut cutter = EarCutter::default();
+            cutter.link(l);
+            let a = cutter.cut_small(&points, &RobustOrient(&points), &mut small);
+            cutter.link(l);
+            let b = cutter.cut_list(&points, &RobustOrient(&points), &mut list);
+            assert_eq!((a, &small), (b, &list), "{points:?}");
+            if a {
+                assert!(small.iter().all(|&t| area2(&points, t) > 0.0), "{points:?}");
+            }
+            checked += 1;
+        }
+        println!(
+            "weakly convex polygons: {checked} cut alike by masks and by the general loop ({weakly} with three or more strictly convex vertices, {degenerate} flat: all points on one line)"
+        );
+        assert!(weakly > 1500 && degenerate > 50, "{weakly} {degenerate}");
     }
 
     #[test]

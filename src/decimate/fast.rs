@@ -24,7 +24,7 @@ use super::{
     check_options, edge_angle, fan_normal, global_plane, BorderPolicy, Criterion, DecimateError,
     Options, Outcome, Plane,
 };
-use crate::memory::huge_copy;
+use crate::memory::{huge_copy, huge_vec};
 use crate::mesh::fans::Fans;
 use crate::mesh::{Mesh, Scalars};
 use rayon::prelude::*;
@@ -33,6 +33,31 @@ use std::sync::atomic::{AtomicBool, Ordering as AtomicOrdering};
 use std::sync::Arc;
 
 const NONE: u32 = u32::MAX;
+
+/// No plan remembered ([`FastEngine::memo`]).
+const NO_MEMO: u64 = u64::MAX;
+
+/// A plan to remember ([`FastEngine::memo`]) in one word: the packed cut ([`pack_cut`]) in
+/// bits 0–55, the border flag in bit 56, the plane's dropped axis in bits 57–58 and its flip
+/// in bit 59 (so never [`NO_MEMO`]).
+fn memo(border: bool, plane: Plane, cut: u64) -> u64 {
+    cut & ((1 << 56) - 1)
+        | u64::from(border) << 56
+        | (plane.drop as u64) << 57
+        | u64::from(plane.flip) << 59
+}
+
+/// The plan a [`memo`] word holds, `None` for [`NO_MEMO`].
+fn recall(m: u64) -> Option<Planned> {
+    (m != NO_MEMO).then_some(Planned::Cut {
+        border: m >> 56 & 1 == 1,
+        plane: Plane {
+            drop: (m >> 57 & 3) as usize,
+            flip: m >> 59 & 1 == 1,
+        },
+        cut: m,
+    })
+}
 
 /// Smaller meshes are decimated without the lookahead thread: starting and joining it
 /// would cost more than it saves.
@@ -99,6 +124,15 @@ pub(crate) struct FastEngine {
     ready: Option<Evaluated>,
     /// The queue's scale and its version ([`Engine::set_scale`]), handed over with the nodes.
     scale: Option<(Scale, u32)>,
+    /// Per node, the plan its last evaluation made ([`memo`]), or [`NO_MEMO`] (none made:
+    /// the angle and scalar criteria plan only ahead, and a hole too large to pack). A node
+    /// taken unchanged since it was filed is removed by it, with nothing evaluated again
+    /// ([`Engine::remembers`]). Filled by the initial pass.
+    memo: Vec<u64>,
+    /// The remembered plan of the node being taken, when it holds.
+    recalled: Option<(u32, Planned)>,
+    /// How many taken nodes were removed by a remembered plan.
+    remembered: usize,
 }
 
 impl FastEngine {
@@ -153,6 +187,9 @@ impl FastEngine {
             start_ahead: look_ahead,
             ready: None,
             scale: None,
+            memo: Vec::new(),
+            recalled: None,
+            remembered: 0,
         })
     }
 
@@ -206,6 +243,15 @@ impl Scratch {
             self.mean_value(geo, v, plane)
         };
         (ev, simple)
+    }
+
+    /// The memo of what the buffers planned for `v` ([`FastEngine::memo`]).
+    fn memo_of(&self, v: u32) -> u64 {
+        match self.planned {
+            Some((u, plan)) if u == v => pack_cut(self.ring.len(), &self.tris)
+                .map_or(NO_MEMO, |cut| memo(plan.border, plan.plane, cut)),
+            _ => NO_MEMO,
+        }
     }
 
     /// Projects the loaded ring into `pts` and returns the projection of `v`.
@@ -621,7 +667,11 @@ impl Engine for FastEngine {
         if let Some(r) = self.ready.filter(|r| r.node == v) {
             return r.ev;
         }
-        self.sc.evaluate(&self.st.geo, &self.st.lists, v)
+        let ev = self.sc.evaluate(&self.st.geo, &self.st.lists, v);
+        if let Some(m) = self.memo.get_mut(v as usize) {
+            *m = self.sc.memo_of(v);
+        }
+        ev
     }
 
     /// In parallel (rayon), each thread with its own scratch buffers. With a global plane
@@ -629,9 +679,12 @@ impl Engine for FastEngine {
     fn evaluate_all(&mut self, keep: impl Fn(f64) -> bool + Sync) -> Vec<(u32, f64)> {
         let (geo, lists) = (&*self.st.geo, &self.st.lists);
         let all_simple = AtomicBool::new(geo.global.is_some());
-        let initial = (0..geo.pos.len() as u32)
-            .into_par_iter()
-            .map_init(Scratch::default, |sc, v| {
+        let mut memo = huge_vec(NO_MEMO, geo.pos.len());
+        let initial = memo
+            .par_iter_mut()
+            .enumerate()
+            .map_init(Scratch::default, |sc, (v, m)| {
+                let v = v as u32;
                 let ev = match geo.global {
                     Some(global) => {
                         let (ev, simple) = sc.evaluate_initial(geo, lists, v, global);
@@ -642,10 +695,12 @@ impl Engine for FastEngine {
                     }
                     None => sc.evaluate(geo, lists, v),
                 };
+                *m = sc.memo_of(v);
                 ev.filter(|&ev| keep(ev)).map(|ev| (v, ev))
             })
             .flatten_iter()
             .collect();
+        self.memo = memo;
         if let Some(geo) = Arc::get_mut(&mut self.st.geo) {
             geo.embedded = all_simple.into_inner();
         }
@@ -676,15 +731,41 @@ impl Engine for FastEngine {
         self.ahead.as_ref().map_or(0, |a| a.used)
     }
 
-    fn take(&mut self, v: u32, ticket: Option<u32>) {
+    fn remembered(&self) -> usize {
+        self.remembered
+    }
+
+    fn remembers(&self, v: u32) -> bool {
+        self.memo.get(v as usize).is_some_and(|&m| m != NO_MEMO)
+    }
+
+    fn take(&mut self, v: u32, ticket: Option<u32>, unchanged: bool) {
         self.ready = match (&mut self.ahead, ticket) {
             (Some(ahead), Some(t)) => ahead.result(v, t),
             _ => None,
         };
+        self.recalled = None;
+        let Some(m) = self.memo.get_mut(v as usize) else {
+            return;
+        };
+        match self.ready {
+            // What was evaluated ahead is now the node's last evaluation.
+            Some(r) => {
+                *m = match r.plan {
+                    Planned::Cut { border, plane, cut } => memo(border, plane, cut),
+                    _ => NO_MEMO,
+                }
+            }
+            None if unchanged => self.recalled = recall(*m).map(|plan| (v, plan)),
+            None => {}
+        }
     }
 
     fn prefetch(&self, v: u32) {
         self.st.prefetch(v);
+        if let Some(m) = self.memo.get(v as usize) {
+            crate::memory::prefetch(m);
+        }
     }
 
     fn prefetch_ring(&self, v: u32, mut each: impl FnMut(u32)) {
@@ -696,13 +777,20 @@ impl Engine for FastEngine {
 
     fn try_remove(&mut self, v: u32, history: &mut History) -> bool {
         let (st, sc) = (&mut self.st, &mut self.sc);
-        let ahead = self.ready.take().filter(|r| r.node == v).map(|r| r.plan);
-        let plan = match (sc.planned, ahead) {
+        let recalled = self
+            .recalled
+            .take()
+            .filter(|&(u, _)| u == v)
+            .map(|(_, p)| p);
+        let ready = self.ready.take().filter(|r| r.node == v).map(|r| r.plan);
+        let from_memo = ready.is_none() && recalled.is_some();
+        let plan = match (sc.planned, ready.or(recalled)) {
             (Some((u, plan)), _) if u == v => plan,
             (_, Some(Planned::Refused)) => return false,
             (_, Some(Planned::Cut { border, plane, cut })) => {
-                // The list is unchanged since it was handed over: the same fan, and the cut
-                // planned from it then.
+                // The list is unchanged since it was handed over (or since the evaluation
+                // remembered): the same fan, and the cut planned from it then.
+                self.remembered += from_memo as usize;
                 sc.load_fan(&st.lists, v, usize::MAX);
                 unpack_cut(cut, &mut sc.tris);
                 Plan { border, plane }
@@ -821,11 +909,11 @@ pub fn decimate(mesh: &Mesh, options: &Options) -> Result<Outcome, DecimateError
 mod tests {
     use super::*;
     use crate::decimate::data::{height_grid, paper_plate, wheel};
-    use crate::decimate::{ProjectionChoice, Target};
+    use crate::decimate::{ProjectionChoice, Stats, Target};
 
-    /// The history (as bytes) and how many taken nodes used a result evaluated ahead, with
-    /// the lookahead thread chosen as in [`FastEngine::build`].
-    fn run(mesh: &Mesh, options: &Options, look_ahead: Option<bool>) -> (Vec<u8>, usize, usize) {
+    /// The history (as bytes), how many taken nodes used a result evaluated ahead, and the
+    /// statistics, with the lookahead thread chosen as in [`FastEngine::build`].
+    fn run(mesh: &Mesh, options: &Options, look_ahead: Option<bool>) -> (Vec<u8>, usize, Stats) {
         let used = std::cell::Cell::new(0);
         let out = driver::decimate_with(
             mesh,
@@ -838,7 +926,7 @@ mod tests {
             },
         )
         .expect("decimates");
-        (out.history.to_bytes(), used.get(), out.stats.removed)
+        (out.history.to_bytes(), used.get(), out.stats)
     }
 
     /// The fast star test agrees with the exact path's on small fans full of collinear and
@@ -911,18 +999,25 @@ mod tests {
                 target: Target::Keep(keep),
                 ..Options::default()
             };
-            let (alone, none, removed) = run(mesh, &options, None);
+            let (alone, none, stats) = run(mesh, &options, None);
             let (helped, _, _) = run(mesh, &options, Some(false));
-            let (waited, used, _) = run(mesh, &options, Some(true));
+            let (waited, used, waited_stats) = run(mesh, &options, Some(true));
+            let (removed, remembered) = (stats.removed, waited_stats.remembered);
             assert_eq!(none, 0);
             assert!(
                 alone == helped && alone == waited,
                 "{name}: histories differ"
             );
-            println!("{name}: {removed} removals, {used} taken nodes used what was evaluated ahead; the same history alone, helped and waited for");
+            println!("{name}: {removed} removals, {used} taken nodes used what was evaluated ahead, {remembered} were removed by a remembered plan; the same history alone, helped and waited for");
             // (Few with the angle criterion: its ties keep neighbours adjacent in the queue,
-            // and a node marked after it was handed over is evaluated by the loop.)
-            assert!(used > 0, "{name}: {used} of {removed}");
+            // and a node marked after it was handed over is evaluated by the loop. None when
+            // re-evaluation is eager: every taken node then has its remembered plan.)
+            assert!(used + remembered > 0, "{name}: {used} of {removed}");
+            // Plans are remembered wherever the evaluation plans (the error criterion).
+            if criterion == Error {
+                assert!(remembered > 0, "{name}: {remembered}");
+                assert!(stats.remembered > 0, "{name}: {}", stats.remembered);
+            }
         }
     }
 }

@@ -290,6 +290,9 @@ pub struct Stats {
     /// Taken nodes whose evaluation and plan came from the lookahead thread
     /// ([`Options::look_ahead`]).
     pub evaluated_ahead: usize,
+    /// Taken nodes removed by the plan of the evaluation they were filed after, their fans
+    /// unchanged since (neither evaluated ahead nor again).
+    pub remembered: usize,
     /// Whether holes were triangulated in the xy plane (else per fan).
     pub projection_xy: bool,
     /// Seconds of the decimation itself (adjacency, evaluation, queue, removals).

@@ -4,7 +4,9 @@
 //! plate, undecimation exactness, and the exact-vs-fast agreement.
 
 use super::campaign::median;
-use crate::decimate::{check, data, decimate, quality, History, Options, Path, Stage, Target};
+use crate::decimate::{
+    check, data, decimate, quality, History, Options, Path, Stage, Stats, Target,
+};
 use crate::mesh::Mesh;
 use std::fmt::Write as _;
 use std::path::{Path as FsPath, PathBuf};
@@ -346,10 +348,12 @@ pub fn decimate_campaign(root: &FsPath, sides: &[usize]) -> DecimateCampaign {
             });
             runs.push(o.stats);
         }
-        let ahead = runs
-            .iter()
-            .map(|r| r.evaluated_ahead as f64 / r.taken.max(1) as f64)
-            .fold(f64::NAN, f64::min);
+        let share = |count: fn(&Stats) -> usize| {
+            runs.iter()
+                .map(|r| count(r) as f64 / r.taken.max(1) as f64)
+                .fold(f64::NAN, f64::min)
+        };
+        let (ahead, remembered) = (share(|r| r.evaluated_ahead), share(|r| r.remembered));
         peers.push(PeerRow {
             name: "geocert fast path (error criterion, k = 10)".into(),
             seconds: Some(median(runs.iter().map(|r| r.seconds).collect())),
@@ -360,10 +364,13 @@ pub fn decimate_campaign(root: &FsPath, sides: &[usize]) -> DecimateCampaign {
                 "median of {PAIRS}, each run followed by a meshoptimizer run; lazy \
                  re-evaluation, re-binned queue; \
                  initial pass on {} threads, the loop on one with the nodes it takes next \
-                 evaluated ahead on a second (at least {:.0} % of taken nodes used that); \
+                 evaluated ahead on a second (at least {:.0} % of taken nodes used that, and \
+                 {:.0} % needed no evaluation: unchanged since filed, removed by the plan \
+                 remembered from then); \
                  {:.2} s (median) before the first removal: adjacency, initial pass, queue fill",
                 rayon::current_num_threads(),
                 100.0 * ahead,
+                100.0 * remembered,
                 median(runs.iter().map(|r| r.setup_seconds).collect())
             ),
         });

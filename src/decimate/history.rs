@@ -111,7 +111,7 @@ impl History {
     /// Reserves room for `steps` more steps of about `valence` ring nodes each (on huge
     /// pages when large), so that a long decimation does not copy its history as it grows.
     pub fn reserve(&mut self, steps: usize, valence: usize) {
-        use crate::memory::advise_huge_pages;
+        use crate::memory::{advise_huge_pages, prefault};
         let entries = steps * valence;
         self.nodes.reserve(steps);
         self.border.reserve(steps);
@@ -132,6 +132,16 @@ impl History {
             self.values.reserve(steps);
             advise_huge_pages(&mut self.values);
         }
+        // Present before the loop appends (its pages cleared on all cores now, not on the
+        // loop's at first touch).
+        prefault(&mut self.nodes, 0);
+        prefault(&mut self.ring_start, 0);
+        prefault(&mut self.coordinates, [0.0; 3]);
+        prefault(&mut self.rings, 0);
+        prefault(&mut self.slots, Default::default());
+        prefault(&mut self.positions, Default::default());
+        prefault(&mut self.added, Default::default());
+        prefault(&mut self.values, 0.0);
     }
 
     /// The number of steps.

@@ -768,9 +768,16 @@ impl Engine for FastEngine {
         }
     }
 
+    /// The ring's lists (for relinking), and their positions when there is no lookahead
+    /// thread: with one, the loop seldom evaluates a node itself, and fewer prefetches in
+    /// flight leave more room for those it needs (about 4 % faster on the 810k grid).
     fn prefetch_ring(&self, v: u32, mut each: impl FnMut(u32)) {
+        let positions = self.ahead.is_none();
         self.st.lists.for_each(v, |e| {
-            self.st.prefetch(e.node);
+            self.st.lists.prefetch(e.node);
+            if positions {
+                crate::memory::prefetch(&self.st.geo.pos[e.node as usize]);
+            }
             each(e.node);
         });
     }

@@ -155,7 +155,7 @@ pub(crate) fn run(
         counts.taken += 1;
         engine.take(v, taken.ticket, !stale);
         // The next node's list arrived a step ago (or when it was handed over): fetch its
-        // ring's lists, positions and queue records, and its own record.
+        // ring's data ([`Engine::prefetch_ring`]) and queue records, and its own record.
         let next = queue.peek();
         if let Some(u) = next {
             engine.prefetch_ring(u, |w| queue.prefetch(w));

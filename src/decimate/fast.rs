@@ -10,9 +10,11 @@
 //! planning a removal. The initial evaluation of every node and the embedding check run on
 //! all cores (rayon), each thread with its own scratch. The decimation loop is sequential,
 //! but the nodes it will take next are evaluated ahead on a second thread
-//! ([`ahead`]) from copies of their lists. The loop prefetches: a node's list and queue
-//! record a step before it is handed over, its ring's lists, positions and queue records when
-//! it reaches the front of the queue (and again after a removal, which may change its ring).
+//! ([`ahead`]) from copies of their lists, except those whose last plan still holds (the
+//! engine remembers it). The loop prefetches: a node's list, queue record and remembered plan
+//! a step before it is handed over, its ring's lists and queue records (and positions when
+//! nothing is evaluated ahead) when it reaches the front of the queue (and again after a
+//! removal, which may change its ring).
 
 use super::ahead::{self, Evaluated, Job, Lookahead, Planned};
 use super::bucket::Scale;

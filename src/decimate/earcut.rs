@@ -186,11 +186,7 @@ impl EarCutter {
             }
         }
         if !reflex && self.straight_between(points, straight) && winds_once(points) {
-            if straight == 0 {
-                self.cut_convex(points, masks.alive, out);
-                return true;
-            }
-            return self.cut_weakly_convex(points, masks.alive, masks.convex, out);
+            return self.cut_convex(points, masks.alive, masks.convex, out);
         }
         let mut n = l;
         for i in 0..l {
@@ -244,35 +240,6 @@ impl EarCutter {
         true
     }
 
-    /// [`cut_small`](Self::cut_small) on a simple polygon whose every vertex turns strictly
-    /// left (`alive`: all of them): a strictly convex polygon. Every vertex is then an ear tip
-    /// with no vertex inside its triangle, and stays one after any cut (a subset of points in
-    /// strictly convex position, in order, is strictly convex), so the general loop would
-    /// find every ear valid, never a blocker, and a positive last triangle: only the
-    /// qualities of the cut ear's two neighbours change. The same ears, without orientation
-    /// tests, and with each squared side computed once (the same qualities bit for bit).
-    fn cut_convex(&mut self, points: &[[f64; 2]], mut alive: u64, out: &mut Vec<[u8; 3]>) {
-        for v in 0..points.len() {
-            self.edge[v] = dist2(points[v], points[self.next[v] as usize]);
-        }
-        for v in 0..points.len() {
-            self.convex_quality(points, v);
-        }
-        let mut n = points.len();
-        while n > 3 {
-            let b = self.best_small(alive).expect("a convex polygon has ears");
-            let (a, c) = self.cut_ear(b, out);
-            alive &= !(1 << b);
-            n -= 1;
-            self.edge[a] = self.diagonal[b];
-            self.convex_quality(points, a);
-            self.convex_quality(points, c);
-        }
-        let a = alive.trailing_zeros() as usize;
-        let b = self.next[a] as usize;
-        out.push([a as u8, b as u8, self.next[b]]);
-    }
-
     /// True when every vertex in `straight` (collinear with its neighbours) lies strictly
     /// between them: no spike turning back and no repeated point (exact comparisons).
     fn straight_between(&self, points: &[[f64; 2]], mut straight: u64) -> bool {
@@ -293,9 +260,9 @@ impl EarCutter {
         true
     }
 
-    /// [`cut_small`](Self::cut_small) on a simple polygon without reflex vertices whose
-    /// straight vertices (`alive & !convex`, each strictly between its neighbours) are not
-    /// all of them: a convex polygon with points on its sides. The same ears as the general
+    /// [`cut_small`](Self::cut_small) on a simple polygon without reflex vertices, its
+    /// straight vertices (`alive & !convex`, each strictly between its neighbours) not all of
+    /// them: a convex polygon, perhaps with points on its sides. The same ears as the general
     /// loop, from masks alone and without orientation tests, because in such a polygon
     /// (it stays one after every cut, with positive area):
     /// - cutting the ear at a strictly convex `b` leaves its neighbours `a`, `c` strictly
@@ -307,8 +274,10 @@ impl EarCutter {
     /// - so no cut changes the validity of an ear other than its neighbours' (the general
     ///   loop's cache is exact), and a valid ear always exists.
     ///
-    /// Qualities come from cached sides as in [`cut_convex`](Self::cut_convex).
-    fn cut_weakly_convex(
+    /// Strictly convex polygons (`convex == alive`) are the plain case: every ear stays valid
+    /// and only the cut ear's neighbours change quality. Each squared side is computed once
+    /// and cached (the same qualities bit for bit).
+    fn cut_convex(
         &mut self,
         points: &[[f64; 2]],
         mut alive: u64,

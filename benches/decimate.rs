@@ -3,20 +3,17 @@
 //! The report's Table 1 and peers table time the 810k-node grid end to end.
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
-use geocert::decimate::{self, data::height_grid, Options, Path, Stage, Target};
+use geocert::decimate::{self, data::height_grid, Options, Stage, Target};
 use std::hint::black_box;
 
 fn decimation(c: &mut Criterion) {
-    let options = Options {
-        target: Target::Keep(0.01),
-        ..Options::default()
-    };
+    let options = Options::new().with_target(Target::Keep(0.01));
     let mut g = c.benchmark_group("decimate_grid_99pct");
     g.sample_size(10);
     for side in [100, 500] {
         let mesh = height_grid(side);
         g.bench_function(format!("fast_{}", side * side), |b| {
-            b.iter(|| black_box(decimate::decimate(&mesh, &options, Path::Fast).unwrap()))
+            b.iter(|| black_box(decimate::decimate(&mesh, &options).unwrap()))
         });
     }
     g.finish();
@@ -25,7 +22,7 @@ fn decimation(c: &mut Criterion) {
     g.sample_size(10);
     for side in [100, 500] {
         let mesh = height_grid(side);
-        let outcome = decimate::decimate(&mesh, &options, Path::Fast).unwrap();
+        let outcome = decimate::decimate(&mesh, &options).unwrap();
         let stage = Stage::decimated(&outcome.mesh, &outcome.history).unwrap();
         g.bench_function(format!("all_steps_{}", side * side), |b| {
             b.iter_batched(

@@ -5,25 +5,31 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use geocert::bernstein::Limits;
 use geocert::ffd::sufficient::{conic_test_fast, phi_test_fast, ConicOptions, Scope};
-use geocert::ffd::{check_injectivity, Basis, CheckOptions, TestPath};
-use geocert::report::ffd::perturbed_lattices;
+use geocert::ffd::{check_injectivity, Basis, CheckOptions};
+use geocert::internals::report::ffd::perturbed_lattices;
 use std::hint::black_box;
 
 fn cells(c: &mut Criterion) {
     let lattices = perturbed_lattices(2026, 60, Basis::Bezier, [4, 4, 4], [1, 1, 1]);
-    let limits = Limits {
-        max_depth: 10,
-        max_boxes: 20_000,
-        time_limit: None,
-    };
+    let limits = Limits::new().with_max_depth(10).with_max_boxes(20_000);
     let mut g = c.benchmark_group("tricubic_cells_x60");
     g.throughput(Throughput::Elements(lattices.len() as u64));
     g.sample_size(10);
-    for path in [TestPath::Filtered, TestPath::Fast, TestPath::Exact] {
+    for path in [
+        geocert::Path::Filtered,
+        geocert::Path::Fast,
+        geocert::Path::Exact,
+    ] {
         g.bench_function(format!("ns_{}", path.name()), |b| {
             b.iter(|| {
                 for l in &lattices {
-                    black_box(check_injectivity(l, CheckOptions { path, limits }).ok());
+                    black_box(
+                        check_injectivity(
+                            l,
+                            CheckOptions::new().with_path(path).with_limits(limits),
+                        )
+                        .ok(),
+                    );
                 }
             })
         });

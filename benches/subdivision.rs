@@ -6,8 +6,8 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use geocert::bernstein::{Bernstein, FastBernstein, ScaledBernstein};
+use geocert::internals::report::campaign::{timing_poly, tree_fast, tree_rational, tree_scaled};
 use geocert::num::Rational;
-use geocert::report::campaign::{timing_poly, tree_fast, tree_rational, tree_scaled};
 use num_bigint::BigInt;
 use std::hint::black_box;
 

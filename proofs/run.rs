@@ -4,7 +4,7 @@
 #[test]
 fn every_proof_passes() {
     let mut failed = Vec::new();
-    for (name, proof) in geocert::proofs::all() {
+    for (name, proof) in geocert::internals::proofs::all() {
         let outcome = proof();
         println!("{}", outcome.summary());
         assert_eq!(outcome.name, name);

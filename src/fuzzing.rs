@@ -145,7 +145,7 @@ pub fn check_ffd(l: &crate::ffd::Lattice) -> Result<(), String> {
     use crate::ffd::jacobian::jacobian_in_cell;
     use crate::ffd::{
         check_injectivity, verify_injectivity_certificate, CheckOptions, InjectivityCertificate,
-        InjectivityVerdict, TestPath,
+        InjectivityVerdict,
     };
     let limits = Limits {
         max_depth: 7,
@@ -155,9 +155,9 @@ pub fn check_ffd(l: &crate::ffd::Lattice) -> Result<(), String> {
     let run = |path| {
         check_injectivity(l, CheckOptions { path, limits }).map_err(|e| format!("{path:?}: {e}"))
     };
-    let exact = run(TestPath::Exact)?;
-    let fast = run(TestPath::Fast)?;
-    let filtered = run(TestPath::Filtered)?;
+    let exact = run(crate::Path::Exact)?;
+    let fast = run(crate::Path::Fast)?;
+    let filtered = run(crate::Path::Filtered)?;
     let e = exact.verdict.sign();
     if fast.verdict.sign().contradicts(e) {
         return Err(format!(
@@ -291,8 +291,7 @@ pub fn check_mc_table(data: &[u8]) -> Result<(), String> {
 /// it accepts re-serialises to the same bytes.
 pub fn check_decimate(data: &[u8]) -> Result<(), String> {
     use crate::decimate::{
-        check, decimate, BorderPolicy, Criterion, History, Options, Path, ProjectionChoice, Stage,
-        Target,
+        check, decimate, BorderPolicy, Criterion, History, Options, ProjectionChoice, Stage, Target,
     };
     if let Ok(h) = History::from_bytes(data) {
         if h.to_bytes() != data {
@@ -356,8 +355,9 @@ pub fn check_decimate(data: &[u8]) -> Result<(), String> {
         rebin: true,
         lazy: true,
         look_ahead: opts & 0x40 != 0,
+        path: crate::Path::Fast,
     };
-    let Ok(out) = decimate(&mesh, &options, Path::Fast) else {
+    let Ok(out) = decimate(&mesh, &options) else {
         return Ok(());
     };
     check::verify(&mesh, &out.history, out.stats.projection_xy, 1)?;
@@ -377,7 +377,6 @@ pub fn check_decimate(data: &[u8]) -> Result<(), String> {
 /// accept has as many finite samples as its dimensions say.
 pub fn check_volume_readers(data: &[u8]) -> Result<(), String> {
     use crate::mc::grid::{read_raw, RawType};
-    use crate::mc::nifti::read_nifti;
     let accepted = |v: &crate::mc::grid::Volume<f64>| -> Result<(), String> {
         if v.values.len() != v.dims.iter().product::<usize>()
             || v.values.iter().any(|x| !x.is_finite())
@@ -394,13 +393,17 @@ pub fn check_volume_readers(data: &[u8]) -> Result<(), String> {
             accepted(&v)?;
         }
     }
-    if let Ok(v) = read_nifti(data) {
-        accepted(&v)?;
-    }
-    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
-    std::io::Write::write_all(&mut gz, data).map_err(|e| e.to_string())?;
-    if let Ok(v) = read_nifti(&gz.finish().map_err(|e| e.to_string())?) {
-        accepted(&v)?;
+    #[cfg(feature = "nifti")]
+    {
+        use crate::mc::nifti::read_nifti;
+        if let Ok(v) = read_nifti(data) {
+            accepted(&v)?;
+        }
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        std::io::Write::write_all(&mut gz, data).map_err(|e| e.to_string())?;
+        if let Ok(v) = read_nifti(&gz.finish().map_err(|e| e.to_string())?) {
+            accepted(&v)?;
+        }
     }
     Ok(())
 }

@@ -23,17 +23,48 @@
 //! * [`report`] — writes the Markdown reports in `reports/` from measured runs.
 //! * `strategies` (feature `proptest`) — proptest strategies for other crates' property tests.
 
+mod choice;
+pub use choice::{Path, UnknownName};
+
 pub mod bernstein;
 pub mod bspline;
 pub mod decimate;
 pub mod ffd;
-pub mod fuzzing;
 pub mod mc;
-pub mod memory;
 pub mod mesh;
 pub mod num;
-#[path = "../proofs/mod.rs"]
-pub mod proofs;
-pub mod report;
 #[cfg(feature = "proptest")]
 pub mod strategies;
+
+mod fuzzing;
+mod memory;
+mod par;
+#[path = "../proofs/mod.rs"]
+mod proofs;
+#[cfg(feature = "reports")]
+mod report;
+
+/// Unstable internals: the report generator, the fuzz checks, the exhaustive proofs and the
+/// memory helpers, public only so that geocert's own binary, fuzz crate, tests and benchmarks
+/// can reach them. They change without notice between any two versions; do not depend on
+/// them.
+#[doc(hidden)]
+pub mod internals {
+    /// The fuzz targets' checks (each target is a call to one of them).
+    pub mod fuzzing {
+        pub use crate::fuzzing::*;
+    }
+    /// Large working arrays on huge pages; cache prefetch.
+    pub mod memory {
+        pub use crate::memory::*;
+    }
+    /// The exhaustive proofs run by `cargo test` and `geocert prove`.
+    pub mod proofs {
+        pub use crate::proofs::*;
+    }
+    /// The report generator behind `geocert prove`.
+    #[cfg(feature = "reports")]
+    pub mod report {
+        pub use crate::report::*;
+    }
+}

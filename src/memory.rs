@@ -7,7 +7,7 @@
 //! both (on the 256³ gyroid the fast extraction ran about 30 % faster). Elsewhere, or when the
 //! kernel declines, nothing changes.
 
-use rayon::prelude::*;
+use crate::par::prelude::*;
 
 /// Arrays smaller than this are left alone (one huge page).
 const THRESHOLD: usize = 2 << 20;
@@ -33,7 +33,7 @@ pub fn huge_vec<T: Clone + Send + Sync>(value: T, n: usize) -> Vec<T> {
     let mut v = Vec::with_capacity(n);
     advise_huge_pages(&mut v);
     if n.saturating_mul(std::mem::size_of::<T>()) >= PARALLEL_FILL {
-        v.par_extend(rayon::iter::repeat_n(value, n));
+        v.par_extend(crate::par::repeat_n(value, n));
     } else {
         v.resize(n, value);
     }
@@ -60,7 +60,7 @@ pub fn prefault<T: Clone + Send + Sync>(v: &mut Vec<T>, value: T) {
     let len = v.len();
     let spare = v.capacity() - len;
     if spare.saturating_mul(std::mem::size_of::<T>()) >= PARALLEL_FILL {
-        v.par_extend(rayon::iter::repeat_n(value, spare));
+        v.par_extend(crate::par::repeat_n(value, spare));
         v.truncate(len);
     }
 }

@@ -4,11 +4,12 @@
 //! original mesh bit for bit; undo and redo of any number of steps are inverse.
 
 use geocert::decimate::{
-    check, data, decimate, BorderPolicy, Criterion, History, Options, Path, ProjectionChoice,
-    Stage, Target,
+    check, data, decimate, BorderPolicy, Criterion, History, Options, ProjectionChoice, Stage,
+    Target,
 };
 use geocert::mesh::Mesh;
 use geocert::strategies::height_field_mesh;
+use geocert::Path;
 use proptest::prelude::*;
 
 /// Options with the default loop (lazy re-evaluation, re-binned queue) when `paper` is
@@ -18,21 +19,20 @@ fn options(criterion: Criterion, exclude: bool, keep: f64, k: usize) -> Options 
 }
 
 fn loop_options(criterion: Criterion, exclude: bool, keep: f64, k: usize, paper: bool) -> Options {
-    Options {
-        criterion,
-        target: Target::Keep(keep),
-        border: if exclude {
+    Options::new()
+        .with_criterion(criterion)
+        .with_target(Target::Keep(keep))
+        .with_border(if exclude {
             BorderPolicy::Exclude
         } else {
             BorderPolicy::Intact
-        },
-        projection: ProjectionChoice::Auto,
-        k,
-        max_valence: 64,
-        rebin: !paper,
-        lazy: !paper,
-        look_ahead: true,
-    }
+        })
+        .with_projection(ProjectionChoice::Auto)
+        .with_k(k)
+        .with_max_valence(64)
+        .with_rebin(!paper)
+        .with_lazy(!paper)
+        .with_look_ahead(true)
 }
 
 fn criterion() -> impl Strategy<Value = Criterion> {
@@ -78,7 +78,7 @@ proptest! {
         paper in any::<bool>(),
     ) {
         let opts = loop_options(criterion, exclude, keep, k, paper);
-        let out = decimate(&mesh, &opts, Path::Fast).unwrap();
+        let out = decimate(&mesh, &opts).unwrap();
         prop_assert_eq!(out.history.len(), out.stats.removed);
         let v = check::verify(&mesh, &out.history, true, 1).map_err(TestCaseError::fail)?;
         prop_assert!(v.undecimated_exactly);
@@ -104,8 +104,8 @@ proptest! {
         paper in any::<bool>(),
     ) {
         let opts = loop_options(criterion, exclude, keep, k, paper);
-        let fast = decimate(&mesh, &opts, Path::Fast).unwrap();
-        let exact = decimate(&mesh, &opts, Path::Exact).unwrap();
+        let fast = decimate(&mesh, &opts).unwrap();
+        let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
         prop_assert_eq!(&exact.history, &fast.history, "same removals, slots and triangles");
         prop_assert_eq!(&exact.mesh, &fast.mesh);
     }
@@ -116,7 +116,7 @@ proptest! {
         keep in 0.02f64..0.9,
     ) {
         let opts = options(Criterion::Error, false, keep, 4);
-        let exact = decimate(&mesh, &opts, Path::Exact).unwrap();
+        let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
         check::verify(&mesh, &exact.history, true, 1).map_err(TestCaseError::fail)?;
         round_trip(&mesh, &exact.mesh, &exact.history, 3);
     }
@@ -131,14 +131,14 @@ proptest! {
         let mesh = sphere(level, &jitter);
         let mut opts = options(criterion, false, keep, 3);
         opts.projection = ProjectionChoice::PerFan;
-        let fast = decimate(&mesh, &opts, Path::Fast).unwrap();
+        let fast = decimate(&mesh, &opts).unwrap();
         let v = check::verify(&mesh, &fast.history, false, 1).map_err(TestCaseError::fail)?;
         prop_assert_eq!(v.euler, 2);
         // A closed surface cannot go below a tetrahedron.
         prop_assert!(fast.stats.nodes_out >= 4);
         round_trip(&mesh, &fast.mesh, &fast.history, 5);
         if criterion == Criterion::Angle && mesh.vertices.len() <= 66 {
-            let exact = decimate(&mesh, &opts, Path::Exact).unwrap();
+            let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
             prop_assert_eq!(&exact.history, &fast.history);
         }
     }
@@ -227,28 +227,22 @@ fn bad_inputs_and_foreign_histories_are_refused() {
         scalars: None,
     };
     for path in [Path::Fast, Path::Exact] {
-        match decimate(&mesh, &Options::default(), path) {
+        match decimate(&mesh, &Options::new().with_path(path)) {
             Err(DecimateError::Mesh(e)) => assert!(e.to_string().contains("edge (")),
             other => panic!("{path:?}: {other:?}"),
         }
     }
     // The scalar criterion without scalars.
     let grid = geocert::decimate::data::height_grid(6);
-    let opts = Options {
-        criterion: Criterion::Scalar,
-        ..Options::default()
-    };
+    let opts = Options::new().with_criterion(Criterion::Scalar);
     assert!(matches!(
-        decimate(&grid, &opts, Path::Fast),
+        decimate(&grid, &opts),
         Err(DecimateError::NoScalars(_))
     ));
     // A history applied to another mesh.
-    let out = decimate(&grid, &Options::default(), Path::Fast).unwrap();
-    let half = Options {
-        target: Target::Keep(0.5),
-        ..Options::default()
-    };
-    let other = decimate(&geocert::decimate::data::height_grid(7), &half, Path::Fast).unwrap();
+    let out = decimate(&grid, &Options::default()).unwrap();
+    let half = Options::new().with_target(Target::Keep(0.5));
+    let other = decimate(&geocert::decimate::data::height_grid(7), &half).unwrap();
     let r = Stage::decimated(&other.mesh, &out.history);
     assert!(matches!(r, Err(HistoryError::Mismatch(_))), "{r:?}");
     let mut moved = out.mesh.clone();
@@ -334,12 +328,9 @@ fn high_valence_fans_agree_and_verify() {
     for spokes in [9, 70, 120] {
         let mesh = data::wheel(spokes);
         for paper in [false, true] {
-            let opts = Options {
-                max_valence: 255,
-                ..loop_options(Criterion::Scalar, false, 0.05, 3, paper)
-            };
-            let fast = decimate(&mesh, &opts, Path::Fast).unwrap();
-            let exact = decimate(&mesh, &opts, Path::Exact).unwrap();
+            let opts = loop_options(Criterion::Scalar, false, 0.05, 3, paper).with_max_valence(255);
+            let fast = decimate(&mesh, &opts).unwrap();
+            let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
             assert_eq!(exact.history, fast.history, "{spokes} spokes");
             assert_eq!(exact.mesh, fast.mesh);
             let largest = (0..fast.history.len())

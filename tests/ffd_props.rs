@@ -10,7 +10,7 @@ use geocert::ffd::jacobian::{
 use geocert::ffd::{
     check_injectivity, fast::jacobian_cell_fast, fast::JacobianWorkspace,
     verify_injectivity_certificate, Basis, CheckOptions, InjectivityCertificate,
-    InjectivityVerdict, Lattice, TestPath,
+    InjectivityVerdict, Lattice,
 };
 use geocert::num::{rational_from_f64, Rational, Sign};
 use num_bigint::BigInt;
@@ -66,15 +66,12 @@ fn identity_lattices_have_unit_jacobian_and_are_injective() {
             let l = Lattice::identity(basis, [order, order, order], cells).unwrap();
             let u = [q(1, 3), q(2, 5), q(1, 2)];
             assert_eq!(jacobian_at(&l, &u).unwrap(), q(1, 1));
-            for path in [TestPath::Exact, TestPath::Fast, TestPath::Filtered] {
-                let r = check_injectivity(
-                    &l,
-                    CheckOptions {
-                        path,
-                        limits: Limits::default(),
-                    },
-                )
-                .unwrap();
+            for path in [
+                geocert::Path::Exact,
+                geocert::Path::Fast,
+                geocert::Path::Filtered,
+            ] {
+                let r = check_injectivity(&l, CheckOptions::new().with_path(path)).unwrap();
                 assert!(
                     matches!(r.verdict, InjectivityVerdict::Injective { .. }),
                     "{basis:?} {order} {path:?}"
@@ -124,10 +121,10 @@ proptest! {
 
     #[test]
     fn certified_fast_never_contradicts_exact_and_certificates_recheck(l in lattice_strategy(4, 2)) {
-        let limits = Limits { max_depth: 6, ..Limits::default() };
-        let exact = check_injectivity(&l, CheckOptions { path: TestPath::Exact, limits }).unwrap();
-        let fast = check_injectivity(&l, CheckOptions { path: TestPath::Fast, limits }).unwrap();
-        let filtered = check_injectivity(&l, CheckOptions { path: TestPath::Filtered, limits }).unwrap();
+        let limits = Limits::new().with_max_depth(6);
+        let exact = check_injectivity(&l, CheckOptions::new().with_path(geocert::Path::Exact).with_limits(limits)).unwrap();
+        let fast = check_injectivity(&l, CheckOptions::new().with_path(geocert::Path::Fast).with_limits(limits)).unwrap();
+        let filtered = check_injectivity(&l, CheckOptions::new().with_path(geocert::Path::Filtered).with_limits(limits)).unwrap();
         prop_assert!(!fast.verdict.sign().contradicts(exact.verdict.sign()));
         prop_assert!(!filtered.verdict.sign().contradicts(exact.verdict.sign()));
         let filtered_decided = filtered.verdict.sign() != Sign::Uncertain
@@ -157,15 +154,12 @@ fn folded_lattice_is_not_injective_with_exact_witness() {
     let mut pts = l.points().to_vec();
     pts.swap(0, 2);
     let l = Lattice::new(Basis::Bezier, [3, 3, 3], [1, 1, 1], pts).unwrap();
-    for path in [TestPath::Exact, TestPath::Fast, TestPath::Filtered] {
-        let r = check_injectivity(
-            &l,
-            CheckOptions {
-                path,
-                limits: Limits::default(),
-            },
-        )
-        .unwrap();
+    for path in [
+        geocert::Path::Exact,
+        geocert::Path::Fast,
+        geocert::Path::Filtered,
+    ] {
+        let r = check_injectivity(&l, CheckOptions::new().with_path(path)).unwrap();
         match &r.verdict {
             InjectivityVerdict::NotInjective { point, det, cell } => {
                 assert!(det <= &Rational::default());
@@ -221,14 +215,14 @@ mod sufficient_tests {
         /// subdivided conic ⇐ conic.
         #[test]
         fn weaker_tests_imply_stronger(l in f64_lattice()) {
-            let limits = Limits { max_depth: 8, ..Limits::default() };
-            let ns = check_injectivity(&l, CheckOptions { path: TestPath::Exact, limits }).unwrap().verdict.sign();
+            let limits = Limits::new().with_max_depth(8);
+            let ns = check_injectivity(&l, CheckOptions::new().with_path(geocert::Path::Exact).with_limits(limits)).unwrap().verdict.sign();
             let bez = bezier_coefficient_test_exact(&l).unwrap().sign();
             let phi = phi_test_exact(&l, Scope::PerCell).sign();
             let phi_all = phi_test_exact(&l, Scope::Lattice).sign();
             let conic = conic_test_exact(&l, ConicOptions::default()).sign();
-            let conic_all = conic_test_exact(&l, ConicOptions { scope: Scope::Lattice, subdivision_depth: 0 }).sign();
-            let conic_sub = conic_test_exact(&l, ConicOptions { scope: Scope::PerCell, subdivision_depth: 1 }).sign();
+            let conic_all = conic_test_exact(&l, ConicOptions::new().with_scope(Scope::Lattice).with_subdivision_depth(0)).sign();
+            let conic_sub = conic_test_exact(&l, ConicOptions::new().with_scope(Scope::PerCell).with_subdivision_depth(1)).sign();
             let implies = |a: Sign, b: Sign| a != Sign::Positive || b == Sign::Positive;
             prop_assert!(implies(conic, phi), "conic passes, phi does not");
             prop_assert!(implies(conic_all, conic));
@@ -245,7 +239,7 @@ mod sufficient_tests {
                 let e = phi_test_exact(&l, scope).sign();
                 prop_assert!(!phi_test_fast(&l, scope).sign().contradicts(e));
                 for depth in [0, 1] {
-                    let opts = ConicOptions { scope, subdivision_depth: depth };
+                    let opts = ConicOptions::new().with_scope(scope).with_subdivision_depth(depth);
                     let e = conic_test_exact(&l, opts).sign();
                     prop_assert!(!conic_test_fast(&l, opts).sign().contradicts(e));
                 }
@@ -279,7 +273,7 @@ proptest! {
                 delta: [q(d.0, 16), q(d.1, 16), q(d.2, 16)],
             })
             .collect();
-        let opts = DragOptions { exact: !fast, max_depth: 6, ..Default::default() };
+        let opts = DragOptions::new().with_path(if fast { geocert::Path::Fast } else { geocert::Path::Exact }).with_max_depth(6);
         // Paths stay strictly inside the domain [0,2]³: points in [½, 1½], moves below ½.
         match injective_drag(&shape, &cs, opts) {
             Ok(steps) => {

@@ -25,8 +25,8 @@ fn replay(target: &str, check: impl Fn(&[u8]) -> Result<(), String>) -> usize {
 fn subdivision_signs_regressions() {
     let n = replay(
         "subdivision_signs",
-        |d| match geocert::fuzzing::decode_poly(d) {
-            Some(p) => geocert::fuzzing::check_subdivision(&p),
+        |d| match geocert::internals::fuzzing::decode_poly(d) {
+            Some(p) => geocert::internals::fuzzing::check_subdivision(&p),
             None => Ok(()),
         },
     );
@@ -35,15 +35,15 @@ fn subdivision_signs_regressions() {
 
 #[test]
 fn poly_json_regressions() {
-    replay("poly_json", geocert::fuzzing::check_poly_json);
+    replay("poly_json", geocert::internals::fuzzing::check_poly_json);
 }
 
 #[test]
 fn ffd_injectivity_regressions() {
     let n = replay(
         "ffd_injectivity",
-        |d| match geocert::fuzzing::decode_lattice(d) {
-            Some(l) => geocert::fuzzing::check_ffd(&l),
+        |d| match geocert::internals::fuzzing::decode_lattice(d) {
+            Some(l) => geocert::internals::fuzzing::check_ffd(&l),
             None => Ok(()),
         },
     );
@@ -52,42 +52,54 @@ fn ffd_injectivity_regressions() {
 
 #[test]
 fn lattice_json_regressions() {
-    let n = replay("lattice_json", geocert::fuzzing::check_lattice_json);
+    let n = replay(
+        "lattice_json",
+        geocert::internals::fuzzing::check_lattice_json,
+    );
     assert!(n > 0, "the regression corpus must not be empty");
 }
 
 #[test]
 fn mesh_readers_regressions() {
-    let n = replay("mesh_readers", geocert::fuzzing::check_mesh_readers);
+    let n = replay(
+        "mesh_readers",
+        geocert::internals::fuzzing::check_mesh_readers,
+    );
     assert!(n > 0, "the regression corpus must not be empty");
 }
 
 #[test]
 fn mc_grid_regressions() {
-    let n = replay("mc_grid", geocert::fuzzing::check_mc_grid);
+    let n = replay("mc_grid", geocert::internals::fuzzing::check_mc_grid);
     assert!(n > 0, "the regression corpus must not be empty");
 }
 
 #[test]
 fn mc_table_regressions() {
-    let n = replay("mc_table", geocert::fuzzing::check_mc_table);
+    let n = replay("mc_table", geocert::internals::fuzzing::check_mc_table);
     assert!(n > 0, "the regression corpus must not be empty");
 }
 
 #[test]
 fn decimate_round_trip_regressions() {
-    let n = replay("decimate_round_trip", geocert::fuzzing::check_decimate);
+    let n = replay(
+        "decimate_round_trip",
+        geocert::internals::fuzzing::check_decimate,
+    );
     assert!(n > 0, "the regression corpus must not be empty");
 }
 
 #[test]
 fn volume_readers_regressions() {
-    let n = replay("volume_readers", geocert::fuzzing::check_volume_readers);
+    let n = replay(
+        "volume_readers",
+        geocert::internals::fuzzing::check_volume_readers,
+    );
     assert!(n > 0, "the regression corpus must not be empty");
 }
 
 #[test]
 fn mc_fe_regressions() {
-    let n = replay("mc_fe", geocert::fuzzing::check_mc_fe);
+    let n = replay("mc_fe", geocert::internals::fuzzing::check_mc_fe);
     assert!(n > 0, "the regression corpus must not be empty");
 }

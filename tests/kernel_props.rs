@@ -160,7 +160,7 @@ proptest! {
     fn positivity_routes_agree_and_certify(p in bernstein_poly(vec![2, 2], 12), shift in 0i64..12) {
         // Shift up so that roughly half the cases are positive.
         let p = p.map(|c| c + q(shift, 2));
-        let limits = Limits { max_depth: 8, ..Limits::default() };
+        let limits = Limits::new().with_max_depth(8);
         let exact = prove_positive_exact(&p, limits);
         let fast = prove_positive_fast(&FastBernstein::from_rational(&p).unwrap(), limits);
         let filtered = prove_positive_filtered(&p, limits);

@@ -21,10 +21,7 @@ fn identity(p: [f64; 3]) -> [f64; 3] {
 }
 
 fn opts(n: usize) -> FeOptions {
-    FeOptions {
-        cells: [n; 3],
-        ..FeOptions::default()
-    }
+    FeOptions::new().with_cells([n; 3])
 }
 
 /// Asserts exact and fast agree on structure, and on positions to rounding.
@@ -132,7 +129,7 @@ proptest! {
     /// structure is the exact one.
     #[test]
     fn exact_and_fast_agree((m, iso) in geocert::strategies::fe_block_model(), n in 1usize..=3) {
-        let o = FeOptions { cells: [n, n + 1, n], ..FeOptions::default() };
+        let o = FeOptions::new().with_cells([n, n + 1, n]);
         let mesh = assert_paths_agree(&m, iso, &o);
         // Welding points where the surface passes through a lattice point may pinch it; off
         // those, the welded surface is an oriented manifold.
@@ -141,7 +138,7 @@ proptest! {
             prop_assert!(mesh.check_manifold().is_ok(), "{:?}", mesh.check_manifold());
         }
         // Normals by finite differences change nothing but the normals.
-        let fd = polygonise_fast(&m, iso, &FeOptions { normals: NormalSource::FiniteDifference, ..o }).unwrap();
+        let fd = polygonise_fast(&m, iso, &o.with_normals(NormalSource::FiniteDifference)).unwrap();
         prop_assert_eq!(&fd.mesh.triangles, &mesh.triangles);
         prop_assert!(fd.mesh.validate().is_ok());
     }
@@ -302,25 +299,11 @@ fn bad_models_are_refused() {
         Err(FeError::Isovalue)
     ));
     assert!(matches!(
-        polygonise_fast(
-            &good,
-            0.5,
-            &FeOptions {
-                cells: [1, 0, 1],
-                ..FeOptions::default()
-            }
-        ),
+        polygonise_fast(&good, 0.5, &FeOptions::new().with_cells([1, 0, 1])),
         Err(FeError::Cells(_))
     ));
     assert!(matches!(
-        polygonise_fast(
-            &good,
-            0.5,
-            &FeOptions {
-                max_cells: 7,
-                ..opts(2)
-            }
-        ),
+        polygonise_fast(&good, 0.5, &opts(2).with_max_cells(7)),
         Err(FeError::TooManyCells { cells: 8, limit: 7 })
     ));
     let mut m = good.clone();

@@ -5,7 +5,7 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    if let Err(msg) = geocert::fuzzing::check_decimate(data) {
+    if let Err(msg) = geocert::internals::fuzzing::check_decimate(data) {
         panic!("{msg}");
     }
 });

@@ -4,8 +4,8 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    if let Some(l) = geocert::fuzzing::decode_lattice(data) {
-        if let Err(msg) = geocert::fuzzing::check_ffd(&l) {
+    if let Some(l) = geocert::internals::fuzzing::decode_lattice(data) {
+        if let Err(msg) = geocert::internals::fuzzing::check_ffd(&l) {
             panic!("{msg}");
         }
     }

@@ -3,7 +3,7 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    if let Err(msg) = geocert::fuzzing::check_lattice_json(data) {
+    if let Err(msg) = geocert::internals::fuzzing::check_lattice_json(data) {
         panic!("{msg}");
     }
 });

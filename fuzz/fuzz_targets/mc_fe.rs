@@ -1,9 +1,9 @@
-//! See `geocert::fuzzing::check_mc_fe`.
+//! See `geocert::internals::fuzzing::check_mc_fe`.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    if let Err(msg) = geocert::fuzzing::check_mc_fe(data) {
+    if let Err(msg) = geocert::internals::fuzzing::check_mc_fe(data) {
         panic!("{msg}");
     }
 });

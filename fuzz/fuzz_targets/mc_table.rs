@@ -1,9 +1,9 @@
-//! See `geocert::fuzzing::check_mc_table`.
+//! See `geocert::internals::fuzzing::check_mc_table`.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    if let Err(msg) = geocert::fuzzing::check_mc_table(data) {
+    if let Err(msg) = geocert::internals::fuzzing::check_mc_table(data) {
         panic!("{msg}");
     }
 });

@@ -4,7 +4,7 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    if let Err(msg) = geocert::fuzzing::check_mesh_readers(data) {
+    if let Err(msg) = geocert::internals::fuzzing::check_mesh_readers(data) {
         panic!("{msg}");
     }
 });

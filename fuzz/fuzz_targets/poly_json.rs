@@ -3,5 +3,5 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let _ = geocert::fuzzing::check_poly_json(data);
+    let _ = geocert::internals::fuzzing::check_poly_json(data);
 });

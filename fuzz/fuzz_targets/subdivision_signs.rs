@@ -3,8 +3,8 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    if let Some(p) = geocert::fuzzing::decode_poly(data) {
-        if let Err(e) = geocert::fuzzing::check_subdivision(&p) {
+    if let Some(p) = geocert::internals::fuzzing::decode_poly(data) {
+        if let Err(e) = geocert::internals::fuzzing::check_subdivision(&p) {
             panic!("{e}");
         }
     }

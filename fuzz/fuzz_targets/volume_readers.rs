@@ -1,9 +1,9 @@
-//! See `geocert::fuzzing::check_volume_readers`.
+//! See `geocert::internals::fuzzing::check_volume_readers`.
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    if let Err(msg) = geocert::fuzzing::check_volume_readers(data) {
+    if let Err(msg) = geocert::internals::fuzzing::check_volume_readers(data) {
         panic!("{msg}");
     }
 });

@@ -23,9 +23,9 @@ pub use certificate::{box_sign, BoxSign};
 pub use fast::FastBernstein;
 pub use poly::Bernstein;
 pub use positivity::{
-    prove_positive_exact, prove_positive_fast, prove_positive_filtered,
+    prove_positive, prove_positive_exact, prove_positive_fast, prove_positive_filtered,
     prove_positive_filtered_with, prove_positive_scaled, verify_positive_certificate, DyadicBox,
-    Limits, PositivityVerdict,
+    Limits, PositivityOptions, PositivityVerdict,
 };
 pub use scaled::ScaledBernstein;
 

@@ -14,7 +14,9 @@
 use super::fast::FastBernstein;
 use super::poly::Bernstein;
 use super::scaled::ScaledBernstein;
+use super::BernsteinError;
 use crate::num::{rational_to_f64, Field, Rational, Sign};
+use crate::Path;
 use num_bigint::BigInt;
 use num_traits::{One, Zero};
 use serde::{Deserialize, Serialize};
@@ -90,6 +92,7 @@ impl DyadicBox {
 
 /// Explicit limits for the subdivision (exact arithmetic can explode).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Limits {
     /// Deepest subdivision level (the root is level 0).
     pub max_depth: u32,
@@ -98,6 +101,12 @@ pub struct Limits {
     /// Wall-clock budget.
     pub time_limit: Option<Duration>,
 }
+
+crate::choice::setters!(Limits {
+    with_max_depth => max_depth: u32,
+    with_max_boxes => max_boxes: usize,
+    with_time_limit => time_limit: Option<Duration>,
+});
 
 impl Default for Limits {
     fn default() -> Self {
@@ -393,6 +402,37 @@ pub fn prove_positive_fast(p: &FastBernstein, limits: Limits) -> PositivityVerdi
             proven_lower_bound: lowest,
         }
     }
+}
+
+/// Options of [`prove_positive`]: the arithmetic and the limits of the subdivision.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[non_exhaustive]
+pub struct PositivityOptions {
+    /// [`Path::Filtered`] by default; [`Path::Fast`] may answer
+    /// [`PositivityVerdict::Uncertain`].
+    pub path: Path,
+    /// Depth, box and time limits.
+    pub limits: Limits,
+}
+
+crate::choice::setters!(PositivityOptions {
+    with_path => path: Path,
+    with_limits => limits: Limits,
+});
+
+/// Decides `p > 0` on the unit box on the path `opts.path` names: [`prove_positive_exact`],
+/// [`prove_positive_fast`] (on the certified `f64` form of `p`) or [`prove_positive_filtered`].
+///
+/// Fails only on the fast path, when a coefficient of `p` overflows `f64`.
+pub fn prove_positive(
+    p: &Bernstein<Rational>,
+    opts: &PositivityOptions,
+) -> Result<PositivityVerdict, BernsteinError> {
+    Ok(match opts.path {
+        Path::Exact => prove_positive_exact(p, opts.limits),
+        Path::Fast => prove_positive_fast(&FastBernstein::from_rational(p)?, opts.limits),
+        Path::Filtered => prove_positive_filtered(p, opts.limits),
+    })
 }
 
 /// Fast first, then the exact path on each box the fast path left uncertain. The verdict is

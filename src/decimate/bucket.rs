@@ -27,7 +27,7 @@
 //! for by the `len/r` pushes before it, so every operation stays `O(1)` amortised.
 
 use crate::memory::huge_vec;
-use rayon::prelude::*;
+use crate::par::prelude::*;
 
 const NONE: u32 = u32::MAX;
 

@@ -16,7 +16,7 @@
 //! previous one.
 
 use crate::memory::advise_huge_pages;
-use rayon::prelude::*;
+use crate::par::prelude::*;
 use std::sync::Mutex;
 
 /// The triangle field of a border node's last entry.

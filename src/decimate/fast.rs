@@ -29,7 +29,7 @@ use super::{
 use crate::memory::{huge_copy, huge_vec};
 use crate::mesh::fans::Fans;
 use crate::mesh::{Mesh, Scalars};
-use rayon::prelude::*;
+use crate::par::prelude::*;
 use std::cmp::Ordering;
 use std::sync::atomic::{AtomicBool, Ordering as AtomicOrdering};
 use std::sync::Arc;

@@ -38,6 +38,7 @@ pub mod history;
 pub mod quality;
 
 use crate::mesh::{Mesh, MeshError};
+use crate::Path;
 use thiserror::Error;
 
 pub use history::{History, HistoryError, Stage};
@@ -55,17 +56,11 @@ pub enum Criterion {
     Error,
 }
 
-impl Criterion {
-    /// Parses `angle`, `scalar` or `error`.
-    pub fn parse(s: &str) -> Option<Criterion> {
-        match s {
-            "angle" => Some(Criterion::Angle),
-            "scalar" => Some(Criterion::Scalar),
-            "error" => Some(Criterion::Error),
-            _ => None,
-        }
-    }
-}
+crate::choice::named_enum!(Criterion {
+    Angle => "angle",
+    Scalar => "scalar",
+    Error => "error",
+});
 
 /// What happens to nodes on the mesh border.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -90,6 +85,12 @@ pub enum ProjectionChoice {
     /// For each fan the axis plane most aligned with its area-weighted normal.
     PerFan,
 }
+
+crate::choice::named_enum!(ProjectionChoice {
+    Auto => "auto",
+    Xy => "xy",
+    PerFan => "per-fan",
+});
 
 /// A projection onto an axis plane: drop axis `drop`, keep the other two in the right-handed
 /// order, swapped when the plane's normal points to the negative side.
@@ -166,7 +167,7 @@ pub(crate) fn global_plane(
     choice: ProjectionChoice,
     nonpositive_in_xy: impl Fn(&[u32; 3]) -> bool + Sync + Send,
 ) -> Result<Option<Plane>, DecimateError> {
-    use rayon::prelude::*;
+    use crate::par::prelude::*;
     if choice == ProjectionChoice::PerFan {
         return Ok(None);
     }
@@ -206,10 +207,15 @@ pub enum Target {
 
 /// The decimation's settings.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub struct Options {
+    /// How nodes are evaluated ([`Criterion::Error`] by default).
     pub criterion: Criterion,
+    /// When to stop (keep 1 % of the nodes by default).
     pub target: Target,
+    /// What may happen to border nodes ([`BorderPolicy::Intact`] by default).
     pub border: BorderPolicy,
+    /// The plane holes are triangulated in ([`ProjectionChoice::Auto`] by default).
     pub projection: ProjectionChoice,
     /// The constant `k` of eq. (1): `m = ⌊n/k⌋` intervals.
     pub k: usize,
@@ -226,7 +232,23 @@ pub struct Options {
     /// the loop removes (when the machine has more than one core and the mesh at least
     /// [`fast::LOOK_AHEAD_NODES`] nodes; [`ahead`]). The result is the same either way.
     pub look_ahead: bool,
+    /// The engine: [`Path::Exact`], or the fast one for [`Path::Fast`] / [`Path::Filtered`]
+    /// (the default).
+    pub path: Path,
 }
+
+crate::choice::setters!(Options {
+    with_criterion => criterion: Criterion,
+    with_target => target: Target,
+    with_border => border: BorderPolicy,
+    with_projection => projection: ProjectionChoice,
+    with_k => k: usize,
+    with_max_valence => max_valence: usize,
+    with_rebin => rebin: bool,
+    with_lazy => lazy: bool,
+    with_look_ahead => look_ahead: bool,
+    with_path => path: Path,
+});
 
 impl Default for Options {
     fn default() -> Self {
@@ -240,15 +262,9 @@ impl Default for Options {
             rebin: true,
             lazy: true,
             look_ahead: true,
+            path: Path::Filtered,
         }
     }
-}
-
-/// Which engine ran.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Path {
-    Exact,
-    Fast,
 }
 
 /// What went wrong.
@@ -312,15 +328,13 @@ pub struct Outcome {
     pub mesh: crate::mesh::Mesh,
 }
 
-/// Runs the chosen engine.
-pub fn decimate(
-    mesh: &crate::mesh::Mesh,
-    options: &Options,
-    path: Path,
-) -> Result<Outcome, DecimateError> {
-    match path {
+/// Decimates `mesh` with the engine [`Options::path`] names: the exact engine for
+/// [`Path::Exact`], the fast one (adaptive predicates: certified `f64` with an exact fallback,
+/// never uncertain) for [`Path::Fast`] and [`Path::Filtered`].
+pub fn decimate(mesh: &crate::mesh::Mesh, options: &Options) -> Result<Outcome, DecimateError> {
+    match options.path {
         Path::Exact => exact::decimate(mesh, options),
-        Path::Fast => fast::decimate(mesh, options),
+        Path::Fast | Path::Filtered => fast::decimate(mesh, options),
     }
 }
 

@@ -20,38 +20,29 @@ use crate::bernstein::{
 };
 use crate::num::UNIT_ROUNDOFF;
 use crate::num::{parse_rational, rational_from_f64, rational_to_string, Rational, Sign};
+use crate::Path;
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 
-/// Which arithmetic decides.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TestPath {
-    Exact,
-    Fast,
-    Filtered,
-}
-
-impl TestPath {
-    pub fn name(self) -> &'static str {
-        match self {
-            TestPath::Exact => "exact",
-            TestPath::Fast => "fast",
-            TestPath::Filtered => "filtered",
-        }
-    }
-}
-
 /// Options of [`check_injectivity`]; `limits` apply to each cell's subdivision.
 #[derive(Clone, Copy, Debug)]
+#[non_exhaustive]
 pub struct CheckOptions {
-    pub path: TestPath,
+    /// The arithmetic ([`Path::Filtered`] by default).
+    pub path: Path,
+    /// Limits of each cell's subdivision.
     pub limits: Limits,
 }
+
+crate::choice::setters!(CheckOptions {
+    with_path => path: Path,
+    with_limits => limits: Limits,
+});
 
 impl Default for CheckOptions {
     fn default() -> Self {
         CheckOptions {
-            path: TestPath::Filtered,
+            path: Path::Filtered,
             limits: Limits::default(),
         }
     }
@@ -121,7 +112,7 @@ pub struct InjectivityReport {
     pub min_det_lower_bound: Option<Rational>,
     /// Leaf boxes proven positive, over all cells.
     pub leaves: usize,
-    pub path: TestPath,
+    pub path: Path,
 }
 
 impl InjectivityReport {
@@ -206,12 +197,12 @@ pub fn check_injectivity(l: &Lattice, opts: CheckOptions) -> Result<InjectivityR
         let cell = l.cell_index(c);
         // The verdict, and the cell's smallest Bézier coefficient as a certified bound.
         let (verdict, root_bound) = match opts.path {
-            TestPath::Exact => {
+            Path::Exact => {
                 let j = jacobian_cell_scaled(net)?;
                 let rb = round_down(&j.coeff_value(j.argmin()));
                 (prove_positive_scaled(&j, opts.limits), Some(rb))
             }
-            TestPath::Fast => {
+            Path::Fast => {
                 let (pts, eta) = net_f64(net);
                 match jacobian_cell_fast(&pts, deg, eta, &mut ws) {
                     Ok(f) => (
@@ -228,7 +219,7 @@ pub fn check_injectivity(l: &Lattice, opts: CheckOptions) -> Result<InjectivityR
                     ),
                 }
             }
-            TestPath::Filtered => {
+            Path::Filtered => {
                 let (pts, eta) = net_f64(net);
                 let f = jacobian_cell_fast(&pts, deg, eta, &mut ws).ok();
                 let mut failure = None;
@@ -284,7 +275,7 @@ pub fn check_injectivity(l: &Lattice, opts: CheckOptions) -> Result<InjectivityR
                 // Bounds of the remaining cells (root coefficients) for min_det_lower_bound.
                 for net in &nets[c + 1..] {
                     bounds.push(match opts.path {
-                        TestPath::Exact => {
+                        Path::Exact => {
                             let j = jacobian_cell_scaled(net)?;
                             Some(round_down(&j.coeff_value(j.argmin())))
                         }

@@ -10,7 +10,7 @@
 //! the undeformed lattice plus `ΔP_k`, each certified injective by the chosen test; a drag that
 //! fails is split into `(F, ½ΔF)` then `(F + ½ΔF, ½ΔF)`, up to a maximum depth.
 
-use super::injectivity::{check_injectivity, CheckOptions, InjectivityVerdict, TestPath};
+use super::injectivity::{check_injectivity, CheckOptions, InjectivityVerdict};
 use super::jacobian::basis_at;
 use super::lattice::{Lattice, Point};
 use super::sufficient::{
@@ -20,6 +20,7 @@ use super::sufficient::{ConicOptions, Scope, SufficientVerdict};
 use super::FfdError;
 use crate::bernstein::Limits;
 use crate::num::{rational_to_f64, rational_to_string, Rational};
+use crate::Path;
 use num_traits::Zero;
 use serde_json::{json, Value};
 
@@ -289,27 +290,45 @@ pub enum DragTest {
     Exact,
 }
 
+crate::choice::named_enum!(DragTest {
+    Conic => "conic",
+    Phi => "phi",
+    Exact => "exact",
+});
+
 /// Options of [`injective_drag`].
 #[derive(Clone, Copy, Debug)]
+#[non_exhaustive]
 pub struct DragOptions {
     pub test: DragTest,
     /// Deepest halving (`InjectSubdiv`'s maximum recursion depth).
     pub max_depth: u32,
-    /// Exact rationals (constraints met exactly) or `f64` (certified tests on rounded steps).
-    pub exact: bool,
+    /// The solve and the sufficient tests: [`Path::Exact`] (the default) in rationals, every
+    /// constraint met exactly; [`Path::Fast`] or [`Path::Filtered`] in `f64` (a Cholesky
+    /// solve), each step's rounded lattice certified by the certified-`f64` tests.
+    pub path: Path,
     /// Path and limits of the N&S test when `test` is `Exact` (every path is rigorous;
     /// `Filtered` is the fastest).
-    pub ns_path: TestPath,
+    pub ns_path: Path,
+    /// Limits of each N&S test.
     pub limits: Limits,
 }
+
+crate::choice::setters!(DragOptions {
+    with_test => test: DragTest,
+    with_max_depth => max_depth: u32,
+    with_path => path: Path,
+    with_ns_path => ns_path: Path,
+    with_limits => limits: Limits,
+});
 
 impl Default for DragOptions {
     fn default() -> Self {
         DragOptions {
             test: DragTest::Conic,
             max_depth: 8,
-            exact: true,
-            ns_path: TestPath::Filtered,
+            path: Path::Exact,
+            ns_path: Path::Filtered,
             limits: Limits::default(),
         }
     }
@@ -326,7 +345,7 @@ pub struct DragStep {
 /// Is `l` injective by `test` (certified verdicts only)?
 fn certified(l: &Lattice, opts: &DragOptions) -> bool {
     let sufficient = |v: SufficientVerdict| v == SufficientVerdict::Injective;
-    match (opts.test, opts.exact) {
+    match (opts.test, opts.path == Path::Exact) {
         (DragTest::Conic, true) => sufficient(conic_test_exact(l, ConicOptions::default())),
         (DragTest::Conic, false) => sufficient(conic_test_fast(l, ConicOptions::default())),
         (DragTest::Phi, true) => sufficient(phi_test_exact(l, Scope::PerCell)),
@@ -379,7 +398,7 @@ fn subdivide_drag(
                 .unwrap_or_default(),
         });
     }
-    let lattice = if opts.exact {
+    let lattice = if opts.path == Path::Exact {
         let lattice = identity.displaced(&solve_exact(identity, &constraints)?)?;
         certified(&lattice, opts).then_some(lattice)
     } else {

@@ -23,7 +23,7 @@ pub mod sufficient;
 
 pub use injectivity::{
     check_injectivity, verify_injectivity_certificate, CheckOptions, InjectivityCertificate,
-    InjectivityReport, InjectivityVerdict, TestPath,
+    InjectivityReport, InjectivityVerdict,
 };
 pub use lattice::{lattices_from_json, Basis, Lattice};
 

@@ -239,12 +239,19 @@ pub fn bezier_coefficient_test_fast(l: &Lattice) -> SufficientVerdict {
 
 /// Options of the conic-hull test.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub struct ConicOptions {
+    /// The lattice's own differences, or each cell's.
     pub scope: Scope,
     /// Octree depth of Bézier subdivision per cell (0: the paper's test on the lattice's own
     /// differences; only with `Scope::PerCell`).
     pub subdivision_depth: u32,
 }
+
+crate::choice::setters!(ConicOptions {
+    with_scope => scope: Scope,
+    with_subdivision_depth => subdivision_depth: u32,
+});
 
 impl Default for ConicOptions {
     fn default() -> Self {

@@ -19,9 +19,18 @@ use thiserror::Error;
 /// Edge and configuration numbering of a table file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Numbering {
+    /// Paul Bourke's: edges 0-1, 1-2, 2-3, 3-0, 4-5, 5-6, 6-7, 7-4, 0-4, 1-5, 2-6, 3-7; bit `i`
+    /// set when corner `i` is below the isovalue.
     Bourke,
+    /// VTK's: edges 0-1, 1-2, 3-2, 0-3, 4-5, 5-6, 7-6, 4-7, 0-4, 1-5, 3-7, 2-6; bit set when at
+    /// or above.
     Vtk,
 }
+
+crate::choice::named_enum!(Numbering {
+    Bourke => "bourke",
+    Vtk => "vtk",
+});
 
 const VTK_EDGES: [[u8; 2]; 12] = [
     [0, 1],

@@ -15,6 +15,7 @@ use super::decider::{decide_exact, decide_fast};
 use super::table::{ambiguous_faces, is_positive, table, CENTRE, CORNERS, EDGES, FACES};
 use crate::mesh::Mesh;
 use crate::num::{rational_from_f64, rational_to_f64, Rational};
+use crate::Path;
 use std::collections::HashMap;
 use thiserror::Error;
 
@@ -40,6 +41,8 @@ pub enum VolumeError {
     NonFinite { index: usize },
     #[error("the isovalue is not finite")]
     Isovalue,
+    #[error("the isovalue {0} is not an f64: the fast path takes f64 isovalues (use the exact path for rational ones)")]
+    IsovalueNotF64(String),
     #[error("NIfTI: {0}")]
     Nifti(String),
 }
@@ -523,13 +526,73 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
     Ok((mesh, stats))
 }
 
+/// Options of [`extract`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub struct ExtractOptions {
+    /// [`Path::Exact`]: [`extract_exact`] on the samples taken exactly as rationals;
+    /// [`Path::Fast`] / [`Path::Filtered`] (the default): [`extract_fast`], whose face
+    /// decisions are certified `f64` with an exact fallback. Both give the same triangles.
+    pub path: Path,
+}
+
+crate::choice::setters!(ExtractOptions {
+    with_path => path: Path,
+});
+
+/// Polygonises `vol` at `iso` on the path `opts.path` names. The exact path rounds its
+/// rational vertices to the nearest `f64` in the returned mesh; the fast path needs `iso` to
+/// be an `f64` ([`VolumeError::IsovalueNotF64`] otherwise).
+pub fn extract(
+    vol: &Volume<f64>,
+    iso: &Rational,
+    opts: &ExtractOptions,
+) -> Result<(Mesh, ExtractStats), VolumeError> {
+    match opts.path {
+        Path::Fast | Path::Filtered => extract_fast(vol, rational_as_f64(iso)?),
+        Path::Exact => {
+            let exact: Result<Vec<Rational>, _> = vol
+                .values
+                .iter()
+                .enumerate()
+                .map(|(index, &v)| {
+                    crate::num::rational_from_f64(v, "sample")
+                        .map_err(|_| VolumeError::NonFinite { index })
+                })
+                .collect();
+            let s = extract_exact(&Volume::new(vol.dims, exact?)?, iso);
+            Ok((s.to_mesh(), s.stats))
+        }
+    }
+}
+
+/// `iso` as the `f64` it equals, or [`VolumeError::IsovalueNotF64`].
+fn rational_as_f64(iso: &Rational) -> Result<f64, VolumeError> {
+    let f = crate::num::rational_to_f64(iso);
+    match crate::num::rational_from_f64(f, "iso") {
+        Ok(back) if &back == iso => Ok(f),
+        _ => Err(VolumeError::IsovalueNotF64(crate::num::rational_to_string(
+            iso,
+        ))),
+    }
+}
+
 /// Sample types of raw volumes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RawType {
+    /// 32-bit IEEE floats.
     F32,
+    /// Unsigned bytes.
     U8,
+    /// 16-bit two's-complement integers.
     I16,
 }
+
+crate::choice::named_enum!(RawType {
+    F32 => "f32",
+    U8 => "u8",
+    I16 => "i16",
+});
 
 /// Reads a raw little-endian volume of `dims` samples of `ty`, `x` fastest; every sample is
 /// converted to `f64` exactly.

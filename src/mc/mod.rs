@@ -7,6 +7,7 @@ pub mod audit;
 pub mod decider;
 pub mod fe;
 pub mod grid;
+#[cfg(feature = "nifti")]
 pub mod nifti;
 pub mod table;
 

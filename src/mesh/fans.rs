@@ -10,7 +10,7 @@
 //! triangle at an interior vertex) visits every triangle at `v` (else the vertex is pinched).
 
 use super::{Mesh, MeshError};
-use rayon::prelude::*;
+use crate::par::prelude::*;
 
 /// Every vertex's corners in counter-clockwise order, and which vertices are on the border.
 #[derive(Clone, Debug)]

@@ -4,9 +4,7 @@
 //! plate, undecimation exactness, and the exact-vs-fast agreement.
 
 use super::campaign::median;
-use crate::decimate::{
-    check, data, decimate, quality, History, Options, Path, Stage, Stats, Target,
-};
+use crate::decimate::{check, data, decimate, quality, History, Options, Stage, Stats, Target};
 use crate::mesh::Mesh;
 use std::fmt::Write as _;
 use std::path::{Path as FsPath, PathBuf};
@@ -123,7 +121,7 @@ pub fn grid_rows(sides: &[usize]) -> (Vec<GridRow>, Option<(Mesh, Mesh)>) {
     for round in 0..GRID_ROUNDS {
         for (i, &side) in sides.iter().enumerate() {
             let mesh = data::height_grid(side);
-            let out = decimate(&mesh, &keep_one_percent(), Path::Fast).expect("built-in grid");
+            let out = decimate(&mesh, &keep_one_percent()).expect("built-in grid");
             dec[i].push(out.stats.seconds);
             let (s, ok) = undo_all(&mesh, &out.mesh, &out.history);
             und[i].push(s);
@@ -272,7 +270,7 @@ fn plate_rows() -> (Vec<PlateRow>, Result<check::Verified, String>, f64) {
             target: Target::Keep(percent / 100.0),
             ..Options::default()
         };
-        let out = decimate(&plate, &options, Path::Fast).expect("built-in plate");
+        let out = decimate(&plate, &options).expect("built-in plate");
         let ascii = crate::mesh::ply::write(&out.mesh, false);
         let mut z = DeflateEncoder::new(Vec::new(), flate2::Compression::default());
         let _ = z.write_all(&ascii);
@@ -313,8 +311,9 @@ fn exact_vs_fast() -> Vec<(String, String, bool, usize)> {
                 target: Target::Keep(0.05),
                 ..Options::default()
             };
-            let fast = decimate(mesh, &options, Path::Fast).expect("built-in");
-            let exact = decimate(mesh, &options, Path::Exact).expect("built-in");
+            let fast = decimate(mesh, &options).expect("built-in");
+            let exact =
+                decimate(mesh, &options.clone().with_path(crate::Path::Exact)).expect("built-in");
             rows.push((
                 name.clone(),
                 format!("{criterion:?}").to_lowercase(),
@@ -339,7 +338,7 @@ pub fn decimate_campaign(root: &FsPath, sides: &[usize]) -> DecimateCampaign {
         let (mut runs, mut pairs) = (Vec::new(), Vec::new());
         let mut meshopt_out = Ok(Vec::new());
         for _ in 0..PAIRS {
-            let Ok(o) = decimate(mesh, &keep_one_percent(), Path::Fast) else {
+            let Ok(o) = decimate(mesh, &keep_one_percent()) else {
                 continue;
             };
             meshopt_out = meshopt.run(ours.triangles.len()).map(|(t, result)| {
@@ -381,11 +380,7 @@ pub fn decimate_campaign(root: &FsPath, sides: &[usize]) -> DecimateCampaign {
         };
         let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().ok();
         let times: Vec<f64> = (0..3)
-            .filter_map(|_| {
-                one_thread
-                    .as_ref()?
-                    .install(|| decimate(mesh, &alone, Path::Fast).ok())
-            })
+            .filter_map(|_| one_thread.as_ref()?.install(|| decimate(mesh, &alone).ok()))
             .map(|o| o.stats.seconds)
             .collect();
         peers.push(PeerRow {
@@ -402,7 +397,7 @@ pub fn decimate_campaign(root: &FsPath, sides: &[usize]) -> DecimateCampaign {
             lazy: false,
             ..keep_one_percent()
         };
-        if let Ok(out) = decimate(mesh, &paper, Path::Fast) {
+        if let Ok(out) = decimate(mesh, &paper) {
             peers.push(PeerRow {
                 name: "geocert fast path, the paper's loop".into(),
                 seconds: Some(out.stats.seconds),

@@ -11,7 +11,7 @@ use crate::ffd::sufficient::{
 };
 use crate::ffd::{
     check_injectivity, verify_injectivity_certificate, Basis, CheckOptions, InjectivityCertificate,
-    InjectivityVerdict, Lattice, TestPath,
+    InjectivityVerdict, Lattice,
 };
 use crate::num::{rational_from_f64, Rational, Sign};
 use std::path::Path;
@@ -195,9 +195,9 @@ fn run_family(name: &str, lattices: &[Lattice], limits: Limits, certify: usize) 
             let r = check_injectivity(l, CheckOptions { path, limits }).expect("valid lattice");
             (r, t.elapsed().as_secs_f64() * 1e3)
         };
-        let (exact, te) = run(TestPath::Exact);
-        let (fast, tf) = run(TestPath::Fast);
-        let (filtered, tl) = run(TestPath::Filtered);
+        let (exact, te) = run(crate::Path::Exact);
+        let (fast, tf) = run(crate::Path::Fast);
+        let (filtered, tl) = run(crate::Path::Filtered);
         for (k, t) in [te, tf, tl].into_iter().enumerate() {
             times[k].push(t);
         }
@@ -378,7 +378,7 @@ fn worked_example(limits: Limits) -> [String; 4] {
     let r = check_injectivity(
         &l,
         CheckOptions {
-            path: TestPath::Filtered,
+            path: crate::Path::Filtered,
             limits,
         },
     )
@@ -422,19 +422,19 @@ pub fn ffd_campaign(root: &Path, seed: u64, n_cells: usize, n_bspline: usize) ->
         (
             "N&S filtered".to_string(),
             batch(&cells, |l| {
-                let _ = check_injectivity(l, opts(TestPath::Filtered));
+                let _ = check_injectivity(l, opts(crate::Path::Filtered));
             }),
         ),
         (
             "N&S fast".to_string(),
             batch(&cells, |l| {
-                let _ = check_injectivity(l, opts(TestPath::Fast));
+                let _ = check_injectivity(l, opts(crate::Path::Fast));
             }),
         ),
         (
             "N&S exact".to_string(),
             batch(&cells, |l| {
-                let _ = check_injectivity(l, opts(TestPath::Exact));
+                let _ = check_injectivity(l, opts(crate::Path::Exact));
             }),
         ),
         (
@@ -453,7 +453,7 @@ pub fn ffd_campaign(root: &Path, seed: u64, n_cells: usize, n_bspline: usize) ->
     let exact: Vec<ExactMin> = cells
         .iter()
         .map(|l| {
-            let r = check_injectivity(l, opts(TestPath::Exact)).expect("valid");
+            let r = check_injectivity(l, opts(crate::Path::Exact)).expect("valid");
             // det J at the 8 corners, exactly: the corner Bézier coefficients.
             let j = jacobian_cell_scaled(&l.bezier_nets()[0]).expect("valid");
             let mut upper = (0..8)

@@ -121,7 +121,7 @@ pub fn fig6_table(runs: usize) -> DmffdTable {
     let shape = shape();
     let fast = DragOptions {
         test: DragTest::Conic,
-        exact: false,
+        path: crate::Path::Fast,
         ..Default::default()
     };
     let mut rows = Vec::new();

@@ -35,6 +35,7 @@ mod lattice;
 pub mod models;
 
 use crate::num::Rational;
+use crate::Path;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -223,15 +224,31 @@ pub enum NormalSource {
     FiniteDifference,
 }
 
+crate::choice::named_enum!(NormalSource {
+    Interpolant => "interpolant",
+    FiniteDifference => "finite-difference",
+});
+
 /// Options of a polygonisation.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct FeOptions {
     /// Cells per element along `ξ₁, ξ₂, ξ₃` (each at least 1).
     pub cells: [usize; 3],
+    /// How vertex normals are computed.
     pub normals: NormalSource,
     /// Refuse models with more cells than this (elements × cells per element).
     pub max_cells: u64,
+    /// The arithmetic ([`Path::Filtered`] by default; see [`polygonise`]).
+    pub path: Path,
 }
+
+crate::choice::setters!(FeOptions {
+    with_cells => cells: [usize; 3],
+    with_normals => normals: NormalSource,
+    with_max_cells => max_cells: u64,
+    with_path => path: Path,
+});
 
 impl Default for FeOptions {
     fn default() -> Self {
@@ -239,6 +256,34 @@ impl Default for FeOptions {
             cells: [8, 8, 8],
             normals: NormalSource::Interpolant,
             max_cells: 1 << 30,
+            path: Path::Filtered,
+        }
+    }
+}
+
+/// Polygonises `m` at `iso` on the path `opts.path` names: [`exact::polygonise_exact`] on the
+/// model taken exactly (vertices rounded to the nearest `f64` in the returned mesh), or
+/// [`fast::polygonise_fast`] (certified `f64`, exact fallback) for [`Path::Fast`] and
+/// [`Path::Filtered`], which needs `iso` to be an `f64` ([`FeError::IsovalueNotF64`]).
+pub fn polygonise(
+    m: &FeModel<f64>,
+    iso: &Rational,
+    opts: &FeOptions,
+) -> Result<fast::FeSurface, FeError> {
+    match opts.path {
+        Path::Fast | Path::Filtered => {
+            let f = crate::num::rational_to_f64(iso);
+            match crate::num::rational_from_f64(f, "iso") {
+                Ok(back) if &back == iso => fast::polygonise_fast(m, f, opts),
+                _ => Err(FeError::IsovalueNotF64(crate::num::rational_to_string(iso))),
+            }
+        }
+        Path::Exact => {
+            let s = exact::polygonise_exact(&m.to_exact()?, iso, opts)?;
+            Ok(fast::FeSurface {
+                mesh: s.to_mesh(),
+                stats: s.stats,
+            })
         }
     }
 }
@@ -268,6 +313,8 @@ pub enum FeError {
     },
     #[error("the isovalue is not finite")]
     Isovalue,
+    #[error("the isovalue {0} is not an f64: the fast path takes f64 isovalues (use the exact path for rational ones)")]
+    IsovalueNotF64(String),
     #[error("cells per element must be at least 1 in every direction, found {0:?}")]
     Cells([usize; 3]),
     #[error("{cells} cells exceed the limit of {limit}")]

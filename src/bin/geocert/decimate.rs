@@ -1,0 +1,228 @@
+//! `geocert decimate` and `geocert undecimate`: node decimation and exact undecimation
+//! (Krivograd et al.).
+
+use crate::out::{choice, read_bytes, status};
+use geocert::decimate::{
+    BorderPolicy, Criterion, History, Options, ProjectionChoice, Stage, Target,
+};
+use geocert::mesh::{Format, Mesh};
+use geocert::Path;
+use std::path::{Path as FsPath, PathBuf};
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub(crate) struct Args {
+    input: String,
+    /// Keep this fraction of the nodes (default 0.01 unless --nodes or --max-error).
+    #[arg(long, conflicts_with_all = ["nodes", "max_error"])]
+    keep: Option<f64>,
+    /// Keep this many nodes.
+    #[arg(long, conflicts_with = "max_error")]
+    nodes: Option<usize>,
+    /// Remove nodes while their evaluation value is at most this.
+    #[arg(long)]
+    max_error: Option<f64>,
+    #[arg(long, default_value_t = Criterion::Error, value_parser = choice::<Criterion>(Criterion::NAMES))]
+    criterion: Criterion,
+    #[arg(long, default_value_t = Path::Fast, value_parser = choice::<Path>(Path::NAMES))]
+    path: Path,
+    /// The decimated mesh (.ply, .obj, .stl or .vtk).
+    #[arg(long)]
+    out: PathBuf,
+    /// The history file that undecimates OUT.
+    #[arg(long)]
+    history: PathBuf,
+    /// The nodal scalar field: a PLY vertex property or VTK POINT_DATA array name.
+    #[arg(long)]
+    scalar: Option<String>,
+    /// Never remove border nodes (default: only while the border stays intact).
+    #[arg(long)]
+    exclude_border: bool,
+    #[arg(long, default_value_t = ProjectionChoice::Auto, value_parser = choice::<ProjectionChoice>(ProjectionChoice::NAMES))]
+    projection: ProjectionChoice,
+    /// The constant k of eq. (1): m = n/k intervals.
+    #[arg(long, default_value_t = 10)]
+    k: usize,
+    /// Keep the paper's interval boundaries fixed from the initial range (default:
+    /// re-bin the queue when re-evaluated values outgrow it).
+    #[arg(long)]
+    fixed_intervals: bool,
+    /// Re-evaluate a removed node's neighbours at once, as the paper does (default:
+    /// lazily, when they reach the front of the queue).
+    #[arg(long)]
+    eager: bool,
+    /// Do not evaluate the nodes the loop takes next on a second thread (the fast path's
+    /// default when the machine has two cores or more; the result is the same). With
+    /// RAYON_NUM_THREADS=1 everything runs on one thread.
+    #[arg(long)]
+    no_look_ahead: bool,
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(clap::Args)]
+pub(crate) struct UndoArgs {
+    input: PathBuf,
+    #[arg(long)]
+    history: PathBuf,
+    #[arg(long)]
+    steps: Option<usize>,
+    #[arg(long)]
+    out: PathBuf,
+}
+
+pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
+    let target = match (a.keep, a.nodes, a.max_error) {
+        (_, Some(n), _) => Target::Nodes(n),
+        (_, _, Some(e)) => Target::ErrorBound(e),
+        (k, _, _) => Target::Keep(k.unwrap_or(0.01)),
+    };
+    let options = Options::new()
+        .with_criterion(a.criterion)
+        .with_target(target)
+        .with_border(if a.exclude_border {
+            BorderPolicy::Exclude
+        } else {
+            BorderPolicy::Intact
+        })
+        .with_projection(a.projection)
+        .with_k(a.k)
+        .with_rebin(!a.fixed_intervals)
+        .with_lazy(!a.eager)
+        .with_look_ahead(!a.no_look_ahead)
+        .with_path(a.path);
+    let format = Format::from_path(&a.out).map_err(|e| e.to_string())?;
+    let mesh = decimation_input(&a.input, a.scalar.as_deref())?;
+    let (input, out, history, json) = (&a.input, &a.out, &a.history, a.json);
+    let result =
+        geocert::decimate::decimate(&mesh, &options).map_err(|e| format!("{input}: {e}"))?;
+    // Height fields and planar meshes: errors at the same xy position; other surfaces: the
+    // distance to the decimated surface and the scalar at the closest point.
+    let errors = if result.stats.projection_xy {
+        geocert::decimate::quality::xy_errors(&mesh, &result.mesh)
+    } else {
+        geocert::decimate::quality::surface_errors(&mesh, &result.mesh)
+    };
+    // The history goes to a temporary file first so that a failing mesh write leaves nothing.
+    let mut tmp = history.as_os_str().to_owned();
+    tmp.push(".geocert-history-partial");
+    let tmp = std::path::PathBuf::from(tmp);
+    std::fs::write(&tmp, result.history.to_bytes())
+        .map_err(|e| format!("{}: {e}", history.display()))?;
+    if let Err(e) = result.mesh.write(out, format) {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(e.to_string());
+    }
+    std::fs::rename(&tmp, history).map_err(|e| format!("{}: {e}", history.display()))?;
+    let s = &result.stats;
+    if json {
+        let v = serde_json::json!({
+            "nodes_in": s.nodes_in,
+            "nodes_out": s.nodes_out,
+            "triangles_out": s.triangles_out,
+            "seconds": s.seconds,
+            "max_scalar_error": errors.max_scalar,
+            "max_height_error": s.projection_xy.then_some(errors.max_height),
+            "max_distance_error": (!s.projection_xy).then_some(errors.max_height),
+            "removed": s.removed,
+            "refused": s.refused,
+            "intervals": s.intervals,
+            "rebuilds": s.rebuilds,
+            "evaluations": s.evaluations,
+            "taken": s.taken,
+            "evaluated_ahead": s.evaluated_ahead,
+            "remembered": s.remembered,
+            "setup_seconds": s.setup_seconds,
+            "projection": if s.projection_xy { "xy" } else { "per-fan" },
+        });
+        println!("{v}");
+    } else {
+        println!(
+            "{} → {} nodes, {} → {} triangles in {:.3} s ({} removals refused); history: {} steps",
+            s.nodes_in,
+            s.nodes_out,
+            s.triangles_in,
+            s.triangles_out,
+            s.seconds,
+            s.refused,
+            result.history.len()
+        );
+        let what = if s.projection_xy {
+            "height error"
+        } else {
+            "distance to the decimated surface"
+        };
+        print!("max {what} {:.6e}", errors.max_height);
+        if let Some(m) = errors.max_scalar {
+            print!(", max scalar error {m:.6e}");
+        }
+        println!();
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Reads a mesh file or builds a built-in input (`builtin:grid:SIDE`, `builtin:plate`).
+fn decimation_input(input: &str, scalar: Option<&str>) -> Result<Mesh, String> {
+    use geocert::decimate::data;
+    if let Some(rest) = input.strip_prefix("builtin:") {
+        return match rest.split(':').collect::<Vec<_>>().as_slice() {
+            ["plate"] => Ok(data::paper_plate()),
+            ["grid", side] => {
+                let side: usize = side
+                    .parse()
+                    .map_err(|_| format!("{input}: grid side {side:?} is not a number"))?;
+                if !(2..=4000).contains(&side) {
+                    return Err(format!("{input}: grid side must be in 2..=4000"));
+                }
+                Ok(data::height_grid(side))
+            }
+            _ => Err(format!(
+                "{input}: unknown built-in (builtin:grid:SIDE or builtin:plate)"
+            )),
+        };
+    }
+    Mesh::read(FsPath::new(input), scalar).map_err(|e| e.to_string())
+}
+
+pub(crate) fn undo(a: UndoArgs) -> Result<ExitCode, String> {
+    let (input, history, steps, out) = (&a.input, &a.history, a.steps, &a.out);
+    let format = Format::from_path(out).map_err(|e| e.to_string())?;
+    let bytes = read_bytes(history)?;
+    let h = History::from_bytes(&bytes).map_err(|e| format!("{}: {e}", history.display()))?;
+    let name = h.has_scalars.then_some(h.scalar_name.as_str());
+    let mesh = Mesh::read(input, name).map_err(|e| e.to_string())?;
+    let mut stage =
+        Stage::decimated(&mesh, &h).map_err(|e| format!("{}: {e}", history.display()))?;
+    let n = steps.unwrap_or(h.len());
+    if n > h.len() {
+        return Err(format!(
+            "--steps {n}: the history has only {} steps",
+            h.len()
+        ));
+    }
+    let clock = std::time::Instant::now();
+    for _ in 0..n {
+        stage.undo(&h).map_err(|e| e.to_string())?;
+    }
+    let seconds = clock.elapsed().as_secs_f64();
+    let back = stage.to_mesh();
+    let exact = stage.applied == 0
+        && geocert::decimate::history::fingerprint(&back) == h.original_fingerprint;
+    back.write(out, format).map_err(|e| e.to_string())?;
+    println!(
+        "undid {n} of {} steps in {seconds:.3} s: {} nodes, {} triangles{}",
+        h.len(),
+        back.vertices.len(),
+        back.triangles.len(),
+        if stage.applied == 0 {
+            if exact {
+                "; identical to the original (fingerprint)"
+            } else {
+                "; DIFFERS from the original's fingerprint"
+            }
+        } else {
+            ""
+        }
+    );
+    Ok(status(stage.applied != 0 || exact))
+}

@@ -1,0 +1,289 @@
+//! `geocert mc`: marching cubes (Wünsche & Lin) — volume extraction, finite elements, the
+//! table audit and export.
+
+use crate::out::{choice, pretty, read, read_bytes, write};
+use clap::{Subcommand, ValueEnum};
+use geocert::mc::audit::{audit, export, parse_table, Numbering};
+use geocert::mc::fe::{polygonise, FeModel, FeOptions, NormalSource};
+use geocert::mc::grid::{extract, read_raw, ExtractOptions, RawType};
+use geocert::mesh::Format;
+use geocert::num::{parse_rational, Rational};
+use geocert::Path;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Subcommand)]
+pub(crate) enum Command {
+    /// Extract the isosurface of a volume as a mesh: NIfTI-1 (`.nii`, `.nii.gz`), or raw
+    /// little-endian samples (x fastest) with `--dims` and `--type`.
+    Extract {
+        volume: PathBuf,
+        /// Raw volumes only: the sample counts along x, y, z.
+        #[arg(long, num_args = 3, value_names = ["X", "Y", "Z"])]
+        dims: Option<Vec<usize>>,
+        /// Raw volumes only: the sample type.
+        #[arg(long = "type", value_parser = choice::<RawType>(RawType::NAMES))]
+        ty: Option<RawType>,
+        /// Isovalue: a number (exact as its f64) or "p/q" for the exact path.
+        #[arg(long, allow_hyphen_values = true)]
+        iso: String,
+        /// Output mesh (.ply, .obj or .stl).
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long, default_value_t = Path::Fast, value_parser = choice::<Path>(Path::NAMES))]
+        path: Path,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Polygonise a finite element model (JSON: `{"kind": {"bases": [..]}, "coordinates":
+    /// [[x,y,z], ..], "field": [..], "elements": [[8 node ids], ..]}`, see `mc demo
+    /// --model-out`) in material space.
+    Fe {
+        model: PathBuf,
+        /// Isovalue: a number (exact as its f64) or "p/q" for the exact path.
+        #[arg(long, allow_hyphen_values = true)]
+        iso: String,
+        #[command(flatten)]
+        fe: FeArgs,
+    },
+    /// The 0-isosurface of the built-in 16-element left ventricle (cubic Hermite ×
+    /// cubic Hermite × linear Lagrange) with its strain-like field.
+    Demo {
+        /// Also write the model as JSON (the `mc fe` input format).
+        #[arg(long)]
+        model_out: Option<PathBuf>,
+        #[command(flatten)]
+        fe: FeArgs,
+    },
+    /// Audit a 256-configuration triangle table: 256 lines of edge ids, or a C/Rust array
+    /// literal of 256×16 integers.
+    Audit {
+        table: PathBuf,
+        #[arg(long, value_parser = choice::<Numbering>(Numbering::NAMES))]
+        format: Numbering,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Print geocert's table as 256 lines in the given numbering, one decision for every
+    /// ambiguous face.
+    Export {
+        #[arg(long, value_parser = choice::<Numbering>(Numbering::NAMES))]
+        format: Numbering,
+        /// `separate`: positive corners never joined across a face; `join`: always joined.
+        #[arg(long, value_enum, default_value_t = FaceRule::Separate)]
+        rule: FaceRule,
+    },
+}
+
+#[derive(clap::Args)]
+pub(crate) struct FeArgs {
+    /// Output mesh (.ply, .obj, .stl or .vtk); normals are written where the format has them.
+    #[arg(long)]
+    out: PathBuf,
+    /// Cells per element along ξ₁ ξ₂ ξ₃ (default: the paper's 9 9 5 for the demo, 8 8 8
+    /// otherwise).
+    #[arg(long, num_args = 3, value_names = ["N1", "N2", "N3"])]
+    cells: Option<Vec<usize>>,
+    #[arg(long, default_value_t = Path::Fast, value_parser = choice::<Path>(Path::NAMES))]
+    path: Path,
+    /// Vertex normals from the interpolant's gradient or from finite differences (fast path).
+    #[arg(long, default_value_t = NormalSource::Interpolant, value_parser = choice::<NormalSource>(NormalSource::NAMES))]
+    normals: NormalSource,
+    #[arg(long)]
+    json: bool,
+}
+
+/// The rule `mc export` applies on ambiguous faces.
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum FaceRule {
+    /// Positive corners never joined across a face.
+    Separate,
+    /// Always joined.
+    Join,
+}
+
+pub(crate) fn run(c: Command) -> Result<ExitCode, String> {
+    match c {
+        Command::Extract {
+            volume,
+            dims,
+            ty,
+            iso,
+            out,
+            path,
+            json,
+        } => extract_volume(volume, dims, ty, &iso, out, path, json),
+        Command::Fe { model, iso, fe } => {
+            let m: FeModel<f64> = serde_json::from_str(&read(&model)?)
+                .map_err(|e| format!("{}: {e}", model.display()))?;
+            m.validate()
+                .map_err(|e| format!("{}: {e}", model.display()))?;
+            let iso = parse_rational(&iso).map_err(|e| format!("--iso: {e}"))?;
+            polygonise_model(&m, &iso, [8, 8, 8], fe)
+        }
+        Command::Demo { model_out, fe } => {
+            let m = geocert::mc::fe::heart::left_ventricle();
+            // Refuse a bad output name before writing anything.
+            Format::from_path(&fe.out).map_err(|e| e.to_string())?;
+            if let Some(p) = model_out {
+                write(&p, pretty(&m)?)?;
+            }
+            let cells = geocert::mc::fe::heart::paper_options().cells;
+            polygonise_model(&m, &Rational::from_integer(0.into()), cells, fe)
+        }
+        Command::Audit {
+            table,
+            format,
+            json,
+        } => {
+            let tris =
+                parse_table(&read(&table)?).map_err(|e| format!("{}: {e}", table.display()))?;
+            let r = audit(&tris, format);
+            if json {
+                println!("{}", pretty(&r)?);
+            } else {
+                println!(
+                    "{}: {} cracks, {} winding errors, {} edge errors, {} segments off the faces, {} wrong pairings",
+                    table.display(),
+                    r.cracks,
+                    r.winding_errors,
+                    r.edge_errors,
+                    r.face_errors,
+                    r.pairing_errors
+                );
+                println!("winding: {}", r.winding);
+                println!("ambiguous faces: {}", r.ambiguous_face_rule);
+                for d in &r.details {
+                    println!("  {d}");
+                }
+                for (a, b, axis) in r.crack_pairs.iter().take(10) {
+                    println!("  crack: configurations {a} and {b} across {axis}");
+                }
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Export { format, rule } => {
+            print!("{}", export(format, |_| matches!(rule, FaceRule::Join)));
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}
+
+/// `mc extract`: reads a NIfTI or raw volume and polygonises it.
+fn extract_volume(
+    volume: PathBuf,
+    dims: Option<Vec<usize>>,
+    ty: Option<RawType>,
+    iso: &str,
+    out: PathBuf,
+    path: Path,
+    json: bool,
+) -> Result<ExitCode, String> {
+    let format = Format::from_path(&out).map_err(|e| e.to_string())?;
+    let iso_q = parse_rational(iso).map_err(|e| format!("--iso: {e}"))?;
+    let bytes = read_bytes(&volume)?;
+    let name = volume.to_string_lossy().to_ascii_lowercase();
+    let vol = if name.ends_with(".nii") || name.ends_with(".nii.gz") {
+        if dims.is_some() || ty.is_some() {
+            return Err(
+                "--dims and --type are for raw volumes; NIfTI files carry their own".into(),
+            );
+        }
+        geocert::mc::nifti::read_nifti(&bytes)
+    } else {
+        let (Some(dims), Some(ty)) = (dims, ty) else {
+            return Err(format!(
+                "{}: a raw volume needs --dims X Y Z and --type (or use a .nii / .nii.gz file)",
+                volume.display()
+            ));
+        };
+        let dims: [usize; 3] = dims
+            .try_into()
+            .map_err(|_| "--dims takes three sizes".to_string())?;
+        read_raw(&bytes, dims, ty)
+    }
+    .map_err(|e| format!("{}: {e}", volume.display()))?;
+    let start = std::time::Instant::now();
+    let (mesh, stats) = extract(&vol, &iso_q, &ExtractOptions::new().with_path(path))
+        .map_err(|e| format!("--iso {iso}: {e}"))?;
+    let seconds = start.elapsed().as_secs_f64();
+    let closed = mesh.check_manifold().map(|b| b == 0).unwrap_or(false);
+    mesh.write(&out, format).map_err(|e| e.to_string())?;
+    let cells_per_second = stats.cells as f64 / seconds.max(1e-9);
+    if json {
+        let v = serde_json::json!({
+            "triangles": mesh.triangles.len(),
+            "vertices": mesh.vertices.len(),
+            "ambiguous_faces": stats.ambiguous_faces,
+            "cells_per_second": cells_per_second,
+            "closed": closed,
+        });
+        println!("{v}");
+    } else {
+        println!(
+            "{} triangles, {} vertices, {} ambiguous faces, {:.1} Mcells/s, closed: {closed}",
+            mesh.triangles.len(),
+            mesh.vertices.len(),
+            stats.ambiguous_faces,
+            cells_per_second / 1e6
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Polygonises a finite element model on either path and writes the mesh.
+fn polygonise_model(
+    m: &FeModel<f64>,
+    iso: &Rational,
+    default_cells: [usize; 3],
+    a: FeArgs,
+) -> Result<ExitCode, String> {
+    let format = Format::from_path(&a.out).map_err(|e| e.to_string())?;
+    let cells: [usize; 3] = match a.cells {
+        Some(c) => c
+            .try_into()
+            .map_err(|_| "--cells takes three counts".to_string())?,
+        None => default_cells,
+    };
+    let opts = FeOptions::new()
+        .with_cells(cells)
+        .with_normals(a.normals)
+        .with_path(a.path);
+    let start = std::time::Instant::now();
+    let surface = polygonise(m, iso, &opts).map_err(|e| e.to_string())?;
+    let (mesh, stats) = (surface.mesh, surface.stats);
+    let seconds = start.elapsed().as_secs_f64();
+    let manifold = mesh.check_manifold();
+    let boundary_edges = manifold.as_ref().ok().copied();
+    mesh.write(&a.out, format).map_err(|e| e.to_string())?;
+    let v = serde_json::json!({
+        "triangles": mesh.triangles.len(),
+        "vertices": mesh.vertices.len(),
+        "cells_per_second": stats.cells as f64 / seconds.max(1e-9),
+        "manifold": manifold.is_ok(),
+        "boundary_edges": boundary_edges,
+        "closed": boundary_edges == Some(0),
+        "euler_characteristic": mesh.euler_characteristic(),
+        "stats": stats,
+    });
+    if a.json {
+        println!("{v}");
+    } else {
+        println!(
+            "{} triangles, {} vertices; {} elements, {} cells ({} cut, {} with an ambiguous face); {} vertices welded and {} collapsed triangles removed (Figure 7); manifold: {}, boundary edges: {}, Euler characteristic {}; {:.2} Mcells/s",
+            mesh.triangles.len(),
+            mesh.vertices.len(),
+            stats.elements,
+            stats.cells,
+            stats.cut_cells,
+            stats.ambiguous_cells,
+            stats.welded_vertices,
+            stats.degenerate_triangles,
+            manifold.is_ok(),
+            boundary_edges.map(|b| b.to_string()).unwrap_or_else(|| "-".into()),
+            mesh.euler_characteristic(),
+            stats.cells as f64 / seconds.max(1e-9) / 1e6
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -4,7 +4,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use geocert::bernstein::Limits;
-use geocert::ffd::sufficient::{conic_test_fast, phi_test_fast, ConicOptions, Scope};
+use geocert::ffd::{conic_test_fast, phi_test_fast, ConicOptions, Scope};
 use geocert::ffd::{check_injectivity, Basis, CheckOptions};
 use geocert::internals::report::ffd::perturbed_lattices;
 use std::hint::black_box;

@@ -23,6 +23,15 @@
 //! * [`report`] — writes the Markdown reports in `reports/` from measured runs.
 //! * `strategies` (feature `proptest`) — proptest strategies for other crates' property tests.
 
+#![warn(unused_crate_dependencies)]
+
+// The binary's own dependencies, declared by the library's `cli` feature.
+#[cfg(feature = "cli")]
+use {clap as _, indicatif as _};
+// The dev-dependencies the integration tests and benchmarks use, seen by the unit tests too.
+#[cfg(test)]
+use {approx as _, criterion as _, geocert as _};
+
 mod choice;
 pub use choice::{Path, UnknownName};
 
@@ -53,6 +62,10 @@ pub mod internals {
     /// The fuzz targets' checks (each target is a call to one of them).
     pub mod fuzzing {
         pub use crate::fuzzing::*;
+    }
+    /// The decimation's ear cutter (exposed for its property tests).
+    pub mod earcut {
+        pub use crate::decimate::earcut::*;
     }
     /// Large working arrays on huge pages; cache prefetch.
     pub mod memory {

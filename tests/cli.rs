@@ -173,7 +173,7 @@ fn ffd_check_json_and_certificate_round_trip() {
 
 #[test]
 fn ffd_drag_then_deform_a_mesh() {
-    use geocert::mesh::{shapes::squashed_hemisphere, Format, Mesh};
+    use geocert::mesh::{squashed_hemisphere, Format, Mesh};
     let steps = tmp("dome-steps.json");
     let out = geocert()
         .args([

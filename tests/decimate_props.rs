@@ -276,7 +276,7 @@ proptest! {
         radii in proptest::collection::vec(1i32..=12, 3..24),
         offsets in proptest::collection::vec(0i32..=2, 24),
     ) {
-        use geocert::decimate::earcut::{orient2d, EarCutter, RobustOrient};
+        use geocert::internals::earcut::{orient2d, EarCutter, RobustOrient};
         use std::cmp::Ordering;
         let l = radii.len();
         // Points on rays at increasing angles (lattice directions around a 16-gon), scaled.

@@ -3,12 +3,12 @@
 //! re-check.
 
 use geocert::bernstein::{Bernstein, Limits};
-use geocert::ffd::jacobian::{
+use geocert::ffd::{
     jacobian_at, jacobian_cell_bezier, jacobian_cell_scaled, jacobian_cells_morken,
     jacobian_in_cell,
 };
 use geocert::ffd::{
-    check_injectivity, fast::jacobian_cell_fast, fast::JacobianWorkspace,
+    check_injectivity, jacobian_cell_fast, JacobianWorkspace,
     verify_injectivity_certificate, Basis, CheckOptions, InjectivityCertificate,
     InjectivityVerdict, Lattice,
 };
@@ -173,7 +173,7 @@ fn folded_lattice_is_not_injective_with_exact_witness() {
 
 mod sufficient_tests {
     use super::*;
-    use geocert::ffd::sufficient::*;
+    use geocert::ffd::*;
 
     /// Lattices on an f64 grid (so the plain-f64 conic route runs too).
     fn f64_lattice() -> impl Strategy<Value = Lattice> {
@@ -261,8 +261,8 @@ proptest! {
         deltas in proptest::collection::vec((-7i64..8, -7i64..8, -7i64..8), 2),
         fast in any::<bool>(),
     ) {
-        use geocert::ffd::deform::deform_points_fast;
-        use geocert::ffd::manipulation::{compose, injective_drag, Constraint, DragOptions};
+        use geocert::ffd::deform_points_fast;
+        use geocert::ffd::{compose, injective_drag, Constraint, DragOptions};
         use geocert::ffd::FfdError;
         let shape = Lattice::identity(Basis::Bspline, [3, 3, 3], [2, 2, 2]).unwrap();
         let cs: Vec<Constraint> = pts

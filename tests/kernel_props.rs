@@ -1,7 +1,7 @@
 //! Property tests of the scalar, Bernstein and B-spline kernel: exact identities in rational
 //! arithmetic, and the fast path checked against the exact one.
 
-use geocert::bernstein::positivity::{verify_witness, WitnessValue};
+use geocert::bernstein::{verify_witness, WitnessValue};
 use geocert::bernstein::{
     prove_positive_exact, prove_positive_fast, prove_positive_filtered,
     verify_positive_certificate, Bernstein, FastBernstein, Limits, PositivityVerdict,

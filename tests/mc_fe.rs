@@ -1,8 +1,8 @@
 //! Finite-element polygonisation: exact against fast, against the regular-grid extractor, on
 //! closed surfaces, degenerate elements (Figure 7) and the heart demo.
 
-use geocert::mc::fe::exact::polygonise_exact;
-use geocert::mc::fe::fast::polygonise_fast;
+use geocert::mc::fe::polygonise_exact;
+use geocert::mc::fe::polygonise_fast;
 use geocert::mc::fe::heart::{left_ventricle, paper_options};
 use geocert::mc::fe::models::block;
 use geocert::mc::fe::{ElementKind, FeError, FeModel, FeOptions, NormalSource};

@@ -1,7 +1,7 @@
 //! Mesh readers and writers: exact round trips, validation errors that name the element,
 //! topology checks on the built-in dome.
 
-use geocert::mesh::{obj, ply, shapes::squashed_hemisphere, stl, vtk, Mesh, MeshError, Scalars};
+use geocert::mesh::{obj, ply, squashed_hemisphere, stl, vtk, Mesh, MeshError, Scalars};
 use proptest::prelude::*;
 
 fn mesh_strategy() -> impl Strategy<Value = Mesh> {

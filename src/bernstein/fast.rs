@@ -15,7 +15,7 @@ use super::{binomial_f64, BernsteinError, MAX_EXACT_BINOMIAL_F64};
 use crate::num::{gamma, Field, Rational, Sign, UNIT_ROUNDOFF};
 
 /// Largest degree per axis the fast path handles (stack line buffers).
-pub const MAX_FAST_DEGREE: usize = 63;
+pub(crate) const MAX_FAST_DEGREE: usize = 63;
 
 /// Smallest positive subnormal.
 const ETA: f64 = 5e-324;

@@ -12,19 +12,24 @@
 //! [`positivity`] proves or refutes `p > 0` on the unit box by subdivision, with
 //! checkable certificates, in all three forms.
 
-pub mod certificate;
-pub mod fast;
-pub mod io;
-pub mod poly;
-pub mod positivity;
-pub mod scaled;
+pub(crate) mod certificate;
+pub(crate) mod fast;
+pub(crate) mod io;
+pub(crate) mod poly;
+pub(crate) mod positivity;
+pub(crate) mod scaled;
 
 pub use certificate::{box_sign, BoxSign};
 pub use fast::FastBernstein;
+pub use io::{
+    certificate_for, parse_number, poly_from_json, poly_to_json, verify_certificate_file,
+    CertificateFile, InputError, VerifyError,
+};
 pub use poly::Bernstein;
 pub use positivity::{
     prove_positive, prove_positive_exact, prove_positive_fast, prove_positive_filtered,
-    prove_positive_filtered_with, prove_positive_scaled, verify_positive_certificate, DyadicBox,
+    prove_positive_filtered_with, prove_positive_scaled, verify_positive_certificate, verify_witness,
+    DyadicBox, WitnessValue,
     Limits, PositivityOptions, PositivityVerdict,
 };
 pub use scaled::ScaledBernstein;

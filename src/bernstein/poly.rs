@@ -16,7 +16,7 @@ pub struct Bernstein<T> {
 }
 
 /// Strides of the coefficient array for the given degrees (axis 0 fastest).
-pub fn strides(degrees: &[usize]) -> Vec<usize> {
+pub(crate) fn strides(degrees: &[usize]) -> Vec<usize> {
     let mut s = Vec::with_capacity(degrees.len());
     let mut acc = 1;
     for &d in degrees {
@@ -27,12 +27,12 @@ pub fn strides(degrees: &[usize]) -> Vec<usize> {
 }
 
 /// Number of coefficients for the given degrees.
-pub fn coefficient_count(degrees: &[usize]) -> usize {
+pub(crate) fn coefficient_count(degrees: &[usize]) -> usize {
     degrees.iter().map(|d| d + 1).product()
 }
 
 /// Multi-index of the flat position `flat` (axis 0 fastest).
-pub fn multi_index(degrees: &[usize], mut flat: usize) -> Vec<usize> {
+pub(crate) fn multi_index(degrees: &[usize], mut flat: usize) -> Vec<usize> {
     degrees
         .iter()
         .map(|&d| {
@@ -79,7 +79,7 @@ where
 
 /// One-dimensional de Casteljau subdivision of `b` at `t`: returns the control
 /// values of the pieces on `[0,t]` and `[t,1]` (Farin, eq. 4.x "subdivision").
-pub fn de_casteljau_split<T: Field>(b: &[T], t: &T) -> (Vec<T>, Vec<T>) {
+pub(crate) fn de_casteljau_split<T: Field>(b: &[T], t: &T) -> (Vec<T>, Vec<T>) {
     let n = b.len();
     let one_minus_t = T::one().sub(t);
     let mut work = b.to_vec();
@@ -98,7 +98,7 @@ pub fn de_casteljau_split<T: Field>(b: &[T], t: &T) -> (Vec<T>, Vec<T>) {
 }
 
 /// The value of a 1-D Bernstein polynomial at `t` by de Casteljau's algorithm.
-pub fn de_casteljau_eval<T: Field>(b: &[T], t: &T) -> T {
+pub(crate) fn de_casteljau_eval<T: Field>(b: &[T], t: &T) -> T {
     let one_minus_t = T::one().sub(t);
     let mut work = b.to_vec();
     let n = b.len();

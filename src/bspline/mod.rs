@@ -6,9 +6,9 @@
 //! `s_0 ≤ … ≤ s_{n+p}` with coefficients `c_0 … c_{n−1}` is `Σ c_i N_{i,p}`, `N_{i,p}` supported
 //! on `[s_i, s_{i+p+1}]`; its domain is `[s_p, s_n]`.
 
-pub mod morken;
-pub mod spline;
-pub mod tensor;
+pub(crate) mod morken;
+pub(crate) mod spline;
+pub(crate) mod tensor;
 
 pub use morken::{morken_product, product_knots};
 pub use spline::Spline;

@@ -34,7 +34,7 @@ use std::thread::JoinHandle;
 /// are re-filed behind it: on the 810k-node grid, while the worker kept up, 32 left 2 % of
 /// the taken nodes to the loop and 256 left 20 %. (When the loop outruns the worker, the
 /// loop evaluates what has not come back; the report gives the share measured.)
-pub const BATCH: usize = 32;
+pub(crate) const BATCH: usize = 32;
 /// The lead the loop keeps, in batches.
 const LEAD: usize = 2;
 /// Batches whose results have not come back, at most; beyond that a batch is dropped (the
@@ -51,7 +51,7 @@ const KEPT: usize = 64 * BATCH;
 
 /// A node's plan as evaluated ahead.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Planned {
+pub(crate) enum Planned {
     /// Its hole cannot be filled: it may not go.
     Refused,
     /// Its hole is filled by the packed cut (`earcut::pack_cut`) in `plane`.
@@ -66,7 +66,7 @@ pub enum Planned {
 
 /// What was evaluated ahead for one node.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Evaluated {
+pub(crate) struct Evaluated {
     pub node: u32,
     pub ticket: u32,
     /// The evaluation value, `None` when the node may not be removed now.
@@ -79,7 +79,7 @@ pub struct Evaluated {
 
 /// One hand-over: nodes with copies of their lists.
 #[derive(Default)]
-pub struct Job {
+pub(crate) struct Job {
     /// The first node's ticket; the others follow in order.
     pub first_ticket: u32,
     /// `(node, start, len, border)`: the node's list is `entries[start..start + len]`.
@@ -92,7 +92,7 @@ pub struct Job {
 }
 
 /// The worker thread and the results that came back.
-pub struct Lookahead {
+pub(crate) struct Lookahead {
     jobs: Option<Sender<Job>>,
     done: Receiver<Job>,
     /// Emptied jobs, for their buffers.
@@ -121,7 +121,7 @@ impl Lookahead {
     /// order, except those whose ticket `passed` says the loop has gone by; jobs have
     /// `batch` nodes. `None` when no thread can be started (the loop then evaluates
     /// everything itself).
-    pub fn spawn(
+    pub(crate) fn spawn(
         mut evaluate: impl FnMut(&Job, &mut Vec<Evaluated>, &dyn Fn(u32) -> bool) + Send + 'static,
         batch: usize,
         wait: bool,
@@ -172,7 +172,7 @@ impl Lookahead {
     }
 
     /// The lead the loop should keep.
-    pub fn lead(&self) -> usize {
+    pub(crate) fn lead(&self) -> usize {
         LEAD * self.batch
     }
 
@@ -180,7 +180,7 @@ impl Lookahead {
     /// starts) to the batch being filled, with a copy of its list; a full batch goes to the
     /// worker, unless too many batches are still out (then it is dropped). `scale`: the
     /// queue's, with its version (a batch holds nodes handed over under one version).
-    pub fn add(&mut self, v: u32, ticket: u32, lists: &FanLists, scale: Option<(Scale, u32)>) {
+    pub(crate) fn add(&mut self, v: u32, ticket: u32, lists: &FanLists, scale: Option<(Scale, u32)>) {
         let job = &self.pending;
         if !job.nodes.is_empty()
             && (job.first_ticket.wrapping_add(job.nodes.len() as u32) != ticket
@@ -265,7 +265,7 @@ impl Lookahead {
 
     /// What was evaluated ahead for `node` under `ticket`, if it has come back; the loop is
     /// taking it now.
-    pub fn result(&mut self, node: u32, ticket: u32) -> Option<Evaluated> {
+    pub(crate) fn result(&mut self, node: u32, ticket: u32) -> Option<Evaluated> {
         // Every PROGRESS_EVERY tickets: each store takes the line from the worker's core.
         if !self.wait && ticket.wrapping_sub(self.published) >= PROGRESS_EVERY {
             self.progress.store(ticket, Ordering::Relaxed);

@@ -32,7 +32,7 @@ use crate::par::prelude::*;
 const NONE: u32 = u32::MAX;
 
 /// Eq. (1): the number of intervals `m = ⌊n/k⌋`, at least 1.
-pub fn interval_count(n: usize, k: usize) -> usize {
+pub(crate) fn interval_count(n: usize, k: usize) -> usize {
     (n / k.max(1)).max(1)
 }
 
@@ -62,7 +62,7 @@ const UNQUEUED: Node = Node {
 
 /// A node taken from the queue ([`BucketQueue::pop`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Taken {
+pub(crate) struct Taken {
     pub node: u32,
     /// The interval it was taken from.
     pub interval: usize,
@@ -74,7 +74,7 @@ pub struct Taken {
 
 /// The bucket queue.
 #[derive(Clone, Debug)]
-pub struct BucketQueue {
+pub(crate) struct BucketQueue {
     m: usize,
     ev_min: f64,
     delta: f64,
@@ -102,7 +102,7 @@ pub struct BucketQueue {
 /// The boundaries of a queue's intervals (eq. 3): enough to map a value to its interval away
 /// from the queue (the lookahead thread does, for the nodes it evaluates).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Scale {
+pub(crate) struct Scale {
     m: usize,
     ev_min: f64,
     delta: f64,
@@ -112,7 +112,7 @@ pub struct Scale {
 
 impl Scale {
     /// Eq. (3), normalised: the interval of evaluation value `ev`.
-    pub fn interval(&self, ev: f64) -> usize {
+    pub(crate) fn interval(&self, ev: f64) -> usize {
         if self.delta == 0.0 || ev.is_nan() || ev <= self.ev_min {
             return 0;
         }
@@ -134,7 +134,7 @@ impl Scale {
 
 impl BucketQueue {
     /// A queue for node ids `0..nodes`, with `m` intervals over `[ev_min, ev_max]`.
-    pub fn new(nodes: usize, m: usize, ev_min: f64, ev_max: f64) -> BucketQueue {
+    pub(crate) fn new(nodes: usize, m: usize, ev_min: f64, ev_max: f64) -> BucketQueue {
         let m = m.max(1);
         let delta = if ev_max > ev_min && (ev_max - ev_min).is_finite() {
             ev_max - ev_min
@@ -162,13 +162,13 @@ impl BucketQueue {
 
     /// Turns re-binning on (see the module docs): rebuild with `⌊len/k⌋` intervals once more
     /// than `len/r` pushes since the last rebuild were above the range.
-    pub fn rebinning(mut self, k: usize, r: usize) -> BucketQueue {
+    pub(crate) fn rebinning(mut self, k: usize, r: usize) -> BucketQueue {
         self.rebin = Some((k.max(1), r.max(1)));
         self
     }
 
     /// How many times the queue was re-binned.
-    pub fn rebuilds(&self) -> usize {
+    pub(crate) fn rebuilds(&self) -> usize {
         self.rebuilds
     }
 
@@ -225,23 +225,19 @@ impl BucketQueue {
         self.order = order;
     }
 
-    /// The number of intervals.
-    pub fn intervals(&self) -> usize {
-        self.m
-    }
-
     /// The number of queued nodes.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.len
     }
 
     /// True when no node is queued.
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.len == 0
     }
 
     /// Eq. (2), normalised: the lower boundary `d_j` of interval `j` (`0 ≤ j ≤ m`).
-    pub fn boundary(&self, j: usize) -> f64 {
+    #[cfg(test)]
+    pub(crate) fn boundary(&self, j: usize) -> f64 {
         if self.delta == 0.0 {
             return self.ev_min;
         }
@@ -253,14 +249,14 @@ impl BucketQueue {
 
     /// Eq. (3), normalised: the interval of evaluation value `ev`.
     #[inline]
-    pub fn interval(&self, ev: f64) -> usize {
+    pub(crate) fn interval(&self, ev: f64) -> usize {
         self.scale().interval(ev)
     }
 
     /// The intervals' boundaries as they are now; they change only when the queue is re-binned
     /// (then [`rebuilds`](Self::rebuilds) counts one more).
     #[inline]
-    pub fn scale(&self) -> Scale {
+    pub(crate) fn scale(&self) -> Scale {
         Scale {
             m: self.m,
             ev_min: self.ev_min,
@@ -271,18 +267,18 @@ impl BucketQueue {
 
     /// Asks the processor to start fetching `node`'s record.
     #[inline]
-    pub fn prefetch(&self, node: u32) {
+    pub(crate) fn prefetch(&self, node: u32) {
         crate::memory::prefetch(&self.nodes[node as usize]);
     }
 
     /// True when `node` is queued.
-    pub fn contains(&self, node: u32) -> bool {
+    pub(crate) fn contains(&self, node: u32) -> bool {
         self.nodes[node as usize].bucket != NONE
     }
 
     /// Marks `node` if it is queued, and returns whether it is. Filing or unlinking a node
     /// clears its mark; [`pop`](Self::pop) reports it. Marking voids the node's ticket.
-    pub fn mark(&mut self, node: u32) -> bool {
+    pub(crate) fn mark(&mut self, node: u32) -> bool {
         let n = &mut self.nodes[node as usize];
         n.marked |= n.bucket != NONE;
         n.ticket = NONE;
@@ -291,13 +287,13 @@ impl BucketQueue {
 
     /// True when `node` is queued and marked.
     #[inline]
-    pub fn is_marked(&self, node: u32) -> bool {
+    pub(crate) fn is_marked(&self, node: u32) -> bool {
         self.nodes[node as usize].marked
     }
 
     /// The queued node that pops right after `from`, or the front node when `from` is
     /// `None` or no longer queued; and whether it is the front node.
-    pub fn next_after(&self, from: Option<u32>) -> Option<(u32, bool)> {
+    pub(crate) fn next_after(&self, from: Option<u32>) -> Option<(u32, bool)> {
         match from {
             Some(h) if self.contains(h) => Some((self.after(h)?, false)),
             _ => Some((self.peek()?, true)),
@@ -309,7 +305,7 @@ impl BucketQueue {
     /// popped node's ticket says that it has neither been marked nor moved since it got it:
     /// what a caller computed for it then, from data that only changes when it is marked,
     /// still holds.
-    pub fn give_ticket(&mut self, node: u32, ticket: u32) -> bool {
+    pub(crate) fn give_ticket(&mut self, node: u32, ticket: u32) -> bool {
         let n = &mut self.nodes[node as usize];
         if n.bucket == NONE {
             return false;
@@ -332,7 +328,7 @@ impl BucketQueue {
     /// re-binning), the intervals are computed in parallel, a counting sort gives the pop
     /// order, and every record is written once, from its neighbours in that order (in
     /// parallel and in node order when the ids increase), without chasing tails.
-    pub fn push_all(&mut self, items: &[(u32, f64)]) {
+    pub(crate) fn push_all(&mut self, items: &[(u32, f64)]) {
         let top = self.ev_min + self.delta;
         let overflows = self.rebin.is_some() && items.iter().any(|&(_, ev)| ev > top);
         if !self.is_empty() || overflows {
@@ -418,12 +414,12 @@ impl BucketQueue {
     }
 
     /// Files `node` at the tail of the interval of `ev` (unlinking it first if queued).
-    pub fn push(&mut self, node: u32, ev: f64) {
+    pub(crate) fn push(&mut self, node: u32, ev: f64) {
         self.push_to(node, ev, self.interval(ev));
     }
 
     /// [`push`](Self::push) when the caller has `interval(ev)` already.
-    pub fn push_to(&mut self, node: u32, ev: f64, interval: usize) {
+    pub(crate) fn push_to(&mut self, node: u32, ev: f64, interval: usize) {
         debug_assert_eq!(interval, self.interval(ev));
         self.remove(node);
         self.file_in(node, ev, interval);
@@ -465,7 +461,7 @@ impl BucketQueue {
     }
 
     /// Unlinks `node` if it is queued.
-    pub fn remove(&mut self, node: u32) {
+    pub(crate) fn remove(&mut self, node: u32) {
         let n = self.nodes[node as usize];
         if n.bucket == NONE {
             return;
@@ -525,12 +521,12 @@ impl BucketQueue {
     }
 
     /// The node [`pop`](Self::pop) would take now.
-    pub fn peek(&self) -> Option<u32> {
+    pub(crate) fn peek(&self) -> Option<u32> {
         self.front().map(|j| self.head[j])
     }
 
     /// Takes the node at the front of the lowest non-empty interval.
-    pub fn pop(&mut self) -> Option<Taken> {
+    pub(crate) fn pop(&mut self) -> Option<Taken> {
         let j = self.front()?;
         self.lowest = j;
         let node = self.head[j];

@@ -423,7 +423,7 @@ impl Engine for ExactEngine {
 }
 
 /// Decimates with the exact engine.
-pub fn decimate(mesh: &Mesh, options: &Options) -> Result<Outcome, DecimateError> {
+pub(crate) fn decimate(mesh: &Mesh, options: &Options) -> Result<Outcome, DecimateError> {
     driver::decimate_with(
         mesh,
         options,

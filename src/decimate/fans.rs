@@ -20,11 +20,11 @@ use crate::par::prelude::*;
 use std::sync::Mutex;
 
 /// The triangle field of a border node's last entry.
-pub const NO_TRIANGLE: u32 = u32::MAX;
+pub(crate) const NO_TRIANGLE: u32 = u32::MAX;
 
 /// A neighbour and the triangle that follows it counter-clockwise (`slot · 4 + corner`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Entry {
+pub(crate) struct Entry {
     pub node: u32,
     pub triangle: u32,
 }
@@ -32,20 +32,20 @@ pub struct Entry {
 impl Entry {
     /// The triangle slot, when there is a triangle.
     #[inline]
-    pub fn slot(self) -> u32 {
+    pub(crate) fn slot(self) -> u32 {
         self.triangle >> 2
     }
 
     /// The corner of the list's node in that slot's triangle.
     #[inline]
-    pub fn corner(self) -> u8 {
+    pub(crate) fn corner(self) -> u8 {
         (self.triangle & 3) as u8
     }
 }
 
 /// Read access to nodes' lists: the live [`FanLists`], or a copy of one list
 /// ([`CopiedList`]) that a node can be evaluated from on another thread.
-pub trait Lists {
+pub(crate) trait Lists {
     /// The number of entries of `v`'s list.
     fn len(&self, v: u32) -> usize;
     /// True when `v` is on the border (its list is open).
@@ -64,7 +64,7 @@ pub trait Lists {
 
 /// One node's list, copied: the lists of all other nodes read as empty.
 #[derive(Clone, Copy, Debug)]
-pub struct CopiedList<'a> {
+pub(crate) struct CopiedList<'a> {
     pub node: u32,
     pub entries: &'a [Entry],
     pub border: bool,
@@ -119,9 +119,9 @@ impl Lists for FanLists {
 }
 
 /// Entries per cache line (a node's block: its header and [`INLINE`] entries).
-pub const BLOCK: usize = 8;
+pub(crate) const BLOCK: usize = 8;
 /// Entries held in a node's own block, after its header.
-pub const INLINE: usize = BLOCK - 1;
+pub(crate) const INLINE: usize = BLOCK - 1;
 
 /// One cache line of entries.
 #[derive(Clone, Copy, Default)]
@@ -140,7 +140,7 @@ const BORDER: u32 = 1 << 31;
 const NO_RUN: u32 = u32::MAX;
 
 /// The lists of all nodes.
-pub struct FanLists {
+pub(crate) struct FanLists {
     /// Blocks `0..nodes` are the nodes' own; overflow runs follow.
     blocks: Vec<Block>,
     /// Free overflow runs per size class.
@@ -155,14 +155,15 @@ fn class_for(len: usize) -> u32 {
 
 impl FanLists {
     /// Lists for `nodes` nodes, all empty.
-    pub fn new(nodes: usize) -> FanLists {
+    #[cfg(test)]
+    pub(crate) fn new(nodes: usize) -> FanLists {
         FanLists::build(nodes, |_, _| false)
     }
 
     /// Lists for `nodes` nodes, node `v`'s written by `fill(v, list)` (which returns whether
     /// it is a border list), in one parallel pass over the blocks (lists too long for their
     /// block then move to overflow runs, in node order).
-    pub fn build(nodes: usize, fill: impl Fn(u32, &mut Vec<Entry>) -> bool + Sync) -> FanLists {
+    pub(crate) fn build(nodes: usize, fill: impl Fn(u32, &mut Vec<Entry>) -> bool + Sync) -> FanLists {
         // Room for some overflow runs before the blocks move.
         let mut blocks = Vec::with_capacity(nodes + nodes / 8);
         advise_huge_pages(&mut blocks);
@@ -210,19 +211,19 @@ impl FanLists {
 
     /// The number of entries of `v`'s list.
     #[inline]
-    pub fn len(&self, v: u32) -> usize {
+    pub(crate) fn len(&self, v: u32) -> usize {
         (self.header(v).node & LEN_MASK) as usize
     }
 
     /// True when `v`'s list is empty (an isolated or removed node).
     #[inline]
-    pub fn is_empty(&self, v: u32) -> bool {
+    pub(crate) fn is_empty(&self, v: u32) -> bool {
         self.len(v) == 0
     }
 
     /// True when `v` is on the border (its list is open).
     #[inline]
-    pub fn is_border(&self, v: u32) -> bool {
+    pub(crate) fn is_border(&self, v: u32) -> bool {
         self.header(v).node & BORDER != 0
     }
 
@@ -231,7 +232,7 @@ impl FanLists {
     /// flag. `None` for a list in an overflow run. One fixed-size copy of a cache line,
     /// cheaper than reading a few entries one by one.
     #[inline]
-    pub fn inline_line(&self, v: u32) -> Option<([Entry; BLOCK], usize, bool)> {
+    pub(crate) fn inline_line(&self, v: u32) -> Option<([Entry; BLOCK], usize, bool)> {
         let line = self.blocks[v as usize].0;
         let len = (line[0].node & LEN_MASK) as usize;
         (len <= INLINE).then_some((line, len, line[0].node & BORDER != 0))
@@ -239,7 +240,7 @@ impl FanLists {
 
     /// Asks the processor to start fetching `v`'s block.
     #[inline]
-    pub fn prefetch(&self, v: u32) {
+    pub(crate) fn prefetch(&self, v: u32) {
         crate::memory::prefetch(&self.blocks[v as usize]);
     }
 
@@ -272,7 +273,7 @@ impl FanLists {
 
     /// Entry `j` of `v`'s list.
     #[inline]
-    pub fn get(&self, v: u32, j: usize) -> Entry {
+    pub(crate) fn get(&self, v: u32, j: usize) -> Entry {
         let (start, _) = self.slices(v);
         self.at(start + j)
     }
@@ -297,18 +298,18 @@ impl FanLists {
 
     /// Calls `f` on every entry of `v`'s list, in order.
     #[inline]
-    pub fn for_each(&self, v: u32, mut f: impl FnMut(Entry)) {
+    pub(crate) fn for_each(&self, v: u32, mut f: impl FnMut(Entry)) {
         self.for_each_chunk(v, |chunk| chunk.iter().for_each(|&e| f(e)));
     }
 
     /// Appends `v`'s list to `out`.
     #[inline]
-    pub fn read(&self, v: u32, out: &mut Vec<Entry>) {
+    pub(crate) fn read(&self, v: u32, out: &mut Vec<Entry>) {
         self.for_each_chunk(v, |chunk| out.extend_from_slice(chunk));
     }
 
     /// True when `b` is in `a`'s list.
-    pub fn contains(&self, a: u32, b: u32) -> bool {
+    pub(crate) fn contains(&self, a: u32, b: u32) -> bool {
         let mut found = false;
         self.for_each(a, |e| found |= e.node == b);
         found
@@ -316,7 +317,7 @@ impl FanLists {
 
     /// Replaces `v`'s list by `entries` (`border`: an open list), inline when it fits, else
     /// in an overflow run (moved to a larger one when it outgrows its own).
-    pub fn store(&mut self, v: u32, entries: &[Entry], border: bool) {
+    pub(crate) fn store(&mut self, v: u32, entries: &[Entry], border: bool) {
         let h = self.header(v);
         let mut run = h.triangle;
         let mut class = (h.node >> CLASS_SHIFT) & CLASS_MASK;
@@ -355,8 +356,8 @@ impl FanLists {
     /// border flag stays. In place when the list is inline and stays so (nearly always: the
     /// entries after `q` move within the node's own line), else through `spare` and
     /// [`store`](Self::store).
-    #[inline]
-    pub fn replace(&mut self, v: u32, q: usize, with: &[Entry], spare: &mut Vec<Entry>) {
+    #[cfg(test)]
+    pub(crate) fn replace(&mut self, v: u32, q: usize, with: &[Entry], spare: &mut Vec<Entry>) {
         self.replace_under(v, self.header(v), q, with, spare);
     }
 
@@ -409,7 +410,7 @@ impl FanLists {
     /// leads to it) and the whole chain goes in. One header read; in place when the list
     /// stays inline ([`replace`](Self::replace)).
     #[inline]
-    pub fn give_way(&mut self, w: u32, v: u32, chain: &[Entry], spare: &mut Vec<Entry>) {
+    pub(crate) fn give_way(&mut self, w: u32, v: u32, chain: &[Entry], spare: &mut Vec<Entry>) {
         let k = chain.len() - 1;
         let h = self.header(w);
         let (start, len) = Self::slices_under(w, h);
@@ -436,7 +437,7 @@ impl FanLists {
 
     /// Empties `v`'s list, frees its overflow run and marks `v` removed: its header, which
     /// is written anyway, carries the mark (no separate array to touch).
-    pub fn retire(&mut self, v: u32) {
+    pub(crate) fn retire(&mut self, v: u32) {
         if self.header(v).triangle != NO_RUN {
             self.clear(v);
         }
@@ -448,12 +449,12 @@ impl FanLists {
 
     /// True when `v` was [`retire`](Self::retire)d.
     #[inline]
-    pub fn is_retired(&self, v: u32) -> bool {
+    pub(crate) fn is_retired(&self, v: u32) -> bool {
         self.header(v).node & RETIRED != 0
     }
 
     /// Empties `v`'s list and frees its overflow run.
-    pub fn clear(&mut self, v: u32) {
+    pub(crate) fn clear(&mut self, v: u32) {
         self.store(v, &[], false);
     }
 

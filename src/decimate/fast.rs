@@ -63,7 +63,7 @@ fn recall(m: u64) -> Option<Planned> {
 
 /// Smaller meshes are decimated without the lookahead thread: starting and joining it
 /// would cost more than it saves.
-pub const LOOK_AHEAD_NODES: usize = 10_000;
+pub(crate) const LOOK_AHEAD_NODES: usize = 10_000;
 
 /// A hole ready to be filled: the fan, its projection and the ear cut.
 #[derive(Clone, Copy)]
@@ -902,7 +902,7 @@ fn star_test(pv: [f64; 2], pts: &[[f64; 2]], border: bool, turns: bool) -> bool 
 }
 
 /// Decimates with the fast engine.
-pub fn decimate(mesh: &Mesh, options: &Options) -> Result<Outcome, DecimateError> {
+pub(crate) fn decimate(mesh: &Mesh, options: &Options) -> Result<Outcome, DecimateError> {
     driver::decimate_with(
         mesh,
         options,

@@ -25,15 +25,15 @@
 //! file nodes into the same intervals, and both undecimate to the original bit for bit.
 //! [`check`] re-verifies every step independently.
 
-pub mod ahead;
-pub mod bucket;
+pub(crate) mod ahead;
+pub(crate) mod bucket;
 pub mod check;
 pub mod data;
-pub mod driver;
-pub mod earcut;
-pub mod exact;
-pub mod fans;
-pub mod fast;
+pub(crate) mod driver;
+pub(crate) mod earcut;
+pub(crate) mod exact;
+pub(crate) mod fans;
+pub(crate) mod fast;
 pub mod history;
 pub mod quality;
 

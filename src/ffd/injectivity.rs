@@ -360,7 +360,7 @@ pub struct InjectivityCertificate {
 }
 
 /// The kind tag of injectivity certificates.
-pub const CERTIFICATE_KIND: &str = "geocert/ffd-injectivity";
+pub(crate) const CERTIFICATE_KIND: &str = "geocert/ffd-injectivity";
 
 impl InjectivityCertificate {
     /// The certificate of a decided verdict (`None` for undecided or uncertain ones).

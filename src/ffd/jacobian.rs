@@ -23,7 +23,7 @@ use num_integer::Integer;
 use num_traits::{One, Zero};
 
 /// `[axis][coord]`: `∂F̃_coord / ∂u_axis` as tensor splines (coefficients: eq. 7's differences).
-pub fn partial_derivatives(l: &Lattice) -> Result<[[TensorSpline<Rational>; 3]; 3], FfdError> {
+pub(crate) fn partial_derivatives(l: &Lattice) -> Result<[[TensorSpline<Rational>; 3]; 3], FfdError> {
     let coords = [0, 1, 2].map(|c| l.coordinate_spline(c));
     let d = |axis: usize, c: usize| {
         coords[c]
@@ -125,7 +125,7 @@ pub fn jacobian_cell_scaled(net: &[Bernstein<Rational>; 3]) -> Result<ScaledBern
 }
 
 /// A cell's Bézier net as three integer polynomials over one shared denominator.
-pub fn scaled_net(net: &[Bernstein<Rational>; 3]) -> Result<[ScaledBernstein; 3], FfdError> {
+pub(crate) fn scaled_net(net: &[Bernstein<Rational>; 3]) -> Result<[ScaledBernstein; 3], FfdError> {
     let mut den = BigInt::one();
     for c in net.iter().flat_map(|p| p.coeffs()) {
         den = den.lcm(c.denom());
@@ -148,7 +148,7 @@ pub fn scaled_net(net: &[Bernstein<Rational>; 3]) -> Result<[ScaledBernstein; 3]
 /// Returns `(μ − p, values, derivatives)`. The span `μ` is `span` when given (one-sided values
 /// at a knot, from inside `[t_μ, t_{μ+1}]`), else the one with `t_μ ≤ x < t_{μ+1}` (the last
 /// span at the right end). The caller keeps `x` inside the domain `[t_p, t_n]`.
-pub fn basis_at(
+pub(crate) fn basis_at(
     knots: &[Rational],
     p: usize,
     x: &Rational,
@@ -230,7 +230,7 @@ fn common(values: &[Rational]) -> (Vec<BigInt>, BigInt) {
 /// one-sided ones (order-2 lattices are only C⁰ across cell faces); without, the cell
 /// containing the point on the right is used.
 #[allow(clippy::needless_range_loop)] // the index also picks partner rows/columns
-pub fn jacobian_matrix_in_cell(
+pub(crate) fn jacobian_matrix_in_cell(
     l: &Lattice,
     cell: Option<[usize; 3]>,
     u: &[Rational; 3],
@@ -325,12 +325,12 @@ pub fn jacobian_in_cell(
 }
 
 /// The determinant of a 3×3 rational matrix.
-pub fn det3(m: &[[Rational; 3]; 3]) -> Rational {
+pub(crate) fn det3(m: &[[Rational; 3]; 3]) -> Rational {
     let minor = |a: usize, b: usize| &m[1][a] * &m[2][b] - &m[1][b] * &m[2][a];
     &m[0][0] * minor(1, 2) - &m[0][1] * minor(0, 2) + &m[0][2] * minor(0, 1)
 }
 
 /// A parameter point of cell `cell` from local coordinates `t ∈ [0,1]³`.
-pub fn cell_point(cell: [usize; 3], t: &[Rational]) -> [Rational; 3] {
+pub(crate) fn cell_point(cell: [usize; 3], t: &[Rational]) -> [Rational; 3] {
     [0, 1, 2].map(|a| Rational::from_integer(BigInt::from(cell[a])) + &t[a])
 }

@@ -36,9 +36,9 @@ impl Basis {
 pub type Point = [Rational; 3];
 
 /// Largest order accepted per axis (the Jacobian has degree `3(order−1)−1` per axis).
-pub const MAX_ORDER: usize = 8;
+pub(crate) const MAX_ORDER: usize = 8;
 /// Largest number of cells accepted per axis.
-pub const MAX_CELLS: usize = 64;
+pub(crate) const MAX_CELLS: usize = 64;
 
 /// A trivariate FFD lattice.
 #[derive(Clone, Debug, PartialEq)]

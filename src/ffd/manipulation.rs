@@ -33,7 +33,7 @@ pub struct Constraint {
 
 /// The sparse basis matrix `B` of eq. 2.
 #[derive(Clone, Debug, PartialEq)]
-pub struct BasisMatrix {
+pub(crate) struct BasisMatrix {
     /// Lattice point index of each column, in order of first appearance.
     pub columns: Vec<usize>,
     /// Per row (constraint): `(column, weight)` for every influencing control point.
@@ -41,7 +41,7 @@ pub struct BasisMatrix {
 }
 
 /// `B` for the given parameter points (eq. 2): weights `N_i(u) N_j(v) N_k(w)`.
-pub fn basis_matrix(l: &Lattice, points: &[Point]) -> Result<BasisMatrix, FfdError> {
+pub(crate) fn basis_matrix(l: &Lattice, points: &[Point]) -> Result<BasisMatrix, FfdError> {
     let order = l.order();
     let mut columns: Vec<usize> = Vec::new();
     let mut column_of = std::collections::HashMap::new();

@@ -13,19 +13,33 @@
 //! * [`sufficient`] — the phi, Bézier-coefficient and conic-hull tests (Section 7);
 //! * [`manipulation`] — direct manipulation (Section 4) and injective DMFFD (Section 8).
 
-pub mod deform;
-pub mod fast;
-pub mod injectivity;
-pub mod jacobian;
-pub mod lattice;
-pub mod manipulation;
-pub mod sufficient;
+pub(crate) mod deform;
+pub(crate) mod fast;
+pub(crate) mod injectivity;
+pub(crate) mod jacobian;
+pub(crate) mod lattice;
+pub(crate) mod manipulation;
+pub(crate) mod sufficient;
 
 pub use injectivity::{
     check_injectivity, verify_injectivity_certificate, CheckOptions, InjectivityCertificate,
     InjectivityReport, InjectivityVerdict,
 };
-pub use lattice::{lattices_from_json, Basis, Lattice};
+pub use deform::{deform_points_exact, deform_points_fast, FastDeformer, Fit};
+pub use fast::{jacobian_cell_fast, JacobianWorkspace};
+pub use jacobian::{
+    jacobian_at, jacobian_cell_bezier, jacobian_cell_scaled, jacobian_cells_morken,
+    jacobian_in_cell, jacobian_matrix_at, jacobian_spline,
+};
+pub use lattice::{lattice_from_value, lattices_from_json, Basis, Lattice, Point};
+pub use manipulation::{
+    compose, constraints_from_json, injective_drag, solve_exact, solve_fast, steps_to_json,
+    Constraint, DragOptions, DragStep, DragTest,
+};
+pub use sufficient::{
+    bezier_coefficient_test_exact, bezier_coefficient_test_fast, conic_test_exact,
+    conic_test_fast, phi_test_exact, phi_test_fast, ConicOptions, Scope, SufficientVerdict,
+};
 
 use thiserror::Error;
 

@@ -65,7 +65,7 @@ type Vec3 = [Rational; 3];
 
 /// The difference vectors local to `cell` (`None`: the whole lattice), per axis `x`:
 /// `P_{…,i,…} − P_{…,i−1,…}` along `x` over the control points that influence the cell.
-pub fn local_differences(l: &Lattice, cell: Option<[usize; 3]>) -> [Vec<Vec3>; 3] {
+pub(crate) fn local_differences(l: &Lattice, cell: Option<[usize; 3]>) -> [Vec<Vec3>; 3] {
     let counts = l.counts();
     let order = l.order();
     let range = |a: usize| -> (usize, usize) {
@@ -497,7 +497,7 @@ const T_REL: usize = 10;
 /// of the exact value, and the cone conditions are monotone in the `m`s, so evaluating them
 /// on inflated (deflated) maxima certifies a pass (a failure). `None` when magnitudes leave
 /// the range where relative bounds hold (the caller falls back to intervals).
-pub fn conic_f64(l: &Lattice, pts: &[[f64; 3]], scope: Scope) -> Option<SufficientVerdict> {
+pub(crate) fn conic_f64(l: &Lattice, pts: &[[f64; 3]], scope: Scope) -> Option<SufficientVerdict> {
     let counts = l.counts();
     let stride = [1, counts[0], counts[0] * counts[1]];
     let n = pts.len();

@@ -31,7 +31,7 @@ pub fn decide_exact(v: [&Rational; 4], iso: &Rational) -> Option<bool> {
 /// The decision from shifted values `a = A − c`, … of an ambiguous face (any exact ordered
 /// ring: rationals, or integers after scaling by the isovalue's denominator). Positive
 /// corners are those with `a ≥ 0`.
-pub fn decide_shifted<T>(a: &T, b: &T, c: &T, d: &T) -> bool
+pub(crate) fn decide_shifted<T>(a: &T, b: &T, c: &T, d: &T) -> bool
 where
     T: PartialOrd + Default,
     for<'x> &'x T: std::ops::Mul<&'x T, Output = T>,

@@ -4,11 +4,12 @@
 //! elements ([`fe`]) and the auditor of other tables ([`audit`]).
 
 pub mod audit;
-pub mod decider;
+pub(crate) mod decider;
 pub mod fe;
 pub mod grid;
 #[cfg(feature = "nifti")]
 pub mod nifti;
 pub mod table;
 
+pub use decider::{decide_exact, decide_fast, is_ambiguous_face};
 pub use table::{table, Entry, Table};

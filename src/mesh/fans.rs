@@ -14,7 +14,7 @@ use crate::par::prelude::*;
 
 /// Every vertex's corners in counter-clockwise order, and which vertices are on the border.
 #[derive(Clone, Debug)]
-pub struct Fans {
+pub(crate) struct Fans {
     start: Vec<u32>,
     corners: Vec<u32>,
     border: Vec<bool>,
@@ -23,7 +23,7 @@ pub struct Fans {
 impl Fans {
     /// The fans of `mesh`, or the first topology error met (vertices in increasing order).
     /// Validates the mesh first ([`Mesh::validate`]).
-    pub fn of(mesh: &Mesh) -> Result<Fans, MeshError> {
+    pub(crate) fn of(mesh: &Mesh) -> Result<Fans, MeshError> {
         mesh.validate()?;
         let n = mesh.vertices.len();
         let tris = &mesh.triangles;
@@ -88,17 +88,17 @@ impl Fans {
 
     /// The corners at `v`, counter-clockwise; for a border vertex the first is the triangle
     /// whose edge `v → a` is on the border.
-    pub fn corners(&self, v: u32) -> &[u32] {
+    pub(crate) fn corners(&self, v: u32) -> &[u32] {
         &self.corners[self.start[v as usize] as usize..self.start[v as usize + 1] as usize]
     }
 
     /// True when `v`'s fan is open (a half-disc).
-    pub fn is_border(&self, v: u32) -> bool {
+    pub(crate) fn is_border(&self, v: u32) -> bool {
         self.border[v as usize]
     }
 
     /// The number of border edges (each leaves exactly one border vertex).
-    pub fn border_edges(&self) -> usize {
+    pub(crate) fn border_edges(&self) -> usize {
         self.border.iter().filter(|&&b| b).count()
     }
 }

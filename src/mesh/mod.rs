@@ -6,10 +6,12 @@
 //! Every reader validates what it returns: finite coordinates, indices in range, no triangle
 //! repeating a vertex. Errors name the file's element (line, face or vertex number) at fault.
 
-pub mod fans;
+pub(crate) mod fans;
 pub mod obj;
 pub mod ply;
-pub mod shapes;
+pub(crate) mod shapes;
+
+pub use shapes::squashed_hemisphere;
 pub mod stl;
 pub mod vtk;
 

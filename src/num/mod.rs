@@ -10,10 +10,10 @@
 //!   forward error constant [`gamma`].
 //! * [`Sign`] is the four-valued sign every certified decision returns.
 
-pub mod field;
-pub mod interval;
-pub mod rational;
-pub mod wide;
+pub(crate) mod field;
+pub(crate) mod interval;
+pub(crate) mod rational;
+pub(crate) mod wide;
 
 pub use field::Field;
 pub use interval::{gamma, Interval, UNIT_ROUNDOFF};

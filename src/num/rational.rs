@@ -223,7 +223,7 @@ pub fn rational_to_string(r: &Rational) -> String {
 }
 
 /// The exact sign of a rational.
-pub fn rational_sign(r: &Rational) -> super::Sign {
+pub(crate) fn rational_sign(r: &Rational) -> super::Sign {
     match r.numer().sign() {
         BigSign::Minus => super::Sign::Negative,
         BigSign::NoSign => super::Sign::Zero,

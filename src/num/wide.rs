@@ -6,7 +6,7 @@ use num_bigint::BigInt;
 
 /// `hi · 2¹²⁸ + lo`, two's complement over 256 bits.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct I256 {
+pub(crate) struct I256 {
     hi: i128,
     lo: u128,
 }
@@ -29,10 +29,10 @@ fn mul_u128(a: u128, b: u128) -> (u128, u128) {
 }
 
 impl I256 {
-    pub const ZERO: I256 = I256 { hi: 0, lo: 0 };
+    pub(crate) const ZERO: I256 = I256 { hi: 0, lo: 0 };
 
     /// The exact product `a · b`.
-    pub fn product(a: i128, b: i128) -> I256 {
+    pub(crate) fn product(a: i128, b: i128) -> I256 {
         let neg = (a < 0) != (b < 0);
         let (hi, lo) = mul_u128(a.unsigned_abs(), b.unsigned_abs());
         // |a|,|b| ≤ 2¹²⁷ so |a·b| ≤ 2²⁵⁴ and `hi` < 2¹²⁷ fits the signed high half.
@@ -52,14 +52,14 @@ impl I256 {
     }
 
     /// `self + o`, or `None` on overflow of 256 bits.
-    pub fn checked_add(self, o: I256) -> Option<I256> {
+    pub(crate) fn checked_add(self, o: I256) -> Option<I256> {
         let (lo, carry) = self.lo.overflowing_add(o.lo);
         let hi = self.hi.checked_add(o.hi)?.checked_add(carry as i128)?;
         Some(I256 { hi, lo })
     }
 
     /// `self · 2⁶⁴`, or `None` on overflow of 256 bits.
-    pub fn checked_shl64(self) -> Option<I256> {
+    pub(crate) fn checked_shl64(self) -> Option<I256> {
         let top = self.hi >> 63; // must be all sign bits above bit 191
         if top != 0 && top != -1 {
             return None;
@@ -72,13 +72,13 @@ impl I256 {
     }
 
     /// `a · 2⁶⁴ + b` times `y` exactly for `a, y` in `i128` and `0 ≤ b < 2⁶⁴`, or `None`.
-    pub fn split_product(a: i128, b: u64, y: i128) -> Option<I256> {
+    pub(crate) fn split_product(a: i128, b: u64, y: i128) -> Option<I256> {
         I256::product(a, y)
             .checked_shl64()?
             .checked_add(I256::product(b as i128, y))
     }
 
-    pub fn to_bigint(self) -> BigInt {
+    pub(crate) fn to_bigint(self) -> BigInt {
         (BigInt::from(self.hi) << 128) + BigInt::from(self.lo)
     }
 }

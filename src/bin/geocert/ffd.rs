@@ -3,7 +3,7 @@
 use crate::out::{choice, pretty, read, status, write};
 use clap::Subcommand;
 use geocert::bernstein::Limits;
-use geocert::ffd::manipulation::{
+use geocert::ffd::{
     constraints_from_json, injective_drag, steps_to_json, DragOptions, DragTest,
 };
 use geocert::ffd::{
@@ -234,7 +234,7 @@ fn lattices_or_steps(file: &FsPath) -> Result<Vec<geocert::ffd::Lattice>, String
         .enumerate()
         .map(|(i, item)| {
             let v = item.get("lattice").unwrap_or(item);
-            geocert::ffd::lattice::lattice_from_value(v)
+            geocert::ffd::lattice_from_value(v)
                 .map_err(|e| format!("{}: lattice {i}: {e}", file.display()))
         })
         .collect()
@@ -283,7 +283,7 @@ fn ffd_deform(
     out: PathBuf,
     fit: bool,
 ) -> Result<ExitCode, String> {
-    use geocert::ffd::deform::{deform_points_fast, Fit};
+    use geocert::ffd::{deform_points_fast, Fit};
     use geocert::mesh::{Format, Mesh};
     let lattices = lattices_or_steps(&lattice)?;
     let first = lattices

@@ -10,7 +10,7 @@ use crate::num::Rational;
 use num_traits::{One, Zero};
 
 /// `[φ₁⁰, φ₁¹, φ₂⁰, φ₂¹](ξ)` exactly (Section 2).
-pub fn basis_exact(b: Basis, t: &Rational) -> [Rational; 4] {
+pub(crate) fn basis_exact(b: Basis, t: &Rational) -> [Rational; 4] {
     let one = Rational::one();
     match b {
         Basis::LinearLagrange => [&one - t, Rational::zero(), t.clone(), Rational::zero()],
@@ -31,7 +31,7 @@ pub fn basis_exact(b: Basis, t: &Rational) -> [Rational; 4] {
 }
 
 /// `d/dξ [φ₁⁰, φ₁¹, φ₂⁰, φ₂¹](ξ)` exactly.
-pub fn basis_derivative_exact(b: Basis, t: &Rational) -> [Rational; 4] {
+pub(crate) fn basis_derivative_exact(b: Basis, t: &Rational) -> [Rational; 4] {
     let one = Rational::one();
     match b {
         Basis::LinearLagrange => [-one.clone(), Rational::zero(), one, Rational::zero()],
@@ -52,7 +52,7 @@ pub fn basis_derivative_exact(b: Basis, t: &Rational) -> [Rational; 4] {
 }
 
 /// `[φ₁⁰, φ₁¹, φ₂⁰, φ₂¹](ξ)` in `f64`.
-pub fn basis_f64(b: Basis, t: f64) -> [f64; 4] {
+pub(crate) fn basis_f64(b: Basis, t: f64) -> [f64; 4] {
     match b {
         Basis::LinearLagrange => [1.0 - t, 0.0, t, 0.0],
         Basis::CubicHermite => {
@@ -69,7 +69,7 @@ pub fn basis_f64(b: Basis, t: f64) -> [f64; 4] {
 }
 
 /// `d/dξ [φ₁⁰, φ₁¹, φ₂⁰, φ₂¹](ξ)` in `f64`.
-pub fn basis_derivative_f64(b: Basis, t: f64) -> [f64; 4] {
+pub(crate) fn basis_derivative_f64(b: Basis, t: f64) -> [f64; 4] {
     match b {
         Basis::LinearLagrange => [-1.0, 0.0, 1.0, 0.0],
         Basis::CubicHermite => {
@@ -80,10 +80,10 @@ pub fn basis_derivative_f64(b: Basis, t: f64) -> [f64; 4] {
 }
 
 /// One term of eq. (1): local node (tensor index `a + 2b + 4c`), its dof, the weight.
-pub type Term<T> = (usize, usize, T);
+pub(crate) type Term<T> = (usize, usize, T);
 
 /// The terms `φᵢᵏ(ξ)` of eq. (1) exactly, or those of `∂/∂ξ_d` when `derivative = Some(d)`.
-pub fn terms_exact(
+pub(crate) fn terms_exact(
     kind: ElementKind,
     xi: &[Rational; 3],
     derivative: Option<usize>,
@@ -114,7 +114,7 @@ pub fn terms_exact(
 
 /// The terms of eq. (1) in `f64` (all `8 · dofs` of them, zero weights included), written
 /// into `out`; returns how many.
-pub fn terms_f64(
+pub(crate) fn terms_f64(
     kind: ElementKind,
     xi: [f64; 3],
     derivative: Option<usize>,

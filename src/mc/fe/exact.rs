@@ -42,7 +42,7 @@ impl ExactFeSurface {
 }
 
 /// Eq. (1) for one element: `Σ φᵢᵏ(ξ) uᵢᵏ` (or its `∂/∂ξ_d`).
-pub fn interpolate_field(
+pub(crate) fn interpolate_field(
     m: &FeModel<Rational>,
     nodes: &[u32; 8],
     xi: &[Rational; 3],
@@ -56,7 +56,7 @@ pub fn interpolate_field(
 }
 
 /// Eq. (2) for one element: the world point `x(ξ)` (or its `∂x/∂ξ_d`).
-pub fn interpolate_world(
+pub(crate) fn interpolate_world(
     m: &FeModel<Rational>,
     nodes: &[u32; 8],
     xi: &[Rational; 3],
@@ -74,7 +74,7 @@ pub fn interpolate_world(
 }
 
 /// `det J` of the isoparametric map at `ξ`, `J = ∂x/∂ξ`.
-pub fn jacobian_determinant(
+pub(crate) fn jacobian_determinant(
     m: &FeModel<Rational>,
     nodes: &[u32; 8],
     xi: &[Rational; 3],

@@ -27,11 +27,14 @@
 //! cubic Hermite × linear Lagrange it is `u, u₁, u₂, u₁₂`. Derivatives are with respect to
 //! `ξ` and shared by the elements meeting at a node.
 
-pub mod basis;
-pub mod exact;
-pub mod fast;
+pub(crate) mod basis;
+pub(crate) mod exact;
+pub(crate) mod fast;
+
+pub use exact::{polygonise_exact, ExactFeSurface};
+pub use fast::{polygonise_fast, FeSurface};
 pub mod heart;
-mod lattice;
+pub(crate) mod lattice;
 pub mod models;
 
 use crate::num::Rational;

@@ -4,8 +4,8 @@
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use geocert::bernstein::Limits;
-use geocert::ffd::{conic_test_fast, phi_test_fast, ConicOptions, Scope};
 use geocert::ffd::{check_injectivity, Basis, CheckOptions};
+use geocert::ffd::{conic_test_fast, phi_test_fast, ConicOptions, Scope};
 use geocert::internals::report::ffd::perturbed_lattices;
 use std::hint::black_box;
 

@@ -360,7 +360,7 @@ pub fn check_decimate(data: &[u8]) -> Result<(), String> {
     let Ok(out) = decimate(&mesh, &options) else {
         return Ok(());
     };
-    check::verify(&mesh, &out.history, out.stats.projection_xy, 1)?;
+    check::verify(&mesh, &out.history, out.stats.projection_xy, 1).map_err(|e| e.to_string())?;
     let read = History::from_bytes(&out.history.to_bytes()).map_err(|e| e.to_string())?;
     let mut stage = Stage::decimated(&out.mesh, &read).map_err(|e| e.to_string())?;
     while stage.applied > 0 {

@@ -50,7 +50,9 @@ mod memory;
 mod par;
 #[path = "../proofs/mod.rs"]
 mod proofs;
+// The report generator is unstable (`internals`) and documented by its module docs only.
 #[cfg(feature = "reports")]
+#[allow(missing_docs)]
 mod report;
 
 /// Unstable internals: the report generator, the fuzz checks, the exhaustive proofs and the

@@ -80,7 +80,7 @@ proptest! {
         let opts = loop_options(criterion, exclude, keep, k, paper);
         let out = decimate(&mesh, &opts).unwrap();
         prop_assert_eq!(out.history.len(), out.stats.removed);
-        let v = check::verify(&mesh, &out.history, true, 1).map_err(TestCaseError::fail)?;
+        let v = check::verify(&mesh, &out.history, true, 1).map_err(|e| TestCaseError::fail(e.to_string()))?;
         prop_assert!(v.undecimated_exactly);
         prop_assert_eq!(v.full_checks, out.history.len() + 1);
         round_trip(&mesh, &out.mesh, &out.history, back);
@@ -117,7 +117,7 @@ proptest! {
     ) {
         let opts = options(Criterion::Error, false, keep, 4);
         let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
-        check::verify(&mesh, &exact.history, true, 1).map_err(TestCaseError::fail)?;
+        check::verify(&mesh, &exact.history, true, 1).map_err(|e| TestCaseError::fail(e.to_string()))?;
         round_trip(&mesh, &exact.mesh, &exact.history, 3);
     }
 
@@ -132,7 +132,7 @@ proptest! {
         let mut opts = options(criterion, false, keep, 3);
         opts.projection = ProjectionChoice::PerFan;
         let fast = decimate(&mesh, &opts).unwrap();
-        let v = check::verify(&mesh, &fast.history, false, 1).map_err(TestCaseError::fail)?;
+        let v = check::verify(&mesh, &fast.history, false, 1).map_err(|e| TestCaseError::fail(e.to_string()))?;
         prop_assert_eq!(v.euler, 2);
         // A closed surface cannot go below a tetrahedron.
         prop_assert!(fast.stats.nodes_out >= 4);

@@ -4,13 +4,12 @@
 
 use geocert::bernstein::{Bernstein, Limits};
 use geocert::ffd::{
-    jacobian_at, jacobian_cell_bezier, jacobian_cell_scaled, jacobian_cells_morken,
-    jacobian_in_cell,
+    check_injectivity, jacobian_cell_fast, verify_injectivity_certificate, Basis, CheckOptions,
+    InjectivityCertificate, InjectivityVerdict, JacobianWorkspace, Lattice,
 };
 use geocert::ffd::{
-    check_injectivity, jacobian_cell_fast, JacobianWorkspace,
-    verify_injectivity_certificate, Basis, CheckOptions, InjectivityCertificate,
-    InjectivityVerdict, Lattice,
+    jacobian_at, jacobian_cell_bezier, jacobian_cell_scaled, jacobian_cells_morken,
+    jacobian_in_cell,
 };
 use geocert::num::{rational_from_f64, Rational, Sign};
 use num_bigint::BigInt;

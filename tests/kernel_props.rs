@@ -1,12 +1,12 @@
 //! Property tests of the scalar, Bernstein and B-spline kernel: exact identities in rational
 //! arithmetic, and the fast path checked against the exact one.
 
-use geocert::bernstein::{verify_witness, WitnessValue};
 use geocert::bernstein::{
     prove_positive_exact, prove_positive_fast, prove_positive_filtered,
     verify_positive_certificate, Bernstein, FastBernstein, Limits, PositivityVerdict,
     ScaledBernstein,
 };
+use geocert::bernstein::{verify_witness, WitnessValue};
 use geocert::bspline::{morken_product, Spline};
 use geocert::num::{rational_from_f64, rational_to_f64, Field, Interval, Rational, Sign};
 use geocert::strategies::{bernstein_poly, spline};

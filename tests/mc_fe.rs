@@ -1,10 +1,10 @@
 //! Finite-element polygonisation: exact against fast, against the regular-grid extractor, on
 //! closed surfaces, degenerate elements (Figure 7) and the heart demo.
 
-use geocert::mc::fe::polygonise_exact;
-use geocert::mc::fe::polygonise_fast;
 use geocert::mc::fe::heart::{left_ventricle, paper_options};
 use geocert::mc::fe::models::block;
+use geocert::mc::fe::polygonise_exact;
+use geocert::mc::fe::polygonise_fast;
 use geocert::mc::fe::{ElementKind, FeError, FeModel, FeOptions, NormalSource};
 use geocert::mc::grid::{extract_exact, Volume};
 use geocert::mesh::area_vector;

@@ -7,7 +7,7 @@
 
 use super::positivity::{verify_witness, CertificateError, PositivityVerdict, WitnessValue};
 use super::{verify_positive_certificate, Bernstein, DyadicBox};
-use crate::num::{parse_rational, rational_from_f64, rational_to_string, Rational};
+use crate::num::{parse_rational, rational_from_f64, rational_to_string, NumError, Rational};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use thiserror::Error;
@@ -20,24 +20,25 @@ pub enum InputError {
     #[error("field `{field}`: {why}")]
     Field { field: String, why: String },
     #[error("coefficient {index}: {why}")]
-    Coefficient { index: usize, why: String },
+    Coefficient { index: usize, why: NumError },
     #[error("polynomial: {0}")]
     Shape(#[from] super::BernsteinError),
 }
 
-/// Reads one number: a JSON number exactly, or a `"p/q"`/decimal string exactly.
-pub fn parse_number(v: &Value) -> Result<Rational, String> {
+/// Reads one number: a JSON number exactly (as the `f64` it denotes), or a `"p/q"`/decimal
+/// string exactly.
+pub fn parse_number(v: &Value) -> Result<Rational, NumError> {
+    let refuse = |why: &str| NumError::Parse {
+        text: v.to_string(),
+        why: why.into(),
+    };
     match v {
         Value::Number(n) => {
-            let x = n
-                .as_f64()
-                .ok_or_else(|| "number out of range".to_string())?;
-            rational_from_f64(x, "number").map_err(|e| e.to_string())
+            let x = n.as_f64().ok_or_else(|| refuse("number out of range"))?;
+            rational_from_f64(x, "number")
         }
-        Value::String(s) => parse_rational(s).map_err(|e| e.to_string()),
-        other => Err(format!(
-            "expected a number or a \"p/q\" string, found {other}"
-        )),
+        Value::String(s) => parse_rational(s),
+        _ => Err(refuse("expected a number or a \"p/q\" string")),
     }
 }
 
@@ -145,8 +146,47 @@ pub enum VerifyError {
     Verdict(String),
 }
 
+/// What [`verify_certificate_file`] re-established; `Display` gives a one-line summary.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PositivityCheck {
+    /// `p > 0` on the unit box: the leaves tile it with every coefficient positive.
+    Positive {
+        /// Leaf boxes checked.
+        leaves: usize,
+    },
+    /// `p(point) = value ≤ 0`, recomputed exactly.
+    NotPositive {
+        /// The witness point.
+        point: Vec<Rational>,
+        /// The exact value there.
+        value: Rational,
+    },
+}
+
+impl std::fmt::Display for PositivityCheck {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            PositivityCheck::Positive { leaves } => write!(
+                f,
+                "positive on the whole box: {leaves} leaf boxes tile it, every coefficient \
+                 positive on each"
+            ),
+            PositivityCheck::NotPositive { point, value } => write!(
+                f,
+                "not positive: p({}) = {} ≤ 0",
+                point
+                    .iter()
+                    .map(rational_to_string)
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                rational_to_string(value)
+            ),
+        }
+    }
+}
+
 /// Re-checks a certificate file from scratch with the generic rational kernel.
-pub fn verify_certificate_file(c: &CertificateFile) -> Result<String, VerifyError> {
+pub fn verify_certificate_file(c: &CertificateFile) -> Result<PositivityCheck, VerifyError> {
     let p = poly_from_json(&c.polynomial)?;
     let missing = |f: &str| InputError::Field {
         field: f.into(),
@@ -155,19 +195,16 @@ pub fn verify_certificate_file(c: &CertificateFile) -> Result<String, VerifyErro
     match c.verdict.as_str() {
         "positive" => {
             let leaves = c.leaves.as_ref().ok_or_else(|| missing("leaves"))?;
-            let n = verify_positive_certificate(&p, leaves)?;
-            Ok(format!("positive on the whole box: {n} leaf boxes tile it, every coefficient positive on each"))
+            let leaves = verify_positive_certificate(&p, leaves)?;
+            Ok(PositivityCheck::Positive { leaves })
         }
         "not_positive" => {
             let w = c.witness.as_ref().ok_or_else(|| missing("witness"))?;
             let point = w
                 .iter()
                 .enumerate()
-                .map(|(i, s)| {
-                    parse_rational(s).map_err(|e| InputError::Coefficient {
-                        index: i,
-                        why: e.to_string(),
-                    })
+                .map(|(index, s)| {
+                    parse_rational(s).map_err(|why| InputError::Coefficient { index, why })
                 })
                 .collect::<Result<Vec<_>, _>>()?;
             let claimed = match &c.value {
@@ -177,12 +214,8 @@ pub fn verify_certificate_file(c: &CertificateFile) -> Result<String, VerifyErro
                 })?),
                 None => None,
             };
-            let v = verify_witness(&p, &point, claimed.as_ref())?;
-            Ok(format!(
-                "not positive: p({}) = {} ≤ 0",
-                w.join(", "),
-                rational_to_string(&v)
-            ))
+            let value = verify_witness(&p, &point, claimed.as_ref())?;
+            Ok(PositivityCheck::NotPositive { point, value })
         }
         other => Err(VerifyError::Verdict(other.to_string())),
     }

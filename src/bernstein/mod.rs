@@ -23,14 +23,14 @@ pub use certificate::{box_sign, BoxSign};
 pub use fast::FastBernstein;
 pub use io::{
     certificate_for, parse_number, poly_from_json, poly_to_json, verify_certificate_file,
-    CertificateFile, InputError, VerifyError,
+    CertificateFile, InputError, PositivityCheck, VerifyError,
 };
 pub use poly::Bernstein;
 pub use positivity::{
     prove_positive, prove_positive_exact, prove_positive_fast, prove_positive_filtered,
-    prove_positive_filtered_with, prove_positive_scaled, verify_positive_certificate, verify_witness,
-    DyadicBox, WitnessValue,
-    Limits, PositivityOptions, PositivityVerdict,
+    prove_positive_filtered_with, prove_positive_scaled, verify_positive_certificate,
+    verify_witness, CertificateError, DyadicBox, LimitHit, Limits, PositivityOptions,
+    PositivityVerdict, WitnessValue,
 };
 pub use scaled::ScaledBernstein;
 

@@ -180,7 +180,13 @@ impl Lookahead {
     /// starts) to the batch being filled, with a copy of its list; a full batch goes to the
     /// worker, unless too many batches are still out (then it is dropped). `scale`: the
     /// queue's, with its version (a batch holds nodes handed over under one version).
-    pub(crate) fn add(&mut self, v: u32, ticket: u32, lists: &FanLists, scale: Option<(Scale, u32)>) {
+    pub(crate) fn add(
+        &mut self,
+        v: u32,
+        ticket: u32,
+        lists: &FanLists,
+        scale: Option<(Scale, u32)>,
+    ) {
         let job = &self.pending;
         if !job.nodes.is_empty()
             && (job.first_ticket.wrapping_add(job.nodes.len() as u32) != ticket

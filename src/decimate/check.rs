@@ -12,9 +12,9 @@
 //! * undoing every step gives the original mesh bit for bit, and redoing them gives the
 //!   decimated mesh the history names.
 
-use super::history::{fingerprint, History, Stage};
+use super::history::{fingerprint, History, HistoryError, Stage};
 use super::{fan_normal, Plane};
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, MeshError};
 use crate::num::{rational_from_f64, Rational};
 use num_traits::{Signed, Zero};
 use std::collections::{HashMap, HashSet};
@@ -31,6 +31,38 @@ pub struct Verified {
     pub border_loops: usize,
     /// Undo of every step reproduced the original's fingerprint and triangles in order.
     pub undecimated_exactly: bool,
+}
+
+/// Why [`verify`] refused a history.
+#[derive(Debug, thiserror::Error)]
+pub enum CheckError {
+    /// The original mesh is not a manifold mesh.
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    /// The history's original fingerprint is not this mesh's.
+    #[error("the history was not made from this mesh (fingerprint)")]
+    NotThisMesh,
+    /// The history file itself is inconsistent (a step that cannot be applied).
+    #[error(transparent)]
+    History(#[from] HistoryError),
+    /// Step `step` (0-based; the history's length for the final checks) breaks a property.
+    #[error("step {step}: {why}")]
+    Step {
+        /// The step.
+        step: usize,
+        /// The property it breaks, with the nodes or triangles involved.
+        why: String,
+    },
+    /// Redoing every step does not give the decimated mesh's fingerprint.
+    #[error("redoing every step does not give the decimated mesh (fingerprint)")]
+    RedoMismatch,
+    /// Undoing every step does not give the original mesh.
+    #[error("undoing every step does not give the original mesh")]
+    UndoMismatch,
+}
+
+fn step(step: usize, why: String) -> CheckError {
+    CheckError::Step { step, why }
 }
 
 fn exact(x: f64) -> Rational {
@@ -79,12 +111,12 @@ pub fn verify(
     history: &History,
     xy: bool,
     full_every: usize,
-) -> Result<Verified, String> {
-    original.check_manifold().map_err(|e| e.to_string())?;
+) -> Result<Verified, CheckError> {
+    original.check_manifold()?;
     let euler = original.euler_characteristic();
     let loops = border_loops(original);
     if fingerprint(original) != history.original_fingerprint {
-        return Err("the history was not made from this mesh (fingerprint)".into());
+        return Err(CheckError::NotThisMesh);
     }
     let mut stage = Stage::original(original);
     let key = |a: u32, b: u32| (a.min(b), a.max(b));
@@ -99,18 +131,20 @@ pub fn verify(
         border_loops: loops,
         ..Verified::default()
     };
-    let full = |stage: &Stage, s: usize, out: &mut Verified| -> Result<(), String> {
+    let full = |stage: &Stage, s: usize, out: &mut Verified| -> Result<(), CheckError> {
         let m = stage.to_mesh();
-        m.check_manifold()
-            .map_err(|e| format!("after step {s}: {e}"))?;
+        m.check_manifold().map_err(|e| step(s, e.to_string()))?;
         if m.euler_characteristic() != euler {
-            return Err(format!(
-                "after step {s}: Euler characteristic {} ≠ {euler}",
-                m.euler_characteristic()
+            return Err(step(
+                s,
+                format!(
+                    "Euler characteristic {} ≠ {euler}",
+                    m.euler_characteristic()
+                ),
             ));
         }
         if border_loops(&m) != loops {
-            return Err(format!("after step {s}: border loops changed"));
+            return Err(step(s, "border loops changed".into()));
         }
         out.full_checks += 1;
         Ok(())
@@ -140,9 +174,12 @@ pub fn verify(
             let [a, b, c] = st.added_triangle(i).map(p);
             let d = det(a, b, c);
             if !d.is_positive() {
-                return Err(format!(
-                    "step {s}: added triangle {:?} has non-positive area in its projection",
-                    st.added_triangle(i)
+                return Err(step(
+                    s,
+                    format!(
+                        "added triangle {:?} has non-positive area in its projection",
+                        st.added_triangle(i)
+                    ),
                 ));
             }
             added_area += d;
@@ -162,15 +199,17 @@ pub fn verify(
                     && !det(b, c, q).is_negative()
                     && !det(c, a, q).is_negative()
                 {
-                    return Err(format!(
-                        "step {s}: node {w} lies in the closed added triangle {t:?}"
+                    return Err(step(
+                        s,
+                        format!("node {w} lies in the closed added triangle {t:?}"),
                     ));
                 }
             }
         }
         if fan_area != added_area {
-            return Err(format!(
-                "step {s}: the added triangles do not tile the removed fan (areas differ)"
+            return Err(step(
+                s,
+                "the added triangles do not tile the removed fan (areas differ)".into(),
             ));
         }
         // No added edge may already exist outside the fan.
@@ -182,7 +221,7 @@ pub fn verify(
                 let pb = st.ring.iter().position(|&w| w == b).unwrap();
                 let link = pb == (pa + 1) % l && !(st.border && pa == l - 1);
                 if !link && edges.contains_key(&key(a, b)) {
-                    return Err(format!("step {s}: added edge ({a}, {b}) already exists"));
+                    return Err(step(s, format!("added edge ({a}, {b}) already exists")));
                 }
             }
         }
@@ -203,7 +242,7 @@ pub fn verify(
                 *edges.entry(key(t[e], t[(e + 1) % 3])).or_insert(0) += 1;
             }
         }
-        stage.redo(history).map_err(|e| e.to_string())?;
+        stage.redo(history)?;
         out.steps += 1;
         if full_every > 0 && (s + 1) % full_every == 0 {
             full(&stage, s, &mut out)?;
@@ -211,16 +250,16 @@ pub fn verify(
     }
     full(&stage, history.len(), &mut out)?;
     if fingerprint(&stage.to_mesh()) != history.decimated_fingerprint {
-        return Err("redoing every step does not give the decimated mesh (fingerprint)".into());
+        return Err(CheckError::RedoMismatch);
     }
     while stage.applied > 0 {
-        stage.undo(history).map_err(|e| e.to_string())?;
+        stage.undo(history)?;
     }
     let back = stage.to_mesh();
     out.undecimated_exactly =
         back == *original && fingerprint(&back) == history.original_fingerprint;
     if !out.undecimated_exactly {
-        return Err("undoing every step does not give the original mesh".into());
+        return Err(CheckError::UndoMismatch);
     }
     Ok(out)
 }

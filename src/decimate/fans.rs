@@ -163,7 +163,10 @@ impl FanLists {
     /// Lists for `nodes` nodes, node `v`'s written by `fill(v, list)` (which returns whether
     /// it is a border list), in one parallel pass over the blocks (lists too long for their
     /// block then move to overflow runs, in node order).
-    pub(crate) fn build(nodes: usize, fill: impl Fn(u32, &mut Vec<Entry>) -> bool + Sync) -> FanLists {
+    pub(crate) fn build(
+        nodes: usize,
+        fill: impl Fn(u32, &mut Vec<Entry>) -> bool + Sync,
+    ) -> FanLists {
         // Room for some overflow runs before the blocks move.
         let mut blocks = Vec::with_capacity(nodes + nodes / 8);
         advise_huge_pages(&mut blocks);

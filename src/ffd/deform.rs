@@ -9,6 +9,7 @@
 use super::lattice::{Lattice, Point};
 use super::FfdError;
 use crate::num::{rational_from_f64, rational_to_f64};
+use glam::DVec3;
 
 /// Largest order handled by [`FastDeformer`] (the lattice's own limit).
 const MAX_ORDER: usize = super::lattice::MAX_ORDER;
@@ -22,7 +23,7 @@ pub struct FastDeformer {
     /// Upper end of the domain per axis.
     hi: [f64; 3],
     /// Control points rounded to the nearest `f64`.
-    points: Vec<[f64; 3]>,
+    points: Vec<DVec3>,
 }
 
 impl FastDeformer {
@@ -30,11 +31,11 @@ impl FastDeformer {
         let knots = [0, 1, 2].map(|a| l.knots(a).iter().map(rational_to_f64).collect());
         let hi = [0, 1, 2].map(|a| l.cells()[a] as f64);
         let points = match l.points_f64() {
-            Some(p) => p.to_vec(),
+            Some(p) => p.iter().map(|&q| DVec3::from(q)).collect(),
             None => l
                 .points()
                 .iter()
-                .map(|p| [0, 1, 2].map(|a| rational_to_f64(&p[a])))
+                .map(|p| DVec3::from([0, 1, 2].map(|a| rational_to_f64(&p[a]))))
                 .collect(),
         };
         FastDeformer {
@@ -58,22 +59,18 @@ impl FastDeformer {
         }
         let mut b = [[0.0f64; MAX_ORDER]; 3];
         let first = [0, 1, 2].map(|a| self.basis(a, u[a], &mut b[a]));
-        let mut out = [0.0f64; 3];
+        let mut out = DVec3::ZERO;
         for k in 0..self.order[2] {
             for j in 0..self.order[1] {
                 let wjk = b[1][j] * b[2][k];
                 let row =
                     first[0] + self.counts[0] * (first[1] + j + self.counts[1] * (first[2] + k));
                 for i in 0..self.order[0] {
-                    let w = b[0][i] * wjk;
-                    let p = &self.points[row + i];
-                    out[0] += w * p[0];
-                    out[1] += w * p[1];
-                    out[2] += w * p[2];
+                    out += b[0][i] * wjk * self.points[row + i];
                 }
             }
         }
-        Some(out)
+        Some(out.to_array())
     }
 }
 

@@ -104,7 +104,7 @@ pub fn jacobian_cell_fast(
     input_rel_err: f64,
     ws: &mut JacobianWorkspace,
 ) -> Result<FastBernstein, FfdError> {
-    let unfit = |why: &str| FfdError::Kernel(format!("fast Jacobian: {why}"));
+    let unfit = FfdError::FastUnfit;
     if deg.contains(&0) || net.len() != count(deg) {
         return Err(unfit("degree 0 or wrong net size"));
     }
@@ -213,6 +213,9 @@ pub fn jacobian_cell_fast(
     if !err.is_finite() || ws.det.iter().any(|c| !c.is_finite()) {
         return Err(unfit("overflow"));
     }
-    FastBernstein::with_error(ddeg.to_vec(), ws.det.clone(), err)
-        .map_err(|e| FfdError::Kernel(e.to_string()))
+    Ok(FastBernstein::with_error(
+        ddeg.to_vec(),
+        ws.det.clone(),
+        err,
+    )?)
 }

@@ -398,95 +398,203 @@ impl InjectivityCertificate {
     }
 }
 
+/// Why [`verify_injectivity_certificate`] refused a certificate: what failed, and where.
+#[derive(Debug, thiserror::Error, Clone, PartialEq)]
+pub enum CertificateRefusal {
+    /// The `kind` field is not geocert's injectivity certificate.
+    #[error("kind is {found:?}, expected {CERTIFICATE_KIND:?}")]
+    Kind {
+        /// The `kind` found.
+        found: String,
+    },
+    /// The `verdict` is neither `injective` nor `not_injective`.
+    #[error("unknown verdict {0:?} (expected \"injective\" or \"not_injective\")")]
+    Verdict(String),
+    /// The field the verdict needs (`cells` or `witness`) is absent.
+    #[error("{verdict} certificate without `{field}`")]
+    Missing {
+        /// The certificate's verdict.
+        verdict: &'static str,
+        /// The absent field.
+        field: &'static str,
+    },
+    /// The number of certified cells differs from the lattice's.
+    #[error("{certified} cells certified, the lattice has {cells}")]
+    CellCount {
+        /// Cells in the certificate.
+        certified: usize,
+        /// Cells of the lattice.
+        cells: usize,
+    },
+    /// A certified cell index is outside the lattice.
+    #[error("cell {0:?} outside the lattice")]
+    CellOutside([usize; 3]),
+    /// A cell is certified twice.
+    #[error("cell {0:?} certified twice")]
+    CellTwice([usize; 3]),
+    /// A cell's leaves do not prove `det J > 0` on it.
+    #[error("cell {cell:?}: {why}")]
+    Leaves {
+        /// The cell.
+        cell: [usize; 3],
+        /// Why its leaves were refused.
+        why: crate::bernstein::CertificateError,
+    },
+    /// The witness point does not have three coordinates.
+    #[error("witness point needs 3 coordinates, found {0}")]
+    WitnessArity(usize),
+    /// A witness number does not parse as an exact rational.
+    #[error("witness {field}: {why}")]
+    WitnessNumber {
+        /// `point[i]` or `det`.
+        field: String,
+        /// The parser's reason.
+        why: crate::num::NumError,
+    },
+    /// The claimed `det J` at the witness is not the exact value.
+    #[error("det J at the witness is {exact}, the certificate claims {claimed}")]
+    WitnessValue {
+        /// The exact value, recomputed.
+        exact: String,
+        /// The certificate's value.
+        claimed: String,
+    },
+    /// `det J` at the witness is positive: it witnesses nothing.
+    #[error("det J at the witness is {0} > 0")]
+    WitnessPositive(String),
+}
+
+/// What [`verify_injectivity_certificate`] re-established; `Display` gives a one-line summary.
+#[derive(Clone, Debug, PartialEq)]
+pub enum InjectivityCheck {
+    /// `det J > 0` on every cell: every leaf box of every cell has all coefficients positive.
+    Injective {
+        /// Cells of the lattice.
+        cells: usize,
+        /// Leaf boxes checked in all.
+        leaves: usize,
+        /// The lattice's basis.
+        basis: Basis,
+    },
+    /// `det J ≤ 0` at the witness, recomputed exactly.
+    NotInjective {
+        /// The witness point, exactly.
+        point: [Rational; 3],
+        /// `det J` there (≤ 0).
+        det: Rational,
+    },
+}
+
+impl std::fmt::Display for InjectivityCheck {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            InjectivityCheck::Injective {
+                cells,
+                leaves,
+                basis,
+            } => write!(
+                f,
+                "injective: det J > 0 on all {cells} cells ({} basis), {leaves} leaf boxes, every \
+                 coefficient positive (Jacobian recomputed by Mørken products)",
+                match basis {
+                    Basis::Bspline => "B-spline",
+                    Basis::Bezier => "Bézier",
+                }
+            ),
+            InjectivityCheck::NotInjective { point, det } => write!(
+                f,
+                "not injective: det J({}) = {} ≤ 0",
+                point
+                    .iter()
+                    .map(rational_to_string)
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                rational_to_string(det)
+            ),
+        }
+    }
+}
+
 /// Re-checks a certificate independently of the code that produced it: the Jacobian's Bézier
 /// cells come from the Mørken route ([`jacobian_cells_morken`]), the leaves must tile each
 /// cell with every restricted coefficient positive, and a witness is re-evaluated exactly
-/// from the derivative splines. Returns a one-line summary.
-pub fn verify_injectivity_certificate(c: &InjectivityCertificate) -> Result<String, FfdError> {
-    let refuse = |why: String| FfdError::Certificate(why);
+/// from the derivative splines. A refusal is [`FfdError::Certificate`] naming what failed
+/// (or [`FfdError::Input`] when the embedded lattice is malformed).
+pub fn verify_injectivity_certificate(
+    c: &InjectivityCertificate,
+) -> Result<InjectivityCheck, FfdError> {
+    use CertificateRefusal as R;
     if c.kind != CERTIFICATE_KIND {
-        return Err(refuse(format!(
-            "kind is {:?}, expected {CERTIFICATE_KIND:?}",
-            c.kind
-        )));
+        return Err(R::Kind {
+            found: c.kind.clone(),
+        }
+        .into());
     }
     let l = lattice_from_value(&c.lattice)?;
     match c.verdict.as_str() {
         "injective" => {
-            let cells = c
-                .cells
-                .as_ref()
-                .ok_or_else(|| refuse("injective certificate without `cells`".into()))?;
+            let cells = c.cells.as_ref().ok_or(R::Missing {
+                verdict: "injective",
+                field: "cells",
+            })?;
             let polys = jacobian_cells_morken(&l)?;
             if cells.len() != polys.len() {
-                return Err(refuse(format!(
-                    "{} cells certified, the lattice has {}",
-                    cells.len(),
-                    polys.len()
-                )));
+                return Err(R::CellCount {
+                    certified: cells.len(),
+                    cells: polys.len(),
+                }
+                .into());
             }
             let mut seen = vec![false; polys.len()];
-            let mut total = 0;
+            let mut leaves = 0;
             for cl in cells {
                 let [i, j, k] = cl.cell;
                 let dims = l.cells();
                 if i >= dims[0] || j >= dims[1] || k >= dims[2] {
-                    return Err(refuse(format!("cell {:?} outside the lattice", cl.cell)));
+                    return Err(R::CellOutside(cl.cell).into());
                 }
                 let flat = i + dims[0] * (j + dims[1] * k);
                 if std::mem::replace(&mut seen[flat], true) {
-                    return Err(refuse(format!("cell {:?} certified twice", cl.cell)));
+                    return Err(R::CellTwice(cl.cell).into());
                 }
-                total += verify_positive_certificate(&polys[flat], &cl.leaves)
-                    .map_err(|e| refuse(format!("cell {:?}: {e}", cl.cell)))?;
+                leaves += verify_positive_certificate(&polys[flat], &cl.leaves)
+                    .map_err(|why| R::Leaves { cell: cl.cell, why })?;
             }
-            Ok(format!(
-                "injective: det J > 0 on all {} cells ({} basis), {total} leaf boxes, every \
-                 coefficient positive (Jacobian recomputed by Mørken products)",
-                polys.len(),
-                match l.basis() {
-                    Basis::Bspline => "B-spline",
-                    Basis::Bezier => "Bézier",
-                }
-            ))
+            Ok(InjectivityCheck::Injective {
+                cells: polys.len(),
+                leaves,
+                basis: l.basis(),
+            })
         }
         "not_injective" => {
-            let w = c
-                .witness
-                .as_ref()
-                .ok_or_else(|| refuse("not_injective certificate without `witness`".into()))?;
+            let w = c.witness.as_ref().ok_or(R::Missing {
+                verdict: "not_injective",
+                field: "witness",
+            })?;
             if w.point.len() != 3 {
-                return Err(refuse("witness point needs 3 coordinates".into()));
+                return Err(R::WitnessArity(w.point.len()).into());
             }
+            let number = |field: String, s: &str| {
+                parse_rational(s).map_err(|why| R::WitnessNumber { field, why })
+            };
             let mut point: [Rational; 3] = Default::default();
             for (a, s) in w.point.iter().enumerate() {
-                point[a] =
-                    parse_rational(s).map_err(|e| refuse(format!("witness point[{a}]: {e}")))?;
+                point[a] = number(format!("point[{a}]"), s)?;
             }
-            let claimed =
-                parse_rational(&w.det).map_err(|e| refuse(format!("witness det: {e}")))?;
+            let claimed = number("det".into(), &w.det)?;
             let det = jacobian_in_cell(&l, w.cell, &point)?;
             if det != claimed {
-                return Err(refuse(format!(
-                    "det J at the witness is {}, the certificate claims {}",
-                    rational_to_string(&det),
-                    w.det
-                )));
+                return Err(R::WitnessValue {
+                    exact: rational_to_string(&det),
+                    claimed: w.det.clone(),
+                }
+                .into());
             }
             if det > Rational::default() {
-                return Err(refuse(format!(
-                    "det J at the witness is {} > 0",
-                    rational_to_string(&det)
-                )));
+                return Err(R::WitnessPositive(rational_to_string(&det)).into());
             }
-            Ok(format!(
-                "not injective: det J({}) = {} ≤ 0",
-                w.point.join(", "),
-                w.det
-            ))
+            Ok(InjectivityCheck::NotInjective { point, det })
         }
-        other => Err(refuse(format!(
-            "unknown verdict {other:?} (expected \"injective\" or \"not_injective\")"
-        ))),
+        other => Err(R::Verdict(other.to_string()).into()),
     }
 }

@@ -23,13 +23,11 @@ use num_integer::Integer;
 use num_traits::{One, Zero};
 
 /// `[axis][coord]`: `∂F̃_coord / ∂u_axis` as tensor splines (coefficients: eq. 7's differences).
-pub(crate) fn partial_derivatives(l: &Lattice) -> Result<[[TensorSpline<Rational>; 3]; 3], FfdError> {
+pub(crate) fn partial_derivatives(
+    l: &Lattice,
+) -> Result<[[TensorSpline<Rational>; 3]; 3], FfdError> {
     let coords = [0, 1, 2].map(|c| l.coordinate_spline(c));
-    let d = |axis: usize, c: usize| {
-        coords[c]
-            .derivative(axis)
-            .map_err(|e| FfdError::Kernel(e.to_string()))
-    };
+    let d = |axis: usize, c: usize| coords[c].derivative(axis).map_err(FfdError::from);
     Ok([
         [d(0, 0)?, d(0, 1)?, d(0, 2)?],
         [d(1, 0)?, d(1, 1)?, d(1, 2)?],
@@ -38,7 +36,7 @@ pub(crate) fn partial_derivatives(l: &Lattice) -> Result<[[TensorSpline<Rational
 }
 
 fn kernel<T>(r: Result<T, crate::bspline::BsplineError>) -> Result<T, FfdError> {
-    r.map_err(|e| FfdError::Kernel(e.to_string()))
+    r.map_err(FfdError::from)
 }
 
 /// `det J` as one trivariate tensor B-spline through Mørken products (eq. 8).
@@ -79,7 +77,7 @@ pub fn jacobian_cell_bezier(
     net: &[Bernstein<Rational>; 3],
 ) -> Result<Bernstein<Rational>, FfdError> {
     let k = |r: Result<Bernstein<Rational>, crate::bernstein::BernsteinError>| {
-        r.map_err(|e| FfdError::Kernel(e.to_string()))
+        r.map_err(FfdError::from)
     };
     let d = |axis: usize, c: usize| k(net[c].derivative(axis));
     let fu = [d(0, 0)?, d(0, 1)?, d(0, 2)?];
@@ -103,9 +101,8 @@ pub fn jacobian_cell_bezier(
 /// derivative, product and sum stays over a shared denominator (no gcd anywhere).
 #[allow(clippy::needless_range_loop)] // the index also picks partner rows/columns
 pub fn jacobian_cell_scaled(net: &[Bernstein<Rational>; 3]) -> Result<ScaledBernstein, FfdError> {
-    let k = |r: Result<ScaledBernstein, crate::bernstein::BernsteinError>| {
-        r.map_err(|e| FfdError::Kernel(e.to_string()))
-    };
+    let k =
+        |r: Result<ScaledBernstein, crate::bernstein::BernsteinError>| r.map_err(FfdError::from);
     let scaled = scaled_net(net)?;
     let d = |axis: usize, c: usize| k(scaled[c].derivative(axis));
     let fu = [d(0, 0)?, d(0, 1)?, d(0, 2)?];
@@ -137,7 +134,7 @@ pub(crate) fn scaled_net(net: &[Bernstein<Rational>; 3]) -> Result<[ScaledBernst
             .map(|c| c.numer() * (&den / c.denom()))
             .collect();
         ScaledBernstein::with_denominator(p.degrees().to_vec(), num, den.clone())
-            .map_err(|e| FfdError::Kernel(e.to_string()))
+            .map_err(FfdError::from)
     };
     Ok([one(&net[0])?, one(&net[1])?, one(&net[2])?])
 }

@@ -281,10 +281,7 @@ impl Lattice {
         self.check_inside(u)?;
         let mut out = [Rational::zero(), Rational::zero(), Rational::zero()];
         for (c, o) in out.iter_mut().enumerate() {
-            *o = self
-                .coordinate_spline(c)
-                .eval(u)
-                .map_err(|e| FfdError::Kernel(e.to_string()))?;
+            *o = self.coordinate_spline(c).eval(u)?;
         }
         Ok(out)
     }
@@ -474,7 +471,7 @@ fn axis_knots(basis: Basis, order: usize, cells: usize) -> Vec<Rational> {
 /// Parses one lattice or an array of lattices (`{"basis", "order", "cells", "points"}`).
 /// Errors name the lattice (its position in the array, 0 for a single one) and the field.
 pub fn lattices_from_json(text: &str) -> Result<Vec<Lattice>, FfdError> {
-    let v: Value = serde_json::from_str(text).map_err(|e| FfdError::Json(e.to_string()))?;
+    let v: Value = serde_json::from_str(text)?;
     match v {
         Value::Array(items) => items
             .iter()
@@ -549,7 +546,8 @@ pub fn lattice_from_value(v: &Value) -> Result<Lattice, FfdError> {
             .ok_or_else(|| bad(&field, "expected [x, y, z]".into()))?;
         let mut q = [Rational::zero(), Rational::zero(), Rational::zero()];
         for (a, (slot, x)) in q.iter_mut().zip(xyz).enumerate() {
-            *slot = parse_number(x).map_err(|why| bad(&format!("{field}[{a}]"), why))?;
+            *slot =
+                parse_number(x).map_err(|why| bad(&format!("{field}[{a}]"), why.to_string()))?;
         }
         points.push(q);
     }

@@ -410,7 +410,7 @@ fn subdivide_drag(
             .map(|(p, dp)| [0, 1, 2].map(|a| rational_to_f64(&p[a]) + dp[a]))
             .collect();
         if pts.iter().flatten().any(|x| !x.is_finite()) {
-            return Err(FfdError::Kernel("the f64 solve overflowed".into()));
+            return Err(FfdError::FastUnfit("the f64 solve overflowed"));
         }
         // The conic test runs on the f64 points directly; a lattice is built only for a
         // certified step (or when another test needs one).
@@ -475,7 +475,7 @@ pub fn compose(steps: &[DragStep], point: &Point) -> Result<Point, FfdError> {
 /// Parses `{"constraints": [{"point": [x,y,z], "delta": [dx,dy,dz]}, …]}` (numbers exact as
 /// `f64`, or `"p/q"` strings).
 pub fn constraints_from_json(text: &str) -> Result<Vec<Constraint>, FfdError> {
-    let v: Value = serde_json::from_str(text).map_err(|e| FfdError::Json(e.to_string()))?;
+    let v: Value = serde_json::from_str(text)?;
     let bad = |field: String, why: String| FfdError::Input {
         lattice: 0,
         field,
@@ -502,7 +502,7 @@ pub fn constraints_from_json(text: &str) -> Result<Vec<Constraint>, FfdError> {
                 let mut out: Point = Default::default();
                 for (a, x) in arr.iter().enumerate() {
                     out[a] = crate::bernstein::io::parse_number(x)
-                        .map_err(|why| bad(format!("{field}[{a}]"), why))?;
+                        .map_err(|why| bad(format!("{field}[{a}]"), why.to_string()))?;
                 }
                 Ok(out)
             };

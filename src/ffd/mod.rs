@@ -21,12 +21,12 @@ pub(crate) mod lattice;
 pub(crate) mod manipulation;
 pub(crate) mod sufficient;
 
-pub use injectivity::{
-    check_injectivity, verify_injectivity_certificate, CheckOptions, InjectivityCertificate,
-    InjectivityReport, InjectivityVerdict,
-};
 pub use deform::{deform_points_exact, deform_points_fast, FastDeformer, Fit};
 pub use fast::{jacobian_cell_fast, JacobianWorkspace};
+pub use injectivity::{
+    check_injectivity, verify_injectivity_certificate, CertificateRefusal, CheckOptions,
+    InjectivityCertificate, InjectivityCheck, InjectivityReport, InjectivityVerdict,
+};
 pub use jacobian::{
     jacobian_at, jacobian_cell_bezier, jacobian_cell_scaled, jacobian_cells_morken,
     jacobian_in_cell, jacobian_matrix_at, jacobian_spline,
@@ -37,8 +37,8 @@ pub use manipulation::{
     Constraint, DragOptions, DragStep, DragTest,
 };
 pub use sufficient::{
-    bezier_coefficient_test_exact, bezier_coefficient_test_fast, conic_test_exact,
-    conic_test_fast, phi_test_exact, phi_test_fast, ConicOptions, Scope, SufficientVerdict,
+    bezier_coefficient_test_exact, bezier_coefficient_test_fast, conic_test_exact, conic_test_fast,
+    phi_test_exact, phi_test_fast, ConicOptions, Scope, SufficientVerdict,
 };
 
 use thiserror::Error;
@@ -46,26 +46,74 @@ use thiserror::Error;
 /// Errors of the FFD family.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum FfdError {
-    #[error("not valid JSON: {0}")]
-    Json(String),
-    #[error("lattice {lattice}, field `{field}`: {why}")]
-    Input {
-        lattice: usize,
-        field: String,
+    /// The text is not JSON.
+    #[error("not valid JSON at line {line}, column {column}: {why}")]
+    Json {
+        /// 1-based line of the error.
+        line: usize,
+        /// 1-based column of the error.
+        column: usize,
+        /// The parser's message.
         why: String,
     },
+    /// A lattice, constraint or certificate field is missing or malformed.
+    #[error("lattice {lattice}, field `{field}`: {why}")]
+    Input {
+        /// The lattice's index in an array input (0 for a single lattice).
+        lattice: usize,
+        /// The field, e.g. `points[3][1]`.
+        field: String,
+        /// What is wrong with it.
+        why: String,
+    },
+    /// A parameter point lies outside `[0,a]×[0,b]×[0,c]`.
     #[error("parameter {value} on axis {axis} lies outside the lattice's domain")]
-    OutsideDomain { axis: usize, value: String },
-    #[error("kernel: {0}")]
-    Kernel(String),
+    OutsideDomain {
+        /// The axis (0, 1, 2).
+        axis: usize,
+        /// The coordinate, exactly.
+        value: String,
+    },
+    /// The Bernstein kernel refused an operation (it names the shape mismatch).
+    #[error("Bernstein kernel: {0}")]
+    Bernstein(#[from] crate::bernstein::BernsteinError),
+    /// The B-spline kernel refused an operation.
+    #[error("B-spline kernel: {0}")]
+    Bspline(#[from] crate::bspline::BsplineError),
+    /// The `f64` path cannot carry this input with a certified bound (non-finite values,
+    /// magnitudes outside its safe range, a degree-0 axis, an overflowing solve); the exact
+    /// path takes it.
+    #[error("f64 path: {0}")]
+    FastUnfit(&'static str),
+    /// [`verify_injectivity_certificate`] refused a certificate.
     #[error("certificate refused: {0}")]
-    Certificate(String),
+    Certificate(#[from] CertificateRefusal),
+    /// Two drag constraints are linearly dependent.
     #[error(
         "constraint {constraint} is dependent on the others (B Bᵀ is singular): drop or move it"
     )]
-    RankDeficient { constraint: usize },
+    RankDeficient {
+        /// The first constraint found dependent on the earlier ones.
+        constraint: usize,
+    },
+    /// `InjectSubdiv` reached its depth limit with a piece still not certified.
     #[error("the drag could not be made injective: a piece still fails at depth {depth} (first constraint point {first_point})")]
-    DragNotInjective { depth: u32, first_point: String },
+    DragNotInjective {
+        /// The depth limit ([`DragOptions::max_depth`]).
+        depth: u32,
+        /// The first constraint point of the failing piece, exactly.
+        first_point: String,
+    },
+}
+
+impl From<serde_json::Error> for FfdError {
+    fn from(e: serde_json::Error) -> FfdError {
+        FfdError::Json {
+            line: e.line(),
+            column: e.column(),
+            why: e.to_string(),
+        }
+    }
 }
 
 impl FfdError {

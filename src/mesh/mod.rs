@@ -15,6 +15,7 @@ pub use shapes::squashed_hemisphere;
 pub mod stl;
 pub mod vtk;
 
+use glam::DVec3;
 use std::path::Path;
 use thiserror::Error;
 
@@ -88,19 +89,15 @@ impl Format {
     }
 }
 
-/// `a × b`.
+/// `a × b` (each component one rounding of a difference of two rounded products).
 pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
+    DVec3::from(a).cross(DVec3::from(b)).to_array()
 }
 
 /// Twice the area vector of triangle `abc`: `(b − a) × (c − a)` (right-hand rule).
 pub fn area_vector(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
-    let d = |u: [f64; 3], v: [f64; 3]| [u[0] - v[0], u[1] - v[1], u[2] - v[2]];
-    cross(d(b, a), d(c, a))
+    let a = DVec3::from(a);
+    (DVec3::from(b) - a).cross(DVec3::from(c) - a).to_array()
 }
 
 impl Mesh {

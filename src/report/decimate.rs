@@ -291,7 +291,11 @@ fn plate_rows() -> (Vec<PlateRow>, Result<check::Verified, String>, f64) {
     let out = last.expect("five runs");
     let clock = Instant::now();
     let verified = check::verify(&plate, &out.history, true, 0);
-    (rows, verified, clock.elapsed().as_secs_f64())
+    (
+        rows,
+        verified.map_err(|e| e.to_string()),
+        clock.elapsed().as_secs_f64(),
+    )
 }
 
 fn exact_vs_fast() -> Vec<(String, String, bool, usize)> {

@@ -4,12 +4,10 @@ use crate::out::{choice, pretty, read, status, write};
 use clap::Subcommand;
 use geocert::bernstein::Limits;
 use geocert::ffd::{
-    constraints_from_json, injective_drag, steps_to_json, DragOptions, DragTest,
-};
-use geocert::ffd::{
     check_injectivity, lattices_from_json, verify_injectivity_certificate, CheckOptions,
     InjectivityCertificate,
 };
+use geocert::ffd::{constraints_from_json, injective_drag, steps_to_json, DragOptions, DragTest};
 use geocert::num::rational_to_string;
 use geocert::Path;
 use std::path::{Path as FsPath, PathBuf};

@@ -1,10 +1,10 @@
 //! `geocert positivity` and `geocert verify-cert`: the Bernstein positivity prover.
 
 use crate::out::{choice, pretty, read, status, write};
+use geocert::bernstein::WitnessValue;
 use geocert::bernstein::{
     certificate_for, poly_from_json, verify_certificate_file, CertificateFile,
 };
-use geocert::bernstein::WitnessValue;
 use geocert::bernstein::{prove_positive, Limits, PositivityOptions, PositivityVerdict};
 use geocert::num::rational_to_string;
 use geocert::Path;

@@ -24,6 +24,7 @@ use crate::mc::decider::decide_exact;
 use crate::mc::table::{table, CENTRE};
 use crate::mesh::Mesh;
 use crate::num::{rational_to_f64, Interval, Rational, Sign};
+use glam::DMat3;
 use num_traits::{Signed, Zero};
 use std::collections::HashMap;
 
@@ -524,19 +525,23 @@ fn world_normal(
     xi: [f64; 3],
     g: [f64; 3],
 ) -> [f64; 3] {
-    // Columns c[d] = ∂x/∂ξ_d. J⁻ᵀ g = (c₁ × c₂ g₀ + c₂ × c₀ g₁ + c₀ × c₁ g₂) / det.
-    let c: [[f64; 3]; 3] = std::array::from_fn(|d| data.world(kind, xi, Some(d)));
-    let cross = crate::mesh::cross;
-    let rows = [cross(c[1], c[2]), cross(c[2], c[0]), cross(c[0], c[1])];
-    let det: f64 = (0..3).map(|a| c[0][a] * rows[0][a]).sum();
+    // Columns c[d] = ∂x/∂ξ_d. J⁻ᵀ g = (c₁ × c₂ g₀ + c₂ × c₀ g₁ + c₀ × c₁ g₂) / det: the rows of
+    // the adjugate, scaled by the sign of det only (the length is normalised away).
+    let j = DMat3::from_cols_array_2d(&std::array::from_fn(|d| data.world(kind, xi, Some(d))));
+    let adjugate_rows = [
+        j.y_axis.cross(j.z_axis),
+        j.z_axis.cross(j.x_axis),
+        j.x_axis.cross(j.y_axis),
+    ];
+    let det = j.x_axis.dot(adjugate_rows[0]);
     if det == 0.0 || !det.is_finite() {
         return [0.0; 3];
     }
-    let v = [0, 1, 2]
-        .map(|a| (rows[0][a] * g[0] + rows[1][a] * g[1] + rows[2][a] * g[2]) * det.signum());
-    let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    let v = (adjugate_rows[0] * g[0] + adjugate_rows[1] * g[1] + adjugate_rows[2] * g[2])
+        * det.signum();
+    let len = v.length();
     if len > 0.0 && len.is_finite() {
-        v.map(|x| x / len)
+        (v / len).to_array()
     } else {
         [0.0; 3]
     }

@@ -1,6 +1,7 @@
 //! Node decimation of height grids by 99 % (fast path, error criterion, the defaults) and the
 //! full undecimation: a grid that fits in cache (10k nodes) and one that does not (250k).
 //! The report's Table 1 and peers table time the 810k-node grid end to end.
+#![allow(missing_docs)] // criterion's group and main macros generate undocumented items
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use geocert::decimate::{self, data::height_grid, Options, Stage, Target};

@@ -1,6 +1,7 @@
 //! FFD injectivity on tricubic Bézier cells perturbed from the identity (amplitudes 5–30 % of
 //! the cell): the N&S test on each path, the conic-hull and phi tests. Gmsh's `minDetJac` on
 //! the same cells is measured side by side by `geocert prove` (reports/ffd.md).
+#![allow(missing_docs)] // criterion's group and main macros generate undocumented items
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use geocert::bernstein::Limits;

@@ -3,6 +3,7 @@
 //! * univariate degree 9, full binary tree of depth 10 (the NOTES.md measurement);
 //! * trivariate degree (8,8,8) — the tricubic FFD Jacobian's degree — octree descent to depth 4:
 //!   at each of 4 levels one box is split into its 8 octants (7 axis splits), 28 splits in all.
+#![allow(missing_docs)] // criterion's group and main macros generate undocumented items
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use geocert::bernstein::{Bernstein, FastBernstein, ScaledBernstein};

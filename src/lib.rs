@@ -3,25 +3,73 @@
 //! An exact-arithmetic verification and reference engine for geometric algorithms.
 //! Every algorithm exists twice: a **reference path** in exact rational arithmetic that reads
 //! like the mathematics and is never wrong, and a **fast path** in `f64` whose decisions are
-//! either certified by a rigorous error bound or say `Uncertain`. The two are compared by
-//! property tests, differential fuzzing and exhaustive proofs, and `geocert prove` publishes
-//! the results as reports.
+//! either certified by a rigorous error bound or say `Uncertain`. Every yes/no comes with a
+//! certificate that an independent checker re-verifies. Use it as an oracle in property tests
+//! and fuzz targets, and cite the reports `geocert prove` generates.
 //!
 //! ## Map
 //!
+//! * [`Path`] — the one way every family is told which arithmetic decides (`exact`, `fast`,
+//!   `filtered`), as a field of its options.
 //! * [`num`] — the scalar layer: [`num::Rational`], lossless `f64` conversion, parsing,
 //!   certified [`num::Interval`]s, the four-valued [`num::Sign`], the [`num::Field`] trait.
 //! * [`bernstein`] — tensor Bernstein polynomials (generic, sign-only integer, certified `f64`)
-//!   and the subdivision positivity prover with checkable certificates.
+//!   and the subdivision positivity prover [`bernstein::prove_positive`] with checkable
+//!   certificates.
 //! * [`bspline`] — knot vectors, de Boor, Boehm and Oslo insertion, Bézier extraction, tensor
 //!   splines, Mørken products.
-//! * [`decimate`] — node decimation with the exponential-interval bucket queue, ear cutting,
-//!   exact undecimation (Krivograd et al.), exact and fast engines, an independent checker.
-//! * [`memory`] — large working arrays on transparent huge pages (Linux).
-//! * [`proofs`] — the exhaustive proofs (source in `proofs/`), run by `cargo test` and
-//!   `geocert prove`.
-//! * [`report`] — writes the Markdown reports in `reports/` from measured runs.
-//! * `strategies` (feature `proptest`) — proptest strategies for other crates' property tests.
+//! * [`ffd`] — FFD injectivity (Gain & Dodgson 2001): the exact test with certificates, the
+//!   sufficient tests, injective direct manipulation.
+//! * [`mc`] — marching cubes on regular grids and curvilinear finite elements (Wünsche & Lin):
+//!   the proved 656-entry [`table`](mod@mc::table), the face decider, [`mc::grid`], [`mc::fe`] and the
+//!   auditor of other programs' tables [`mc::audit`].
+//! * [`decimate`] — node decimation and exact undecimation (Krivograd et al. 2003): the bucket
+//!   queue, ear cutting, exact and fast engines, the history file, an independent
+//!   [`decimate::check`]er.
+//! * [`mesh`] — indexed triangle meshes, PLY/OBJ/STL/VTK readers and writers, topology checks.
+//! * `strategies` (feature `proptest`) — proptest strategies for other crates' property
+//!   tests.
+//!
+//! Everything under `geocert::internals` (the report generator, the fuzz checks, the
+//! exhaustive proofs) is unstable and hidden from these docs.
+//!
+//! ## Example
+//!
+//! Prove a polynomial positive on the unit square on the filtered path, then re-check the
+//! certificate with the independent checker:
+//!
+//! ```
+//! use geocert::bernstein::{
+//!     certificate_for, poly_from_json, prove_positive, verify_certificate_file,
+//!     PositivityOptions, PositivityVerdict,
+//! };
+//! use geocert::Path;
+//!
+//! // p(s, t) = (s − ½)² + t + 1/10 in Bernstein form, degrees (2, 1), axis 0 fastest.
+//! let p = poly_from_json(&serde_json::json!({
+//!     "degrees": [2, 1],
+//!     "coeffs": ["7/20", "-3/20", "7/20", "27/20", "17/20", "27/20"],
+//! }))?;
+//! let verdict = prove_positive(&p, &PositivityOptions::new().with_path(Path::Filtered))?;
+//! assert!(matches!(verdict, PositivityVerdict::Positive { .. }));
+//! let certificate = certificate_for(&p, &verdict).expect("decided verdicts have one");
+//! let check = verify_certificate_file(&certificate)?;
+//! println!("{check}");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! ## Feature flags
+//!
+//! * `cli` (default) — the `geocert` binary: argument parsing, progress bars, and `reports`.
+//! * `reports` — the report generator behind `geocert prove` and the peers it times
+//!   in-process (meshoptimizer); implies `parallel` and `nifti`.
+//! * `nifti` — NIfTI-1 volumes (`.nii`, `.nii.gz`) for [`mc::grid`].
+//! * `parallel` — parallel passes on all cores (rayon); without it the same passes run on one
+//!   thread with identical results.
+//! * `proptest` — `geocert::strategies`.
+//!
+//! A test suite that needs only the algorithms, certificates and strategies depends on
+//! `geocert = { version = "0.1", default-features = false, features = ["proptest"] }`.
 
 #![warn(unused_crate_dependencies)]
 

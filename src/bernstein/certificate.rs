@@ -13,9 +13,17 @@ pub enum BoxSign<T> {
     /// Every coefficient is certainly positive: `p > 0` on the whole box.
     Positive,
     /// The vertex `corner` (bit a set: `t_a = 1`) has coefficient `value ≤ 0`: `p(vertex) = value`.
-    NonPositiveVertex { corner: usize, value: T },
+    NonPositiveVertex {
+        /// The vertex, as a bit set (bit `a` set: `t_a = 1`).
+        corner: usize,
+        /// The vertex's coefficient, `p` at that vertex (`≤ 0`).
+        value: T,
+    },
     /// Neither: subdivide. `min` is the smallest coefficient (a lower bound of `p` on the box).
-    Inconclusive { min: T },
+    Inconclusive {
+        /// The smallest coefficient: a lower bound of `p` on the box.
+        min: T,
+    },
 }
 
 /// Classifies one box from its coefficients. For interval coefficients a vertex is only

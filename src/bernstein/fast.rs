@@ -84,10 +84,12 @@ impl FastBernstein {
         Self::with_error(p.degrees().to_vec(), coeffs, err)
     }
 
+    /// Degree per axis.
     pub fn degrees(&self) -> &[usize] {
         &self.degrees
     }
 
+    /// The coefficients, axis 0 fastest.
     pub fn coeffs(&self) -> &[f64] {
         &self.coeffs
     }

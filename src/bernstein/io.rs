@@ -16,12 +16,26 @@ use thiserror::Error;
 #[derive(Debug, Error)]
 pub enum InputError {
     #[error("not valid JSON: {0}")]
+    /// The file is not JSON.
     Json(#[from] serde_json::Error),
     #[error("field `{field}`: {why}")]
-    Field { field: String, why: String },
+    /// A field is missing or malformed.
+    Field {
+        /// The field's name.
+        field: String,
+        /// What is wrong with it.
+        why: String,
+    },
     #[error("coefficient {index}: {why}")]
-    Coefficient { index: usize, why: NumError },
+    /// A coefficient is not an exact number.
+    Coefficient {
+        /// Its index in `coeffs`.
+        index: usize,
+        /// Why it does not parse.
+        why: NumError,
+    },
     #[error("polynomial: {0}")]
+    /// The degrees and coefficients do not make a polynomial.
     Shape(#[from] super::BernsteinError),
 }
 
@@ -97,13 +111,18 @@ pub fn poly_to_json(p: &Bernstein<Rational>) -> Value {
 /// A positivity certificate as written to disk.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CertificateFile {
+    /// The polynomial, in the input format.
     pub polynomial: Value,
+    /// `"positive"` or `"not_positive"`.
     pub verdict: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// `positive`: the leaf boxes that tile the unit box.
     pub leaves: Option<Vec<DyadicBox>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// `not_positive`: the witness point, exact `"p/q"` strings.
     pub witness: Option<Vec<String>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// `not_positive`: the exact value there.
     pub value: Option<String>,
 }
 
@@ -139,10 +158,13 @@ pub fn certificate_for(p: &Bernstein<Rational>, v: &PositivityVerdict) -> Option
 #[derive(Debug, Error)]
 pub enum VerifyError {
     #[error("{0}")]
+    /// The certificate's polynomial or witness is malformed.
     Input(#[from] InputError),
     #[error("certificate refused: {0}")]
+    /// The evidence does not prove the verdict.
     Refused(#[from] CertificateError),
     #[error("unknown verdict {0:?} (expected \"positive\" or \"not_positive\")")]
+    /// The verdict is neither `positive` nor `not_positive`.
     Verdict(String),
 }
 

@@ -9,7 +9,7 @@
 //! * [`FastBernstein`]: `f64` coefficients with one rigorous
 //!   forward error bound, preallocated, no allocation inside the subdivision loop.
 //!
-//! [`positivity`] proves or refutes `p > 0` on the unit box by subdivision, with
+//! [`prove_positive`] proves or refutes `p > 0` on the unit box by subdivision, with
 //! checkable certificates, in all three forms.
 
 pub(crate) mod certificate;
@@ -41,23 +41,58 @@ use thiserror::Error;
 #[derive(Debug, Error, Clone, PartialEq, Eq)]
 pub enum BernsteinError {
     #[error("a Bernstein polynomial needs at least one axis")]
+    /// No axis was given.
     NoAxes,
     #[error("wrong coefficient count: expected {expected}, found {found}")]
-    CoefficientCount { expected: usize, found: usize },
+    /// The coefficient count is not the product of `degree + 1` over the axes.
+    CoefficientCount {
+        /// `Π (d_a + 1)`.
+        expected: usize,
+        /// Coefficients given.
+        found: usize,
+    },
     #[error("axis {axis} out of range for a {dim}-variate polynomial")]
-    Axis { axis: usize, dim: usize },
+    /// An axis index is out of range.
+    Axis {
+        /// The axis asked for.
+        axis: usize,
+        /// The polynomial's number of variables.
+        dim: usize,
+    },
     #[error("dimension mismatch: expected {expected}, found {found}")]
-    DimensionMismatch { expected: usize, found: usize },
+    /// Two operands (or a point) have different numbers of variables.
+    DimensionMismatch {
+        /// The number of variables expected.
+        expected: usize,
+        /// The number found.
+        found: usize,
+    },
     #[error("degree mismatch between operands")]
+    /// Two operands have different degrees where equal ones are needed.
     DegreeMismatch,
     #[error("sub-box on axis {axis} is not an interval [a,b] with 0 ≤ a < b ≤ 1")]
-    BadBox { axis: usize },
+    /// A sub-box is not a non-empty interval inside `[0, 1]`.
+    BadBox {
+        /// The offending axis.
+        axis: usize,
+    },
     #[error("split parameter must lie strictly between 0 and 1")]
+    /// A split parameter is not strictly between 0 and 1.
     BadParameter,
     #[error("non-finite coefficient at index {index}")]
-    NonFinite { index: usize },
+    /// A coefficient is NaN or infinite.
+    NonFinite {
+        /// Its index.
+        index: usize,
+    },
     #[error("degree {degree} on an axis exceeds the fast path's limit of {limit}")]
-    DegreeTooHigh { degree: usize, limit: usize },
+    /// A degree exceeds the fast path's limit.
+    DegreeTooHigh {
+        /// The degree.
+        degree: usize,
+        /// The limit.
+        limit: usize,
+    },
 }
 
 /// The binomial coefficient `C(n, k)` as a big integer (0 when `k > n`).

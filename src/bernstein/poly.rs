@@ -139,14 +139,17 @@ impl<T: Field> Bernstein<T> {
         }
     }
 
+    /// Degree per axis.
     pub fn degrees(&self) -> &[usize] {
         &self.degrees
     }
 
+    /// The coefficients, axis 0 fastest.
     pub fn coeffs(&self) -> &[T] {
         &self.coeffs
     }
 
+    /// The number of variables.
     pub fn dim(&self) -> usize {
         self.degrees.len()
     }

@@ -27,7 +27,9 @@ use thiserror::Error;
 /// A dyadic box `Π [index_a / 2^level, (index_a + 1) / 2^level]` of the unit box.
 #[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, PartialOrd, Ord)]
 pub struct DyadicBox {
+    /// Subdivision level: the box has side `2^-level`.
     pub level: u32,
+    /// Per axis, the box's index at that level.
     pub index: Vec<u64>,
 }
 
@@ -121,8 +123,11 @@ impl Default for Limits {
 /// Which limit stopped a run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum LimitHit {
+    /// [`Limits::max_depth`].
     Depth,
+    /// [`Limits::max_boxes`].
     Boxes,
+    /// [`Limits::time_limit`].
     Time,
 }
 
@@ -142,25 +147,34 @@ pub enum PositivityVerdict {
     /// `lower_bound` is a certified lower bound of `p` on the box: the smallest leaf
     /// coefficient, rounded down to an `f64` (convex-hull property).
     Positive {
+        /// Leaf boxes tiling the unit box, each with all coefficients positive.
         leaves: Vec<DyadicBox>,
+        /// Certified lower bound of `p` on the box.
         lower_bound: f64,
     },
     /// `p(witness) ≤ 0`.
     NotPositive {
+        /// A rational point of the unit box.
         witness: Vec<Rational>,
+        /// `p` there: exact, or a certified upper bound `≤ 0` on the fast path.
         value: WitnessValue,
     },
     /// A limit was hit before a decision: `at` is the undecided box, `lower_bound` a certified
     /// lower bound of `p` there (its smallest coefficient, rounded down).
     Undecided {
+        /// Which limit.
         limit: LimitHit,
+        /// The undecided box.
         at: DyadicBox,
+        /// Certified lower bound of `p` on `at`.
         lower_bound: f64,
     },
     /// Fast path only: rounding error left these boxes undecided; `proven` are the leaves it
     /// did prove positive. Hand `boxes` to the exact path.
     Uncertain {
+        /// Boxes the fast path could not decide.
         boxes: Vec<DyadicBox>,
+        /// Leaves it proved positive.
         proven: Vec<DyadicBox>,
         /// Certified lower bound of `p` on the `proven` leaves.
         proven_lower_bound: f64,
@@ -519,19 +533,52 @@ pub fn prove_positive_filtered_with(
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum CertificateError {
     #[error("leaf {index} is not a valid box of the unit {dim}-cube")]
-    BadLeaf { index: usize, dim: usize },
+    /// A leaf is not a valid dyadic box of the unit cube.
+    BadLeaf {
+        /// The leaf's index.
+        index: usize,
+        /// The cube's dimension.
+        dim: usize,
+    },
     #[error("leaves {a} and {b} overlap")]
-    Overlap { a: usize, b: usize },
+    /// Two leaves overlap.
+    Overlap {
+        /// One leaf's index.
+        a: usize,
+        /// The other's.
+        b: usize,
+    },
     #[error("the leaves cover {covered} of the unit box, not all of it")]
-    NotCovering { covered: String },
+    /// The leaves' volumes do not sum to 1.
+    NotCovering {
+        /// Their total volume, exactly.
+        covered: String,
+    },
     #[error("leaf {index} has a coefficient that is not positive: {coeff}")]
-    NotPositiveLeaf { index: usize, coeff: String },
+    /// A leaf has a coefficient `≤ 0`.
+    NotPositiveLeaf {
+        /// The leaf's index.
+        index: usize,
+        /// The coefficient, exactly.
+        coeff: String,
+    },
     #[error("the witness point lies outside the unit box or has the wrong dimension")]
+    /// The witness point lies outside the unit box or has the wrong dimension.
     BadWitness,
     #[error("the polynomial's value at the witness is {value}, which is positive")]
-    WitnessPositive { value: String },
+    /// The polynomial is positive at the witness.
+    WitnessPositive {
+        /// Its value there, exactly.
+        value: String,
+    },
     #[error("the claimed witness value {claimed} differs from the exact value {exact}")]
-    WitnessValueMismatch { claimed: String, exact: String },
+    /// The claimed value is not the exact value.
+    WitnessValueMismatch {
+        /// The certificate's value.
+        claimed: String,
+        /// The exact value.
+        exact: String,
+    },
 }
 
 /// Re-checks a `Positive` certificate with the generic rational kernel: the leaves are valid,

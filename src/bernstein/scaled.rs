@@ -236,14 +236,17 @@ impl ScaledBernstein {
         Bernstein::new(self.degrees.clone(), coeffs).expect("counts match by construction")
     }
 
+    /// Degree per axis.
     pub fn degrees(&self) -> &[usize] {
         &self.degrees
     }
 
+    /// The integer numerators, axis 0 fastest.
     pub fn numerators(&self) -> &[BigInt] {
         &self.num
     }
 
+    /// The shared positive denominator.
     pub fn denominator(&self) -> &BigInt {
         &self.den
     }

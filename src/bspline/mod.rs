@@ -20,26 +20,53 @@ use thiserror::Error;
 #[derive(Debug, Error, Clone, PartialEq, Eq)]
 pub enum BsplineError {
     #[error("knot vector is not non-decreasing at position {index}")]
-    KnotsNotSorted { index: usize },
+    /// The knot vector decreases somewhere.
+    KnotsNotSorted {
+        /// The first position where it does.
+        index: usize,
+    },
     #[error("degree {degree} with {knots} knots needs {expected} coefficients, found {found}")]
+    /// The coefficient count does not fit the degree and knots (`knots − degree − 1`).
     CoefficientCount {
+        /// The degree.
         degree: usize,
+        /// Knots given.
         knots: usize,
+        /// Coefficients needed.
         expected: usize,
+        /// Coefficients given.
         found: usize,
     },
     #[error("the spline's domain [s_p, s_n] is empty")]
+    /// The domain `[s_p, s_n]` is empty.
     EmptyDomain,
     #[error("parameter outside the domain")]
+    /// A parameter lies outside the domain.
     OutsideDomain,
     #[error("knot {what} must lie strictly inside the domain")]
-    KnotOutsideDomain { what: String },
+    /// A knot to insert is not strictly inside the domain.
+    KnotOutsideDomain {
+        /// Which knot.
+        what: String,
+    },
     #[error("factors live on different domains (factor {factor})")]
-    DomainMismatch { factor: usize },
+    /// Product factors live on different domains.
+    DomainMismatch {
+        /// The first factor that differs.
+        factor: usize,
+    },
     #[error("no factors given")]
+    /// A product of no factors was asked for.
     NoFactors,
     #[error("dimension mismatch: expected {expected}, found {found}")]
-    DimensionMismatch { expected: usize, found: usize },
+    /// Operands have different numbers of variables.
+    DimensionMismatch {
+        /// Expected.
+        expected: usize,
+        /// Found.
+        found: usize,
+    },
     #[error("Bernstein kernel: {0}")]
+    /// The Bernstein kernel refused an operation.
     Bernstein(#[from] crate::bernstein::BernsteinError),
 }

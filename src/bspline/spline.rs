@@ -50,12 +50,15 @@ impl<T: Field + PartialOrd> Spline<T> {
         Spline::new(degree, knots, coeffs)
     }
 
+    /// The degree `p`.
     pub fn degree(&self) -> usize {
         self.degree
     }
+    /// The knot vector.
     pub fn knots(&self) -> &[T] {
         &self.knots
     }
+    /// The B-spline coefficients.
     pub fn coeffs(&self) -> &[T] {
         &self.coeffs
     }

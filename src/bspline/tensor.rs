@@ -20,8 +20,11 @@ pub struct TensorSpline<T> {
 /// on that box (reparametrised to the unit box).
 #[derive(Clone, Debug, PartialEq)]
 pub struct BezierCell<T> {
+    /// Per axis, the index of the knot span the cell covers.
     pub spans: Vec<usize>,
+    /// Per axis, the cell's parameter interval.
     pub bounds: Vec<(T, T)>,
+    /// The spline on the cell, in Bernstein form over `bounds`.
     pub poly: Bernstein<T>,
 }
 
@@ -63,15 +66,19 @@ impl<T: Field + PartialOrd> TensorSpline<T> {
         })
     }
 
+    /// Degree per axis.
     pub fn degrees(&self) -> &[usize] {
         &self.degrees
     }
+    /// Knot vector per axis.
     pub fn knots(&self) -> &[Vec<T>] {
         &self.knots
     }
+    /// The coefficients, axis 0 fastest.
     pub fn coeffs(&self) -> &[T] {
         &self.coeffs
     }
+    /// The number of variables.
     pub fn dim(&self) -> usize {
         self.degrees.len()
     }

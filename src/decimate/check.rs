@@ -22,12 +22,15 @@ use std::collections::{HashMap, HashSet};
 /// What the checker verified.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct Verified {
+    /// Steps replayed.
     pub steps: usize,
     /// Added triangles checked positive in their step's projection.
     pub triangles_checked: usize,
     /// Full manifold / Euler / border-loop checks performed.
     pub full_checks: usize,
+    /// The original's Euler characteristic, kept at every full check.
     pub euler: i64,
+    /// The original's number of border loops, kept at every full check.
     pub border_loops: usize,
     /// Undo of every step reproduced the original's fingerprint and triangles in order.
     pub undecimated_exactly: bool,

@@ -44,8 +44,11 @@ pub fn grid_triangles(nx: usize, ny: usize) -> Vec<[u32; 3]> {
 
 /// The plate of [`kirsch_plate`]: width, height, hole radius (mm) and remote stress (MPa).
 pub const PLATE_WIDTH: f64 = 100.0;
+/// The plate's height (Fig. 9).
 pub const PLATE_HEIGHT: f64 = 200.0;
+/// The hole's radius.
 pub const HOLE_RADIUS: f64 = 10.0;
+/// The remote tension.
 pub const REMOTE_STRESS: f64 = 100.0;
 
 /// Kirsch's solution for an infinite plate with a circular hole of radius `a` under remote

@@ -27,29 +27,47 @@ const VERSION: u32 = 1;
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum HistoryError {
     #[error("history file: not a geocert decimation history (bad magic bytes)")]
+    /// The file does not start with the history's magic bytes.
     BadMagic,
     #[error("history file: version {0} is not supported (this build reads version {VERSION})")]
+    /// The file's format version is not this build's.
     Version(u32),
     #[error("history file: truncated at byte {0}")]
+    /// The file ends early, at this byte.
     Truncated(usize),
     #[error("history file: checksum mismatch (the file is corrupted)")]
+    /// The checksum does not match.
     Checksum,
     #[error("history file: {0} trailing bytes after the checksum")]
+    /// Bytes follow the checksum.
     Trailing(usize),
     #[error("history step {step}: {why}")]
-    Step { step: usize, why: String },
+    /// A step is inconsistent.
+    Step {
+        /// The step.
+        step: usize,
+        /// What is inconsistent.
+        why: String,
+    },
     #[error("the history does not belong to this mesh: {0}")]
+    /// The history does not fit the mesh given (counts or fingerprint).
     Mismatch(String),
 }
 
 /// One node removal.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct StepRef<'a> {
+    /// The removed node.
     pub node: u32,
+    /// Whether it was a border node.
     pub border: bool,
+    /// Its ring of neighbours in order (counter-clockwise).
     pub ring: &'a [u32],
+    /// The triangle slots its fan occupied, the added triangles reuse the first `l − 2`.
     pub slots: &'a [u32],
+    /// Per removed triangle, the rotation of its corners as stored.
     pub positions: &'a [u8],
+    /// The added triangles, as positions in `ring`.
     pub added: &'a [[u8; 3]],
 }
 
@@ -75,12 +93,17 @@ impl StepRef<'_> {
 /// The record of a decimation: every step, and the removed nodes' data.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct History {
+    /// Vertices of the original mesh.
     pub vertex_count: u32,
+    /// Triangle slots (the original's triangle count).
     pub slot_count: u32,
+    /// Whether the mesh carries a scalar field.
     pub has_scalars: bool,
     /// The scalar field's name (empty without one).
     pub scalar_name: String,
+    /// Fingerprint of the original mesh (vertices, scalars, triangles in order).
     pub original_fingerprint: u64,
+    /// Fingerprint of the decimated mesh.
     pub decimated_fingerprint: u64,
     nodes: Vec<u32>,
     border: Vec<bool>,
@@ -443,10 +466,15 @@ pub fn fingerprint(mesh: &Mesh) -> u64 {
 /// and every triangle slot (with a live flag). Undo and redo move between steps.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Stage {
+    /// Every vertex of the original.
     pub vertices: Vec<[f64; 3]>,
+    /// The scalar field, if any.
     pub scalars: Option<Scalars>,
+    /// Every triangle slot (live or not).
     pub slots: Vec<[u32; 3]>,
+    /// Which slots hold a triangle at this stage.
     pub live: Vec<bool>,
+    /// Which vertices are present at this stage.
     pub present: Vec<bool>,
     /// Steps of the history applied (the original is stage 0).
     pub applied: usize,

@@ -1,21 +1,22 @@
 //! Triangle-mesh node decimation and exact undecimation in linear time (Krivograd, Hren, Žalik
-//! and Jezernik 2003, `../shared/papers/mesh-decimation-krivograd-et-al.txt`).
+//! and Jezernik, "A fast triangular-mesh decimation-and-undecimation algorithm for transferring
+//! FEM results via the Web", Strojniški vestnik – Journal of Mechanical Engineering, 2003).
 //!
 //! The algorithm of Section 1: evaluate every node ([`Criterion`]), file the nodes in the
-//! bucket queue of eqs. (1)–(3) ([`bucket`]), repeatedly take the first node of the lowest
+//! bucket queue of eqs. (1)–(3) (module `bucket`), repeatedly take the first node of the lowest
 //! non-empty interval, delete it with its fan of triangles, re-triangulate the hole by ear
-//! cutting ([`earcut`]) and re-evaluate the neighbours. Section 2: every removal is recorded
+//! cutting (module `earcut`) and re-evaluate the neighbours. Section 2: every removal is recorded
 //! (the removed triangles, the added triangles, the triangle slots they occupy) so that any
 //! number of steps can be undone in reverse order and redone ([`history`]).
 //!
-//! Two engines run the same driver ([`driver`]):
-//! * [`exact`] — the reference path: rational coordinates and scalars, adjacency as per-node
+//! Two engines run the same driver (module `driver`), chosen by [`Options::path`]:
+//! * `exact` — the reference path: rational coordinates and scalars, adjacency as per-node
 //!   sets of incident triangles, orientation by exact rational determinants, criteria in
 //!   exact arithmetic (rounded once to `f64` to file the node);
-//! * [`fast`] — `f64` coordinates, per-node fan lists in cache-line blocks ([`fans`], the
+//! * `fast` — `f64` coordinates, per-node fan lists in cache-line blocks (module `fans`, the
 //!   paper's Figure 4) naming triangles that live in reusable slots, adaptive robust
 //!   orientation predicates (Shewchuk's, from the `robust` crate); while the loop removes,
-//!   the nodes it takes next are evaluated ahead on a second thread ([`ahead`]), which
+//!   the nodes it takes next are evaluated ahead on a second thread (module `ahead`), which
 //!   changes the speed, not the removals.
 //!
 //! Both use exact signs for every validity decision, so they take the same decisions; the
@@ -24,6 +25,30 @@
 //! in both. They remove the same nodes in the same order whenever their evaluation values
 //! file nodes into the same intervals, and both undecimate to the original bit for bit.
 //! [`check`] re-verifies every step independently.
+//!
+//! # Example
+//!
+//! Decimate a height grid to 10 % of its nodes, re-verify every step, and undo it exactly:
+//!
+//! ```
+//! use geocert::decimate::{check, data, decimate, history, Options, Stage, Target};
+//!
+//! let grid = data::height_grid(30);
+//! let out = decimate(&grid, &Options::new().with_target(Target::Keep(0.1)))?;
+//! assert!(out.mesh.vertices.len() <= grid.vertices.len() / 10 + 1);
+//! // An independent exact replay of every step (projection: the global xy plane).
+//! let verified = check::verify(&grid, &out.history, out.stats.projection_xy, 10)?;
+//! assert!(verified.undecimated_exactly);
+//! // Undo every step from the decimated mesh and its history alone.
+//! let mut stage = Stage::decimated(&out.mesh, &out.history)?;
+//! while stage.applied > 0 {
+//!     stage.undo(&out.history)?;
+//! }
+//! let back = stage.to_mesh();
+//! assert_eq!(back, grid);
+//! assert_eq!(history::fingerprint(&back), out.history.original_fingerprint);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 pub(crate) mod ahead;
 pub(crate) mod bucket;
@@ -96,7 +121,9 @@ crate::choice::named_enum!(ProjectionChoice {
 /// order, swapped when the plane's normal points to the negative side.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Plane {
+    /// The axis dropped (0 = x, 1 = y, 2 = z).
     pub drop: usize,
+    /// Whether the kept two are swapped (the normal points to the negative side).
     pub flip: bool,
 }
 
@@ -222,15 +249,15 @@ pub struct Options {
     /// Nodes with more neighbours than this are not removed (the history stores ring
     /// positions in one byte; ear cutting is `O(l²)` in the valence `l`).
     pub max_valence: usize,
-    /// Re-bin the bucket queue when re-evaluated values outgrow its range (an extension,
-    /// [`bucket`]); `false` keeps the paper's boundaries fixed from the initial range.
+    /// Re-bin the bucket queue when re-evaluated values outgrow its range (an extension of
+    /// the paper); `false` keeps the paper's boundaries fixed from the initial range.
     pub rebin: bool,
     /// Re-evaluate a removed node's queued neighbours when they reach the front of the queue
-    /// rather than at once (an extension, [`driver`]); `false` is the paper's step.
+    /// rather than at once (an extension of the paper); `false` is the paper's step.
     pub lazy: bool,
     /// Let the fast path evaluate the nodes the queue gives next on a second thread while
     /// the loop removes (when the machine has more than one core and the mesh at least
-    /// [`fast::LOOK_AHEAD_NODES`] nodes; [`ahead`]). The result is the same either way.
+    /// 10,000 nodes). The result is the same either way.
     pub look_ahead: bool,
     /// The engine: [`Path::Exact`], or the fast one for [`Path::Fast`] / [`Path::Filtered`]
     /// (the default).
@@ -271,23 +298,37 @@ impl Default for Options {
 #[derive(Debug, Error)]
 pub enum DecimateError {
     #[error(transparent)]
+    /// The mesh is invalid (its error names the element).
     Mesh(#[from] MeshError),
     #[error("criterion {0:?} needs a nodal scalar field and the mesh has none")]
+    /// The criterion needs a nodal scalar field and the mesh has none.
     NoScalars(Criterion),
     #[error("bad option: {0}")]
+    /// An option is out of range for this mesh (the message names it).
     BadOption(String),
     #[error("triangle {triangle} ({tri:?}) has non-positive area in the xy plane: the mesh is not projectable onto xy (use the per-fan projection)")]
-    NotProjectable { triangle: usize, tri: [u32; 3] },
+    /// The xy projection was asked for and a triangle is not positive in it.
+    NotProjectable {
+        /// The triangle's index.
+        triangle: usize,
+        /// Its nodes.
+        tri: [u32; 3],
+    },
     #[error(transparent)]
+    /// The history could not be built or applied.
     History(#[from] HistoryError),
 }
 
 /// The counts and time of one decimation run.
 #[derive(Clone, Debug, Default, serde::Serialize)]
 pub struct Stats {
+    /// Nodes of the input.
     pub nodes_in: usize,
+    /// Nodes kept.
     pub nodes_out: usize,
+    /// Triangles of the input.
     pub triangles_in: usize,
+    /// Triangles of the output.
     pub triangles_out: usize,
     /// Nodes removed (history steps).
     pub removed: usize,
@@ -322,7 +363,9 @@ pub struct Stats {
 /// the original follow) and its statistics.
 #[derive(Clone, Debug)]
 pub struct Outcome {
+    /// The history that undecimates the output.
     pub history: History,
+    /// Counts and times.
     pub stats: Stats,
     /// The decimated mesh (kept nodes in original order, live triangle slots in order).
     pub mesh: crate::mesh::Mesh,

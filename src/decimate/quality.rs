@@ -8,10 +8,13 @@ use crate::mesh::Mesh;
 /// Max and RMS errors over the original's nodes.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize)]
 pub struct Errors {
+    /// Largest height (or distance) error.
     pub max_height: f64,
+    /// Root mean square of the height (or distance) errors.
     pub rms_height: f64,
     /// `None` without a scalar field.
     pub max_scalar: Option<f64>,
+    /// Root mean square of the scalar errors (`None` without a scalar field).
     pub rms_scalar: Option<f64>,
     /// Nodes outside every decimated triangle in xy (0 for a decimation that keeps the
     /// border; then the node is measured against the nearest triangle found).
@@ -201,8 +204,11 @@ pub struct ClosestPoints<'a> {
 /// The answer of [`ClosestPoints::query`].
 #[derive(Clone, Copy, Debug)]
 pub struct Closest {
+    /// Distance from the point to the surface.
     pub distance: f64,
+    /// The closest triangle.
     pub triangle: u32,
+    /// The closest point on it.
     pub point: [f64; 3],
 }
 

@@ -27,6 +27,7 @@ pub struct FastDeformer {
 }
 
 impl FastDeformer {
+    /// The `f64` form of `l` (control points rounded to nearest).
     pub fn new(l: &Lattice) -> FastDeformer {
         let knots = [0, 1, 2].map(|a| l.knots(a).iter().map(rational_to_f64).collect());
         let hi = [0, 1, 2].map(|a| l.cells()[a] as f64);
@@ -109,7 +110,9 @@ pub(crate) fn basis_f64(
 /// The affine embedding of an object into a lattice's domain: `U = (X − origin) · scale`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Fit {
+    /// The corner of the grown bounding box that maps to the domain's origin.
     pub origin: [f64; 3],
+    /// Per axis, domain length over box length.
     pub scale: [f64; 3],
 }
 

@@ -62,29 +62,42 @@ pub struct CellProof {
 #[allow(clippy::large_enum_variant)] // one verdict per lattice; boxing buys nothing
 pub enum InjectivityVerdict {
     /// `det J > 0` on every cell.
-    Injective { cells: Vec<CellProof> },
+    Injective {
+        /// Per cell, the leaf boxes that prove it.
+        cells: Vec<CellProof>,
+    },
     /// `det J(point) = det ≤ 0` (exact), `point` in the lattice's parameter domain.
     NotInjective {
+        /// The cell holding the witness.
         cell: [usize; 3],
+        /// The witness, in the lattice's parameter domain.
         point: [Rational; 3],
+        /// `det J` there, exactly (`≤ 0`).
         det: Rational,
     },
     /// A caller-set limit was hit on `cell` at box `at` (cell-local), where `det J ≥
     /// lower_bound`.
     Undecided {
+        /// The cell.
         cell: [usize; 3],
+        /// Which limit.
         limit: LimitHit,
+        /// The undecided box, cell-local.
         at: DyadicBox,
+        /// Certified lower bound of `det J` on `at`.
         lower_bound: f64,
     },
     /// Fast path only: rounding left these boxes of `cell` undecided.
     Uncertain {
+        /// The cell.
         cell: [usize; 3],
+        /// The undecided boxes, cell-local.
         boxes: Vec<DyadicBox>,
     },
 }
 
 impl InjectivityVerdict {
+    /// `injective`, `not_injective`, `undecided` or `uncertain`.
     pub fn name(&self) -> &'static str {
         match self {
             InjectivityVerdict::Injective { .. } => "injective",
@@ -106,12 +119,14 @@ impl InjectivityVerdict {
 /// The result of checking one lattice.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InjectivityReport {
+    /// The verdict and its evidence.
     pub verdict: InjectivityVerdict,
     /// A certified lower bound of `det J` over the whole domain (leaf bounds on proven cells,
     /// the cell's smallest Bézier coefficient elsewhere), when every cell produced one.
     pub min_det_lower_bound: Option<Rational>,
     /// Leaf boxes proven positive, over all cells.
     pub leaves: usize,
+    /// The path that decided.
     pub path: Path,
 }
 
@@ -350,12 +365,15 @@ pub struct WitnessFile {
 pub struct InjectivityCertificate {
     /// Always `"geocert/ffd-injectivity"`.
     pub kind: String,
+    /// The lattice, in the input format.
     pub lattice: Value,
     /// `"injective"` or `"not_injective"`.
     pub verdict: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// `injective`: per cell, its leaf boxes.
     pub cells: Option<Vec<CellLeaves>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// `not_injective`: the witness.
     pub witness: Option<WitnessFile>,
 }
 
@@ -466,6 +484,7 @@ pub enum CertificateRefusal {
 
 /// What [`verify_injectivity_certificate`] re-established; `Display` gives a one-line summary.
 #[derive(Clone, Debug, PartialEq)]
+#[allow(clippy::large_enum_variant)] // one outcome per certificate; boxing buys nothing
 pub enum InjectivityCheck {
     /// `det J > 0` on every cell: every leaf box of every cell has all coefficients positive.
     Injective {

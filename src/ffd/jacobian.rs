@@ -302,7 +302,7 @@ pub(crate) fn jacobian_matrix_in_cell(
     Ok(out)
 }
 
-/// [`jacobian_matrix_in_cell`] in the cell containing `u` on the right.
+/// `jacobian_matrix_in_cell` in the cell containing `u` on the right.
 pub fn jacobian_matrix_at(l: &Lattice, u: &[Rational; 3]) -> Result<[[Rational; 3]; 3], FfdError> {
     jacobian_matrix_in_cell(l, None, u)
 }

@@ -24,6 +24,7 @@ pub enum Basis {
 }
 
 impl Basis {
+    /// `bspline` or `bezier`, as in the JSON format.
     pub fn name(self) -> &'static str {
         match self {
             Basis::Bspline => "bspline",
@@ -36,9 +37,9 @@ impl Basis {
 pub type Point = [Rational; 3];
 
 /// Largest order accepted per axis (the Jacobian has degree `3(order−1)−1` per axis).
-pub(crate) const MAX_ORDER: usize = 8;
+pub const MAX_ORDER: usize = 8;
 /// Largest number of cells accepted per axis.
-pub(crate) const MAX_CELLS: usize = 64;
+pub const MAX_CELLS: usize = 64;
 
 /// A trivariate FFD lattice.
 #[derive(Clone, Debug, PartialEq)]
@@ -196,15 +197,19 @@ impl Lattice {
         Lattice::new(basis, order, cells, points)
     }
 
+    /// B-spline or Bézier.
     pub fn basis(&self) -> Basis {
         self.basis
     }
+    /// Order (degree + 1) per axis.
     pub fn order(&self) -> [usize; 3] {
         self.order
     }
+    /// Cells per axis.
     pub fn cells(&self) -> [usize; 3] {
         self.cells
     }
+    /// The control points, `u` fastest.
     pub fn points(&self) -> &[Point] {
         &self.points
     }

@@ -27,7 +27,9 @@ use serde_json::{json, Value};
 /// A direct-manipulation constraint: move parameter point `point` by `delta`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Constraint {
+    /// The parameter point that is dragged.
     pub point: Point,
+    /// Where its image moves: `F(point) += delta`.
     pub delta: Point,
 }
 
@@ -300,6 +302,7 @@ crate::choice::named_enum!(DragTest {
 #[derive(Clone, Copy, Debug)]
 #[non_exhaustive]
 pub struct DragOptions {
+    /// The test that certifies each step.
     pub test: DragTest,
     /// Deepest halving (`InjectSubdiv`'s maximum recursion depth).
     pub max_depth: u32,
@@ -337,8 +340,11 @@ impl Default for DragOptions {
 /// One certified step: the constraints it meets and its lattice (undeformed plus `ΔP`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DragStep {
+    /// The halving depth this step came from (0: the whole drag).
     pub depth: u32,
+    /// The constraints this step meets.
     pub constraints: Vec<Constraint>,
+    /// The lattice after this step (undeformed plus its `ΔP`).
     pub lattice: Lattice,
 }
 

@@ -1,17 +1,43 @@
-//! FFD injectivity (Gain & Dodgson, "Preventing self-intersection under free-form
-//! deformation", IEEE TVCG 7(4), 2001; `../shared/papers/ffd-injectivity-gain-dodgson.txt`).
+//! FFD injectivity (J. E. Gain and N. A. Dodgson, "Preventing self-intersection under
+//! free-form deformation", IEEE Transactions on Visualization and Computer Graphics 7(4),
+//! 289–298, 2001, doi:10.1109/2945.965344).
 //!
 //! A trivariate FFD is injective on its hyperpatch iff it is C¹ and `det J > 0` everywhere
 //! (Theorem 1). geocert decides this exactly, with certificates:
 //!
-//! * [`lattice`] — lattices (uniform B-spline or one Bézier cell), their JSON format;
-//! * [`jacobian`] — `det J` exactly by the Mørken route (eqs. 6–8) and per cell by Bernstein
-//!   products (rational and sign-only integer);
-//! * [`fast`] — the per-cell Jacobian in `f64` with a certified error bound;
-//! * [`injectivity`] — the necessary-and-sufficient test (Section 6), three paths, its
-//!   certificates and their independent checker;
-//! * [`sufficient`] — the phi, Bézier-coefficient and conic-hull tests (Section 7);
-//! * [`manipulation`] — direct manipulation (Section 4) and injective DMFFD (Section 8).
+//! * [`Lattice`] — lattices (uniform B-spline or one Bézier cell) and their JSON format
+//!   ([`lattices_from_json`]);
+//! * [`jacobian_cells_morken`] — `det J` exactly by the Mørken route (eqs. 6–8);
+//!   [`jacobian_cell_bezier`] / [`jacobian_cell_scaled`] per cell by Bernstein products
+//!   (rational and sign-only integer); [`jacobian_cell_fast`] in `f64` with a certified
+//!   error bound;
+//! * [`check_injectivity`] — the necessary-and-sufficient test (Section 6) on the path
+//!   [`CheckOptions::path`] names, its [`InjectivityCertificate`] and the independent checker
+//!   [`verify_injectivity_certificate`];
+//! * [`phi_test_exact`], [`bezier_coefficient_test_exact`], [`conic_test_exact`] and their
+//!   `_fast` twins — the sufficient tests of Section 7;
+//! * [`solve_exact`] / [`solve_fast`] — direct manipulation (Section 4, eq. 4) and
+//!   [`injective_drag`] — injective DMFFD (Section 8);
+//! * [`deform_points_exact`] / [`deform_points_fast`] — applying a lattice to points.
+//!
+//! # Example
+//!
+//! ```
+//! use geocert::ffd::{
+//!     check_injectivity, lattices_from_json, verify_injectivity_certificate, CheckOptions,
+//!     InjectivityCertificate, InjectivityVerdict,
+//! };
+//! // The undeformed tricubic lattice: F(U) = U, det J = 1 everywhere.
+//! let lattice = &lattices_from_json(
+//!     r#"{"basis": "bspline", "order": [4, 4, 4], "cells": [1, 1, 1], "points": "identity"}"#,
+//! )?[0];
+//! let report = check_injectivity(lattice, CheckOptions::new())?;
+//! assert!(matches!(report.verdict, InjectivityVerdict::Injective { .. }));
+//! // The certificate is re-checked through the other Jacobian route.
+//! let certificate = InjectivityCertificate::from_report(lattice, &report).unwrap();
+//! println!("{}", verify_injectivity_certificate(&certificate)?);
+//! # Ok::<(), geocert::ffd::FfdError>(())
+//! ```
 
 pub(crate) mod deform;
 pub(crate) mod fast;
@@ -31,7 +57,9 @@ pub use jacobian::{
     jacobian_at, jacobian_cell_bezier, jacobian_cell_scaled, jacobian_cells_morken,
     jacobian_in_cell, jacobian_matrix_at, jacobian_spline,
 };
-pub use lattice::{lattice_from_value, lattices_from_json, Basis, Lattice, Point};
+pub use lattice::{
+    lattice_from_value, lattices_from_json, Basis, Lattice, Point, MAX_CELLS, MAX_ORDER,
+};
 pub use manipulation::{
     compose, constraints_from_json, injective_drag, solve_exact, solve_fast, steps_to_json,
     Constraint, DragOptions, DragStep, DragTest,

@@ -37,9 +37,15 @@ pub enum SufficientVerdict {
     Injective,
     /// The test does not prove injectivity; `cell` is where it first failed (`None`: the
     /// whole-lattice scope). The deformation may still be injective.
-    NotProven { cell: Option<[usize; 3]> },
+    NotProven {
+        /// Where it failed (`None` for the whole-lattice scope).
+        cell: Option<[usize; 3]>,
+    },
     /// Fast path only: rounding left the outcome open at `cell`.
-    Uncertain { cell: Option<[usize; 3]> },
+    Uncertain {
+        /// Where (`None` for the whole-lattice scope).
+        cell: Option<[usize; 3]>,
+    },
 }
 
 impl SufficientVerdict {
@@ -56,7 +62,9 @@ impl SufficientVerdict {
 /// Where the vectors or cones are gathered.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Scope {
+    /// Each cell's own Bézier differences.
     PerCell,
+    /// The whole lattice's differences at once (the paper's scope).
     Lattice,
 }
 
@@ -449,7 +457,7 @@ fn conic_on_intervals(sets: &[Vec<[Interval; 3]>; 3]) -> Sign {
 
 /// The conic-hull test in certified `f64`: a verdict is certified or `Uncertain`. On lattices
 /// whose points are exactly `f64` the depth-0 test runs in plain `f64` with a-priori relative
-/// error bounds ([`conic_f64`]); otherwise, and with subdivision, in outward-rounded intervals.
+/// error bounds (`conic_f64`); otherwise, and with subdivision, in outward-rounded intervals.
 pub fn conic_test_fast(l: &Lattice, opts: ConicOptions) -> SufficientVerdict {
     if opts.subdivision_depth == 0 {
         if let Some(pts) = l.points_f64() {

@@ -75,9 +75,16 @@ impl Numbering {
 #[derive(Debug, Error, PartialEq)]
 pub enum TableError {
     #[error("table: {0}")]
+    /// The file is not a 256-entry table.
     Format(String),
     #[error("configuration {config}: {why}")]
-    Entry { config: usize, why: String },
+    /// An entry is malformed.
+    Entry {
+        /// Its configuration.
+        config: usize,
+        /// What is wrong.
+        why: String,
+    },
 }
 
 /// Strips `//` and `/* */` comments.
@@ -188,10 +195,12 @@ pub fn parse_table(text: &str) -> Result<Vec<Vec<[u8; 3]>>, TableError> {
 /// What the auditor found.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct AuditReport {
+    /// Configurations read (256).
     pub configurations: usize,
     /// Configuration pairs (file indices) and the axis of the face where the surfaces of two
     /// neighbouring cells do not meet.
     pub cracks: usize,
+    /// Neighbouring configurations that crack: `(a, b, axis)`.
     pub crack_pairs: Vec<(u8, u8, char)>,
     /// Boundary segments wound against the table's own majority convention, plus interior
     /// triangle sides traversed twice in the same direction or more than twice.
@@ -204,6 +213,7 @@ pub struct AuditReport {
     pub pairing_errors: usize,
     /// The table's winding: which side of its triangles the positive (`v ≥ c`) region is on.
     pub winding: String,
+    /// The rule the table follows on ambiguous faces, in words.
     pub ambiguous_face_rule: String,
     /// The first few problems, described.
     pub details: Vec<String>,

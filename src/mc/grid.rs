@@ -22,7 +22,9 @@ use thiserror::Error;
 /// A scalar volume on a regular grid, `x` fastest.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Volume<T> {
+    /// Samples per axis (`x, y, z`).
     pub dims: [usize; 3],
+    /// The samples, `x` fastest.
     pub values: Vec<T>,
 }
 
@@ -30,20 +32,32 @@ pub struct Volume<T> {
 #[derive(Debug, Error, PartialEq)]
 pub enum VolumeError {
     #[error("volume of {dims:?} needs {expected} values, found {found}")]
+    /// The value count does not match the dimensions.
     Size {
+        /// The dimensions.
         dims: [usize; 3],
+        /// Their product.
         expected: usize,
+        /// Values given.
         found: usize,
     },
     #[error("every dimension must be at least 2, found {0:?}")]
+    /// A dimension is below 2.
     TooSmall([usize; 3]),
     #[error("value {index} is not finite")]
-    NonFinite { index: usize },
+    /// A sample is NaN or infinite.
+    NonFinite {
+        /// Its index.
+        index: usize,
+    },
     #[error("the isovalue is not finite")]
+    /// The isovalue is NaN or infinite.
     Isovalue,
     #[error("the isovalue {0} is not an f64: the fast path takes f64 isovalues (use the exact path for rational ones)")]
+    /// The fast path was given an isovalue that is not an `f64`.
     IsovalueNotF64(String),
     #[error("NIfTI: {0}")]
+    /// The NIfTI file is malformed (the reader's message).
     Nifti(String),
 }
 
@@ -74,6 +88,7 @@ impl<T> Volume<T> {
 /// Counts of an extraction.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ExtractStats {
+    /// Cells examined.
     pub cells: usize,
     /// Cells with at least one ambiguous face.
     pub ambiguous_cells: usize,
@@ -86,8 +101,11 @@ pub struct ExtractStats {
 /// An exact extraction: rational vertices and triangles.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ExactSurface {
+    /// Vertices, exactly.
     pub vertices: Vec<[Rational; 3]>,
+    /// Triangles, indices into `vertices`.
     pub triangles: Vec<[u32; 3]>,
+    /// Counts.
     pub stats: ExtractStats,
 }
 

@@ -47,9 +47,11 @@ pub const EDGES: [[u8; 2]; 12] = [
 /// A cube face: its corners in cyclic order and its outward normal axis and side.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Face {
+    /// Its corners in cyclic order.
     pub corners: [u8; 4],
-    /// Normal axis (0 = x, 1 = y, 2 = z) and side (0: the face at 0, 1: at 1).
+    /// Its normal axis (0 = x, 1 = y, 2 = z).
     pub axis: usize,
+    /// Its side (0: the face at 0, 1: at 1).
     pub side: u8,
 }
 
@@ -155,8 +157,11 @@ pub fn is_cut(config: u8, e: u8) -> bool {
 /// A directed segment on a face: from the cut point on edge `from` to that on edge `to`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Segment {
+    /// The face.
     pub face: u8,
+    /// The cut edge it starts on.
     pub from: u8,
+    /// The cut edge it ends on.
     pub to: u8,
 }
 
@@ -251,9 +256,13 @@ pub const CENTRE: u8 = 12;
 /// directs it).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Entry {
+    /// The configuration (bit `i` set: corner `i` positive).
     pub config: u8,
+    /// The subconfiguration: bit `j` is the decision on the `j`-th ambiguous face.
     pub sub: u8,
+    /// The configuration's ambiguous faces.
     pub ambiguous: Vec<u8>,
+    /// The polygons, as cycles of cut edges.
     pub polygons: Vec<Vec<u8>>,
 }
 
@@ -392,7 +401,9 @@ pub fn generate_entry(config: u8, sub: u8) -> Entry {
 /// The whole table, in order of configuration then subconfiguration, with the offset of each
 /// configuration's first entry.
 pub struct Table {
+    /// Every entry.
     pub entries: Vec<Entry>,
+    /// Configuration `c`'s entries are `entries[offsets[c]..offsets[c + 1]]`.
     pub offsets: [u16; 257],
     /// [`ambiguous_faces`] of every configuration.
     pub ambiguous: Vec<Vec<u8>>,

@@ -22,15 +22,20 @@ use thiserror::Error;
 /// A nodal scalar field: one value per vertex.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scalars {
+    /// The field's name (a PLY property or VTK array).
     pub name: String,
+    /// One value per vertex.
     pub values: Vec<f64>,
 }
 
 /// An indexed triangle mesh.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Mesh {
+    /// Vertex positions.
     pub vertices: Vec<[f64; 3]>,
+    /// Triangles, counter-clockwise about their outward normal.
     pub triangles: Vec<[u32; 3]>,
+    /// The nodal scalar field, if any.
     pub scalars: Option<Scalars>,
     /// Optional unit vertex normals (written as PLY `nx ny nz`, OBJ `vn`, VTK `NORMALS`).
     pub normals: Option<Vec<[f64; 3]>>,
@@ -40,29 +45,64 @@ pub struct Mesh {
 #[derive(Debug, Error, PartialEq)]
 pub enum MeshError {
     #[error("{path}: {why}")]
-    Io { path: String, why: String },
+    /// A file could not be read or written.
+    Io {
+        /// The file.
+        path: String,
+        /// The system's reason.
+        why: String,
+    },
     #[error("{format} {place}: {why}")]
+    /// A file is malformed.
     Parse {
+        /// `PLY`, `OBJ`, `STL` or `VTK`.
         format: &'static str,
+        /// Where (line, element or byte).
         place: String,
+        /// What is wrong.
         why: String,
     },
     #[error("vertex {vertex}: coordinate {value} is not finite")]
-    NonFinite { vertex: usize, value: f64 },
+    /// A vertex coordinate is NaN or infinite.
+    NonFinite {
+        /// The vertex.
+        vertex: usize,
+        /// The coordinate.
+        value: f64,
+    },
     #[error("triangle {triangle}: {why}")]
-    BadTriangle { triangle: usize, why: String },
+    /// A triangle is invalid (an index out of range, a repeated vertex).
+    BadTriangle {
+        /// The triangle.
+        triangle: usize,
+        /// What is wrong.
+        why: String,
+    },
     #[error("edge ({a}, {b}): {why}")]
-    NonManifold { a: u32, b: u32, why: String },
+    /// An edge is not manifold (more than two triangles, or two with the same direction).
+    NonManifold {
+        /// One end.
+        a: u32,
+        /// The other end.
+        b: u32,
+        /// What is wrong.
+        why: String,
+    },
     #[error("{0}")]
+    /// A format or option this reader does not take.
     Unsupported(String),
 }
 
 /// File formats geocert reads and writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
+    /// PLY, ASCII.
     PlyAscii,
+    /// PLY, binary little-endian.
     PlyBinary,
+    /// Wavefront OBJ.
     Obj,
+    /// STL (binary).
     Stl,
     /// Legacy VTK ASCII polydata.
     Vtk,

@@ -10,17 +10,23 @@ use num_traits::{One, Zero};
 
 /// Field operations, sign and conversion for a scalar type.
 pub trait Field: Clone + std::fmt::Debug + Send + Sync {
+    /// The additive identity.
     fn zero() -> Self;
+    /// The multiplicative identity.
     fn one() -> Self;
     /// The exact value `n / d` (`d ≠ 0`), or the tightest enclosure the type has.
     fn from_ratio(n: i64, d: i64) -> Self;
     /// The rational `r`, exactly or enclosed.
     fn from_rational(r: &Rational) -> Self;
+    /// `self + o`.
     fn add(&self, o: &Self) -> Self;
+    /// `self − o`.
     fn sub(&self, o: &Self) -> Self;
+    /// `self · o`.
     fn mul(&self, o: &Self) -> Self;
     /// Division; the caller guarantees a nonzero divisor in exact types.
     fn div(&self, o: &Self) -> Self;
+    /// `−self`.
     fn neg(&self) -> Self;
     /// The sign: exact types never say `Uncertain`.
     fn sign(&self) -> Sign;

@@ -22,7 +22,9 @@ pub fn gamma(n: u32) -> f64 {
 /// overflow yields infinite bounds, which stay sound (and make signs `Uncertain`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Interval {
+    /// Lower end.
     pub lo: f64,
+    /// Upper end.
     pub hi: f64,
 }
 
@@ -139,10 +141,12 @@ impl Interval {
         }
     }
 
+    /// The midpoint.
     pub fn mid(&self) -> f64 {
         0.5 * self.lo + 0.5 * self.hi
     }
 
+    /// `hi − lo`.
     pub fn width(&self) -> f64 {
         self.hi - self.lo
     }

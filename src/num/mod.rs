@@ -2,12 +2,12 @@
 //! `f64` signs, and the [`Field`] trait that lets an algorithm be written once.
 //!
 //! * [`Rational`] is `num_rational::BigRational`, gcd-normalised, never wrong.
-//! * [`rational`] converts losslessly from `f64` (every finite `f64` is a dyadic
-//!   rational), rounds back to the nearest `f64`, and parses `"p/q"` and
-//!   decimal strings.
-//! * [`interval`] holds [`Interval`], outward-rounded `f64` intervals built with
-//!   `f64::next_up`/`next_down` (the FPU rounding mode is never touched), and the
-//!   forward error constant [`gamma`].
+//! * [`rational_from_f64`] converts losslessly from `f64` (every finite `f64` is a dyadic
+//!   rational), [`rational_to_f64`] rounds back to the nearest `f64`, and
+//!   [`parse_rational`] parses `"p/q"` and decimal strings.
+//! * [`Interval`] is an outward-rounded `f64` interval built with
+//!   `f64::next_up`/`next_down` (the FPU rounding mode is never touched); [`gamma`] is the
+//!   forward error constant.
 //! * [`Sign`] is the four-valued sign every certified decision returns.
 
 pub(crate) mod field;
@@ -29,9 +29,13 @@ use thiserror::Error;
 /// floating-point paths say `Uncertain` when their error bound straddles zero.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum Sign {
+    /// Certainly negative.
     Negative,
+    /// Exactly zero.
     Zero,
+    /// Certainly positive.
     Positive,
+    /// Rounding error leaves the sign open (fast paths only).
     Uncertain,
 }
 
@@ -71,9 +75,25 @@ impl Sign {
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum NumError {
     #[error("non-finite number {value} ({what}): only finite values are accepted")]
-    NonFinite { what: String, value: f64 },
+    /// A number is NaN or infinite.
+    NonFinite {
+        /// What it was.
+        what: String,
+        /// The value.
+        value: f64,
+    },
     #[error("cannot parse {text:?} as a rational number ({why})")]
-    Parse { text: String, why: String },
+    /// A string is not a rational number.
+    Parse {
+        /// The string.
+        text: String,
+        /// Why.
+        why: String,
+    },
     #[error("zero denominator in {text:?}")]
-    ZeroDenominator { text: String },
+    /// A `p/q` string has `q = 0`.
+    ZeroDenominator {
+        /// The string.
+        text: String,
+    },
 }

@@ -21,8 +21,11 @@ use std::collections::HashMap;
 /// points into the positive region (`v ≥ iso`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ExactFeSurface {
+    /// Vertices, exactly.
     pub vertices: Vec<[Rational; 3]>,
+    /// Triangles, indices into `vertices`.
     pub triangles: Vec<[u32; 3]>,
+    /// Counts.
     pub stats: FeStats,
 }
 

@@ -31,7 +31,9 @@ use std::collections::HashMap;
 /// A fast isosurface: the mesh (with unit normals) and counts.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FeSurface {
+    /// The mesh, with unit normals.
     pub mesh: Mesh,
+    /// Counts.
     pub stats: FeStats,
 }
 

@@ -14,7 +14,7 @@
 //! Two paths, side by side:
 //! * [`exact::polygonise_exact`] — rationals throughout, faces decided by Mackerras' sort of
 //!   the cut points' `ξ` coordinates (Section 3.1) with the tie rule of
-//!   [`decider`](super::decider);
+//!   [`decide_exact`](super::decide_exact);
 //! * [`fast::polygonise_fast`] — `f64` with a rounding bound on every sampled value: a sign
 //!   or face decision the bound cannot certify is recomputed exactly, and so is every
 //!   world-coincidence test, so both paths produce the same triangle index structure.
@@ -55,6 +55,7 @@ pub enum Basis {
 /// An element type: one basis per `ξ` direction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct ElementKind {
+    /// The basis along `ξ₁, ξ₂, ξ₃`.
     pub bases: [Basis; 3],
 }
 
@@ -130,11 +131,13 @@ impl ElementKind {
 /// node `(a, b, c) ∈ {0, 1}³` (at `ξ = (a, b, c)`) is entry `a + 2b + 4c`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FeModel<T> {
+    /// The element kind (every element has it).
     pub kind: ElementKind,
     /// World coordinates and their `ξ`-derivatives (eq. 2).
     pub coordinates: Vec<[T; 3]>,
     /// Field values and their `ξ`-derivatives (eq. 1).
     pub field: Vec<T>,
+    /// Per element, its 8 corner nodes (`ξ₁` fastest).
     pub elements: Vec<[u32; 8]>,
 }
 
@@ -295,39 +298,71 @@ pub fn polygonise(
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum FeError {
     #[error("the model has no elements")]
+    /// The model has no elements.
     NoElements,
     #[error("{what}: {why}")]
-    Layout { what: &'static str, why: String },
+    /// A model array has the wrong shape.
+    Layout {
+        /// Which array.
+        what: &'static str,
+        /// What is wrong.
+        why: String,
+    },
     #[error(
         "element {element}: local node {local} is node {node}, but the model has {nodes} nodes"
     )]
+    /// An element names a node that does not exist.
     NodeIndex {
+        /// The element.
         element: usize,
+        /// Its local node (0–7).
         local: usize,
+        /// The node named.
         node: u32,
+        /// Nodes in the model.
         nodes: usize,
     },
     #[error("{what} of node {node}, dof {dof}{}: not finite", component.map(|c| format!(", component {c}")).unwrap_or_default())]
+    /// A coordinate, derivative or field value is NaN or infinite.
     NonFinite {
+        /// Coordinates or field.
         what: &'static str,
+        /// The node.
         node: usize,
+        /// The degree of freedom.
         dof: usize,
+        /// The coordinate's component, for coordinates.
         component: Option<usize>,
     },
     #[error("the isovalue is not finite")]
+    /// The isovalue is NaN or infinite.
     Isovalue,
     #[error("the isovalue {0} is not an f64: the fast path takes f64 isovalues (use the exact path for rational ones)")]
+    /// The fast path was given an isovalue that is not an `f64`.
     IsovalueNotF64(String),
     #[error("cells per element must be at least 1 in every direction, found {0:?}")]
+    /// A cell count per element is 0.
     Cells([usize; 3]),
     #[error("{cells} cells exceed the limit of {limit}")]
-    TooManyCells { cells: u64, limit: u64 },
+    /// The model has more cells than the limit.
+    TooManyCells {
+        /// Cells asked for.
+        cells: u64,
+        /// [`FeOptions::max_cells`].
+        limit: u64,
+    },
     #[error("element {element} and element {other} share {entity} but subdivide it into different cell counts ({mine:?} against {theirs:?}); give the same count in every direction or orient the elements alike")]
+    /// Two elements subdivide a shared face or edge differently.
     NonConforming {
+        /// One element.
         element: usize,
+        /// The other.
         other: usize,
+        /// The shared face or edge.
         entity: String,
+        /// The first element's cell counts along it.
         mine: Vec<usize>,
+        /// The other's.
         theirs: Vec<usize>,
     },
 }
@@ -335,7 +370,9 @@ pub enum FeError {
 /// Counts of a polygonisation.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct FeStats {
+    /// Elements polygonised.
     pub elements: usize,
+    /// Cells examined.
     pub cells: usize,
     /// Cells with corners of both signs.
     pub cut_cells: usize,

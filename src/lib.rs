@@ -90,6 +90,7 @@ pub mod ffd;
 pub mod mc;
 pub mod mesh;
 pub mod num;
+pub mod solve;
 #[cfg(feature = "proptest")]
 pub mod strategies;
 

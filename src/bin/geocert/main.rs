@@ -18,6 +18,7 @@ mod mc;
 mod out;
 mod positivity;
 mod prove;
+mod solve;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -54,6 +55,10 @@ enum Command {
     Decimate(decimate::Args),
     /// Restore a decimated mesh with its history: undo the last N steps (all by default).
     Undecimate(decimate::UndoArgs),
+    /// Every root of n polynomial equations in n unknowns on a box, each certified (Miranda
+    /// existence, diagonally dominant interval Jacobian for uniqueness); what cannot be
+    /// certified comes back as clusters. `solve verify-cert CERT.json` re-checks certificates.
+    Solve(solve::Args),
 }
 
 /// Exit codes: 0 done (whatever the verdict), 1 a refused certificate / failed proof / inexact
@@ -67,6 +72,7 @@ fn main() -> ExitCode {
         Command::Mc(c) => mc::run(c),
         Command::Decimate(a) => decimate::run(a),
         Command::Undecimate(a) => decimate::undo(a),
+        Command::Solve(a) => solve::run(a),
     };
     result.unwrap_or_else(|e| {
         eprintln!("error: {e}");

@@ -1,0 +1,223 @@
+//! The system file: `{"box": [["a", "b"], …], "equations": [E, …]}`, each equation either in
+//! tensor Bernstein form on the box (`{"degrees": [d0, …], "coeffs": [c, …]}`, axis 0
+//! fastest) or in power form in the domain's coordinates (`{"terms": [[[e0, …], c], …]}`).
+//! Numbers are JSON numbers (exact as the `f64` they denote) or `"p/q"` / decimal strings
+//! (exact).
+
+use super::{RootCertificate, SolveError, System};
+use crate::bernstein::{parse_number, poly_from_json, poly_to_json, Bernstein};
+use crate::num::{rational_to_string, Rational};
+use num_traits::{One, Zero};
+use serde_json::{json, Value};
+
+/// Parses a system file (see the module docs).
+pub fn system_from_json(text: &str) -> Result<System, SolveError> {
+    let v: Value = serde_json::from_str(text).map_err(|e| SolveError::Json(e.to_string()))?;
+    let field = |f: &str, why: &str| SolveError::Field {
+        field: f.into(),
+        why: why.into(),
+    };
+    let bx = v
+        .get("box")
+        .and_then(Value::as_array)
+        .ok_or_else(|| field("box", "missing or not an array of [a, b] intervals"))?;
+    let mut domain = Vec::with_capacity(bx.len());
+    for (k, iv) in bx.iter().enumerate() {
+        let pair = iv
+            .as_array()
+            .filter(|p| p.len() == 2)
+            .ok_or_else(|| field(&format!("box[{k}]"), "expected [a, b]"))?;
+        let num = |j: usize| {
+            parse_number(&pair[j]).map_err(|e| field(&format!("box[{k}][{j}]"), &e.to_string()))
+        };
+        domain.push((num(0)?, num(1)?));
+    }
+    let n = domain.len();
+    let eqs = v
+        .get("equations")
+        .and_then(Value::as_array)
+        .ok_or_else(|| field("equations", "missing or not an array"))?;
+    let mut equations = Vec::with_capacity(eqs.len());
+    for (i, e) in eqs.iter().enumerate() {
+        let name = format!("equations[{i}]");
+        let p = if e.get("terms").is_some() {
+            power_equation(e, &domain, &name)?
+        } else if e.get("degrees").is_some() {
+            poly_from_json(e).map_err(|why| field(&name, &why.to_string()))?
+        } else if e.get("bspline").is_some() {
+            return Err(field(
+                &name,
+                "B-spline equations are not read yet: give the Bernstein pieces or the power form",
+            ));
+        } else {
+            return Err(field(
+                &name,
+                "expected {\"degrees\", \"coeffs\"} or {\"terms\"}",
+            ));
+        };
+        if p.dim() != n {
+            return Err(SolveError::Equation {
+                equation: i,
+                why: format!("has {} variables, the box {n}", p.dim()),
+            });
+        }
+        equations.push(p);
+    }
+    System::new(domain, equations)
+}
+
+/// A power-form equation `Σ c_e x^e` in domain coordinates, in Bernstein form on the box.
+fn power_equation(
+    e: &Value,
+    domain: &[(Rational, Rational)],
+    name: &str,
+) -> Result<Bernstein<Rational>, SolveError> {
+    let n = domain.len();
+    let field = |f: String, why: String| SolveError::Field { field: f, why };
+    let terms = e
+        .get("terms")
+        .and_then(Value::as_array)
+        .ok_or_else(|| field(format!("{name}.terms"), "not an array".into()))?;
+    let mut parsed = Vec::with_capacity(terms.len());
+    let mut degrees = vec![0usize; n];
+    for (t, term) in terms.iter().enumerate() {
+        let place = format!("{name}.terms[{t}]");
+        let pair = term
+            .as_array()
+            .filter(|p| p.len() == 2)
+            .ok_or_else(|| field(place.clone(), "expected [[e0, …], c]".into()))?;
+        let exps: Vec<usize> = pair[0]
+            .as_array()
+            .filter(|a| a.len() == n)
+            .and_then(|a| {
+                a.iter()
+                    .map(|x| x.as_u64().filter(|&x| x <= super::MAX_DEGREE as u64))
+                    .map(|x| x.map(|x| x as usize))
+                    .collect::<Option<Vec<_>>>()
+            })
+            .ok_or_else(|| {
+                field(
+                    place.clone(),
+                    format!("exponents: {n} integers 0…{}", super::MAX_DEGREE),
+                )
+            })?;
+        let c = parse_number(&pair[1]).map_err(|e| field(place.clone(), e.to_string()))?;
+        for (d, &x) in degrees.iter_mut().zip(&exps) {
+            *d = (*d).max(x);
+        }
+        parsed.push((exps, c));
+    }
+    // Dense power coefficients in x, axis 0 fastest.
+    let strides: Vec<usize> = (0..n)
+        .scan(1, |s, k| {
+            let here = *s;
+            *s *= degrees[k] + 1;
+            Some(here)
+        })
+        .collect();
+    let size: usize = degrees.iter().map(|d| d + 1).product();
+    let mut coeffs = vec![Rational::zero(); size];
+    for (exps, c) in parsed {
+        let at: usize = exps.iter().zip(&strides).map(|(e, s)| e * s).sum();
+        coeffs[at] += c;
+    }
+    // Substitute x_k = a_k + w_k t_k along each axis: the coefficient of t^m is
+    // Σ_{e ≥ m} c_e C(e, m) a^(e−m) w^m.
+    for k in 0..n {
+        let (a, b) = &domain[k];
+        let w = b - a;
+        let d = degrees[k];
+        let mut next = vec![Rational::zero(); size];
+        for (idx, _) in coeffs.iter().enumerate() {
+            if !(idx / strides[k]).is_multiple_of(d + 1) {
+                continue;
+            }
+            for m in 0..=d {
+                let mut acc = Rational::zero();
+                for ex in m..=d {
+                    let c = &coeffs[idx + ex * strides[k]];
+                    if c.is_zero() {
+                        continue;
+                    }
+                    acc += c * binomial(ex, m) * pow(a, ex - m) * pow(&w, m);
+                }
+                next[idx + m * strides[k]] = acc;
+            }
+        }
+        coeffs = next;
+    }
+    Ok(Bernstein::from_power(degrees, coeffs)?)
+}
+
+fn binomial(n: usize, k: usize) -> Rational {
+    let mut r = Rational::one();
+    for i in 0..k {
+        r = r * Rational::from_integer((n - i).into()) / Rational::from_integer((i + 1).into());
+    }
+    r
+}
+
+fn pow(x: &Rational, e: usize) -> Rational {
+    (0..e).fold(Rational::one(), |acc, _| acc * x)
+}
+
+/// The system in the file format (Bernstein form, exact strings).
+pub fn system_to_json(s: &System) -> Value {
+    json!({
+        "box": s.domain.iter()
+            .map(|(a, b)| json!([rational_to_string(a), rational_to_string(b)]))
+            .collect::<Vec<_>>(),
+        "equations": s.equations.iter().map(poly_to_json).collect::<Vec<_>>(),
+    })
+}
+
+/// Serialises a rational matrix as rows of exact strings.
+pub(crate) fn serialize_matrix<S: serde::Serializer>(
+    m: &[Vec<Rational>],
+    ser: S,
+) -> Result<S::Ok, S::Error> {
+    use serde::Serialize;
+    m.iter()
+        .map(|row| row.iter().map(rational_to_string).collect::<Vec<_>>())
+        .collect::<Vec<_>>()
+        .serialize(ser)
+}
+
+/// Reads a certificate's preconditioner back.
+pub(crate) fn certificate_from_json(v: &Value, n: usize) -> Result<RootCertificate, SolveError> {
+    let field = |f: &str, why: &str| SolveError::Field {
+        field: f.into(),
+        why: why.into(),
+    };
+    let rows = v
+        .get("preconditioner")
+        .and_then(Value::as_array)
+        .filter(|r| r.len() == n)
+        .ok_or_else(|| field("preconditioner", "expected n rows"))?;
+    let mut preconditioner = Vec::with_capacity(n);
+    for (i, row) in rows.iter().enumerate() {
+        let row = row
+            .as_array()
+            .filter(|r| r.len() == n)
+            .ok_or_else(|| field(&format!("preconditioner[{i}]"), "expected n entries"))?;
+        preconditioner.push(
+            row.iter()
+                .map(|x| parse_number(x).map_err(|e| field("preconditioner", &e.to_string())))
+                .collect::<Result<Vec<_>, _>>()?,
+        );
+    }
+    let lower_face_signs = v
+        .get("lower_face_signs")
+        .and_then(Value::as_array)
+        .filter(|s| s.len() == n)
+        .and_then(|s| {
+            s.iter()
+                .map(|x| x.as_i64().filter(|&x| x == 1 || x == -1).map(|x| x as i8))
+                .collect::<Option<Vec<_>>>()
+        })
+        .ok_or_else(|| field("lower_face_signs", "expected n entries, each 1 or -1"))?;
+    Ok(RootCertificate {
+        preconditioner,
+        lower_face_signs,
+    })
+}

@@ -1,0 +1,257 @@
+//! A certified multivariate Bernstein subdivision solver: every root of `n` polynomial
+//! equations in `n` unknowns on a box, each reported root with a certificate of existence and
+//! uniqueness that [`verify_root`] re-checks independently, and everything that cannot be
+//! certified within the limits reported as a [`Cluster`] — never dropped, never counted twice.
+//!
+//! The method is subdivision in Bernstein form (Sherbrooke and Patrikalakis, "Computation of
+//! the solutions of nonlinear polynomial systems", Computer Aided Geometric Design 10(5),
+//! 379–405, 1993, doi:10.1016/0167-8396(93)90019-Y; Elber and Kim, "Geometric constraint
+//! solver using multivariate rational spline functions", ACM Solid Modeling 2001,
+//! doi:10.1145/376957.376958), the solver the swept-volume silhouette paper (Seong, Kim, Kim
+//! and Elber, The Visual Computer 22, 2006) runs in IRIT, here with certificates:
+//!
+//! * **culling** — a box is dropped when some equation's Bernstein coefficients on it are all
+//!   of one strict sign (convex-hull property);
+//! * **existence** — Miranda's theorem on the system preconditioned by an approximate inverse
+//!   Jacobian `A` at the box centre (computed in `f64`, applied exactly: any matrix is
+//!   allowed): `g = A f` with `g_i < 0` on the face `t_i = 0` and `g_i > 0` on `t_i = 1`
+//!   (each decided from the face's Bernstein coefficients) has a zero in the box;
+//! * **uniqueness** — the interval Jacobian of `g` on the box (each entry enclosed by the
+//!   Bernstein coefficients of the partial derivative) is strictly diagonally dominant, so
+//!   every matrix whose rows are gradients taken at any points of the box is non-singular and
+//!   `g(x) − g(y) = M (x − y)` (mean value theorem, row by row) rules out a second zero.
+//!   A Jacobian *determinant* of one sign on the box would not do: `(eˣ cos y, eˣ sin y)` has
+//!   `det J = e²ˣ > 0` and is not injective on `[0,1] × [0, 3π]`;
+//! * **splits** at rational points, moved off ½ when the split plane might hold a root (no
+//!   equation of one strict sign on it), so that certified boxes meet only on root-free
+//!   planes and no root is counted twice.
+//!
+//! Both paths run the same subdivision generically over the coefficient field: the
+//! reference path in exact rationals ([`Path::Exact`]), the fast one in outward-rounded `f64`
+//! intervals ([`Path::Fast`]: a decision the rounding cannot make is not made, and what is
+//! left is reported as a cluster marked uncertain), and [`Path::Filtered`] runs the fast path
+//! and redoes its uncertain clusters exactly.
+
+mod check;
+mod input;
+mod subdivision;
+
+pub use check::{
+    solution_certificate, verify_root, verify_solution_certificate, RootCheck, RootRefusal,
+    CERTIFICATE_KIND,
+};
+pub use input::{system_from_json, system_to_json};
+pub use subdivision::solve;
+
+use crate::bernstein::{Bernstein, BernsteinError, Limits};
+use crate::num::Rational;
+use crate::Path;
+use serde::Serialize;
+use thiserror::Error;
+
+/// The most unknowns a system may have.
+pub const MAX_UNKNOWNS: usize = 6;
+/// The highest degree per axis of an equation.
+pub const MAX_DEGREE: usize = 24;
+
+/// A polynomial system on a box: `equations[i]` in tensor Bernstein form on `domain`
+/// (coordinate `x_k = a_k + (b_k − a_k) t_k`, `t ∈ [0,1]ⁿ`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct System {
+    /// Per unknown, `(a_k, b_k)` with `a_k < b_k`.
+    pub domain: Vec<(Rational, Rational)>,
+    /// The equations `f_i = 0`, each with `domain.len()` variables.
+    pub equations: Vec<Bernstein<Rational>>,
+}
+
+impl System {
+    /// Checks the shape: 1…[`MAX_UNKNOWNS`] unknowns, non-empty intervals, every equation in
+    /// all the unknowns with degrees up to [`MAX_DEGREE`].
+    pub fn new(
+        domain: Vec<(Rational, Rational)>,
+        equations: Vec<Bernstein<Rational>>,
+    ) -> Result<System, SolveError> {
+        let n = domain.len();
+        if n == 0 || n > MAX_UNKNOWNS {
+            return Err(SolveError::Unknowns(n));
+        }
+        for (axis, (a, b)) in domain.iter().enumerate() {
+            if a >= b {
+                return Err(SolveError::EmptyBox { axis });
+            }
+        }
+        for (i, e) in equations.iter().enumerate() {
+            if e.dim() != n {
+                return Err(SolveError::Equation {
+                    equation: i,
+                    why: format!("has {} variables, the box {n}", e.dim()),
+                });
+            }
+            if let Some(&d) = e.degrees().iter().find(|&&d| d > MAX_DEGREE) {
+                return Err(SolveError::Equation {
+                    equation: i,
+                    why: format!("degree {d} exceeds the limit of {MAX_DEGREE}"),
+                });
+            }
+        }
+        Ok(System { domain, equations })
+    }
+
+    /// The number of unknowns.
+    pub fn unknowns(&self) -> usize {
+        self.domain.len()
+    }
+
+    /// Maps unit-box parameters to the domain: `a + (b − a) t` per axis.
+    pub fn to_domain(&self, t: &[Rational]) -> Vec<Rational> {
+        self.domain
+            .iter()
+            .zip(t)
+            .map(|((a, b), t)| a + (b - a) * t)
+            .collect()
+    }
+}
+
+/// Options of [`solve`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct SolveOptions {
+    /// The arithmetic ([`Path::Filtered`] by default).
+    pub path: Path,
+    /// Depth (subdivision levels), box-count and time limits.
+    pub limits: Limits,
+    /// Certified roots are refined to boxes of at most this width relative to the domain's
+    /// side on every axis (Newton's method in `f64`, then the same certificate on the small
+    /// box around its result; a box that cannot be certified that small keeps the smallest
+    /// width that could). `0` keeps the first certified box.
+    pub tolerance: f64,
+}
+
+impl Default for SolveOptions {
+    fn default() -> Self {
+        SolveOptions {
+            path: Path::Filtered,
+            limits: Limits::new().with_max_depth(40).with_max_boxes(200_000),
+            tolerance: 1e-15,
+        }
+    }
+}
+
+crate::choice::setters!(SolveOptions {
+    with_path => path: Path,
+    with_limits => limits: Limits,
+    with_tolerance => tolerance: f64,
+});
+
+/// A box of the domain with rational bounds.
+pub type RationalBox = Vec<(Rational, Rational)>;
+
+/// The evidence that a box holds exactly one root: everything [`verify_root`] needs.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RootCertificate {
+    /// The preconditioner `A` (row-major, `n × n`, exact): the Miranda test is on `g = A f`.
+    #[serde(serialize_with = "input::serialize_matrix")]
+    pub preconditioner: Vec<Vec<Rational>>,
+    /// Per `i`, the sign of `g_i` on the face `t_i = 0` (`-1` or `1`; the face `t_i = 1` has
+    /// the other sign).
+    pub lower_face_signs: Vec<i8>,
+}
+
+/// A certified root: exactly one zero of the system lies in `bounds` (in its interior).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Root {
+    /// The box, in domain coordinates.
+    pub bounds: RationalBox,
+    /// Its centre, rounded to `f64`.
+    pub approx: Vec<f64>,
+    /// A bound on `|x_k − approx_k|` for the root `x` (the half-width plus the centre's
+    /// rounding).
+    pub error_bound: f64,
+    /// The evidence.
+    pub certificate: RootCertificate,
+}
+
+/// Why a box could not be certified.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ClusterReason {
+    /// The depth limit was reached with neither culling nor a certificate (a tangential or
+    /// multiple root, roots closer than the box width, or a root on a box face).
+    DepthLimit,
+    /// The box touches the domain's boundary and cannot be split further without leaving it
+    /// (a root on the domain's boundary).
+    DomainBoundary,
+    /// The box or time limit stopped the subdivision here.
+    Budget,
+    /// Fast path only: rounding left a decision open in this box.
+    Uncertain,
+}
+
+/// A box that may hold roots (any number) but was not certified.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Cluster {
+    /// The box, in domain coordinates.
+    pub bounds: RationalBox,
+    /// Why it was not certified.
+    pub reason: ClusterReason,
+    /// Per equation, a certified upper bound of `|f_i|` on the box.
+    pub max_abs_f: Vec<f64>,
+}
+
+/// The result of [`solve`]: every root of the system in the domain lies in exactly one
+/// root's box or in one or more clusters' boxes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solution {
+    /// Certified roots, each with exactly one zero.
+    pub roots: Vec<Root>,
+    /// What could not be certified.
+    pub clusters: Vec<Cluster>,
+    /// Boxes examined.
+    pub boxes_visited: usize,
+    /// The path that ran.
+    pub path: Path,
+}
+
+/// Errors of the solver and its input.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum SolveError {
+    /// The system file is not JSON.
+    #[error("not valid JSON: {0}")]
+    Json(String),
+    /// A field of the system file is missing or malformed.
+    #[error("field `{field}`: {why}")]
+    Field {
+        /// The field, e.g. `equations[1].terms[3]`.
+        field: String,
+        /// What is wrong with it.
+        why: String,
+    },
+    /// Too few or too many unknowns.
+    #[error("{0} unknowns: the solver takes 1 to {MAX_UNKNOWNS}")]
+    Unknowns(usize),
+    /// A box interval is empty or inverted.
+    #[error("box interval {axis} is empty or inverted (a ≥ b)")]
+    EmptyBox {
+        /// The axis.
+        axis: usize,
+    },
+    /// An equation does not fit the system.
+    #[error("equation {equation}: {why}")]
+    Equation {
+        /// The equation.
+        equation: usize,
+        /// What is wrong.
+        why: String,
+    },
+    /// The number of equations is not the number of unknowns.
+    #[error("{equations} equations in {unknowns} unknowns: a zero-dimensional system needs as many equations as unknowns")]
+    NotSquare {
+        /// Equations given.
+        equations: usize,
+        /// Unknowns.
+        unknowns: usize,
+    },
+    /// The Bernstein kernel refused an operation.
+    #[error("Bernstein kernel: {0}")]
+    Bernstein(#[from] BernsteinError),
+}

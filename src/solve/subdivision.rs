@@ -1,0 +1,700 @@
+//! The subdivision, written once over the coefficient field: exact rationals for the
+//! reference path, outward-rounded intervals for the fast one.
+
+use super::{
+    Cluster, ClusterReason, Root, RootCertificate, Solution, SolveError, SolveOptions, System,
+};
+use crate::bernstein::Bernstein;
+use crate::num::{rational_from_f64, rational_to_f64, Field, Interval, Rational, Sign};
+use crate::Path;
+use num_traits::{One, Signed, Zero};
+use std::time::Instant;
+
+/// What the subdivision needs of a coefficient beyond [`Field`]: enclosures of `|c|`.
+trait Coefficient: Field {
+    /// An upper bound of `|c|` (exact for rationals).
+    fn abs_upper(&self) -> Self;
+    /// A lower bound of `|c|`, `0` when `c` may be zero.
+    fn abs_lower(&self) -> Self;
+    /// `max(self, o)` of two upper bounds.
+    fn max_upper(&self, o: &Self) -> Self;
+    /// `min(self, o)` of two lower bounds.
+    fn min_lower(&self, o: &Self) -> Self;
+    /// A certified upper bound of `|c|` as an `f64`.
+    fn abs_upper_f64(&self) -> f64;
+}
+
+impl Coefficient for Rational {
+    fn abs_upper(&self) -> Self {
+        self.abs()
+    }
+    fn abs_lower(&self) -> Self {
+        self.abs()
+    }
+    fn max_upper(&self, o: &Self) -> Self {
+        if self >= o {
+            self.clone()
+        } else {
+            o.clone()
+        }
+    }
+    fn min_lower(&self, o: &Self) -> Self {
+        if self <= o {
+            self.clone()
+        } else {
+            o.clone()
+        }
+    }
+    fn abs_upper_f64(&self) -> f64 {
+        let i = Interval::from_rational(self);
+        i.lo.abs().max(i.hi.abs())
+    }
+}
+
+impl Coefficient for Interval {
+    fn abs_upper(&self) -> Self {
+        Interval::point(self.lo.abs().max(self.hi.abs()))
+    }
+    fn abs_lower(&self) -> Self {
+        let m = if self.lo > 0.0 {
+            self.lo
+        } else if self.hi < 0.0 {
+            -self.hi
+        } else {
+            0.0
+        };
+        Interval::point(m)
+    }
+    fn max_upper(&self, o: &Self) -> Self {
+        Interval::point(self.hi.max(o.hi))
+    }
+    fn min_lower(&self, o: &Self) -> Self {
+        Interval::point(self.lo.min(o.lo))
+    }
+    fn abs_upper_f64(&self) -> f64 {
+        self.lo.abs().max(self.hi.abs())
+    }
+}
+
+/// A box of the subdivision: its place in the unit box, the equations restricted to it.
+struct Node<T> {
+    lo: Vec<Rational>,
+    hi: Vec<Rational>,
+    polys: Vec<Bernstein<T>>,
+    depth: u32,
+}
+
+/// The sign all of `p`'s coefficients share strictly, if they do (`Uncertain` when rounding
+/// leaves it open, `Zero` when they do not share one).
+fn strict_sign<T: Field>(p: &Bernstein<T>) -> Sign {
+    let mut out = None;
+    let mut uncertain = false;
+    for c in p.coeffs() {
+        match c.sign() {
+            Sign::Uncertain => uncertain = true,
+            Sign::Zero => return Sign::Zero,
+            s => match out {
+                None => out = Some(s),
+                Some(o) if o != s => return Sign::Zero,
+                _ => {}
+            },
+        }
+    }
+    match (out, uncertain) {
+        (_, true) => Sign::Uncertain,
+        (Some(s), false) => s,
+        (None, false) => Sign::Zero,
+    }
+}
+
+/// Outcome of one decision: proved, refuted, or left open by rounding.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Decision {
+    Yes,
+    No,
+    Uncertain,
+}
+
+/// Culling: some equation is of one strict sign on the box (convex hull).
+fn root_free<T: Field>(polys: &[Bernstein<T>]) -> Decision {
+    let mut uncertain = false;
+    for p in polys {
+        match strict_sign(p) {
+            Sign::Positive | Sign::Negative => return Decision::Yes,
+            Sign::Uncertain => uncertain = true,
+            Sign::Zero => {}
+        }
+    }
+    if uncertain {
+        Decision::Uncertain
+    } else {
+        Decision::No
+    }
+}
+
+/// `g = A f`: each `g_i = Σ_j A_ij f_j` (all equations share their degrees).
+fn precondition<T: Field>(
+    a: &[Vec<Rational>],
+    f: &[Bernstein<T>],
+) -> Result<Vec<Bernstein<T>>, SolveError> {
+    let mut g = Vec::with_capacity(f.len());
+    for row in a {
+        let mut acc: Option<Bernstein<T>> = None;
+        for (aij, fj) in row.iter().zip(f) {
+            if aij.is_zero() {
+                continue;
+            }
+            let term = fj.scale(&T::from_rational(aij));
+            acc = Some(match acc {
+                None => term,
+                Some(s) => s.add(&term)?,
+            });
+        }
+        g.push(acc.unwrap_or_else(|| Bernstein::constant(f[0].degrees().to_vec(), T::zero())));
+    }
+    Ok(g)
+}
+
+/// An approximate inverse of the Jacobian at the box centre, in `f64`, as exact rationals
+/// (the identity where the Jacobian is singular or not finite).
+fn preconditioner<T: Field>(polys: &[Bernstein<T>]) -> Result<Vec<Vec<Rational>>, SolveError> {
+    let n = polys.len();
+    let half = vec![T::from_ratio(1, 2); n];
+    let mut j = vec![vec![0.0f64; n]; n];
+    for (i, p) in polys.iter().enumerate() {
+        for (k, jik) in j[i].iter_mut().enumerate() {
+            *jik = if p.degrees()[k] == 0 {
+                0.0
+            } else {
+                p.derivative(k)?.eval(&half)?.approx()
+            };
+        }
+    }
+    let inverse = invert(j).unwrap_or_else(|| {
+        (0..n)
+            .map(|i| (0..n).map(|k| f64::from(u8::from(i == k))).collect())
+            .collect()
+    });
+    Ok(inverse
+        .iter()
+        .map(|row| {
+            row.iter()
+                .map(|&x| rational_from_f64(x, "preconditioner").unwrap_or_default())
+                .collect()
+        })
+        .collect())
+}
+
+/// Gauss–Jordan inversion with partial pivoting in `f64`; `None` when singular or not finite.
+fn invert(mut m: Vec<Vec<f64>>) -> Option<Vec<Vec<f64>>> {
+    let n = m.len();
+    let mut inv: Vec<Vec<f64>> = (0..n)
+        .map(|i| (0..n).map(|k| f64::from(u8::from(i == k))).collect())
+        .collect();
+    for c in 0..n {
+        let p = (c..n).max_by(|&a, &b| m[a][c].abs().total_cmp(&m[b][c].abs()))?;
+        if m[p][c] == 0.0 || !m[p][c].is_finite() {
+            return None;
+        }
+        m.swap(c, p);
+        inv.swap(c, p);
+        let d = m[c][c];
+        for k in 0..n {
+            m[c][k] /= d;
+            inv[c][k] /= d;
+        }
+        for r in 0..n {
+            if r != c {
+                let f = m[r][c];
+                for k in 0..n {
+                    m[r][k] -= f * m[c][k];
+                    inv[r][k] -= f * inv[c][k];
+                }
+            }
+        }
+    }
+    inv.iter().flatten().all(|x| x.is_finite()).then_some(inv)
+}
+
+/// Miranda's test on `g`: per `i`, `g_i` of one strict sign on the face `t_i = 0` and of the
+/// other on `t_i = 1`. Returns the lower faces' signs.
+fn miranda<T: Field>(g: &[Bernstein<T>]) -> Result<(Decision, Vec<i8>), SolveError> {
+    let mut signs = Vec::with_capacity(g.len());
+    let mut uncertain = false;
+    for (i, gi) in g.iter().enumerate() {
+        let lower = strict_sign(&gi.face(i, false)?);
+        let upper = strict_sign(&gi.face(i, true)?);
+        match (lower, upper) {
+            (Sign::Negative, Sign::Positive) => signs.push(-1),
+            (Sign::Positive, Sign::Negative) => signs.push(1),
+            (Sign::Uncertain, _) | (_, Sign::Uncertain) => {
+                uncertain = true;
+                signs.push(0);
+            }
+            _ => return Ok((Decision::No, signs)),
+        }
+    }
+    Ok((
+        if uncertain {
+            Decision::Uncertain
+        } else {
+            Decision::Yes
+        },
+        signs,
+    ))
+}
+
+/// Uniqueness: the interval Jacobian of `g` (entries enclosed by the coefficients of the
+/// partial derivatives) is strictly diagonally dominant by rows.
+fn diagonally_dominant<T: Coefficient>(g: &[Bernstein<T>]) -> Result<Decision, SolveError> {
+    let n = g.len();
+    let mut uncertain = false;
+    for (i, gi) in g.iter().enumerate() {
+        let mut diag: Option<T> = None;
+        let mut off = T::zero();
+        for k in 0..n {
+            let d = if gi.degrees()[k] == 0 {
+                Bernstein::constant(vec![0; n], T::zero())
+            } else {
+                gi.derivative(k)?
+            };
+            if k == i {
+                let s = strict_sign(&d);
+                match s {
+                    Sign::Positive | Sign::Negative => {}
+                    Sign::Uncertain => return Ok(Decision::Uncertain),
+                    _ => return Ok(Decision::No),
+                }
+                let mut lower: Option<T> = None;
+                for c in d.coeffs() {
+                    let a = c.abs_lower();
+                    lower = Some(match lower {
+                        None => a,
+                        Some(l) => l.min_lower(&a),
+                    });
+                }
+                diag = lower;
+            } else {
+                let mut upper = T::zero();
+                for c in d.coeffs() {
+                    upper = upper.max_upper(&c.abs_upper());
+                }
+                off = off.add(&upper);
+            }
+        }
+        let Some(diag) = diag else {
+            return Ok(Decision::No);
+        };
+        match diag.sub(&off).sign() {
+            Sign::Positive => {}
+            Sign::Uncertain => uncertain = true,
+            _ => return Ok(Decision::No),
+        }
+    }
+    Ok(if uncertain {
+        Decision::Uncertain
+    } else {
+        Decision::Yes
+    })
+}
+
+/// Existence and uniqueness on a box: the certificate, `No`, or `Uncertain`.
+fn certify<T: Coefficient>(
+    polys: &[Bernstein<T>],
+) -> Result<(Decision, Option<RootCertificate>), SolveError> {
+    let a = preconditioner(polys)?;
+    let g = precondition(&a, polys)?;
+    let (exists, signs) = miranda(&g)?;
+    if exists == Decision::No {
+        return Ok((Decision::No, None));
+    }
+    let unique = diagonally_dominant(&g)?;
+    Ok(match (exists, unique) {
+        (Decision::Yes, Decision::Yes) => (
+            Decision::Yes,
+            Some(RootCertificate {
+                preconditioner: a,
+                lower_face_signs: signs,
+            }),
+        ),
+        (_, Decision::No) => (Decision::No, None),
+        _ => (Decision::Uncertain, None),
+    })
+}
+
+/// Shrinks a certified box around its root: Newton's method in `f64` from the box centre,
+/// then the certificate on boxes of half-width `ρ` around the result, from `ρ` giving the
+/// requested relative width upwards by factors of 16. Every box tried lies inside the
+/// certified one, which holds exactly one root, so a certified small box holds that root.
+#[allow(clippy::type_complexity)]
+fn refine<T: Coefficient>(
+    node: &Node<T>,
+    certificate: RootCertificate,
+    tolerance: f64,
+) -> Result<(Vec<Rational>, Vec<Rational>, RootCertificate), SolveError> {
+    let keep = || (node.lo.clone(), node.hi.clone(), certificate.clone());
+    let n = node.lo.len();
+    let width = (0..n)
+        .map(|k| rational_to_f64(&(&node.hi[k] - &node.lo[k])))
+        .fold(0.0, f64::max);
+    if tolerance.is_nan() || tolerance <= 0.0 || width <= tolerance {
+        return Ok(keep());
+    }
+    let f: Vec<Bernstein<f64>> = node.polys.iter().map(|p| p.map(|c| c.approx())).collect();
+    let mut jac = Vec::with_capacity(n);
+    for p in &f {
+        let mut row = Vec::with_capacity(n);
+        for k in 0..n {
+            row.push(if p.degrees()[k] == 0 {
+                None
+            } else {
+                Some(p.derivative(k)?)
+            });
+        }
+        jac.push(row);
+    }
+    let mut t = vec![0.5f64; n];
+    for _ in 0..40 {
+        let mut m = vec![vec![0.0; n]; n];
+        for (i, row) in jac.iter().enumerate() {
+            for (k, d) in row.iter().enumerate() {
+                if let Some(d) = d {
+                    m[i][k] = d.eval(&t)?;
+                }
+            }
+        }
+        let Some(inv) = invert(m) else { break };
+        let fx: Vec<f64> = f.iter().map(|p| p.eval(&t)).collect::<Result<_, _>>()?;
+        let step: Vec<f64> = inv
+            .iter()
+            .map(|row| row.iter().zip(&fx).map(|(a, b)| a * b).sum())
+            .collect();
+        let mut moved = 0.0f64;
+        for (x, s) in t.iter_mut().zip(&step) {
+            let next = (*x - s).clamp(0.0, 1.0);
+            moved = moved.max((next - *x).abs());
+            *x = next;
+        }
+        if !moved.is_finite() || moved <= 1e-17 {
+            break;
+        }
+    }
+    if t.iter().any(|x| !x.is_finite()) {
+        return Ok(keep());
+    }
+    let mut rho = (0.5 * tolerance / width).max(4.0 * f64::EPSILON);
+    while rho < 0.25 {
+        let mut sub = Vec::with_capacity(n);
+        for &x in &t {
+            let (a, b) = ((x - rho).max(0.0), (x + rho).min(1.0));
+            let (Ok(a), Ok(b)) = (rational_from_f64(a, "box"), rational_from_f64(b, "box")) else {
+                return Ok(keep());
+            };
+            sub.push((a, b));
+        }
+        if sub.iter().all(|(a, b)| a < b) {
+            let tsub: Vec<(T, T)> = sub
+                .iter()
+                .map(|(a, b)| (T::from_rational(a), T::from_rational(b)))
+                .collect();
+            let small: Vec<Bernstein<T>> = node
+                .polys
+                .iter()
+                .map(|p| p.restrict(&tsub))
+                .collect::<Result<_, _>>()?;
+            if let (Decision::Yes, Some(c)) = certify(&small)? {
+                let lo = (0..n)
+                    .map(|k| &node.lo[k] + (&node.hi[k] - &node.lo[k]) * &sub[k].0)
+                    .collect();
+                let hi = (0..n)
+                    .map(|k| &node.lo[k] + (&node.hi[k] - &node.lo[k]) * &sub[k].1)
+                    .collect();
+                return Ok((lo, hi, c));
+            }
+        }
+        rho *= 16.0;
+    }
+    Ok(keep())
+}
+
+/// Split parameters tried in order: ½ first, then points off it, so that the plane can be
+/// proved root-free.
+const SPLITS: [(i64, i64); 7] = [(1, 2), (7, 16), (9, 16), (3, 8), (5, 8), (5, 16), (11, 16)];
+
+/// The split parameter along `axis`: the first of [`SPLITS`] whose plane some equation is of
+/// one strict sign on, else ½.
+fn split_parameter<T: Field>(polys: &[Bernstein<T>], axis: usize) -> Result<Rational, SolveError> {
+    for &(p, q) in &SPLITS {
+        let s = T::from_ratio(p, q);
+        for f in polys {
+            if matches!(
+                strict_sign(&f.eval_axis(axis, &s)?),
+                Sign::Positive | Sign::Negative
+            ) {
+                return Ok(Rational::new(p.into(), q.into()));
+            }
+        }
+    }
+    Ok(Rational::new(1.into(), 2.into()))
+}
+
+/// Whether the box touches a face of the domain on which the system may vanish.
+fn on_domain_boundary<T: Field>(node: &Node<T>) -> Result<bool, SolveError> {
+    for axis in 0..node.lo.len() {
+        for (at_face, upper) in [
+            (node.lo[axis].is_zero(), false),
+            (node.hi[axis].is_one(), true),
+        ] {
+            if at_face {
+                let faces: Result<Vec<_>, _> =
+                    node.polys.iter().map(|p| p.face(axis, upper)).collect();
+                if root_free(&faces?) != Decision::Yes {
+                    return Ok(true);
+                }
+            }
+        }
+    }
+    Ok(false)
+}
+
+/// Everything one run found.
+struct Found {
+    roots: Vec<Root>,
+    clusters: Vec<(Cluster, Vec<Rational>, Vec<Rational>, u32)>,
+    visited: usize,
+}
+
+/// The common degrees of all equations (each axis: the highest), for preconditioning.
+fn elevated(equations: &[Bernstein<Rational>]) -> Result<Vec<Bernstein<Rational>>, SolveError> {
+    let n = equations[0].dim();
+    let top: Vec<usize> = (0..n)
+        .map(|k| equations.iter().map(|e| e.degrees()[k]).max().unwrap_or(0))
+        .collect();
+    equations
+        .iter()
+        .map(|e| {
+            let mut p = e.clone();
+            for (k, &t) in top.iter().enumerate() {
+                if p.degrees()[k] < t {
+                    p = p.elevate(k, t - p.degrees()[k])?;
+                }
+            }
+            Ok(p)
+        })
+        .collect()
+}
+
+/// The subdivision from the given start boxes (unit coordinates) of `exact`'s equations,
+/// in the coefficient field `T`.
+fn run<T: Coefficient>(
+    system: &System,
+    exact: &[Bernstein<Rational>],
+    starts: Vec<(Vec<Rational>, Vec<Rational>, u32)>,
+    opts: &SolveOptions,
+    clock: Instant,
+    visited_before: usize,
+) -> Result<Found, SolveError> {
+    let n = system.unknowns();
+    let limits = opts.limits;
+    let mut stack: Vec<Node<T>> = Vec::new();
+    for (lo, hi, depth) in starts.into_iter().rev() {
+        let sub: Vec<(Rational, Rational)> = lo.iter().cloned().zip(hi.iter().cloned()).collect();
+        let polys: Result<Vec<Bernstein<T>>, SolveError> = exact
+            .iter()
+            .map(|e| {
+                let r = if sub.iter().all(|(a, b)| a.is_zero() && b.is_one()) {
+                    e.clone()
+                } else {
+                    e.restrict(&sub)?
+                };
+                Ok(r.map(T::from_rational))
+            })
+            .collect();
+        stack.push(Node {
+            lo,
+            hi,
+            polys: polys?,
+            depth,
+        });
+    }
+    let mut found = Found {
+        roots: Vec::new(),
+        clusters: Vec::new(),
+        visited: 0,
+    };
+    let cluster = |node: &Node<T>, reason| {
+        let bounds = domain_box(system, &node.lo, &node.hi);
+        let max_abs_f = node
+            .polys
+            .iter()
+            .map(|p| {
+                p.coeffs()
+                    .iter()
+                    .map(Coefficient::abs_upper_f64)
+                    .fold(0.0, f64::max)
+            })
+            .collect();
+        (
+            Cluster {
+                bounds,
+                reason,
+                max_abs_f,
+            },
+            node.lo.clone(),
+            node.hi.clone(),
+            node.depth,
+        )
+    };
+    while let Some(node) = stack.pop() {
+        let over_time = limits.time_limit.is_some_and(|t| clock.elapsed() > t);
+        if visited_before + found.visited >= limits.max_boxes || over_time {
+            found.clusters.push(cluster(&node, ClusterReason::Budget));
+            continue;
+        }
+        found.visited += 1;
+        let culled = root_free(&node.polys);
+        if culled == Decision::Yes {
+            continue;
+        }
+        let (certified, certificate) = certify(&node.polys)?;
+        if let (Decision::Yes, Some(certificate)) = (certified, certificate) {
+            let (lo, hi, certificate) = refine(&node, certificate, opts.tolerance)?;
+            found.roots.push(root(system, &lo, &hi, certificate));
+            continue;
+        }
+        // Rounding left a decision open (fast path only): the box goes back as uncertain (the
+        // filtered path redoes it exactly from here).
+        if culled == Decision::Uncertain || certified == Decision::Uncertain {
+            found
+                .clusters
+                .push(cluster(&node, ClusterReason::Uncertain));
+            continue;
+        }
+        if node.depth >= limits.max_depth {
+            let reason = if on_domain_boundary(&node)? {
+                ClusterReason::DomainBoundary
+            } else {
+                ClusterReason::DepthLimit
+            };
+            found.clusters.push(cluster(&node, reason));
+            continue;
+        }
+        // Split the widest side (in unit coordinates) at a root-free plane if one is found.
+        let axis = (0..n)
+            .max_by(|&a, &b| {
+                (&node.hi[a] - &node.lo[a])
+                    .cmp(&(&node.hi[b] - &node.lo[b]))
+                    .then(b.cmp(&a))
+            })
+            .unwrap_or(0);
+        let s = split_parameter(&node.polys, axis)?;
+        let st = T::from_rational(&s);
+        let mut left = Vec::with_capacity(node.polys.len());
+        let mut right = Vec::with_capacity(node.polys.len());
+        for p in &node.polys {
+            let (l, r) = p.split(axis, &st)?;
+            left.push(l);
+            right.push(r);
+        }
+        let mid = &node.lo[axis] + (&node.hi[axis] - &node.lo[axis]) * &s;
+        let mut hi_left = node.hi.clone();
+        hi_left[axis] = mid.clone();
+        let mut lo_right = node.lo.clone();
+        lo_right[axis] = mid;
+        stack.push(Node {
+            lo: lo_right,
+            hi: node.hi,
+            polys: right,
+            depth: node.depth + 1,
+        });
+        stack.push(Node {
+            lo: node.lo,
+            hi: hi_left,
+            polys: left,
+            depth: node.depth + 1,
+        });
+    }
+    Ok(found)
+}
+
+/// The domain box of unit-box bounds `lo`, `hi`.
+fn domain_box(system: &System, lo: &[Rational], hi: &[Rational]) -> Vec<(Rational, Rational)> {
+    system
+        .to_domain(lo)
+        .into_iter()
+        .zip(system.to_domain(hi))
+        .collect()
+}
+
+/// A certified root from its unit box.
+fn root(system: &System, lo: &[Rational], hi: &[Rational], certificate: RootCertificate) -> Root {
+    let bounds = domain_box(system, lo, hi);
+    let two = Rational::from_integer(2.into());
+    let approx: Vec<f64> = bounds
+        .iter()
+        .map(|(a, b)| rational_to_f64(&((a + b) / &two)))
+        .collect();
+    let error_bound = bounds
+        .iter()
+        .zip(&approx)
+        .map(|((a, b), &c)| {
+            let c = rational_from_f64(c, "centre").unwrap_or_default();
+            let far = (&c - a).abs().max((b - &c).abs());
+            let i = Interval::from_rational(&far);
+            i.hi
+        })
+        .fold(0.0, f64::max);
+    Root {
+        bounds,
+        approx,
+        error_bound,
+        certificate,
+    }
+}
+
+/// Solves `system` (as many equations as unknowns) on its domain on the path `opts.path`.
+///
+/// Every root of the system in the domain lies in exactly one reported root box (which holds
+/// no other root) or in a cluster box; a root on the domain's boundary, a multiple or
+/// tangential root, and roots closer together than the depth limit resolves come back as
+/// clusters.
+pub fn solve(system: &System, opts: &SolveOptions) -> Result<Solution, SolveError> {
+    let n = system.unknowns();
+    if system.equations.len() != n {
+        return Err(SolveError::NotSquare {
+            equations: system.equations.len(),
+            unknowns: n,
+        });
+    }
+    let exact = elevated(&system.equations)?;
+    let whole = vec![(
+        vec![<Rational as Zero>::zero(); n],
+        vec![<Rational as One>::one(); n],
+        0,
+    )];
+    let clock = Instant::now();
+    let found = match opts.path {
+        Path::Exact => run::<Rational>(system, &exact, whole, opts, clock, 0)?,
+        Path::Fast => run::<Interval>(system, &exact, whole, opts, clock, 0)?,
+        Path::Filtered => {
+            let mut fast = run::<Interval>(system, &exact, whole, opts, clock, 0)?;
+            let (open, mut kept): (Vec<_>, Vec<_>) = fast
+                .clusters
+                .drain(..)
+                .partition(|c| c.0.reason == ClusterReason::Uncertain);
+            let starts = open.into_iter().map(|(_, lo, hi, d)| (lo, hi, d)).collect();
+            let more = run::<Rational>(system, &exact, starts, opts, clock, fast.visited)?;
+            fast.roots.extend(more.roots);
+            kept.extend(more.clusters);
+            fast.clusters = kept;
+            fast.visited += more.visited;
+            fast
+        }
+    };
+    Ok(Solution {
+        roots: found.roots,
+        clusters: found.clusters.into_iter().map(|c| c.0).collect(),
+        boxes_visited: found.visited,
+        path: opts.path,
+    })
+}

@@ -1,0 +1,214 @@
+//! The certified solver on systems with known rational roots by construction: every root lies
+//! in exactly one certified box or in a cluster, every certified box holds exactly one of the
+//! constructed roots and passes the independent checker, the fast path's certified roots
+//! agree with the exact path's, tangential roots come back as clusters, roots on split planes
+//! and close pairs are certified, roots on the domain's boundary are clusters.
+
+use geocert::bernstein::Bernstein;
+use geocert::num::Rational;
+use geocert::solve::{
+    solve, verify_root, ClusterReason, RootCertificate, Solution, SolveOptions, System,
+};
+use geocert::Path;
+use proptest::prelude::*;
+
+fn q(n: i64, d: i64) -> Rational {
+    Rational::new(n.into(), d.into())
+}
+
+/// `x_k − r` on the unit box in `n` variables (degree 1 along `k`).
+fn linear(n: usize, k: usize, r: &Rational) -> Bernstein<Rational> {
+    let mut degrees = vec![0; n];
+    degrees[k] = 1;
+    Bernstein::new(degrees, vec![-r.clone(), q(1, 1) - r]).unwrap()
+}
+
+fn constant(n: usize, c: Rational) -> Bernstein<Rational> {
+    Bernstein::constant(vec![0; n], c)
+}
+
+/// `Π_j (x_k − r_j)`.
+fn product_of_roots(n: usize, k: usize, roots: &[Rational]) -> Bernstein<Rational> {
+    roots.iter().fold(constant(n, q(1, 1)), |acc, r| {
+        acc.product(&linear(n, k, r)).unwrap()
+    })
+}
+
+/// Raises every equation to the common degrees and mixes them with the integer matrix `m`
+/// (invertible: the roots do not change).
+fn mix(eqs: Vec<Bernstein<Rational>>, m: &[Vec<i64>]) -> Vec<Bernstein<Rational>> {
+    let n = eqs[0].dim();
+    let top: Vec<usize> = (0..n)
+        .map(|k| eqs.iter().map(|e| e.degrees()[k]).max().unwrap())
+        .collect();
+    let up: Vec<_> = eqs
+        .into_iter()
+        .map(|mut e| {
+            for (k, &t) in top.iter().enumerate() {
+                if e.degrees()[k] < t {
+                    e = e.elevate(k, t - e.degrees()[k]).unwrap();
+                }
+            }
+            e
+        })
+        .collect();
+    m.iter()
+        .map(|row| {
+            row.iter()
+                .zip(&up)
+                .map(|(&a, e)| e.scale(&q(a, 1)))
+                .reduce(|s, t| s.add(&t).unwrap())
+                .unwrap()
+        })
+        .collect()
+}
+
+fn unit_system(eqs: Vec<Bernstein<Rational>>) -> System {
+    let n = eqs[0].dim();
+    System::new(vec![(q(0, 1), q(1, 1)); n], eqs).unwrap()
+}
+
+fn contains(bounds: &[(Rational, Rational)], p: &[Rational]) -> bool {
+    bounds.iter().zip(p).all(|((a, b), x)| a <= x && x <= b)
+}
+
+/// Every constructed root is in exactly one certified box or in some cluster; every
+/// certified box holds exactly one constructed root and passes the checker.
+fn account(system: &System, s: &Solution, roots: &[Vec<Rational>]) -> Result<(), String> {
+    for r in roots {
+        let in_roots = s.roots.iter().filter(|x| contains(&x.bounds, r)).count();
+        let in_clusters = s.clusters.iter().filter(|c| contains(&c.bounds, r)).count();
+        if !(in_roots == 1 && in_clusters == 0 || in_roots == 0 && in_clusters >= 1) {
+            return Err(format!(
+                "root {r:?}: in {in_roots} certified boxes and {in_clusters} clusters"
+            ));
+        }
+    }
+    for x in &s.roots {
+        let held = roots.iter().filter(|r| contains(&x.bounds, r)).count();
+        if held != 1 {
+            return Err(format!("certified box {:?} holds {held} roots", x.bounds));
+        }
+        verify_root(system, &x.bounds, &x.certificate).map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+/// Distinct values `k/den`, `0 < k < den`, at least `gap/den` apart.
+fn spread(den: i64, count: usize, gap: i64) -> impl Strategy<Value = Vec<Rational>> {
+    proptest::collection::btree_set(1..den, count).prop_filter_map("gap", move |s| {
+        let v: Vec<i64> = s.into_iter().collect();
+        v.windows(2)
+            .all(|w| w[1] - w[0] >= gap)
+            .then(|| v.into_iter().map(|k| q(k, den)).collect())
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// Grids of roots (products of linear factors per unknown) mixed by an invertible
+    /// integer matrix, 1–3 unknowns, up to 3 roots per axis: exact, fast and filtered paths.
+    #[test]
+    fn constructed_roots_are_accounted_for(
+        n in 1usize..=3,
+        xs in spread(97, 2, 5),
+        ys in spread(89, 2, 5),
+        zs in spread(83, 1, 5),
+        shear in -3i64..=3,
+    ) {
+        let per_axis = [xs, ys, zs];
+        let eqs: Vec<_> = (0..n).map(|k| product_of_roots(n, k, &per_axis[k])).collect();
+        // Unit lower-triangular with a shear: invertible.
+        let m: Vec<Vec<i64>> = (0..n)
+            .map(|i| (0..n).map(|j| if i == j { 1 } else if j < i { shear } else { 0 }).collect())
+            .collect();
+        let system = unit_system(mix(eqs, &m));
+        let mut roots: Vec<Vec<Rational>> = vec![vec![]];
+        for axis in per_axis.iter().take(n) {
+            roots = roots
+                .into_iter()
+                .flat_map(|r| axis.iter().map(move |x| { let mut r = r.clone(); r.push(x.clone()); r }))
+                .collect();
+        }
+        let exact = solve(&system, &SolveOptions::new().with_path(Path::Exact)).unwrap();
+        account(&system, &exact, &roots).map_err(TestCaseError::fail)?;
+        prop_assert_eq!(exact.roots.len(), roots.len(), "simple, separated roots are certified");
+        for path in [Path::Fast, Path::Filtered] {
+            let s = solve(&system, &SolveOptions::new().with_path(path)).unwrap();
+            account(&system, &s, &roots).map_err(TestCaseError::fail)?;
+            // A certified fast root never contradicts the exact path.
+            for r in &s.roots {
+                prop_assert!(exact.roots.iter().any(|e| roots.iter().any(|p| contains(&e.bounds, p) && contains(&r.bounds, p))));
+            }
+        }
+    }
+}
+
+#[test]
+fn a_tangential_double_root_is_a_cluster_never_a_certified_root() {
+    // (y − ½) − (x − ⅓)² = 0 and y − ½ = 0 touch at (⅓, ½).
+    let n = 2;
+    let x = linear(n, 0, &q(1, 3));
+    let y = linear(n, 1, &q(1, 2));
+    let f1 = mix(vec![y.clone(), x.product(&x).unwrap()], &[vec![1, -1]]).remove(0);
+    let f2 = y;
+    let system = unit_system(mix(vec![f1, f2], &[vec![1, 0], vec![0, 1]]));
+    for path in [Path::Exact, Path::Filtered] {
+        let s = solve(&system, &SolveOptions::new().with_path(path)).unwrap();
+        assert!(s.roots.is_empty(), "{path}: {:?}", s.roots);
+        assert!(s
+            .clusters
+            .iter()
+            .any(|c| contains(&c.bounds, &[q(1, 3), q(1, 2)])));
+    }
+}
+
+#[test]
+fn a_root_on_the_split_plane_is_certified_once() {
+    let n = 2;
+    let system = unit_system(mix(
+        vec![linear(n, 0, &q(1, 2)), linear(n, 1, &q(1, 2))],
+        &[vec![1, 1], vec![1, -1]],
+    ));
+    let s = solve(&system, &SolveOptions::new().with_path(Path::Exact)).unwrap();
+    account(&system, &s, &[vec![q(1, 2), q(1, 2)]]).unwrap();
+    assert_eq!((s.roots.len(), s.clusters.len()), (1, 0));
+}
+
+#[test]
+fn two_roots_two_to_the_minus_27_apart_are_separated() {
+    let a = q(1, 3);
+    let b = &a + q(1, 1 << 27);
+    let system = unit_system(vec![product_of_roots(1, 0, &[a.clone(), b.clone()])]);
+    let s = solve(&system, &SolveOptions::new()).unwrap();
+    account(&system, &s, &[vec![a], vec![b]]).unwrap();
+    assert_eq!(s.roots.len(), 2);
+}
+
+#[test]
+fn a_root_on_the_domain_boundary_is_a_cluster() {
+    let system = unit_system(vec![product_of_roots(1, 0, &[q(0, 1), q(1, 2)])]);
+    let s = solve(&system, &SolveOptions::new().with_path(Path::Exact)).unwrap();
+    account(&system, &s, &[vec![q(0, 1)], vec![q(1, 2)]]).unwrap();
+    assert_eq!(s.roots.len(), 1);
+    assert!(s
+        .clusters
+        .iter()
+        .any(|c| c.reason == ClusterReason::DomainBoundary && contains(&c.bounds, &[q(0, 1)])));
+}
+
+#[test]
+fn the_checker_refuses_a_tampered_certificate() {
+    let n = 2;
+    let system = unit_system(vec![linear(n, 0, &q(1, 3)), linear(n, 1, &q(2, 3))]);
+    let s = solve(&system, &SolveOptions::new().with_path(Path::Exact)).unwrap();
+    let r = &s.roots[0];
+    verify_root(&system, &r.bounds, &r.certificate).unwrap();
+    let mut flipped: RootCertificate = r.certificate.clone();
+    flipped.lower_face_signs[0] = -flipped.lower_face_signs[0];
+    assert!(verify_root(&system, &r.bounds, &flipped).is_err());
+    // A box beside the root holds none: Miranda fails there.
+    let beside = vec![(q(1, 2), q(1, 1)), r.bounds[1].clone()];
+    assert!(verify_root(&system, &beside, &r.certificate).is_err());
+}

@@ -474,3 +474,74 @@ pub fn check_mc_fe(data: &[u8]) -> Result<(), String> {
         .validate()
         .map_err(|e| format!("invalid mesh: {e}"))
 }
+
+/// Differential solving: a system of 1–2 unknowns decoded from bytes (per equation, degrees
+/// 1–3 and small integer Bernstein coefficients; with the first byte's low bit set, a product
+/// of linear factors with roots on a grid of sixteenths, often on split planes and faces)
+/// solved on the exact and fast paths (depth ≤ 16, ≤ 2,000 boxes). Every certified root of
+/// either path passes the exact checker, and the root each one holds is accounted for by the
+/// other path: its box meets one of the other's root or cluster boxes.
+pub fn check_solve(data: &[u8]) -> Result<(), String> {
+    use crate::bernstein::{Bernstein, Limits};
+    use crate::solve::{solve, verify_root, Solution, SolveOptions, System};
+    let mut bytes = data.iter().copied();
+    let mut next = move || bytes.next().unwrap_or(0);
+    let head = next();
+    let n = 1 + (head as usize >> 1) % 2;
+    let q = |a: i64, b: i64| Rational::new(a.into(), b.into());
+    let mut equations = Vec::with_capacity(n);
+    for i in 0..n {
+        let p = if head & 1 == 1 {
+            // Π (x_i − r_k) for up to three roots on the grid k/16 along axis i, plus a shear.
+            let mut p = Bernstein::constant(vec![0; n], q(1, 1));
+            for _ in 0..1 + next() % 3 {
+                let r = q((next() % 17) as i64, 16);
+                let mut degrees = vec![0; n];
+                degrees[i] = 1;
+                let lin = Bernstein::new(degrees, vec![-r.clone(), q(1, 1) - r])
+                    .map_err(|e| e.to_string())?;
+                p = p.product(&lin).map_err(|e| e.to_string())?;
+            }
+            p
+        } else {
+            let degrees: Vec<usize> = (0..n).map(|_| 1 + next() as usize % 3).collect();
+            let count: usize = degrees.iter().map(|d| d + 1).product();
+            let coeffs = (0..count).map(|_| q(next() as i8 as i64, 8)).collect();
+            Bernstein::new(degrees, coeffs).map_err(|e| e.to_string())?
+        };
+        equations.push(p);
+    }
+    let system = System::new(vec![(q(0, 1), q(1, 1)); n], equations).map_err(|e| e.to_string())?;
+    let limits = Limits::new().with_max_depth(16).with_max_boxes(2_000);
+    let run = |path| {
+        solve(
+            &system,
+            &SolveOptions::new().with_path(path).with_limits(limits),
+        )
+        .map_err(|e| format!("{path}: {e}"))
+    };
+    let exact = run(crate::Path::Exact)?;
+    let fast = run(crate::Path::Fast)?;
+    let meets = |a: &[(Rational, Rational)], b: &[(Rational, Rational)]| {
+        a.iter()
+            .zip(b)
+            .all(|((a0, a1), (b0, b1))| a0 <= b1 && b0 <= a1)
+    };
+    let accounted = |bounds: &[(Rational, Rational)], other: &Solution| {
+        other.roots.iter().any(|r| meets(bounds, &r.bounds))
+            || other.clusters.iter().any(|c| meets(bounds, &c.bounds))
+    };
+    for (name, mine, other) in [("exact", &exact, &fast), ("fast", &fast, &exact)] {
+        for r in &mine.roots {
+            verify_root(&system, &r.bounds, &r.certificate)
+                .map_err(|e| format!("{name} root {:?} refused by the checker: {e}", r.bounds))?;
+            if !accounted(&r.bounds, other) {
+                return Err(format!(
+                    "{name} certified a root in {:?} that the other path does not account for",
+                    r.bounds
+                ));
+            }
+        }
+    }
+    Ok(())
+}

@@ -596,3 +596,115 @@ fn closed_stdout_ends_quietly() {
     assert!(out.status.success(), "status {:?}: {stderr}", out.status);
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+#[test]
+fn solve_certifies_roots_and_the_checker_agrees() {
+    // The unit circle and x − 2y + x³/3 = 0 on [−2, 2]²: two roots, (±0.8497…, ±0.5271…).
+    let system = tmp("circle.json");
+    std::fs::write(
+        &system,
+        r#"{"box": [["-2","2"],["-2","2"]], "equations": [
+            {"terms": [[[2,0],1],[[0,2],1],[[0,0],-1]]},
+            {"terms": [[[1,0],1],[[0,1],-2],[[3,0],"1/3"]]}]}"#,
+    )
+    .unwrap();
+    let cert = tmp("circle.cert.json");
+    for path in ["exact", "fast", "filtered"] {
+        let out = geocert()
+            .args(["solve", system.to_str().unwrap(), "--json", "--path", path])
+            .args(["--cert", cert.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let roots = v["roots"].as_array().unwrap();
+        assert_eq!(roots.len(), 2, "{path}: {v}");
+        for r in roots {
+            let x = r["approx"][0].as_f64().unwrap();
+            let y = r["approx"][1].as_f64().unwrap();
+            assert!((x * x + y * y - 1.0).abs() < 1e-9, "{path}: {r}");
+            assert!(r["error_bound"].as_f64().unwrap() < 1e-9, "{path}: {r}");
+        }
+        let out = geocert()
+            .args(["solve", "verify-cert", cert.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        assert_eq!(
+            String::from_utf8_lossy(&out.stdout)
+                .matches("valid")
+                .count(),
+            2
+        );
+    }
+    // A tampered certificate is refused with exit code 1.
+    let text = std::fs::read_to_string(&cert).unwrap();
+    let tampered = text.replacen(
+        "\"lower_face_signs\": [\n        -1",
+        "\"lower_face_signs\": [\n        1",
+        1,
+    );
+    let tampered = if tampered == text {
+        text.replacen(
+            "\"lower_face_signs\": [\n        1",
+            "\"lower_face_signs\": [\n        -1",
+            1,
+        )
+    } else {
+        tampered
+    };
+    assert_ne!(tampered, text);
+    std::fs::write(&cert, tampered).unwrap();
+    let out = geocert()
+        .args(["solve", "verify-cert", cert.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("invalid"));
+}
+
+#[test]
+fn solve_refuses_malformed_systems() {
+    let cases = [
+        (
+            r#"{"box": [["1","0"]], "equations": [{"terms": [[[1], 1]]}]}"#,
+            "box interval 0",
+        ),
+        (
+            r#"{"box": [["0","1"],["0","1"]], "equations": [{"terms": [[[1,0], 1]]}]}"#,
+            "1 equations in 2 unknowns",
+        ),
+        (
+            r#"{"box": [["0","1"]], "equations": [{"terms": [[[1,0], 1]]}]}"#,
+            "equations[0].terms[0]",
+        ),
+        (
+            r#"{"box": [["0","1"]], "equations": [{"degrees": [2], "coeffs": [1, 2]}]}"#,
+            "equations[0]",
+        ),
+        (r#"{"box": [["0","x"]], "equations": []}"#, "box[0][1]"),
+        (r#"{"equations": []}"#, "box"),
+    ];
+    for (i, (text, expect)) in cases.iter().enumerate() {
+        let system = tmp(&format!("bad-system-{i}.json"));
+        std::fs::write(&system, text).unwrap();
+        let cert = tmp(&format!("bad-system-{i}.cert.json"));
+        let out = geocert()
+            .args([
+                "solve",
+                system.to_str().unwrap(),
+                "--cert",
+                cert.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "case {i}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(expect), "case {i}: {err}");
+        assert!(!cert.exists(), "case {i}: nothing written");
+    }
+}

@@ -103,3 +103,9 @@ fn mc_fe_regressions() {
     let n = replay("mc_fe", geocert::internals::fuzzing::check_mc_fe);
     assert!(n > 0, "the regression corpus must not be empty");
 }
+
+#[test]
+fn solve_paths_regressions() {
+    let n = replay("solve_paths", geocert::internals::fuzzing::check_solve);
+    assert!(n > 0, "the regression corpus must not be empty");
+}

@@ -11,6 +11,7 @@ pub mod ffd_markdown;
 pub mod mc_fe;
 pub mod mc_grid;
 pub mod mc_markdown;
+pub mod solve;
 
 use crate::proofs::ProofOutcome;
 use campaign::{KernelCampaign, SubdivisionTiming};

@@ -118,7 +118,8 @@ impl System {
 pub struct SolveOptions {
     /// The arithmetic ([`Path::Filtered`] by default).
     pub path: Path,
-    /// Depth (subdivision levels), box-count and time limits.
+    /// Depth, box-count and time limits; the depth counts levels per side (a box at depth
+    /// `k` has been split `k` times along each of its `n` axes, `k·n` splits in all).
     pub limits: Limits,
     /// Certified roots are refined to boxes of at most this width relative to the domain's
     /// side on every axis (Newton's method in `f64`, then the same certificate on the small

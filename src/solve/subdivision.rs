@@ -155,18 +155,20 @@ fn precondition<T: Field>(
     Ok(g)
 }
 
-/// An approximate inverse of the Jacobian at the box centre, in `f64`, as exact rationals
-/// (the identity where the Jacobian is singular or not finite).
+/// An approximate inverse of the Jacobian at the box centre, in `f64` rounded to 24 bits, as
+/// exact rationals (the identity where the Jacobian is singular or not finite).
 fn preconditioner<T: Field>(polys: &[Bernstein<T>]) -> Result<Vec<Vec<Rational>>, SolveError> {
+    // Only an approximation is needed: the coefficients rounded to f64.
     let n = polys.len();
-    let half = vec![T::from_ratio(1, 2); n];
+    let half = vec![0.5f64; n];
     let mut j = vec![vec![0.0f64; n]; n];
     for (i, p) in polys.iter().enumerate() {
+        let p = p.map(|c| c.approx());
         for (k, jik) in j[i].iter_mut().enumerate() {
             *jik = if p.degrees()[k] == 0 {
                 0.0
             } else {
-                p.derivative(k)?.eval(&half)?.approx()
+                p.derivative(k)?.eval(&half)?
             };
         }
     }
@@ -179,7 +181,11 @@ fn preconditioner<T: Field>(polys: &[Bernstein<T>]) -> Result<Vec<Vec<Rational>>
         .iter()
         .map(|row| {
             row.iter()
-                .map(|&x| rational_from_f64(x, "preconditioner").unwrap_or_default())
+                // Rounded to 24 significant bits: any matrix is allowed, and short entries keep
+                // the exact path's coefficients of `A f` short.
+                .map(|&x| {
+                    rational_from_f64(f64::from(x as f32), "preconditioner").unwrap_or_default()
+                })
                 .collect()
         })
         .collect())
@@ -417,14 +423,28 @@ fn refine<T: Coefficient>(
     Ok(keep())
 }
 
+/// The depth from which splits are always at ½.
+const MOVED_SPLITS_DEPTH: u32 = 24;
+
 /// Split parameters tried in order: ½ first, then points off it, so that the plane can be
 /// proved root-free.
-const SPLITS: [(i64, i64); 7] = [(1, 2), (7, 16), (9, 16), (3, 8), (5, 8), (5, 16), (11, 16)];
+const SPLITS: [(i64, i64); 5] = [(1, 2), (7, 16), (9, 16), (3, 8), (5, 8)];
 
 /// The split parameter along `axis`: the first of [`SPLITS`] whose plane some equation is of
-/// one strict sign on, else ½.
-fn split_parameter<T: Field>(polys: &[Bernstein<T>], axis: usize) -> Result<Rational, SolveError> {
-    for &(p, q) in &SPLITS {
+/// one strict sign on, else ½. Below depth [`MOVED_SPLITS_DEPTH`] only ½ is used: a root on
+/// such a plane (a dyadic coordinate with a long expansion) leaves two touching clusters
+/// rather than a certified root, and the exact path's coefficients stay short.
+fn split_parameter<T: Field>(
+    polys: &[Bernstein<T>],
+    axis: usize,
+    depth: u32,
+) -> Result<Rational, SolveError> {
+    let tried = if depth < MOVED_SPLITS_DEPTH {
+        SPLITS.len()
+    } else {
+        0
+    };
+    for &(p, q) in &SPLITS[..tried] {
         let s = T::from_ratio(p, q);
         for f in polys {
             if matches!(
@@ -570,7 +590,8 @@ fn run<T: Coefficient>(
                 .push(cluster(&node, ClusterReason::Uncertain));
             continue;
         }
-        if node.depth >= limits.max_depth {
+        // The depth limit counts halvings of each side: `n` splits make one level.
+        if node.depth >= limits.max_depth.saturating_mul(n as u32) {
             let reason = if on_domain_boundary(&node)? {
                 ClusterReason::DomainBoundary
             } else {
@@ -587,7 +608,7 @@ fn run<T: Coefficient>(
                     .then(b.cmp(&a))
             })
             .unwrap_or(0);
-        let s = split_parameter(&node.polys, axis)?;
+        let s = split_parameter(&node.polys, axis, node.depth)?;
         let st = T::from_rational(&s);
         let mut left = Vec::with_capacity(node.polys.len());
         let mut right = Vec::with_capacity(node.polys.len());

@@ -26,11 +26,15 @@ pub(crate) struct Args {
 pub(crate) enum Part {
     /// The marching-cubes table proofs.
     McTable,
+    /// The solver's campaign alone (constructed systems, msolve if installed); writes
+    /// solve.md.
+    Solve,
 }
 
 pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
     match a.part {
         Some(Part::McTable) => prove_mc_table(a.json),
+        Some(Part::Solve) => prove_solve(a.out, a.json),
         None => prove(a.out, a.json),
     }
 }
@@ -68,7 +72,7 @@ fn mc_table_proofs() -> (Vec<ProofOutcome>, usize) {
 fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     let meta = RunMeta::collect();
     let proofs = proofs::all();
-    let bar = ProgressBar::new(proofs.len() as u64 + 4);
+    let bar = ProgressBar::new(proofs.len() as u64 + 5);
     bar.set_style(
         ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").map_err(|e| e.to_string())?,
     );
@@ -100,6 +104,8 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     let sides: Vec<usize> = (1..=10).map(|k| 100 * k).collect();
     let dec_camp = report::decimate::decimate_campaign(&root, &sides);
     bar.inc(1);
+    bar.set_message("polynomial systems (and msolve, if installed)");
+    let solve_camp = solve_campaign(&root)?;
     bar.finish_and_clear();
     let part = |prefix: &str| -> Vec<_> {
         outcomes
@@ -122,7 +128,9 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
         report::mc_markdown::write_mc_report(&out, &meta, &mc_proofs, unrealisable, &grid, &fe)
             .map_err(io)?,
         report::decimate::write_decimate_report(&out, &meta, &dec_camp).map_err(io)?,
+        report::solve::write_solve_report(&out, &meta, &solve_camp).map_err(io)?,
     ];
+    let solve_ok = report::solve::campaign_ok(&solve_camp);
     let dec_ok = report::decimate::campaign_ok(&dec_camp);
     written.insert(
         0,
@@ -168,11 +176,19 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
                     ),
                     ok: dec_ok,
                 },
+                report::IndexEntry {
+                    file: "solve.md".into(),
+                    what: format!(
+                        "certified polynomial system solving ({} systems with constructed roots on three paths, dense systems against msolve)",
+                        solve_camp.families.iter().map(|f| f.systems).sum::<usize>()
+                    ),
+                    ok: solve_ok,
+                },
             ],
         )
         .map_err(io)?,
     );
-    let ok = kernel_ok && ffd_ok && mc_ok && dec_ok;
+    let ok = kernel_ok && ffd_ok && mc_ok && dec_ok && solve_ok;
     if json {
         let v = serde_json::json!({"ok": ok, "proofs": outcomes, "campaign": camp, "timing": timing,
             "reports": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>()});
@@ -206,6 +222,35 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
         for p in &written {
             println!("wrote {}", p.display());
         }
+    }
+    Ok(status(ok))
+}
+
+/// The solver's campaign at the report's sizes.
+fn solve_campaign(root: &std::path::Path) -> Result<report::solve::SolveCampaign, String> {
+    Ok(report::solve::solve_campaign(root, 2026, 12, 12))
+}
+
+/// `prove solve`: the solver's campaign alone; writes solve.md.
+fn prove_solve(out: PathBuf, json: bool) -> Result<ExitCode, String> {
+    let meta = RunMeta::collect();
+    let root = std::env::current_dir().map_err(|e| e.to_string())?;
+    let c = solve_campaign(&root)?;
+    let written = report::solve::write_solve_report(&out, &meta, &c)
+        .map_err(|e| format!("writing {}: {e}", out.display()))?;
+    let ok = report::solve::campaign_ok(&c);
+    if json {
+        println!("{}", pretty(&c)?);
+    } else {
+        for f in &c.families {
+            for (p, t) in &f.paths {
+                println!(
+                    "{} ({p}): {} found, {} in clusters, {} missing, {} extra, {} refused",
+                    f.name, t.found, t.in_clusters, t.missing, t.extra, t.refused
+                );
+            }
+        }
+        println!("wrote {}", written.display());
     }
     Ok(status(ok))
 }

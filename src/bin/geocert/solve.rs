@@ -23,8 +23,8 @@ pub(crate) struct Args {
     system: Option<PathBuf>,
     #[arg(long, default_value_t = Path::Filtered, value_parser = choice::<Path>(Path::NAMES))]
     path: Path,
-    /// Deepest subdivision level (a box at this level that is neither culled nor certified
-    /// is reported as a cluster).
+    /// Deepest subdivision level, counted per side (a box split this many times along every
+    /// axis that is neither culled nor certified is reported as a cluster).
     #[arg(long, default_value_t = 40)]
     max_depth: u32,
     /// Refine certified roots to boxes of this width relative to the domain (0: keep the

@@ -356,12 +356,11 @@ fn find_msolve(root: &Path) -> Result<PathBuf, String> {
     }
 }
 
+/// A box per root, each a `(lo, hi)` pair per unknown.
+type RootBoxes = Vec<Vec<(Rational, Rational)>>;
+
 /// Runs msolve on a case; its real roots as dyadic boxes, and the process time.
-fn run_msolve(
-    bin: &Path,
-    case: &Case,
-    tag: &str,
-) -> Result<(Vec<Vec<(Rational, Rational)>>, f64), String> {
+fn run_msolve(bin: &Path, case: &Case, tag: &str) -> Result<(RootBoxes, f64), String> {
     let dir = std::env::temp_dir().join(format!("geocert-msolve-{}", std::process::id()));
     std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
     let (input, output) = (
@@ -389,7 +388,7 @@ fn run_msolve(
 }
 
 /// `[0, [1, [[[lo, hi], …], …]]]:` with numbers `a` or `a / 2^k`.
-fn parse_msolve(text: &str, n: usize) -> Result<Vec<Vec<(Rational, Rational)>>, String> {
+fn parse_msolve(text: &str, n: usize) -> Result<RootBoxes, String> {
     let mut nums: Vec<Rational> = Vec::new();
     let t: Vec<char> = text.chars().collect();
     let mut i = 0;
@@ -422,7 +421,7 @@ fn parse_msolve(text: &str, n: usize) -> Result<Vec<Vec<(Rational, Rational)>>, 
         return Err("msolve: not a zero-dimensional system".into());
     }
     let body = &nums[2..];
-    if body.len() % (2 * n) != 0 {
+    if !body.len().is_multiple_of(2 * n) {
         return Err("msolve output: unexpected shape".into());
     }
     Ok(body

@@ -229,11 +229,7 @@ fn ffd_drag_then_deform_a_mesh() {
         .iter()
         .position(|v| *v == [2.0, 2.0, 2.8])
         .unwrap();
-    assert!(
-        (back.vertices[apex][2] - 1.2).abs() < 1e-12,
-        "{:?}",
-        back.vertices[apex]
-    );
+    approx::assert_abs_diff_eq!(back.vertices[apex][2], 1.2, epsilon = 1e-12);
 
     // Dependent constraints: a clear error, nothing written.
     let bad = tmp("twice.json");
@@ -626,7 +622,7 @@ fn solve_certifies_roots_and_the_checker_agrees() {
         for r in roots {
             let x = r["approx"][0].as_f64().unwrap();
             let y = r["approx"][1].as_f64().unwrap();
-            assert!((x * x + y * y - 1.0).abs() < 1e-9, "{path}: {r}");
+            approx::assert_abs_diff_eq!(x * x + y * y, 1.0, epsilon = 1e-9);
             assert!(r["error_bound"].as_f64().unwrap() < 1e-9, "{path}: {r}");
         }
         let out = geocert()

@@ -158,7 +158,7 @@ fn hermite_sphere_is_closed_and_outward() {
         let normals = mesh.normals.as_ref().unwrap();
         for (v, nv) in mesh.vertices.iter().zip(normals) {
             let r = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-            assert!((r - 0.8).abs() < 0.02, "radius {r}");
+            approx::assert_abs_diff_eq!(r, 0.8, epsilon = 0.02);
             let dot = (v[0] * nv[0] + v[1] * nv[1] + v[2] * nv[2]) / r;
             assert!(dot > 0.999, "normal not radial: {dot}");
         }
@@ -259,7 +259,11 @@ fn heart_demo_paths_agree() {
         .as_ref()
         .unwrap()
         .iter()
-        .all(|n| { ((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() - 1.0).abs() < 1e-9 }));
+        .all(|n| approx::abs_diff_eq!(
+            (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt(),
+            1.0,
+            epsilon = 1e-9
+        )));
 }
 
 #[test]

@@ -196,11 +196,7 @@ impl std::fmt::Display for PositivityCheck {
             PositivityCheck::NotPositive { point, value } => write!(
                 f,
                 "not positive: p({}) = {} ≤ 0",
-                point
-                    .iter()
-                    .map(rational_to_string)
-                    .collect::<Vec<_>>()
-                    .join(", "),
+                crate::num::point_to_string(point),
                 rational_to_string(value)
             ),
         }

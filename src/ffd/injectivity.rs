@@ -523,11 +523,7 @@ impl std::fmt::Display for InjectivityCheck {
             InjectivityCheck::NotInjective { point, det } => write!(
                 f,
                 "not injective: det J({}) = {} ≤ 0",
-                point
-                    .iter()
-                    .map(rational_to_string)
-                    .collect::<Vec<_>>()
-                    .join(", "),
+                crate::num::point_to_string(point),
                 rational_to_string(det)
             ),
         }

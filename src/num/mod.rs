@@ -18,7 +18,8 @@ pub(crate) mod wide;
 pub use field::Field;
 pub use interval::{gamma, Interval, UNIT_ROUNDOFF};
 pub use rational::{
-    parse_rational, rational_from_f64, rational_to_f64, rational_to_string, Rational,
+    parse_rational, point_to_string, rational_from_f64, rational_to_f64, rational_to_string,
+    Rational,
 };
 
 use thiserror::Error;

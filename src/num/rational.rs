@@ -222,6 +222,15 @@ pub fn rational_to_string(r: &Rational) -> String {
     }
 }
 
+/// A point's coordinates, exactly, separated by `", "` (e.g. `1/3, 0, -5/2`).
+pub fn point_to_string(point: &[Rational]) -> String {
+    point
+        .iter()
+        .map(rational_to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// The exact sign of a rational.
 pub(crate) fn rational_sign(r: &Rational) -> super::Sign {
     match r.numer().sign() {

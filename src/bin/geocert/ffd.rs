@@ -140,11 +140,7 @@ pub(crate) fn run(c: Command) -> Result<ExitCode, String> {
                         geocert::ffd::InjectivityVerdict::NotInjective { point, det, .. } => {
                             format!(
                                 ": det J({}) = {} ≤ 0",
-                                point
-                                    .iter()
-                                    .map(rational_to_string)
-                                    .collect::<Vec<_>>()
-                                    .join(", "),
+                                geocert::num::point_to_string(point),
                                 rational_to_string(det)
                             )
                         }

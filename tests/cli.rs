@@ -13,6 +13,27 @@ fn tmp(name: &str) -> std::path::PathBuf {
     dir.join(name)
 }
 
+/// Runs `geocert SUBCOMMAND FILE --cert CERT` on `text` and asserts the refusal: exit code 2,
+/// `needle` in the message, no certificate written.
+fn refuses(subcommand: &str, name: &str, text: &str, needle: &str) {
+    let f = tmp(name);
+    std::fs::write(&f, text).unwrap();
+    let cert = tmp(&format!("{name}.cert"));
+    let out = geocert()
+        .args([
+            subcommand,
+            f.to_str().unwrap(),
+            "--cert",
+            cert.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2), "{name}");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(needle), "{name}: {err}");
+    assert!(!cert.exists(), "{name}: nothing may be written on failure");
+}
+
 #[test]
 fn positive_polynomial_certificate_round_trip() {
     // (t − ½)² + 1/1000 in Bernstein form on [0,1]: coefficients 1/4+ε, −1/4+ε, 1/4+ε.
@@ -113,22 +134,7 @@ fn malformed_inputs_are_clear_errors() {
         ("json.json", r#"{"degrees":[1],"#, "not valid JSON"),
     ];
     for (name, text, needle) in cases {
-        let f = tmp(name);
-        std::fs::write(&f, text).unwrap();
-        let cert = tmp(&format!("{name}.cert"));
-        let out = geocert()
-            .args([
-                "positivity",
-                f.to_str().unwrap(),
-                "--cert",
-                cert.to_str().unwrap(),
-            ])
-            .output()
-            .unwrap();
-        assert_eq!(out.status.code(), Some(2), "{name}");
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(err.contains(needle), "{name}: {err}");
-        assert!(!cert.exists(), "{name}: nothing may be written on failure");
+        refuses("positivity", name, text, needle);
     }
     let out = geocert()
         .args(["positivity", "/nonexistent/file.json"])
@@ -686,21 +692,6 @@ fn solve_refuses_malformed_systems() {
         (r#"{"equations": []}"#, "box"),
     ];
     for (i, (text, expect)) in cases.iter().enumerate() {
-        let system = tmp(&format!("bad-system-{i}.json"));
-        std::fs::write(&system, text).unwrap();
-        let cert = tmp(&format!("bad-system-{i}.cert.json"));
-        let out = geocert()
-            .args([
-                "solve",
-                system.to_str().unwrap(),
-                "--cert",
-                cert.to_str().unwrap(),
-            ])
-            .output()
-            .unwrap();
-        assert_eq!(out.status.code(), Some(2), "case {i}");
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(err.contains(expect), "case {i}: {err}");
-        assert!(!cert.exists(), "case {i}: nothing written");
+        refuses("solve", &format!("bad-system-{i}.json"), text, expect);
     }
 }

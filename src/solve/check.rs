@@ -2,9 +2,9 @@
 //! restricts the original equations to the root's box directly, forms `g = A f` and reads
 //! the faces and the partial derivatives itself, all in exact rationals.
 
-use super::input::{certificate_from_json, system_from_json, system_to_json};
+use super::input::{certificate_from_json, parse_box, system_from_json, system_to_json};
 use super::{RationalBox, RootCertificate, Solution, SolveError, System};
-use crate::bernstein::{parse_number, Bernstein, BernsteinError};
+use crate::bernstein::{Bernstein, BernsteinError};
 use crate::num::{rational_to_string, Rational};
 use num_traits::{Signed, Zero};
 use serde_json::{json, Value};
@@ -233,23 +233,7 @@ pub fn verify_solution_certificate(
         .ok_or_else(|| field("roots", "missing or not an array"))?;
     let mut out = Vec::with_capacity(roots.len());
     for (r, root) in roots.iter().enumerate() {
-        let bx = root
-            .get("box")
-            .and_then(Value::as_array)
-            .filter(|b| b.len() == n)
-            .ok_or_else(|| field(&format!("roots[{r}].box"), "expected n intervals"))?;
-        let mut bounds = Vec::with_capacity(n);
-        for (k, iv) in bx.iter().enumerate() {
-            let num = |j: usize| {
-                iv.get(j)
-                    .ok_or_else(|| field(&format!("roots[{r}].box[{k}]"), "expected [a, b]"))
-                    .and_then(|x| {
-                        parse_number(x)
-                            .map_err(|e| field(&format!("roots[{r}].box[{k}]"), &e.to_string()))
-                    })
-            };
-            bounds.push((num(0)?, num(1)?));
-        }
+        let bounds = parse_box(root.get("box"), &format!("roots[{r}].box"), Some(n))?;
         let certificate = certificate_from_json(root, n)?;
         out.push(verify_root(&system, &bounds, &certificate));
     }

@@ -4,7 +4,7 @@
 //! Numbers are JSON numbers (exact as the `f64` they denote) or `"p/q"` / decimal strings
 //! (exact).
 
-use super::{RootCertificate, SolveError, System};
+use super::{RationalBox, RootCertificate, SolveError, System};
 use crate::bernstein::{parse_number, poly_from_json, poly_to_json, Bernstein};
 use crate::num::{rational_to_string, Rational};
 use num_traits::{One, Zero};
@@ -17,21 +17,7 @@ pub fn system_from_json(text: &str) -> Result<System, SolveError> {
         field: f.into(),
         why: why.into(),
     };
-    let bx = v
-        .get("box")
-        .and_then(Value::as_array)
-        .ok_or_else(|| field("box", "missing or not an array of [a, b] intervals"))?;
-    let mut domain = Vec::with_capacity(bx.len());
-    for (k, iv) in bx.iter().enumerate() {
-        let pair = iv
-            .as_array()
-            .filter(|p| p.len() == 2)
-            .ok_or_else(|| field(&format!("box[{k}]"), "expected [a, b]"))?;
-        let num = |j: usize| {
-            parse_number(&pair[j]).map_err(|e| field(&format!("box[{k}][{j}]"), &e.to_string()))
-        };
-        domain.push((num(0)?, num(1)?));
-    }
+    let domain = parse_box(v.get("box"), "box", None)?;
     let n = domain.len();
     let eqs = v
         .get("equations")
@@ -64,6 +50,40 @@ pub fn system_from_json(text: &str) -> Result<System, SolveError> {
         equations.push(p);
     }
     System::new(domain, equations)
+}
+
+/// A box `[[a, b], …]` of exact numbers, at `field` in the file; with `unknowns`, it must
+/// have that many intervals.
+pub(crate) fn parse_box(
+    v: Option<&Value>,
+    field: &str,
+    unknowns: Option<usize>,
+) -> Result<RationalBox, SolveError> {
+    let refuse = |f: String, why: String| SolveError::Field { field: f, why };
+    let bx = v
+        .and_then(Value::as_array)
+        .filter(|b| unknowns.is_none_or(|n| b.len() == n))
+        .ok_or_else(|| {
+            refuse(
+                field.into(),
+                match unknowns {
+                    Some(n) => format!("expected {n} [a, b] intervals"),
+                    None => "missing or not an array of [a, b] intervals".into(),
+                },
+            )
+        })?;
+    let mut out = Vec::with_capacity(bx.len());
+    for (k, iv) in bx.iter().enumerate() {
+        let pair = iv
+            .as_array()
+            .filter(|p| p.len() == 2)
+            .ok_or_else(|| refuse(format!("{field}[{k}]"), "expected [a, b]".into()))?;
+        let num = |j: usize| {
+            parse_number(&pair[j]).map_err(|e| refuse(format!("{field}[{k}][{j}]"), e.to_string()))
+        };
+        out.push((num(0)?, num(1)?));
+    }
+    Ok(out)
 }
 
 /// A power-form equation `Σ c_e x^e` in domain coordinates, in Bernstein form on the box.

@@ -89,14 +89,7 @@ pub(crate) fn run(c: Command) -> Result<ExitCode, String> {
             let is_array = text.trim_start().starts_with('[');
             let lattices =
                 lattices_from_json(&text).map_err(|e| format!("{}: {e}", lattice.display()))?;
-            let time_limit = match time_limit {
-                Some(t) if !(t.is_finite() && t > 0.0) => {
-                    return Err(format!(
-                        "--time-limit must be a positive number of seconds, got {t}"
-                    ))
-                }
-                t => t.map(std::time::Duration::from_secs_f64),
-            };
+            let time_limit = crate::out::time_limit(time_limit)?;
             let opts = CheckOptions::new().with_path(path).with_limits(
                 Limits::new()
                     .with_max_depth(max_depth)

@@ -37,6 +37,16 @@ pub(crate) fn pretty(value: &impl serde::Serialize) -> Result<String, String> {
     serde_json::to_string_pretty(value).map_err(|e| e.to_string())
 }
 
+/// `--time-limit S` as a duration: a positive, finite number of seconds.
+pub(crate) fn time_limit(seconds: Option<f64>) -> Result<Option<std::time::Duration>, String> {
+    match seconds {
+        Some(t) if !(t.is_finite() && t > 0.0) => Err(format!(
+            "--time-limit must be a positive number of seconds, got {t}"
+        )),
+        t => Ok(t.map(std::time::Duration::from_secs_f64)),
+    }
+}
+
 /// Exit code 0 when `ok`, else 1 (a refused certificate, a failed proof, a lost original).
 pub(crate) fn status(ok: bool) -> ExitCode {
     if ok {

@@ -59,14 +59,7 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
     }
     let file = a.system.ok_or("a system file is required")?;
     let system = system_from_json(&read(&file)?).map_err(|e| format!("{}: {e}", file.display()))?;
-    let time_limit = match a.time_limit {
-        Some(t) if !(t.is_finite() && t > 0.0) => {
-            return Err(format!(
-                "--time-limit must be a positive number of seconds, got {t}"
-            ))
-        }
-        t => t.map(std::time::Duration::from_secs_f64),
-    };
+    let time_limit = crate::out::time_limit(a.time_limit)?;
     if !(a.tol.is_finite() && a.tol >= 0.0) {
         return Err(format!(
             "--tol must be a non-negative number, got {}",

@@ -33,12 +33,17 @@
 //! and redoes its uncertain clusters exactly.
 
 mod check;
+mod curve;
 mod input;
 mod subdivision;
 
 pub use check::{
     solution_certificate, verify_root, verify_solution_certificate, RootCheck, RootRefusal,
     CERTIFICATE_KIND,
+};
+pub use curve::{
+    extreme_system, plane_system, trace, Arc, Component, CurveEnd, CurveOptions, CurvePoint,
+    Curves, Extreme,
 };
 pub use input::{system_from_json, system_to_json};
 pub use subdivision::solve;
@@ -184,7 +189,7 @@ pub enum ClusterReason {
     DomainBoundary,
     /// The box or time limit stopped the subdivision here.
     Budget,
-    /// Fast path only: rounding left a decision open in this box.
+    /// Fast path only: rounding left a decision open in this box down to the depth limit.
     Uncertain,
 }
 
@@ -247,6 +252,14 @@ pub enum SolveError {
     /// The number of equations is not the number of unknowns.
     #[error("{equations} equations in {unknowns} unknowns: a zero-dimensional system needs as many equations as unknowns")]
     NotSquare {
+        /// Equations given.
+        equations: usize,
+        /// Unknowns.
+        unknowns: usize,
+    },
+    /// A curve needs one equation fewer than unknowns (and at least two unknowns).
+    #[error("{equations} equations in {unknowns} unknowns: a curve needs n − 1 equations in n ≥ 2 unknowns")]
+    NotCurve {
         /// Equations given.
         equations: usize,
         /// Unknowns.

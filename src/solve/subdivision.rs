@@ -11,7 +11,7 @@ use num_traits::{One, Signed, Zero};
 use std::time::Instant;
 
 /// What the subdivision needs of a coefficient beyond [`Field`]: enclosures of `|c|`.
-trait Coefficient: Field {
+pub(super) trait Coefficient: Field {
     /// An upper bound of `|c|` (exact for rationals).
     fn abs_upper(&self) -> Self;
     /// A lower bound of `|c|`, `0` when `c` may be zero.
@@ -86,7 +86,7 @@ struct Node<T> {
 
 /// The sign all of `p`'s coefficients share strictly, if they do (`Uncertain` when rounding
 /// leaves it open, `Zero` when they do not share one).
-fn strict_sign<T: Field>(p: &Bernstein<T>) -> Sign {
+pub(super) fn strict_sign<T: Field>(p: &Bernstein<T>) -> Sign {
     let mut out = None;
     let mut uncertain = false;
     for c in p.coeffs() {
@@ -109,14 +109,14 @@ fn strict_sign<T: Field>(p: &Bernstein<T>) -> Sign {
 
 /// Outcome of one decision: proved, refuted, or left open by rounding.
 #[derive(Clone, Copy, PartialEq, Eq)]
-enum Decision {
+pub(super) enum Decision {
     Yes,
     No,
     Uncertain,
 }
 
 /// Culling: some equation is of one strict sign on the box (convex hull).
-fn root_free<T: Field>(polys: &[Bernstein<T>]) -> Decision {
+pub(super) fn root_free<T: Field>(polys: &[Bernstein<T>]) -> Decision {
     let mut uncertain = false;
     for p in polys {
         match strict_sign(p) {
@@ -424,11 +424,11 @@ fn refine<T: Coefficient>(
 }
 
 /// The depth from which splits are always at ½.
-const MOVED_SPLITS_DEPTH: u32 = 24;
+pub(super) const MOVED_SPLITS_DEPTH: u32 = 24;
 
 /// Split parameters tried in order: ½ first, then points off it, so that the plane can be
 /// proved root-free.
-const SPLITS: [(i64, i64); 5] = [(1, 2), (7, 16), (9, 16), (3, 8), (5, 8)];
+pub(super) const SPLITS: [(i64, i64); 5] = [(1, 2), (7, 16), (9, 16), (3, 8), (5, 8)];
 
 /// The split parameter along `axis`: the first of [`SPLITS`] whose plane some equation is of
 /// one strict sign on, else ½. Below depth [`MOVED_SPLITS_DEPTH`] only ½ is used: a root on
@@ -582,17 +582,15 @@ fn run<T: Coefficient>(
             found.roots.push(root(system, &lo, &hi, certificate));
             continue;
         }
-        // Rounding left a decision open (fast path only): the box goes back as uncertain (the
-        // filtered path redoes it exactly from here).
-        if culled == Decision::Uncertain || certified == Decision::Uncertain {
-            found
-                .clusters
-                .push(cluster(&node, ClusterReason::Uncertain));
-            continue;
-        }
+        // Rounding may leave a decision open (fast path only): splitting is always sound, so
+        // the box is split on; at the depth limit it goes back as uncertain (the filtered
+        // path redoes it exactly from there).
+        let uncertain = culled == Decision::Uncertain || certified == Decision::Uncertain;
         // The depth limit counts halvings of each side: `n` splits make one level.
         if node.depth >= limits.max_depth.saturating_mul(n as u32) {
-            let reason = if on_domain_boundary(&node)? {
+            let reason = if uncertain {
+                ClusterReason::Uncertain
+            } else if on_domain_boundary(&node)? {
                 ClusterReason::DomainBoundary
             } else {
                 ClusterReason::DepthLimit

@@ -1,0 +1,897 @@
+//! Solution curves of `n − 1` equations in `n` unknowns, traced with certified topology.
+//!
+//! The method is subdivision into *regular* boxes (in the spirit of Liang, Mourrain and
+//! Pavone, "Subdivision methods for the topology of 2d and 3d implicit curves", Geometric
+//! Modeling and Algebraic Geometry, Springer 2008): a box is regular along axis `k` when the
+//! `k`-th component of the curve's tangent `t = ⋀ ∇f_i` — up to sign the Jacobian minor
+//! without column `k` — has one strict sign on the box (decided from the minor's Bernstein
+//! coefficients). In a regular box the curve has no singular point and no closed loop (a loop
+//! would reach an extreme in `x_k`, where `t_k = 0`), so every piece of it is an arc with two
+//! ends on the box's boundary; when the boundary holds exactly two curve points, both
+//! certified transversal crossings, exactly one arc joins them, and when it holds none the
+//! box holds no curve.
+//!
+//! The curve's points on a box's boundary are computed once per plane: when a box is split
+//! at `x_a = s`, the `n − 1` equations restricted to that cross-section are a square system,
+//! solved with [`solve`] (certified roots), and the roots are handed to both halves; the
+//! points already on the box's faces are handed on to the half they lie in. A split plane is
+//! moved (the same rational candidates as the zero-dimensional solver) when its cross-section
+//! has an uncertified root or an existing point would lie on the new edge, so no curve point
+//! is ever on a box edge and every boundary point is known to every box it bounds.
+//!
+//! What cannot be made regular down to the depth limit (singular points, tangencies that the
+//! moved planes cannot avoid, curves closer together than the limit resolves) is reported as
+//! a [`Cluster`]; the arcs entering it end there, and nothing is dropped: every point of the
+//! curve in the domain lies in an arc's box or in a cluster's box.
+
+use super::subdivision::{
+    root_free, strict_sign, Coefficient, Decision, MOVED_SPLITS_DEPTH, SPLITS,
+};
+use super::{solve, Cluster, ClusterReason, RationalBox, Root, SolveError, SolveOptions, System};
+use crate::bernstein::{Bernstein, BernsteinError, Limits};
+use crate::num::{rational_to_f64, Interval, Rational, Sign};
+use crate::Path;
+use num_traits::{One, Zero};
+use std::time::Instant;
+
+/// Options of [`trace`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct CurveOptions {
+    /// The arithmetic ([`Path::Filtered`] by default).
+    pub path: Path,
+    /// Depth (levels per side), box-count and time limits of the curve's subdivision; the
+    /// cross-section solves share the time limit.
+    pub limits: Limits,
+    /// The widest arc box, relative to the domain's side on every axis: regular boxes wider
+    /// than this are split further, so that the polylines follow the curve this closely.
+    pub resolution: f64,
+    /// The crossing points are refined to this width relative to the cross-section.
+    pub tolerance: f64,
+    /// Report the points where the curve is extreme along this axis (solved as the square
+    /// system of the equations and the Jacobian minor without this column), if any.
+    pub extreme_axis: Option<usize>,
+}
+
+impl Default for CurveOptions {
+    fn default() -> Self {
+        CurveOptions {
+            path: Path::Filtered,
+            limits: Limits::new().with_max_depth(20).with_max_boxes(200_000),
+            resolution: 1.0 / 16.0,
+            tolerance: 1e-12,
+            extreme_axis: None,
+        }
+    }
+}
+
+crate::choice::setters!(CurveOptions {
+    with_path => path: Path,
+    with_limits => limits: Limits,
+    with_resolution => resolution: f64,
+    with_tolerance => tolerance: f64,
+    with_extreme_axis => extreme_axis: Option<usize>,
+});
+
+/// A certified point of the curve on a plane `x_axis = c`: `root` is a certified root of the
+/// `n − 1` equations restricted to that plane (its `bounds[axis]` is `[c, c]`; its
+/// certificate is for the restricted system, see [`plane_system`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurvePoint {
+    /// The plane's axis.
+    pub axis: usize,
+    /// The root, in domain coordinates (`n` of them).
+    pub root: Root,
+}
+
+/// One piece of the curve: inside `bounds` exactly one arc of the curve joins the two points,
+/// monotone along `monotone_axis`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Arc {
+    /// The regular box.
+    pub bounds: RationalBox,
+    /// The indices of its two end points in [`Curves::points`].
+    pub ends: [usize; 2],
+    /// The axis whose tangent component has one strict sign on the box.
+    pub monotone_axis: usize,
+}
+
+/// Where an open component ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CurveEnd {
+    /// On the domain's face `x_axis = a_axis` (`upper = false`) or `b_axis`.
+    Face {
+        /// The end point (index in [`Curves::points`]).
+        point: usize,
+        /// The face's axis.
+        axis: usize,
+        /// Whether it is the upper face.
+        upper: bool,
+    },
+    /// At the boundary of a cluster box, which the curve enters.
+    Cluster {
+        /// The end point.
+        point: usize,
+        /// The index in [`Curves::clusters`].
+        cluster: usize,
+    },
+}
+
+/// A connected piece of the traced curve: a polyline through certified curve points.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Component {
+    /// Its points in order along the curve (indices in [`Curves::points`]); a closed loop
+    /// returns from the last to the first.
+    pub points: Vec<usize>,
+    /// The arcs between consecutive points (indices in [`Curves::arcs`]).
+    pub arcs: Vec<usize>,
+    /// Whether it is a closed loop.
+    pub closed: bool,
+    /// The two ends of an open component (none for a loop).
+    pub ends: Vec<CurveEnd>,
+    /// A bound on the Hausdorff distance between the polyline and the curve piece: every
+    /// segment and its arc lie in one arc box, so the largest box diagonal (plus the points'
+    /// error bounds) bounds it.
+    pub hausdorff_bound: f64,
+}
+
+/// A point where the curve is extreme along an axis.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Extreme {
+    /// The certified root of the equations and the Jacobian minor without column `axis`.
+    pub root: Root,
+    /// The component it lies on, when its box lies in arc boxes of one component.
+    pub component: Option<usize>,
+}
+
+/// The result of [`trace`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Curves {
+    /// The certified crossing points (polyline vertices and component ends).
+    pub points: Vec<CurvePoint>,
+    /// The regular boxes with their arcs.
+    pub arcs: Vec<Arc>,
+    /// The components.
+    pub components: Vec<Component>,
+    /// The extreme points along [`CurveOptions::extreme_axis`].
+    pub extremes: Vec<Extreme>,
+    /// What the extreme-point solve could not certify (singular points of the curve among
+    /// them).
+    pub extreme_clusters: Vec<Cluster>,
+    /// Boxes the curve could not be resolved in.
+    pub clusters: Vec<Cluster>,
+    /// Boxes examined by the curve's subdivision (not counting the cross-section solves).
+    pub boxes_visited: usize,
+    /// Roots found by the cross-section solves in all.
+    pub cross_sections: usize,
+    /// The path that ran.
+    pub path: Path,
+}
+
+/// The system's equations on the plane `x_axis = c` (domain coordinate), over the part of
+/// the plane inside `bounds` (the other axes): an `(n−1)`-unknown square system.
+pub fn plane_system(
+    system: &System,
+    axis: usize,
+    c: &Rational,
+    bounds: &RationalBox,
+) -> Result<System, SolveError> {
+    let n = system.unknowns();
+    if axis >= n || bounds.len() != n || n < 2 {
+        return Err(SolveError::Unknowns(n));
+    }
+    let unit = |k: usize, x: &Rational| {
+        let (a, b) = &system.domain[k];
+        (x - a) / (b - a)
+    };
+    let mut sub = Vec::with_capacity(n);
+    for (k, (lo, hi)) in bounds.iter().enumerate() {
+        sub.push(if k == axis {
+            (Rational::zero(), Rational::one())
+        } else {
+            (unit(k, lo), unit(k, hi))
+        });
+    }
+    let at = unit(axis, c);
+    let mut equations = Vec::with_capacity(system.equations.len());
+    for e in &system.equations {
+        let mut q = e.eval_axis(axis, &at)?;
+        if sub.iter().any(|(a, b)| !a.is_zero() || !b.is_one()) {
+            q = q.restrict(&sub)?;
+        }
+        equations.push(q.face(axis, false)?);
+    }
+    let domain = bounds
+        .iter()
+        .enumerate()
+        .filter(|&(k, _)| k != axis)
+        .map(|(_, b)| b.clone())
+        .collect();
+    System::new(domain, equations)
+}
+
+/// `a + b` at the common degrees (each raised to the higher degree per axis).
+fn add_elevated<T: crate::num::Field>(
+    a: &Bernstein<T>,
+    b: &Bernstein<T>,
+) -> Result<Bernstein<T>, BernsteinError> {
+    let raise = |p: &Bernstein<T>, o: &Bernstein<T>| -> Result<Bernstein<T>, BernsteinError> {
+        let mut p = p.clone();
+        for k in 0..p.dim() {
+            let (d, t) = (p.degrees()[k], o.degrees()[k]);
+            if d < t {
+                p = p.elevate(k, t - d)?;
+            }
+        }
+        Ok(p)
+    };
+    raise(a, b)?.add(&raise(b, a)?)
+}
+
+/// The determinant of the square matrix of polynomials `m[rows][cols]` (Laplace expansion
+/// along the first row).
+fn determinant<T: crate::num::Field>(
+    m: &[Vec<&Bernstein<T>>],
+) -> Result<Bernstein<T>, BernsteinError> {
+    if m.len() == 1 {
+        return Ok(m[0][0].clone());
+    }
+    let mut acc: Option<Bernstein<T>> = None;
+    for c in 0..m.len() {
+        let minor: Vec<Vec<&Bernstein<T>>> = m[1..]
+            .iter()
+            .map(|row| {
+                row.iter()
+                    .enumerate()
+                    .filter(|&(j, _)| j != c)
+                    .map(|(_, p)| *p)
+                    .collect()
+            })
+            .collect();
+        let mut term = m[0][c].product(&determinant(&minor)?)?;
+        if c % 2 == 1 {
+            term = term.scale(&T::from_ratio(-1, 1));
+        }
+        acc = Some(match acc {
+            None => term,
+            Some(s) => add_elevated(&s, &term)?,
+        });
+    }
+    acc.ok_or(BernsteinError::NoAxes)
+}
+
+/// Per axis `k`, the Jacobian minor of `polys` (`n − 1` polynomials in `n` unit variables)
+/// without column `k`: up to sign and positive factors, the tangent's `k`-th component.
+pub(super) fn tangent_minor<T: crate::num::Field>(
+    polys: &[Bernstein<T>],
+    k: usize,
+) -> Result<Bernstein<T>, BernsteinError> {
+    let n = polys.first().map_or(0, Bernstein::dim);
+    let mut derivs = Vec::with_capacity(polys.len());
+    for p in polys {
+        let mut row = Vec::with_capacity(n - 1);
+        for j in (0..n).filter(|&j| j != k) {
+            row.push(p.derivative(j)?);
+        }
+        derivs.push(row);
+    }
+    let refs: Vec<Vec<&Bernstein<T>>> = derivs.iter().map(|r| r.iter().collect()).collect();
+    determinant(&refs)
+}
+
+/// What a box of the subdivision is.
+enum Class {
+    /// Some equation has one strict sign: no curve.
+    Empty,
+    /// The tangent's component along this axis has one strict sign.
+    Regular(usize),
+    /// Neither.
+    Irregular,
+    /// Rounding left it open.
+    Uncertain,
+}
+
+fn classify<T: Coefficient>(polys: &[Bernstein<T>]) -> Result<Class, SolveError> {
+    let culled = root_free(polys);
+    if culled == Decision::Yes {
+        return Ok(Class::Empty);
+    }
+    let mut uncertain = culled == Decision::Uncertain;
+    let n = polys[0].dim();
+    for k in 0..n {
+        match strict_sign(&tangent_minor(polys, k)?) {
+            Sign::Positive | Sign::Negative => return Ok(Class::Regular(k)),
+            Sign::Uncertain => uncertain = true,
+            Sign::Zero => {}
+        }
+    }
+    Ok(if uncertain {
+        Class::Uncertain
+    } else {
+        Class::Irregular
+    })
+}
+
+/// A box of the curve's subdivision (unit coordinates).
+struct Node<T> {
+    lo: Vec<Rational>,
+    hi: Vec<Rational>,
+    polys: Vec<Bernstein<T>>,
+    depth: u32,
+    /// Certified curve points on the box's boundary.
+    points: Vec<usize>,
+    /// Uncertified cross-section clusters touching the box's boundary.
+    blobs: Vec<usize>,
+}
+
+/// A box (unit coordinates) of a point or blob.
+struct UnitBox {
+    lo: Vec<Rational>,
+    hi: Vec<Rational>,
+}
+
+struct Tracer<'a> {
+    system: &'a System,
+    opts: &'a CurveOptions,
+    clock: Instant,
+    points: Vec<CurvePoint>,
+    point_boxes: Vec<UnitBox>,
+    blobs: Vec<UnitBox>,
+    arcs: Vec<Arc>,
+    /// Cluster, and the points on its boundary.
+    clusters: Vec<(Cluster, Vec<usize>)>,
+    visited: usize,
+}
+
+impl Tracer<'_> {
+    fn unit(&self, k: usize, x: &Rational) -> Rational {
+        let (a, b) = &self.system.domain[k];
+        (x - a) / (b - a)
+    }
+
+    fn domain_box(&self, lo: &[Rational], hi: &[Rational]) -> RationalBox {
+        self.system
+            .to_domain(lo)
+            .into_iter()
+            .zip(self.system.to_domain(hi))
+            .collect()
+    }
+
+    /// Solves the cross-section `x_axis = at` (unit) of the box `lo..hi`; returns the new
+    /// point ids and blob ids, or `None` when it had uncertified roots and `strict`.
+    fn cross_section(
+        &mut self,
+        lo: &[Rational],
+        hi: &[Rational],
+        axis: usize,
+        at: &Rational,
+        strict: bool,
+    ) -> Result<Option<(Vec<usize>, Vec<usize>)>, SolveError> {
+        let bounds = self.domain_box(lo, hi);
+        let (a, b) = &self.system.domain[axis];
+        let c = a + (b - a) * at;
+        let plane = plane_system(self.system, axis, &c, &bounds)?;
+        let remaining = self
+            .opts
+            .limits
+            .time_limit
+            .map(|t| t.saturating_sub(self.clock.elapsed()));
+        let sopts = SolveOptions::new()
+            .with_path(self.opts.path)
+            .with_tolerance(self.opts.tolerance)
+            .with_limits(
+                Limits::new()
+                    .with_max_depth(40)
+                    .with_max_boxes(50_000)
+                    .with_time_limit(remaining),
+            );
+        let sol = solve(&plane, &sopts)?;
+        if strict && !sol.clusters.is_empty() {
+            return Ok(None);
+        }
+        let mut ids = Vec::with_capacity(sol.roots.len());
+        for r in sol.roots {
+            let mut bounds = r.bounds;
+            bounds.insert(axis, (c.clone(), c.clone()));
+            let mut approx = r.approx;
+            approx.insert(axis, rational_to_f64(&c));
+            let unit = UnitBox {
+                lo: bounds
+                    .iter()
+                    .enumerate()
+                    .map(|(k, b)| self.unit(k, &b.0))
+                    .collect(),
+                hi: bounds
+                    .iter()
+                    .enumerate()
+                    .map(|(k, b)| self.unit(k, &b.1))
+                    .collect(),
+            };
+            ids.push(self.points.len());
+            self.points.push(CurvePoint {
+                axis,
+                root: Root {
+                    bounds,
+                    approx,
+                    error_bound: r.error_bound,
+                    certificate: r.certificate,
+                },
+            });
+            self.point_boxes.push(unit);
+        }
+        let mut blob_ids = Vec::with_capacity(sol.clusters.len());
+        for cl in sol.clusters {
+            let mut bounds = cl.bounds;
+            bounds.insert(axis, (c.clone(), c.clone()));
+            blob_ids.push(self.blobs.len());
+            self.blobs.push(UnitBox {
+                lo: bounds
+                    .iter()
+                    .enumerate()
+                    .map(|(k, b)| self.unit(k, &b.0))
+                    .collect(),
+                hi: bounds
+                    .iter()
+                    .enumerate()
+                    .map(|(k, b)| self.unit(k, &b.1))
+                    .collect(),
+            });
+        }
+        Ok(Some((ids, blob_ids)))
+    }
+
+    fn cluster<T: Coefficient>(&mut self, node: &Node<T>, reason: ClusterReason) {
+        let max_abs_f = node
+            .polys
+            .iter()
+            .map(|p| {
+                p.coeffs()
+                    .iter()
+                    .map(Coefficient::abs_upper_f64)
+                    .fold(0.0, f64::max)
+            })
+            .collect();
+        self.clusters.push((
+            Cluster {
+                bounds: self.domain_box(&node.lo, &node.hi),
+                reason,
+                max_abs_f,
+            },
+            node.points.clone(),
+        ));
+    }
+
+    /// The class of a node, exactly where rounding left it open on the filtered path.
+    fn class_of<T: Coefficient>(
+        &self,
+        node: &Node<T>,
+        exact: &[Bernstein<Rational>],
+    ) -> Result<Class, SolveError> {
+        let class = classify(&node.polys)?;
+        if matches!(class, Class::Uncertain) && self.opts.path == Path::Filtered {
+            let sub: Vec<(Rational, Rational)> = node
+                .lo
+                .iter()
+                .cloned()
+                .zip(node.hi.iter().cloned())
+                .collect();
+            let polys: Vec<Bernstein<Rational>> = exact
+                .iter()
+                .map(|e| e.restrict(&sub))
+                .collect::<Result<_, _>>()?;
+            return classify(&polys);
+        }
+        Ok(class)
+    }
+
+    /// Which side of the plane `x_axis = m` a point lies on: `Some(false)` below, `Some(true)`
+    /// above, `None` when its box touches the plane.
+    fn side(&self, b: &UnitBox, axis: usize, m: &Rational) -> Option<bool> {
+        if &b.hi[axis] < m {
+            Some(false)
+        } else if &b.lo[axis] > m {
+            Some(true)
+        } else {
+            None
+        }
+    }
+
+    fn run<T: Coefficient>(&mut self, exact: &[Bernstein<Rational>]) -> Result<(), SolveError> {
+        let n = self.system.unknowns();
+        let limits = self.opts.limits;
+        let zero = vec![Rational::zero(); n];
+        let one = vec![Rational::one(); n];
+        // The curve's points on the domain's faces.
+        let mut points = Vec::new();
+        let mut blobs = Vec::new();
+        for axis in 0..n {
+            for at in [Rational::zero(), Rational::one()] {
+                let (p, b) = self
+                    .cross_section(&zero, &one, axis, &at, false)?
+                    .unwrap_or_default();
+                points.extend(p);
+                blobs.extend(b);
+            }
+        }
+        let resolution = if self.opts.resolution.is_finite() && self.opts.resolution > 0.0 {
+            crate::num::rational_from_f64(self.opts.resolution.min(1.0), "resolution")
+                .unwrap_or_else(|_| Rational::one())
+        } else {
+            Rational::one()
+        };
+        let mut stack = vec![Node {
+            lo: zero,
+            hi: one,
+            polys: exact.iter().map(|e| e.map(T::from_rational)).collect(),
+            depth: 0,
+            points,
+            blobs,
+        }];
+        while let Some(node) = stack.pop() {
+            let over_time = limits.time_limit.is_some_and(|t| self.clock.elapsed() > t);
+            if self.visited >= limits.max_boxes || over_time {
+                self.cluster(&node, ClusterReason::Budget);
+                continue;
+            }
+            self.visited += 1;
+            let class = self.class_of(&node, exact)?;
+            let widest = (0..n)
+                .max_by(|&a, &b| {
+                    (&node.hi[a] - &node.lo[a])
+                        .cmp(&(&node.hi[b] - &node.lo[b]))
+                        .then(b.cmp(&a))
+                })
+                .unwrap_or(0);
+            let width = &node.hi[widest] - &node.lo[widest];
+            match class {
+                Class::Empty => continue,
+                Class::Regular(k) if node.blobs.is_empty() => match node.points.len() {
+                    0 => continue,
+                    2 if width <= resolution => {
+                        self.arcs.push(Arc {
+                            bounds: self.domain_box(&node.lo, &node.hi),
+                            ends: [node.points[0], node.points[1]],
+                            monotone_axis: k,
+                        });
+                        continue;
+                    }
+                    _ => {}
+                },
+                _ => {}
+            }
+            // Splitting is always sound; rounding that left the class open shows in the
+            // reason at the depth limit (fast path only: the filtered path decided exactly).
+            if node.depth >= limits.max_depth.saturating_mul(n as u32) {
+                let reason = if matches!(class, Class::Uncertain) {
+                    ClusterReason::Uncertain
+                } else {
+                    ClusterReason::DepthLimit
+                };
+                self.cluster(&node, reason);
+                continue;
+            }
+            let (left, right) = self.split(node, widest)?;
+            stack.push(right);
+            stack.push(left);
+        }
+        Ok(())
+    }
+
+    /// Splits a node along `axis` at the first candidate plane whose cross-section is fully
+    /// certified and which no existing point touches (½ with whatever it has otherwise).
+    fn split<T: Coefficient>(
+        &mut self,
+        node: Node<T>,
+        axis: usize,
+    ) -> Result<(Node<T>, Node<T>), SolveError> {
+        let tried = if node.depth < MOVED_SPLITS_DEPTH {
+            SPLITS.len()
+        } else {
+            1
+        };
+        let w = &node.hi[axis] - &node.lo[axis];
+        let mut chosen = None;
+        for (i, &(p, q)) in SPLITS[..tried].iter().enumerate() {
+            let s = Rational::new(p.into(), q.into());
+            let m = &node.lo[axis] + &w * &s;
+            let touches = node.points.iter().any(|&id| {
+                self.points[id].axis != axis && self.side(&self.point_boxes[id], axis, &m).is_none()
+            });
+            if touches && i + 1 < tried {
+                continue;
+            }
+            let last = i + 1 == tried;
+            if let Some(found) = self.cross_section(&node.lo, &node.hi, axis, &m, !last)? {
+                chosen = Some((s, m, found));
+                break;
+            }
+        }
+        let Some((s, m, (new_points, new_blobs))) = chosen else {
+            return Err(SolveError::Field {
+                field: "split".into(),
+                why: "no split plane was tried".into(),
+            });
+        };
+        let st = T::from_rational(&s);
+        let mut lp = Vec::with_capacity(node.polys.len());
+        let mut rp = Vec::with_capacity(node.polys.len());
+        for p in &node.polys {
+            let (l, r) = p.split(axis, &st)?;
+            lp.push(l);
+            rp.push(r);
+        }
+        let (mut lpts, mut rpts) = (new_points.clone(), new_points);
+        let (mut lblobs, mut rblobs) = (new_blobs.clone(), new_blobs);
+        for &id in &node.points {
+            let b = &self.point_boxes[id];
+            if self.points[id].axis == axis {
+                if b.lo[axis] == node.lo[axis] {
+                    lpts.push(id);
+                } else {
+                    rpts.push(id);
+                }
+                continue;
+            }
+            match self.side(b, axis, &m) {
+                Some(false) => lpts.push(id),
+                Some(true) => rpts.push(id),
+                None => {
+                    // It touches the plane (only when no candidate avoided it): an
+                    // uncertified point on both halves' boundaries.
+                    let blob = self.blobs.len();
+                    self.blobs.push(UnitBox {
+                        lo: b.lo.clone(),
+                        hi: b.hi.clone(),
+                    });
+                    lblobs.push(blob);
+                    rblobs.push(blob);
+                }
+            }
+        }
+        for &id in &node.blobs {
+            let b = &self.blobs[id];
+            if b.lo[axis] <= m {
+                lblobs.push(id);
+            }
+            if b.hi[axis] >= m {
+                rblobs.push(id);
+            }
+        }
+        let mut hi_left = node.hi.clone();
+        hi_left[axis] = m.clone();
+        let mut lo_right = node.lo.clone();
+        lo_right[axis] = m;
+        Ok((
+            Node {
+                lo: node.lo,
+                hi: hi_left,
+                polys: lp,
+                depth: node.depth + 1,
+                points: lpts,
+                blobs: lblobs,
+            },
+            Node {
+                lo: lo_right,
+                hi: node.hi,
+                polys: rp,
+                depth: node.depth + 1,
+                points: rpts,
+                blobs: rblobs,
+            },
+        ))
+    }
+
+    /// Links the arcs into components.
+    fn components(&self) -> Vec<Component> {
+        let mut at: Vec<Vec<usize>> = vec![Vec::new(); self.points.len()];
+        for (i, a) in self.arcs.iter().enumerate() {
+            at[a.ends[0]].push(i);
+            at[a.ends[1]].push(i);
+        }
+        let end_of = |p: usize| -> Option<CurveEnd> {
+            let b = &self.point_boxes[p];
+            let k = self.points[p].axis;
+            if b.lo[k].is_zero() || b.lo[k].is_one() {
+                return Some(CurveEnd::Face {
+                    point: p,
+                    axis: k,
+                    upper: b.lo[k].is_one(),
+                });
+            }
+            self.clusters
+                .iter()
+                .position(|(_, pts)| pts.contains(&p))
+                .map(|cluster| CurveEnd::Cluster { point: p, cluster })
+        };
+        let mut used = vec![false; self.arcs.len()];
+        let mut out = Vec::new();
+        // Walk from `start` along unused arcs; returns the points and arcs passed.
+        let walk = |start: usize, first_arc: usize, used: &mut Vec<bool>| {
+            let mut pts = vec![start];
+            let mut arcs = Vec::new();
+            let (mut here, mut arc) = (start, Some(first_arc));
+            while let Some(a) = arc {
+                used[a] = true;
+                arcs.push(a);
+                let e = self.arcs[a].ends;
+                here = if e[0] == here { e[1] } else { e[0] };
+                pts.push(here);
+                arc = at[here].iter().copied().find(|&b| !used[b]);
+            }
+            (pts, arcs)
+        };
+        let bound = |arcs: &[usize], pts: &[usize]| {
+            let diag = arcs
+                .iter()
+                .map(|&a| {
+                    self.arcs[a]
+                        .bounds
+                        .iter()
+                        .map(|(lo, hi)| Interval::from_rational(&(hi - lo)).hi.powi(2))
+                        .sum::<f64>()
+                        .sqrt()
+                })
+                .fold(0.0, f64::max);
+            let err = pts
+                .iter()
+                .map(|&p| self.points[p].root.error_bound)
+                .fold(0.0, f64::max);
+            (diag + err) * (1.0 + 4.0 * f64::EPSILON)
+        };
+        // Open components start at a point with one arc.
+        for p in 0..self.points.len() {
+            if at[p].len() != 1 || used[at[p][0]] {
+                continue;
+            }
+            let (pts, arcs) = walk(p, at[p][0], &mut used);
+            let last = *pts.last().unwrap_or(&p);
+            let ends = [p, last].into_iter().filter_map(end_of).collect();
+            let hausdorff_bound = bound(&arcs, &pts);
+            out.push(Component {
+                points: pts,
+                arcs,
+                closed: false,
+                ends,
+                hausdorff_bound,
+            });
+        }
+        // What is left are loops.
+        for a in 0..self.arcs.len() {
+            if used[a] {
+                continue;
+            }
+            let start = self.arcs[a].ends[0];
+            let (mut pts, arcs) = walk(start, a, &mut used);
+            pts.pop();
+            let hausdorff_bound = bound(&arcs, &pts);
+            out.push(Component {
+                points: pts,
+                arcs,
+                closed: true,
+                ends: Vec::new(),
+                hausdorff_bound,
+            });
+        }
+        out
+    }
+}
+
+/// Traces the solution curve of `system` (`n − 1` equations in `n ≥ 2` unknowns) on its
+/// domain. Every point of the curve in the domain lies in an arc's box or a cluster's box;
+/// every polyline vertex is a certified curve point.
+pub fn trace(system: &System, opts: &CurveOptions) -> Result<Curves, SolveError> {
+    let n = system.unknowns();
+    if n < 2 || system.equations.len() + 1 != n {
+        return Err(SolveError::NotCurve {
+            equations: system.equations.len(),
+            unknowns: n,
+        });
+    }
+    if let Some(k) = opts.extreme_axis.filter(|&k| k >= n) {
+        return Err(SolveError::Field {
+            field: "extreme_axis".into(),
+            why: format!("axis {k} of a {n}-unknown system"),
+        });
+    }
+    let exact = &system.equations;
+    let mut tracer = Tracer {
+        system,
+        opts,
+        clock: Instant::now(),
+        points: Vec::new(),
+        point_boxes: Vec::new(),
+        blobs: Vec::new(),
+        arcs: Vec::new(),
+        clusters: Vec::new(),
+        visited: 0,
+    };
+    match opts.path {
+        Path::Exact => tracer.run::<Rational>(exact)?,
+        Path::Fast | Path::Filtered => tracer.run::<Interval>(exact)?,
+    }
+    let components = tracer.components();
+    let (extremes, extreme_clusters) = match opts.extreme_axis {
+        None => (Vec::new(), Vec::new()),
+        Some(k) => extremes(&tracer, &components, k)?,
+    };
+    Ok(Curves {
+        cross_sections: tracer.points.len(),
+        points: tracer.points,
+        arcs: tracer.arcs,
+        components,
+        extremes,
+        extreme_clusters,
+        clusters: tracer.clusters.into_iter().map(|c| c.0).collect(),
+        boxes_visited: tracer.visited,
+        path: opts.path,
+    })
+}
+
+/// The square system of the equations and the tangent minor without column `axis`: its
+/// roots are the curve's extreme points along `axis` (and its singular points).
+pub fn extreme_system(system: &System, axis: usize) -> Result<System, SolveError> {
+    let mut equations = system.equations.clone();
+    equations.push(tangent_minor(&system.equations, axis)?);
+    System::new(system.domain.clone(), equations)
+}
+
+fn extremes(
+    tracer: &Tracer<'_>,
+    components: &[Component],
+    axis: usize,
+) -> Result<(Vec<Extreme>, Vec<Cluster>), SolveError> {
+    let system = extreme_system(tracer.system, axis)?;
+    let remaining = tracer
+        .opts
+        .limits
+        .time_limit
+        .map(|t| t.saturating_sub(tracer.clock.elapsed()));
+    let sol = solve(
+        &system,
+        &SolveOptions::new().with_path(tracer.opts.path).with_limits(
+            Limits::new()
+                .with_max_depth(40)
+                .with_max_boxes(200_000)
+                .with_time_limit(remaining),
+        ),
+    )?;
+    let mut component_of_arc = vec![usize::MAX; tracer.arcs.len()];
+    for (c, comp) in components.iter().enumerate() {
+        for &a in &comp.arcs {
+            component_of_arc[a] = c;
+        }
+    }
+    let extremes = sol
+        .roots
+        .into_iter()
+        .map(|root| {
+            let mut owner: Option<Option<usize>> = None;
+            for (a, arc) in tracer.arcs.iter().enumerate() {
+                let meets = root
+                    .bounds
+                    .iter()
+                    .zip(&arc.bounds)
+                    .all(|((lo, hi), (alo, ahi))| lo <= ahi && hi >= alo);
+                if !meets {
+                    continue;
+                }
+                let inside = root
+                    .bounds
+                    .iter()
+                    .zip(&arc.bounds)
+                    .all(|((lo, hi), (alo, ahi))| lo >= alo && hi <= ahi);
+                let c = Some(component_of_arc[a]).filter(|&c| c != usize::MAX && inside);
+                owner = Some(match owner {
+                    None => c,
+                    Some(o) if o == c => c,
+                    Some(_) => None,
+                });
+            }
+            Extreme {
+                root,
+                component: owner.flatten(),
+            }
+        })
+        .collect();
+    Ok((extremes, sol.clusters))
+}

@@ -34,6 +34,14 @@ use crate::Path;
 use num_traits::{One, Zero};
 use std::time::Instant;
 
+/// Depth limit (levels per side, relative to the cross-section) of a cross-section solve.
+const CROSS_SECTION_DEPTH: u32 = 30;
+/// Box limit of a cross-section solve.
+const CROSS_SECTION_BOXES: usize = 4_000;
+
+/// Box limit of the extreme-point solve.
+const EXTREME_BOXES: usize = 5_000;
+
 /// Options of [`trace`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
@@ -57,7 +65,7 @@ impl Default for CurveOptions {
     fn default() -> Self {
         CurveOptions {
             path: Path::Filtered,
-            limits: Limits::new().with_max_depth(20).with_max_boxes(200_000),
+            limits: Limits::new().with_max_depth(16).with_max_boxes(200_000),
             resolution: 1.0 / 16.0,
             tolerance: 1e-12,
             extreme_axis: None,
@@ -114,6 +122,8 @@ pub enum CurveEnd {
         point: usize,
         /// The index in [`Curves::clusters`].
         cluster: usize,
+        /// The index of the cluster's group in [`Curves::cluster_groups`].
+        group: usize,
     },
 }
 
@@ -160,9 +170,14 @@ pub struct Curves {
     pub extreme_clusters: Vec<Cluster>,
     /// Boxes the curve could not be resolved in.
     pub clusters: Vec<Cluster>,
+    /// The clusters grouped into connected sets of touching boxes (indices in
+    /// [`Curves::clusters`]): one singular point or tangency usually leaves a chain of small
+    /// boxes, and the components that end in one group meet there.
+    pub cluster_groups: Vec<Vec<usize>>,
     /// Boxes examined by the curve's subdivision (not counting the cross-section solves).
     pub boxes_visited: usize,
-    /// Roots found by the cross-section solves in all.
+    /// Cross-section systems solved (domain faces and split planes, moved candidates
+    /// included).
     pub cross_sections: usize,
     /// The path that ran.
     pub path: Path,
@@ -324,6 +339,9 @@ struct Node<T> {
     blobs: Vec<usize>,
 }
 
+/// The new points and blobs (ids) of a cross-section.
+type Crossings = (Vec<usize>, Vec<usize>);
+
 /// A box (unit coordinates) of a point or blob.
 struct UnitBox {
     lo: Vec<Rational>,
@@ -341,6 +359,7 @@ struct Tracer<'a> {
     /// Cluster, and the points on its boundary.
     clusters: Vec<(Cluster, Vec<usize>)>,
     visited: usize,
+    cross_sections: usize,
 }
 
 impl Tracer<'_> {
@@ -366,11 +385,49 @@ impl Tracer<'_> {
         axis: usize,
         at: &Rational,
         strict: bool,
-    ) -> Result<Option<(Vec<usize>, Vec<usize>)>, SolveError> {
+    ) -> Result<Option<Crossings>, SolveError> {
         let bounds = self.domain_box(lo, hi);
         let (a, b) = &self.system.domain[axis];
         let c = a + (b - a) * at;
         let plane = plane_system(self.system, axis, &c, &bounds)?;
+        self.cross_sections += 1;
+        // An equation that vanishes on the whole cross-section leaves infinitely many curve
+        // points on it (the solver would subdivide to its budget): no crossings to certify.
+        if plane
+            .equations
+            .iter()
+            .any(|e| e.coeffs().iter().all(Zero::is_zero))
+        {
+            if strict {
+                return Ok(None);
+            }
+            let blob = self.blobs.len();
+            self.blobs.push(UnitBox {
+                lo: bounds
+                    .iter()
+                    .enumerate()
+                    .map(|(k, b)| {
+                        if k == axis {
+                            at.clone()
+                        } else {
+                            self.unit(k, &b.0)
+                        }
+                    })
+                    .collect(),
+                hi: bounds
+                    .iter()
+                    .enumerate()
+                    .map(|(k, b)| {
+                        if k == axis {
+                            at.clone()
+                        } else {
+                            self.unit(k, &b.1)
+                        }
+                    })
+                    .collect(),
+            });
+            return Ok(Some((Vec::new(), vec![blob])));
+        }
         let remaining = self
             .opts
             .limits
@@ -380,9 +437,11 @@ impl Tracer<'_> {
             .with_path(self.opts.path)
             .with_tolerance(self.opts.tolerance)
             .with_limits(
+                // A cross-section that needs more than this is not worth certifying: the plane
+                // is moved, or its clusters become blobs the subdivision resolves.
                 Limits::new()
-                    .with_max_depth(40)
-                    .with_max_boxes(50_000)
+                    .with_max_depth(CROSS_SECTION_DEPTH)
+                    .with_max_boxes(CROSS_SECTION_BOXES)
                     .with_time_limit(remaining),
             );
         let sol = solve(&plane, &sopts)?;
@@ -681,8 +740,8 @@ impl Tracer<'_> {
         ))
     }
 
-    /// Links the arcs into components.
-    fn components(&self) -> Vec<Component> {
+    /// Links the arcs into components; `group_of` maps a cluster to its group.
+    fn components(&self, group_of: &[usize]) -> Vec<Component> {
         let mut at: Vec<Vec<usize>> = vec![Vec::new(); self.points.len()];
         for (i, a) in self.arcs.iter().enumerate() {
             at[a.ends[0]].push(i);
@@ -701,7 +760,11 @@ impl Tracer<'_> {
             self.clusters
                 .iter()
                 .position(|(_, pts)| pts.contains(&p))
-                .map(|cluster| CurveEnd::Cluster { point: p, cluster })
+                .map(|cluster| CurveEnd::Cluster {
+                    point: p,
+                    cluster,
+                    group: group_of[cluster],
+                })
         };
         let mut used = vec![false; self.arcs.len()];
         let mut out = Vec::new();
@@ -804,27 +867,55 @@ pub fn trace(system: &System, opts: &CurveOptions) -> Result<Curves, SolveError>
         arcs: Vec::new(),
         clusters: Vec::new(),
         visited: 0,
+        cross_sections: 0,
     };
     match opts.path {
         Path::Exact => tracer.run::<Rational>(exact)?,
         Path::Fast | Path::Filtered => tracer.run::<Interval>(exact)?,
     }
-    let components = tracer.components();
+    let (cluster_groups, group_of) = groups(&tracer.clusters);
+    let components = tracer.components(&group_of);
     let (extremes, extreme_clusters) = match opts.extreme_axis {
         None => (Vec::new(), Vec::new()),
         Some(k) => extremes(&tracer, &components, k)?,
     };
     Ok(Curves {
-        cross_sections: tracer.points.len(),
+        cross_sections: tracer.cross_sections,
         points: tracer.points,
         arcs: tracer.arcs,
         components,
         extremes,
         extreme_clusters,
         clusters: tracer.clusters.into_iter().map(|c| c.0).collect(),
+        cluster_groups,
         boxes_visited: tracer.visited,
         path: opts.path,
     })
+}
+
+/// Connected groups of touching (closed) cluster boxes, and each cluster's group.
+fn groups(clusters: &[(Cluster, Vec<usize>)]) -> (Vec<Vec<usize>>, Vec<usize>) {
+    let unit: Vec<(Vec<Rational>, Vec<Rational>)> = clusters
+        .iter()
+        .map(|(c, _)| {
+            (
+                c.bounds.iter().map(|b| b.0.clone()).collect(),
+                c.bounds.iter().map(|b| b.1.clone()).collect(),
+            )
+        })
+        .collect();
+    let boxes: Vec<(&[Rational], &[Rational])> = unit
+        .iter()
+        .map(|(lo, hi)| (lo.as_slice(), hi.as_slice()))
+        .collect();
+    let groups = super::touching_groups(&boxes);
+    let mut group_of = vec![0; clusters.len()];
+    for (g, members) in groups.iter().enumerate() {
+        for &m in members {
+            group_of[m] = g;
+        }
+    }
+    (groups, group_of)
 }
 
 /// The square system of the equations and the tangent minor without column `axis`: its
@@ -848,10 +939,13 @@ fn extremes(
         .map(|t| t.saturating_sub(tracer.clock.elapsed()));
     let sol = solve(
         &system,
+        // Eight levels deeper than the curve's boxes, and a box budget: near a singular
+        // point of the curve (a singular root of this system) the subdivision would
+        // otherwise fill the budget with depth-limit boxes.
         &SolveOptions::new().with_path(tracer.opts.path).with_limits(
             Limits::new()
-                .with_max_depth(40)
-                .with_max_boxes(200_000)
+                .with_max_depth(tracer.opts.limits.max_depth.saturating_add(8))
+                .with_max_boxes(EXTREME_BOXES)
                 .with_time_limit(remaining),
         ),
     )?;
@@ -865,31 +959,27 @@ fn extremes(
         .roots
         .into_iter()
         .map(|root| {
-            let mut owner: Option<Option<usize>> = None;
-            for (a, arc) in tracer.arcs.iter().enumerate() {
-                let meets = root
-                    .bounds
+            // Every curve point lies in an arc box or a cluster box, and in an arc box the
+            // curve is that box's one arc: a root box meeting arc boxes of one component only
+            // and no cluster box lies on that component.
+            let meets = |b: &RationalBox| {
+                root.bounds
                     .iter()
-                    .zip(&arc.bounds)
-                    .all(|((lo, hi), (alo, ahi))| lo <= ahi && hi >= alo);
-                if !meets {
-                    continue;
-                }
-                let inside = root
-                    .bounds
-                    .iter()
-                    .zip(&arc.bounds)
-                    .all(|((lo, hi), (alo, ahi))| lo >= alo && hi <= ahi);
-                let c = Some(component_of_arc[a]).filter(|&c| c != usize::MAX && inside);
-                owner = Some(match owner {
-                    None => c,
-                    Some(o) if o == c => c,
-                    Some(_) => None,
-                });
-            }
+                    .zip(b)
+                    .all(|((lo, hi), (alo, ahi))| lo <= ahi && hi >= alo)
+            };
+            let mut owners = tracer
+                .arcs
+                .iter()
+                .enumerate()
+                .filter(|(_, arc)| meets(&arc.bounds))
+                .map(|(a, _)| component_of_arc[a]);
+            let first = owners.next();
+            let one = first.filter(|&c| owners.all(|o| o == c) && c != usize::MAX);
+            let in_cluster = tracer.clusters.iter().any(|(c, _)| meets(&c.bounds));
             Extreme {
                 root,
-                component: owner.flatten(),
+                component: one.filter(|_| !in_cluster),
             }
         })
         .collect();

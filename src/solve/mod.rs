@@ -34,6 +34,7 @@
 
 mod check;
 mod curve;
+mod curve_check;
 mod input;
 mod subdivision;
 
@@ -44,6 +45,10 @@ pub use check::{
 pub use curve::{
     extreme_system, plane_system, trace, Arc, Component, CurveEnd, CurveOptions, CurvePoint,
     Curves, Extreme,
+};
+pub use curve_check::{
+    curve_certificate, verify_curve_certificate, verify_curves, CurveCheck, CurveRefusal,
+    CURVE_CERTIFICATE_KIND,
 };
 pub use input::{system_from_json, system_to_json};
 pub use subdivision::solve;
@@ -268,4 +273,44 @@ pub enum SolveError {
     /// The Bernstein kernel refused an operation.
     #[error("Bernstein kernel: {0}")]
     Bernstein(#[from] BernsteinError),
+}
+
+/// Connected groups of touching closed boxes (each `(lo, hi)` per axis), by a sweep along
+/// axis 0 and union–find: `O(m log m)` plus the pairs whose axis-0 extents overlap.
+pub(crate) fn touching_groups(boxes: &[(&[Rational], &[Rational])]) -> Vec<Vec<usize>> {
+    fn find(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let m = boxes.len();
+    let mut parent: Vec<usize> = (0..m).collect();
+    let mut order: Vec<usize> = (0..m).collect();
+    order.sort_by(|&a, &b| boxes[a].0[0].cmp(&boxes[b].0[0]));
+    let mut active: Vec<usize> = Vec::new();
+    for &i in &order {
+        let (lo, hi) = boxes[i];
+        active.retain(|&j| boxes[j].1[0] >= lo[0]);
+        for &j in &active {
+            let (olo, ohi) = boxes[j];
+            if lo.iter().zip(ohi).all(|(a, b)| a <= b) && olo.iter().zip(hi).all(|(a, b)| a <= b) {
+                let (ri, rj) = (find(&mut parent, i), find(&mut parent, j));
+                parent[ri] = rj;
+            }
+        }
+        active.push(i);
+    }
+    let mut index = vec![usize::MAX; m];
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for i in 0..m {
+        let r = find(&mut parent, i);
+        if index[r] == usize::MAX {
+            index[r] = groups.len();
+            groups.push(Vec::new());
+        }
+        groups[index[r]].push(i);
+    }
+    groups
 }

@@ -671,6 +671,115 @@ fn root(system: &System, lo: &[Rational], hi: &[Rational], certificate: RootCert
     }
 }
 
+/// A root on a split plane leaves touching depth-limit clusters on both sides, none of which
+/// can certify it. Each group of touching depth-limit clusters is tried once more as one box:
+/// their hull, inflated by a quarter of its width on every side (inside the domain), and
+/// certified exactly. A certified box replaces the group only when it meets no other root's
+/// or cluster's box, so nothing is counted twice.
+fn certify_across_planes(
+    system: &System,
+    exact: &[Bernstein<Rational>],
+    mut found: Found,
+    opts: &SolveOptions,
+) -> Result<Found, SolveError> {
+    let n = system.unknowns();
+    let meets = |alo: &[Rational], ahi: &[Rational], blo: &[Rational], bhi: &[Rational]| {
+        (0..n).all(|k| alo[k] <= bhi[k] && blo[k] <= ahi[k])
+    };
+    let clusters = std::mem::take(&mut found.clusters);
+    let deep: Vec<usize> = (0..clusters.len())
+        .filter(|&i| clusters[i].0.reason == ClusterReason::DepthLimit)
+        .collect();
+    let boxes: Vec<(&[Rational], &[Rational])> = deep
+        .iter()
+        .map(|&i| (clusters[i].1.as_slice(), clusters[i].2.as_slice()))
+        .collect();
+    let groups: Vec<Vec<usize>> = super::touching_groups(&boxes)
+        .into_iter()
+        .map(|g| g.into_iter().map(|i| deep[i]).collect())
+        .collect();
+    let mut group_of = vec![usize::MAX; clusters.len()];
+    for (g, members) in groups.iter().enumerate() {
+        for &m in members {
+            group_of[m] = g;
+        }
+    }
+    let mut replaced = vec![false; clusters.len()];
+    let quarter = Rational::new(1.into(), 4.into());
+    for (gi, members) in groups.iter().enumerate() {
+        if members.len() < 2 {
+            continue;
+        }
+        let mut lo = clusters[members[0]].1.clone();
+        let mut hi = clusters[members[0]].2.clone();
+        for &m in members {
+            for k in 0..n {
+                if clusters[m].1[k] < lo[k] {
+                    lo[k] = clusters[m].1[k].clone();
+                }
+                if clusters[m].2[k] > hi[k] {
+                    hi[k] = clusters[m].2[k].clone();
+                }
+            }
+        }
+        for k in 0..n {
+            let w = (&hi[k] - &lo[k]) * &quarter;
+            lo[k] = (&lo[k] - &w).max(<Rational as Zero>::zero());
+            hi[k] = (&hi[k] + &w).min(<Rational as One>::one());
+        }
+        let clear = found
+            .roots
+            .iter()
+            .map(|r| {
+                let ulo: Vec<Rational> = (0..n).map(|k| unit(system, k, &r.bounds[k].0)).collect();
+                let uhi: Vec<Rational> = (0..n).map(|k| unit(system, k, &r.bounds[k].1)).collect();
+                (ulo, uhi)
+            })
+            .chain(
+                clusters
+                    .iter()
+                    .zip(&group_of)
+                    .filter(|(_, &g)| g != gi)
+                    .map(|(c, _)| (c.1.clone(), c.2.clone())),
+            )
+            .all(|(olo, ohi)| !meets(&lo, &hi, &olo, &ohi));
+        if !clear {
+            continue;
+        }
+        let sub: Vec<(Rational, Rational)> = lo.iter().cloned().zip(hi.iter().cloned()).collect();
+        let polys: Vec<Bernstein<Rational>> = exact
+            .iter()
+            .map(|e| e.restrict(&sub))
+            .collect::<Result<_, _>>()?;
+        if let (Decision::Yes, Some(c)) = certify(&polys)? {
+            let node = Node {
+                lo,
+                hi,
+                polys,
+                depth: 0,
+            };
+            let (rlo, rhi, c) = refine(&node, c, opts.tolerance)?;
+            found.roots.push(root(system, &rlo, &rhi, c));
+            for &m in members {
+                replaced[m] = true;
+            }
+        }
+    }
+    found.clusters = clusters
+        .into_iter()
+        .zip(replaced)
+        .filter(|(_, r)| !r)
+        .map(|(c, _)| c)
+        .collect();
+    Ok(found)
+}
+
+/// The unit coordinate of a domain coordinate.
+fn unit(system: &System, k: usize, x: &Rational) -> Rational {
+    let (a, b) = &system.domain[k];
+    (x - a) / (b - a)
+}
+
 /// Solves `system` (as many equations as unknowns) on its domain on the path `opts.path`.
 ///
 /// Every root of the system in the domain lies in exactly one reported root box (which holds
@@ -710,6 +819,7 @@ pub fn solve(system: &System, opts: &SolveOptions) -> Result<Solution, SolveErro
             fast
         }
     };
+    let found = certify_across_planes(system, &exact, found, opts)?;
     Ok(Solution {
         roots: found.roots,
         clusters: found.clusters.into_iter().map(|c| c.0).collect(),

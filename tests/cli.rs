@@ -670,6 +670,77 @@ fn solve_certifies_roots_and_the_checker_agrees() {
 }
 
 #[test]
+fn solve_traces_curves_and_the_checker_agrees() {
+    // A circle of radius 1/2 about (3/4, 0) on [−1, 1]²: it leaves through the face x = 1.
+    let system = tmp("arc.json");
+    std::fs::write(
+        &system,
+        r#"{"box": [["-1","1"],["-1","1"]], "equations": [
+            {"terms": [[[2,0],1],[[0,2],1],[[1,0],"-3/2"],[[0,0],"5/16"]]}]}"#,
+    )
+    .unwrap();
+    let cert = tmp("arc.cert.json");
+    let out = geocert()
+        .args(["solve", system.to_str().unwrap(), "--curves", "--json"])
+        .args(["--extreme-axis", "0", "--cert", cert.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let curves = v["curves"].as_array().unwrap();
+    assert_eq!(curves.len(), 1, "{v}");
+    assert_eq!(curves[0]["closed"], false);
+    for e in curves[0]["ends"].as_array().unwrap() {
+        assert_eq!(e["face"], serde_json::json!([0, "upper"]), "{e}");
+    }
+    for p in curves[0]["polyline"].as_array().unwrap() {
+        let (x, y) = (p[0].as_f64().unwrap(), p[1].as_f64().unwrap());
+        approx::assert_abs_diff_eq!(x * x - 1.5 * x + y * y + 0.3125, 0.0, epsilon = 1e-9);
+    }
+    // The only extreme in x inside the box is (1/4, 0).
+    let extremes = v["extremes"].as_array().unwrap();
+    assert_eq!(extremes.len(), 1, "{v}");
+    let out = geocert()
+        .args(["solve", "verify-cert", cert.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("curve: valid"));
+    // --curves on a square system, and an extreme axis out of range, are refused (exit 2,
+    // nothing written).
+    let square = tmp("square-curves.json");
+    std::fs::write(
+        &square,
+        r#"{"box": [["-1","1"],["-1","1"]], "equations": [{"terms": [[[2,0],1],[[0,2],1],[[0,0],-1]]},{"terms": [[[1,0],1]]}]}"#,
+    )
+    .unwrap();
+    for (file, extra, needle) in [
+        (&square, "0", "2 equations in 2 unknowns"),
+        (&system, "5", "axis 5"),
+    ] {
+        let cert = tmp("refused-curves.cert.json");
+        let out = geocert()
+            .args([
+                "solve",
+                file.to_str().unwrap(),
+                "--curves",
+                "--extreme-axis",
+                extra,
+            ])
+            .args(["--cert", cert.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2));
+        assert!(String::from_utf8_lossy(&out.stderr).contains(needle));
+        assert!(!cert.exists());
+    }
+}
+
+#[test]
 fn solve_refuses_malformed_systems() {
     let cases = [
         (

@@ -12,6 +12,7 @@ pub mod mc_fe;
 pub mod mc_grid;
 pub mod mc_markdown;
 pub mod solve;
+pub mod solve_curves;
 
 use crate::proofs::ProofOutcome;
 use campaign::{KernelCampaign, SubdivisionTiming};

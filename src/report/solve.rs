@@ -315,6 +315,8 @@ pub struct SolveCampaign {
     pub peers: Vec<PeerRow>,
     /// The msolve binary used, or why none was.
     pub msolve: Result<String, String>,
+    /// Curve tracing on curves with known rational points.
+    pub curves: Vec<super::solve_curves::CurveRow>,
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -580,16 +582,18 @@ pub fn solve_campaign(
         families,
         peers,
         msolve: msolve.map(|p| p.display().to_string()),
+        curves: super::solve_curves::curve_campaign(seed, per_family),
     }
 }
 
 /// Whether every constructed root was accounted for and nothing was refused or extra.
 pub fn campaign_ok(c: &SolveCampaign) -> bool {
-    c.families.iter().all(|f| {
-        f.paths
-            .iter()
-            .all(|(_, t)| t.missing == 0 && t.extra == 0 && t.refused == 0)
-    })
+    super::solve_curves::curves_ok(&c.curves)
+        && c.families.iter().all(|f| {
+            f.paths
+                .iter()
+                .all(|(_, t)| t.missing == 0 && t.extra == 0 && t.refused == 0)
+        })
 }
 
 /// Writes `reports/solve.md`.
@@ -675,10 +679,10 @@ pub fn write_solve_report(
                 .map_or_else(na, |x| format!("{:.1}×", x / p.ours_ms.max(1e-9))),
         );
     }
+    s.push_str(&super::solve_curves::curves_markdown(&c.curves));
     let _ = writeln!(
         s,
-        "\nNot yet measured here: PHCpack (Debian `python3-phcpy`) and the silhouette systems; \
-         curve tracing (one-dimensional solution sets) is not built yet."
+        "\nNot yet measured here: PHCpack (Debian `python3-phcpy`) and the silhouette systems."
     );
     let path = dir.join("solve.md");
     std::fs::create_dir_all(dir)?;

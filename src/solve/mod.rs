@@ -255,7 +255,7 @@ pub enum SolveError {
         why: String,
     },
     /// The number of equations is not the number of unknowns.
-    #[error("{equations} equations in {unknowns} unknowns: a zero-dimensional system needs as many equations as unknowns")]
+    #[error("{equations} equations in {unknowns} unknowns: a zero-dimensional system needs as many equations as unknowns (n − 1 equations are traced as a curve: `solve --curves`, `solve::trace`)")]
     NotSquare {
         /// Equations given.
         equations: usize,

@@ -212,3 +212,32 @@ fn the_checker_refuses_a_tampered_certificate() {
     let beside = vec![(q(1, 2), q(1, 1)), r.bounds[1].clone()];
     assert!(verify_root(&system, &beside, &r.certificate).is_err());
 }
+
+#[test]
+fn rational_equations_use_the_numerator_once_the_denominator_keeps_its_sign() {
+    use geocert::solve::{solve, system_from_json, SolveOptions};
+    // (x − 1/3)/(1 + x²) = 0 and (y + 1/5)/(2 − y) = 0 on [−1, 1]²: one root (1/3, −1/5).
+    let text = r#"{"box": [["-1","1"],["-1","1"]], "equations": [
+        {"rational": {"numerator": {"terms": [[[1,0],1],[[0,0],"-1/3"]]},
+                      "denominator": {"terms": [[[0,0],1],[[2,0],1]]}}},
+        {"rational": {"numerator": {"terms": [[[0,1],1],[[0,0],"1/5"]]},
+                      "denominator": {"terms": [[[0,0],2],[[0,1],-1]]}}}]}"#;
+    let s = system_from_json(text).unwrap();
+    let sol = solve(&s, &SolveOptions::new()).unwrap();
+    assert_eq!(sol.roots.len(), 1);
+    approx::assert_abs_diff_eq!(sol.roots[0].approx[0], 1.0 / 3.0, epsilon = 1e-12);
+    approx::assert_abs_diff_eq!(sol.roots[0].approx[1], -0.2, epsilon = 1e-12);
+    // A denominator that changes sign on the box (x) or vanishes on it (x², at 0) is refused,
+    // naming the equation.
+    for den in [r#"{"terms": [[[1,0],1]]}"#, r#"{"terms": [[[2,0],1]]}"#] {
+        let text = format!(
+            r#"{{"box": [["-1","1"],["-1","1"]], "equations": [{{"terms": [[[0,1],1]]}},
+            {{"rational": {{"numerator": {{"terms": [[[1,0],1]]}}, "denominator": {den}}}}}]}}"#
+        );
+        let err = system_from_json(&text).unwrap_err().to_string();
+        assert!(
+            err.contains("equation 1") && err.contains("denominator"),
+            "{err}"
+        );
+    }
+}

@@ -1,6 +1,9 @@
 //! The system file: `{"box": [["a", "b"], …], "equations": [E, …]}`, each equation either in
 //! tensor Bernstein form on the box (`{"degrees": [d0, …], "coeffs": [c, …]}`, axis 0
-//! fastest) or in power form in the domain's coordinates (`{"terms": [[[e0, …], c], …]}`).
+//! fastest), in power form in the domain's coordinates (`{"terms": [[[e0, …], c], …]}`), or
+//! a rational function `{"rational": {"numerator": P, "denominator": Q}}` of two such
+//! polynomials: its zero set is the numerator's once the denominator is certified to keep
+//! one strict sign on the box (else the file is refused, naming the equation).
 //! Numbers are JSON numbers (exact as the `f64` they denote) or `"p/q"` / decimal strings
 //! (exact).
 
@@ -26,30 +29,92 @@ pub fn system_from_json(text: &str) -> Result<System, SolveError> {
     let mut equations = Vec::with_capacity(eqs.len());
     for (i, e) in eqs.iter().enumerate() {
         let name = format!("equations[{i}]");
-        let p = if e.get("terms").is_some() {
-            power_equation(e, &domain, &name)?
-        } else if e.get("degrees").is_some() {
-            poly_from_json(e).map_err(|why| field(&name, &why.to_string()))?
-        } else if e.get("bspline").is_some() {
-            return Err(field(
-                &name,
-                "B-spline equations are not read yet: give the Bernstein pieces or the power form",
-            ));
-        } else {
-            return Err(field(
-                &name,
-                "expected {\"degrees\", \"coeffs\"} or {\"terms\"}",
-            ));
-        };
-        if p.dim() != n {
-            return Err(SolveError::Equation {
+        let p = if let Some(r) = e.get("rational") {
+            // The zero set of a rational function is its numerator's where the denominator
+            // keeps one strict sign on the box: certified here, or the file is refused.
+            let num = polynomial(
+                r.get("numerator"),
+                &domain,
+                &format!("{name}.rational.numerator"),
+            )?;
+            let den = polynomial(
+                r.get("denominator"),
+                &domain,
+                &format!("{name}.rational.denominator"),
+            )?;
+            same_dim(&den, n, i)?;
+            keeps_sign(&den).map_err(|why| SolveError::Equation {
                 equation: i,
-                why: format!("has {} variables, the box {n}", p.dim()),
-            });
-        }
+                why: format!("the denominator {why}"),
+            })?;
+            num
+        } else {
+            polynomial(Some(e), &domain, &name)?
+        };
+        same_dim(&p, n, i)?;
         equations.push(p);
     }
     System::new(domain, equations)
+}
+
+fn same_dim(p: &Bernstein<Rational>, n: usize, equation: usize) -> Result<(), SolveError> {
+    if p.dim() != n {
+        return Err(SolveError::Equation {
+            equation,
+            why: format!("has {} variables, the box {n}", p.dim()),
+        });
+    }
+    Ok(())
+}
+
+/// One polynomial in Bernstein form on the box or in power form (see the module docs).
+fn polynomial(
+    e: Option<&Value>,
+    domain: &[(Rational, Rational)],
+    name: &str,
+) -> Result<Bernstein<Rational>, SolveError> {
+    let field = |why: &str| SolveError::Field {
+        field: name.into(),
+        why: why.into(),
+    };
+    let e = e.ok_or_else(|| field("missing"))?;
+    if e.get("terms").is_some() {
+        power_equation(e, domain, name)
+    } else if e.get("degrees").is_some() {
+        poly_from_json(e).map_err(|why| field(&why.to_string()))
+    } else if e.get("bspline").is_some() {
+        Err(field(
+            "B-spline equations are not read yet: give the Bernstein pieces or the power form",
+        ))
+    } else {
+        Err(field(
+            "expected {\"degrees\", \"coeffs\"}, {\"terms\"} or {\"rational\": {\"numerator\", \"denominator\"}}",
+        ))
+    }
+}
+
+/// Certifies that `d` has one strict sign on the unit box (the positivity prover on `d` or
+/// `−d`, both with the default limits); otherwise says why not.
+fn keeps_sign(d: &Bernstein<Rational>) -> Result<(), String> {
+    use crate::bernstein::{prove_positive, PositivityOptions, PositivityVerdict};
+    let opts = PositivityOptions::default();
+    let positive = prove_positive(d, &opts).map_err(|e| e.to_string())?;
+    if matches!(positive, PositivityVerdict::Positive { .. }) {
+        return Ok(());
+    }
+    let minus = d.scale(&Rational::from_integer((-1).into()));
+    match prove_positive(&minus, &opts).map_err(|e| e.to_string())? {
+        PositivityVerdict::Positive { .. } => Ok(()),
+        PositivityVerdict::NotPositive { witness, .. } => match positive {
+            PositivityVerdict::NotPositive { witness: w2, .. } => Err(format!(
+                "changes sign or vanishes on the box (≤ 0 at unit point {}, ≥ 0 at {})",
+                crate::num::point_to_string(&w2),
+                crate::num::point_to_string(&witness)
+            )),
+            _ => Err("could not be proved of one sign within the limits".into()),
+        },
+        _ => Err("could not be proved of one sign within the limits".into()),
+    }
 }
 
 /// A box `[[a, b], …]` of exact numbers, at `field` in the file; with `unknowns`, it must

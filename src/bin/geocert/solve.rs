@@ -19,7 +19,7 @@ use std::process::ExitCode;
 pub(crate) struct Args {
     #[command(subcommand)]
     verify: Option<Verify>,
-    /// `{"box": [["a","b"], ..], "equations": [{"degrees", "coeffs"} | {"terms": [[[e..], c], ..]}, ..]}`.
+    /// `{"box": [["a","b"], ..], "equations": [{"degrees", "coeffs"} | {"terms": [[[e..], c], ..]} | {"rational": {"numerator", "denominator"}}, ..]}`.
     #[arg(required = true)]
     system: Option<PathBuf>,
     #[arg(long, default_value_t = Path::Filtered, value_parser = choice::<Path>(Path::NAMES))]

@@ -545,3 +545,93 @@ pub fn check_solve(data: &[u8]) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// Differential check of curve tracing: one random bivariate equation (degrees 1–3 per axis,
+/// coefficients k/8) or a product of two lines, traced on the exact and the fast path with
+/// small limits (depth 8, 600 boxes). Both traces must pass the independent checker
+/// ([`crate::solve::verify_curves`]), every certified vertex of one path must lie in an arc
+/// or cluster box of the other, and where neither path left a cluster both must report the
+/// same components (count, loops, ends per component).
+pub fn check_curve(data: &[u8]) -> Result<(), String> {
+    use crate::bernstein::{Bernstein, Limits};
+    use crate::solve::{trace, verify_curves, CurveOptions, Curves, System};
+    let mut bytes = data.iter().copied();
+    let mut next = move || bytes.next().unwrap_or(0);
+    let head = next();
+    let q = |a: i64, b: i64| Rational::new(a.into(), b.into());
+    let p = if head & 1 == 1 {
+        // (a x + b y + c)(d x + e y + f): two lines, crossing or not.
+        let mut line = || {
+            let (a, b, c) = (
+                next() as i8 as i64,
+                next() as i8 as i64,
+                next() as i8 as i64,
+            );
+            // Bernstein coefficients of a x + b y + c on the unit square, at its corners.
+            Bernstein::new(
+                vec![1, 1],
+                vec![q(c, 8), q(a + c, 8), q(b + c, 8), q(a + b + c, 8)],
+            )
+        };
+        let l1 = line().map_err(|e| e.to_string())?;
+        let l2 = line().map_err(|e| e.to_string())?;
+        l1.product(&l2).map_err(|e| e.to_string())?
+    } else {
+        let degrees = vec![1 + next() as usize % 3, 1 + next() as usize % 3];
+        let count: usize = degrees.iter().map(|d| d + 1).product();
+        let coeffs = (0..count).map(|_| q(next() as i8 as i64, 8)).collect();
+        Bernstein::new(degrees, coeffs).map_err(|e| e.to_string())?
+    };
+    let system = System::new(vec![(q(0, 1), q(1, 1)); 2], vec![p]).map_err(|e| e.to_string())?;
+    let limits = Limits::new().with_max_depth(8).with_max_boxes(600);
+    let run = |path| {
+        trace(
+            &system,
+            &CurveOptions::new()
+                .with_path(path)
+                .with_limits(limits)
+                .with_resolution(0.5),
+        )
+        .map_err(|e| format!("{path}: {e}"))
+    };
+    let exact = run(crate::Path::Exact)?;
+    let fast = run(crate::Path::Fast)?;
+    let covers = |c: &Curves, b: &[(Rational, Rational)]| {
+        let meets = |a: &[(Rational, Rational)]| {
+            a.iter()
+                .zip(b)
+                .all(|((a0, a1), (b0, b1))| a0 <= b1 && b0 <= a1)
+        };
+        c.arcs.iter().any(|a| meets(&a.bounds)) || c.clusters.iter().any(|k| meets(&k.bounds))
+    };
+    for (name, mine, other) in [("exact", &exact, &fast), ("fast", &fast, &exact)] {
+        verify_curves(&system, mine).map_err(|e| format!("{name} trace refused: {e}"))?;
+        for p in &mine.points {
+            if !covers(other, &p.root.bounds) {
+                return Err(format!(
+                    "{name} certified the curve point {:?}, which the other path's boxes miss",
+                    p.root.approx
+                ));
+            }
+        }
+    }
+    if exact.clusters.is_empty() && fast.clusters.is_empty() {
+        let shape = |c: &Curves| {
+            let mut v: Vec<(bool, usize)> = c
+                .components
+                .iter()
+                .map(|k| (k.closed, k.ends.len()))
+                .collect();
+            v.sort_unstable();
+            v
+        };
+        if shape(&exact) != shape(&fast) {
+            return Err(format!(
+                "topology differs: exact {:?}, fast {:?}",
+                shape(&exact),
+                shape(&fast)
+            ));
+        }
+    }
+    Ok(())
+}

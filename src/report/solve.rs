@@ -4,7 +4,7 @@
 //! isolation over all of Rⁿ, restricted to the box here) in the same run.
 
 use super::RunMeta;
-use crate::num::{rational_to_string, Rational};
+use crate::num::{rational_to_f64, rational_to_string, Rational};
 use crate::solve::{solve, system_from_json, verify_root, Solution, SolveOptions, System};
 use crate::Path as Arith;
 use num_traits::{One, Zero};
@@ -74,28 +74,7 @@ impl Case {
         let vars: Vec<String> = (1..=n).map(|i| format!("x{i}")).collect();
         let mut s = format!("{}\n0\n", vars.join(","));
         for (i, p) in self.polys.iter().enumerate() {
-            let mut line = String::new();
-            for (e, c) in p {
-                let text = rational_to_string(c);
-                let (sign, mag) = match text.strip_prefix('-') {
-                    Some(m) => ("-", m.to_string()),
-                    None => ("+", text),
-                };
-                if line.is_empty() {
-                    if sign == "-" {
-                        line.push('-');
-                    }
-                } else {
-                    line.push_str(sign);
-                }
-                line.push_str(&mag);
-                for (v, &k) in vars.iter().zip(e) {
-                    if k > 0 {
-                        let _ = write!(line, "*{v}^{k}");
-                    }
-                }
-            }
-            s.push_str(&line);
+            s.push_str(&poly_text(p, &vars));
             s.push_str(if i + 1 < self.polys.len() {
                 ",\n"
             } else {
@@ -104,6 +83,117 @@ impl Case {
         }
         s
     }
+
+    /// PHCpack's input: each polynomial times the lcm of its denominators (its parser takes
+    /// no fractions), `;`-terminated.
+    fn phc_polys(&self) -> Vec<String> {
+        let vars: Vec<String> = (1..=self.domain.len()).map(|i| format!("x{i}")).collect();
+        self.polys
+            .iter()
+            .map(|p| {
+                let lcm = p.values().fold(num_bigint::BigInt::from(1), |l, c| {
+                    num_integer::Integer::lcm(&l, c.denom())
+                });
+                let scaled: Poly = p
+                    .iter()
+                    .map(|(e, c)| (e.clone(), c * Rational::from_integer(lcm.clone())))
+                    .collect();
+                format!("{};", poly_text(&scaled, &vars))
+            })
+            .collect()
+    }
+}
+
+/// A polynomial as `c*x1^k*…` terms joined by signs (no leading `+`: msolve rejects it).
+fn poly_text(p: &Poly, vars: &[String]) -> String {
+    let mut line = String::new();
+    for (e, c) in p {
+        let text = rational_to_string(c);
+        let (sign, mag) = match text.strip_prefix('-') {
+            Some(m) => ("-", m.to_string()),
+            None => ("+", text),
+        };
+        if line.is_empty() {
+            if sign == "-" {
+                line.push('-');
+            }
+        } else {
+            line.push_str(sign);
+        }
+        line.push_str(&mag);
+        for (v, &k) in vars.iter().zip(e) {
+            if k > 0 {
+                let _ = write!(line, "*{v}^{k}");
+            }
+        }
+    }
+    if line.is_empty() {
+        line.push('0');
+    }
+    line
+}
+
+/// PHCpack's real solutions of one system and its seconds.
+type PhcResult = (Vec<Vec<f64>>, f64);
+
+/// PHCpack on every case in one Python process (`benches/peers/phc_solve.py`, the system
+/// python3 with Debian's `python3-phcpy`, or `$GEOCERT_PHC_PYTHON`): per case its real
+/// solutions and the solver's own wall time.
+fn run_phc(root: &Path, cases: &[Case]) -> Result<Vec<PhcResult>, String> {
+    let python = std::env::var("GEOCERT_PHC_PYTHON").unwrap_or_else(|_| "/usr/bin/python3".into());
+    let script = root.join("benches/peers/phc_solve.py");
+    let input = serde_json::Value::Array(
+        cases
+            .iter()
+            .map(|c| serde_json::json!({"polys": c.phc_polys()}))
+            .collect(),
+    );
+    let mut child = std::process::Command::new(&python)
+        .arg(&script)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .map_err(|e| format!("{python}: {e}"))?;
+    {
+        use std::io::Write as _;
+        let mut stdin = child.stdin.take().ok_or("no stdin")?;
+        stdin
+            .write_all(input.to_string().as_bytes())
+            .map_err(|e| e.to_string())?;
+    }
+    let out = child.wait_with_output().map_err(|e| e.to_string())?;
+    if !out.status.success() {
+        let err = String::from_utf8_lossy(&out.stderr);
+        return Err(format!(
+            "PHCpack (python3-phcpy) not available: {}",
+            err.lines().last().unwrap_or("failed")
+        ));
+    }
+    // phcpy prints a banner on import: the result is the last line.
+    let text = String::from_utf8_lossy(&out.stdout);
+    let last = text.lines().last().unwrap_or("");
+    let v: serde_json::Value =
+        serde_json::from_str(last).map_err(|e| format!("phc_solve.py output: {e}"))?;
+    let list = v.as_array().ok_or("phc_solve.py output: not a list")?;
+    Ok(list
+        .iter()
+        .map(|r| {
+            let real = r["real"]
+                .as_array()
+                .map(|a| {
+                    a.iter()
+                        .map(|p| {
+                            p.as_array()
+                                .map(|x| x.iter().filter_map(serde_json::Value::as_f64).collect())
+                                .unwrap_or_default()
+                        })
+                        .collect()
+                })
+                .unwrap_or_default();
+            (real, r["seconds"].as_f64().unwrap_or(f64::NAN))
+        })
+        .collect())
 }
 
 /// Roots on a grid per axis, as products of linear factors, mixed by `L·U` (unit triangular
@@ -304,6 +394,13 @@ pub struct PeerRow {
     pub exact_ms: f64,
     /// msolve median, including its process start.
     pub msolve_ms: Option<f64>,
+    /// PHCpack's real solutions strictly inside the box, all systems.
+    pub phc_roots: Option<usize>,
+    /// Systems where PHCpack's real solutions in the box are as many as our certified roots
+    /// and each of ours lies within 1e-6 (max norm) of one of them.
+    pub phc_agreeing: Option<usize>,
+    /// PHCpack's median (its blackbox `solve` in-process, without Python's start).
+    pub phc_ms: Option<f64>,
 }
 
 /// The campaign's results.
@@ -315,6 +412,8 @@ pub struct SolveCampaign {
     pub peers: Vec<PeerRow>,
     /// The msolve binary used, or why none was.
     pub msolve: Result<String, String>,
+    /// Whether PHCpack ran, or why it did not.
+    pub phc: Result<(), String>,
     /// Curve tracing on curves with known rational points.
     pub curves: Vec<super::solve_curves::CurveRow>,
 }
@@ -507,6 +606,7 @@ pub fn solve_campaign(
     }
     let msolve = find_msolve(root);
     let mut peers = Vec::new();
+    let mut phc = Err("not run".to_string());
     for (name, n, d) in [
         ("bicubic (2 unknowns, degree 3 in each)", 2, 3),
         ("biquintic (2 unknowns, degree 5 in each)", 2, 5),
@@ -528,7 +628,11 @@ pub fn solve_campaign(
             ours_ms: 0.0,
             exact_ms: 0.0,
             msolve_ms: None,
+            phc_roots: None,
+            phc_agreeing: None,
+            phc_ms: None,
         };
+        let mut ours = Vec::with_capacity(cases.len());
         let (mut ours_t, mut exact_t, mut msolve_t) = (Vec::new(), Vec::new(), Vec::new());
         let (mut m_roots, mut agree, mut m_ok) = (0, 0, true);
         for (k, case) in cases.iter().enumerate() {
@@ -541,6 +645,7 @@ pub fn solve_campaign(
             }
             row.ours_roots += s.roots.len();
             row.ours_clusters += s.clusters.len();
+            ours.push(s.clone());
             if let Ok(bin) = &msolve {
                 match run_msolve(bin, case, &format!("{n}-{d}-{k}")) {
                     Ok((boxes, t)) => {
@@ -576,12 +681,44 @@ pub fn solve_campaign(
             row.agreeing_systems = Some(agree);
             row.msolve_ms = Some(1e3 * median(msolve_t));
         }
+        match run_phc(root, &cases) {
+            Ok(results) => {
+                let (mut roots, mut agree, mut times) = (0, 0, Vec::new());
+                for ((real, secs), (case, s)) in results.iter().zip(cases.iter().zip(&ours)) {
+                    times.push(*secs);
+                    let dom: Vec<(f64, f64)> = case
+                        .domain
+                        .iter()
+                        .map(|(a, b)| (rational_to_f64(a), rational_to_f64(b)))
+                        .collect();
+                    let in_box: Vec<&Vec<f64>> = real
+                        .iter()
+                        .filter(|p| p.iter().zip(&dom).all(|(x, (a, b))| a < x && x < b))
+                        .collect();
+                    roots += in_box.len();
+                    let near = |r: &crate::solve::Root| {
+                        in_box
+                            .iter()
+                            .any(|p| p.iter().zip(&r.approx).all(|(x, y)| (x - y).abs() <= 1e-6))
+                    };
+                    if in_box.len() == s.roots.len() && s.roots.iter().all(near) {
+                        agree += 1;
+                    }
+                }
+                row.phc_roots = Some(roots);
+                row.phc_agreeing = Some(agree);
+                row.phc_ms = Some(1e3 * median(times));
+                phc = Ok(());
+            }
+            Err(e) => phc = Err(e),
+        }
         peers.push(row);
     }
     SolveCampaign {
         families,
         peers,
         msolve: msolve.map(|p| p.display().to_string()),
+        phc,
         curves: super::solve_curves::curve_campaign(seed, per_family),
     }
 }
@@ -658,13 +795,13 @@ pub fn write_solve_report(
     );
     let _ = writeln!(
         s,
-        "| systems | count | our roots | our clusters | msolve roots in box | agreeing | ours ms (filtered) | ours ms (exact, first {EXACT_SYSTEMS}) | msolve ms | msolve / ours |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+        "| systems | count | our roots | our clusters | msolve roots in box | agreeing | ours ms (filtered) | ours ms (exact, first {EXACT_SYSTEMS}) | msolve ms | msolve / ours | PHCpack real roots in box | agreeing | PHCpack ms | PHCpack / ours |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     for p in &c.peers {
         let na = || "not run".to_string();
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {:.2} | {:.2} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {:.2} | {:.2} | {} | {} | {} | {} | {} | {} |",
             p.name,
             p.systems,
             p.ours_roots,
@@ -677,13 +814,28 @@ pub fn write_solve_report(
             p.msolve_ms.map_or_else(na, |x| format!("{x:.2}")),
             p.msolve_ms
                 .map_or_else(na, |x| format!("{:.1}×", x / p.ours_ms.max(1e-9))),
+            p.phc_roots.map_or_else(na, |x| x.to_string()),
+            p.phc_agreeing
+                .map_or_else(na, |x| format!("{x}/{}", p.systems)),
+            p.phc_ms.map_or_else(na, |x| format!("{x:.2}")),
+            p.phc_ms
+                .map_or_else(na, |x| format!("{:.1}×", x / p.ours_ms.max(1e-9))),
         );
     }
-    s.push_str(&super::solve_curves::curves_markdown(&c.curves));
     let _ = writeln!(
         s,
-        "\nNot yet measured here: PHCpack (Debian `python3-phcpy`) and the silhouette systems."
+        "\nPHCpack {}: its blackbox `phcpy.solver.solve` (homotopy continuation over Cⁿ, \
+         approximate and uncertified) on the same systems, one Python process per family, \
+         timed around each call (Python's start excluded); a system *agrees* when its real \
+         solutions strictly inside the box are as many as our certified roots and each of \
+         ours lies within 1e-6 of one of them.",
+        match &c.phc {
+            Ok(()) => "(Debian `python3-phcpy`, installed by `benches/peers/setup.sh`)".to_string(),
+            Err(e) => format!("was not available: {e}"),
+        }
     );
+    s.push_str(&super::solve_curves::curves_markdown(&c.curves));
+    let _ = writeln!(s, "\nNot yet measured here: the silhouette systems.");
     let path = dir.join("solve.md");
     std::fs::create_dir_all(dir)?;
     std::fs::write(&path, s)?;

@@ -25,7 +25,7 @@
 //! curve in the domain lies in an arc's box or in a cluster's box.
 
 use super::subdivision::{
-    root_free, strict_sign, Coefficient, Decision, MOVED_SPLITS_DEPTH, SPLITS,
+    max_abs, root_free, strict_sign, Coefficient, Decision, MOVED_SPLITS_DEPTH, SPLITS,
 };
 use super::{solve, Cluster, ClusterReason, RationalBox, Root, SolveError, SolveOptions, System};
 use crate::bernstein::{Bernstein, BernsteinError, Limits};
@@ -368,6 +368,16 @@ impl Tracer<'_> {
         (x - a) / (b - a)
     }
 
+    /// A domain box in unit coordinates.
+    fn unit_box(&self, bounds: &RationalBox) -> UnitBox {
+        let (lo, hi) = bounds
+            .iter()
+            .enumerate()
+            .map(|(k, (a, b))| (self.unit(k, a), self.unit(k, b)))
+            .unzip();
+        UnitBox { lo, hi }
+    }
+
     fn domain_box(&self, lo: &[Rational], hi: &[Rational]) -> RationalBox {
         self.system
             .to_domain(lo)
@@ -401,31 +411,11 @@ impl Tracer<'_> {
             if strict {
                 return Ok(None);
             }
+            let mut on_plane = bounds.clone();
+            on_plane[axis] = (c.clone(), c.clone());
             let blob = self.blobs.len();
-            self.blobs.push(UnitBox {
-                lo: bounds
-                    .iter()
-                    .enumerate()
-                    .map(|(k, b)| {
-                        if k == axis {
-                            at.clone()
-                        } else {
-                            self.unit(k, &b.0)
-                        }
-                    })
-                    .collect(),
-                hi: bounds
-                    .iter()
-                    .enumerate()
-                    .map(|(k, b)| {
-                        if k == axis {
-                            at.clone()
-                        } else {
-                            self.unit(k, &b.1)
-                        }
-                    })
-                    .collect(),
-            });
+            let unit = self.unit_box(&on_plane);
+            self.blobs.push(unit);
             return Ok(Some((Vec::new(), vec![blob])));
         }
         let remaining = self
@@ -454,18 +444,7 @@ impl Tracer<'_> {
             bounds.insert(axis, (c.clone(), c.clone()));
             let mut approx = r.approx;
             approx.insert(axis, rational_to_f64(&c));
-            let unit = UnitBox {
-                lo: bounds
-                    .iter()
-                    .enumerate()
-                    .map(|(k, b)| self.unit(k, &b.0))
-                    .collect(),
-                hi: bounds
-                    .iter()
-                    .enumerate()
-                    .map(|(k, b)| self.unit(k, &b.1))
-                    .collect(),
-            };
+            let unit = self.unit_box(&bounds);
             ids.push(self.points.len());
             self.points.push(CurvePoint {
                 axis,
@@ -483,33 +462,14 @@ impl Tracer<'_> {
             let mut bounds = cl.bounds;
             bounds.insert(axis, (c.clone(), c.clone()));
             blob_ids.push(self.blobs.len());
-            self.blobs.push(UnitBox {
-                lo: bounds
-                    .iter()
-                    .enumerate()
-                    .map(|(k, b)| self.unit(k, &b.0))
-                    .collect(),
-                hi: bounds
-                    .iter()
-                    .enumerate()
-                    .map(|(k, b)| self.unit(k, &b.1))
-                    .collect(),
-            });
+            let unit = self.unit_box(&bounds);
+            self.blobs.push(unit);
         }
         Ok(Some((ids, blob_ids)))
     }
 
     fn cluster<T: Coefficient>(&mut self, node: &Node<T>, reason: ClusterReason) {
-        let max_abs_f = node
-            .polys
-            .iter()
-            .map(|p| {
-                p.coeffs()
-                    .iter()
-                    .map(Coefficient::abs_upper_f64)
-                    .fold(0.0, f64::max)
-            })
-            .collect();
+        let max_abs_f = max_abs(&node.polys);
         self.clusters.push((
             Cluster {
                 bounds: self.domain_box(&node.lo, &node.hi),

@@ -107,6 +107,20 @@ pub(super) fn strict_sign<T: Field>(p: &Bernstein<T>) -> Sign {
     }
 }
 
+/// Per polynomial, a certified upper bound of its absolute value on the box (the largest
+/// coefficient magnitude: convex-hull property).
+pub(super) fn max_abs<T: Coefficient>(polys: &[Bernstein<T>]) -> Vec<f64> {
+    polys
+        .iter()
+        .map(|p| {
+            p.coeffs()
+                .iter()
+                .map(Coefficient::abs_upper_f64)
+                .fold(0.0, f64::max)
+        })
+        .collect()
+}
+
 /// Outcome of one decision: proved, refuted, or left open by rounding.
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub(super) enum Decision {
@@ -544,16 +558,7 @@ fn run<T: Coefficient>(
     };
     let cluster = |node: &Node<T>, reason| {
         let bounds = domain_box(system, &node.lo, &node.hi);
-        let max_abs_f = node
-            .polys
-            .iter()
-            .map(|p| {
-                p.coeffs()
-                    .iter()
-                    .map(Coefficient::abs_upper_f64)
-                    .fold(0.0, f64::max)
-            })
-            .collect();
+        let max_abs_f = max_abs(&node.polys);
         (
             Cluster {
                 bounds,

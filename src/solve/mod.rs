@@ -25,6 +25,16 @@
 //! * **splits** at rational points, moved off ½ when the split plane might hold a root (no
 //!   equation of one strict sign on it), so that certified boxes meet only on root-free
 //!   planes and no root is counted twice.
+//! * **roots on split planes** — touching depth-limit clusters are tried once more as one
+//!   box (their hull, inflated), certified exactly, and kept only when that box meets no
+//!   other root's or cluster's box.
+//!
+//! One equation fewer than unknowns defines a curve: [`trace`] subdivides into boxes where a
+//! component of the tangent has one strict sign, certifies the curve's crossings of every
+//! split plane with the square solver above, and links the arcs into components (open or
+//! closed, ending on the domain's faces or in clusters); [`verify_curves`] re-checks the
+//! result. Equations may be rational functions (the numerator, once the denominator is
+//! certified to keep its sign on the box).
 //!
 //! Both paths run the same subdivision generically over the coefficient field: the
 //! reference path in exact rationals ([`Path::Exact`]), the fast one in outward-rounded `f64`

@@ -36,7 +36,7 @@ fn add_scaled(a: &mut Poly, b: &Poly, k: &Rational) {
 }
 
 /// xorshift64: deterministic systems from a seed.
-struct Rng(u64);
+pub(super) struct Rng(pub(super) u64);
 
 impl Rng {
     fn next(&mut self) -> u64 {
@@ -45,7 +45,7 @@ impl Rng {
         self.0 ^= self.0 << 17;
         self.0
     }
-    fn int(&mut self, lo: i64, hi: i64) -> i64 {
+    pub(super) fn int(&mut self, lo: i64, hi: i64) -> i64 {
         lo + (self.next() % (hi - lo + 1) as u64) as i64
     }
 }
@@ -418,7 +418,7 @@ pub struct SolveCampaign {
     pub curves: Vec<super::solve_curves::CurveRow>,
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
+pub(super) fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
         return 0.0;
     }

@@ -4,6 +4,7 @@
 //! traced curve must pass the independent checker, and circles well inside the box must come
 //! back as exactly one loop.
 
+use super::solve::{median, Rng};
 use crate::num::{rational_to_string, Rational};
 use crate::solve::{system_from_json, trace, verify_curves, CurveOptions, Curves, System};
 use crate::Path as Arith;
@@ -129,29 +130,10 @@ fn graph_curve(p: [i64; 4], q: [i64; 4], scale: i64) -> CurveCase {
     }
 }
 
-struct Rng(u64);
-
-impl Rng {
-    fn int(&mut self, lo: i64, hi: i64) -> i64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        lo + (self.0 % (hi - lo + 1) as u64) as i64
-    }
-}
-
 fn covered(c: &Curves, x: &[Rational]) -> bool {
     let inside =
         |b: &[(Rational, Rational)]| b.iter().zip(x).all(|((lo, hi), v)| lo <= v && v <= hi);
     c.arcs.iter().any(|a| inside(&a.bounds)) || c.clusters.iter().any(|k| inside(&k.bounds))
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
 }
 
 /// Traces `count` curves of each family on every path.

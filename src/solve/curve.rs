@@ -25,7 +25,7 @@
 //! curve in the domain lies in an arc's box or in a cluster's box.
 
 use super::subdivision::{
-    max_abs, root_free, strict_sign, Coefficient, Decision, MOVED_SPLITS_DEPTH, SPLITS,
+    max_abs, root_free, strict_sign, widest_axis, Coefficient, Decision, MOVED_SPLITS_DEPTH, SPLITS,
 };
 use super::{solve, Cluster, ClusterReason, RationalBox, Root, SolveError, SolveOptions, System};
 use crate::bernstein::{Bernstein, BernsteinError, Limits};
@@ -195,19 +195,15 @@ pub fn plane_system(
     if axis >= n || bounds.len() != n || n < 2 {
         return Err(SolveError::Unknowns(n));
     }
-    let unit = |k: usize, x: &Rational| {
-        let (a, b) = &system.domain[k];
-        (x - a) / (b - a)
-    };
     let mut sub = Vec::with_capacity(n);
     for (k, (lo, hi)) in bounds.iter().enumerate() {
         sub.push(if k == axis {
             (Rational::zero(), Rational::one())
         } else {
-            (unit(k, lo), unit(k, hi))
+            (system.to_unit(k, lo), system.to_unit(k, hi))
         });
     }
-    let at = unit(axis, c);
+    let at = system.to_unit(axis, c);
     let mut equations = Vec::with_capacity(system.equations.len());
     for e in &system.equations {
         let mut q = e.eval_axis(axis, &at)?;
@@ -363,27 +359,14 @@ struct Tracer<'a> {
 }
 
 impl Tracer<'_> {
-    fn unit(&self, k: usize, x: &Rational) -> Rational {
-        let (a, b) = &self.system.domain[k];
-        (x - a) / (b - a)
-    }
-
     /// A domain box in unit coordinates.
     fn unit_box(&self, bounds: &RationalBox) -> UnitBox {
         let (lo, hi) = bounds
             .iter()
             .enumerate()
-            .map(|(k, (a, b))| (self.unit(k, a), self.unit(k, b)))
+            .map(|(k, (a, b))| (self.system.to_unit(k, a), self.system.to_unit(k, b)))
             .unzip();
         UnitBox { lo, hi }
-    }
-
-    fn domain_box(&self, lo: &[Rational], hi: &[Rational]) -> RationalBox {
-        self.system
-            .to_domain(lo)
-            .into_iter()
-            .zip(self.system.to_domain(hi))
-            .collect()
     }
 
     /// Solves the cross-section `x_axis = at` (unit) of the box `lo..hi`; returns the new
@@ -396,7 +379,7 @@ impl Tracer<'_> {
         at: &Rational,
         strict: bool,
     ) -> Result<Option<Crossings>, SolveError> {
-        let bounds = self.domain_box(lo, hi);
+        let bounds = self.system.domain_box(lo, hi);
         let (a, b) = &self.system.domain[axis];
         let c = a + (b - a) * at;
         let plane = plane_system(self.system, axis, &c, &bounds)?;
@@ -472,7 +455,7 @@ impl Tracer<'_> {
         let max_abs_f = max_abs(&node.polys);
         self.clusters.push((
             Cluster {
-                bounds: self.domain_box(&node.lo, &node.hi),
+                bounds: self.system.domain_box(&node.lo, &node.hi),
                 reason,
                 max_abs_f,
             },
@@ -554,13 +537,7 @@ impl Tracer<'_> {
             }
             self.visited += 1;
             let class = self.class_of(&node, exact)?;
-            let widest = (0..n)
-                .max_by(|&a, &b| {
-                    (&node.hi[a] - &node.lo[a])
-                        .cmp(&(&node.hi[b] - &node.lo[b]))
-                        .then(b.cmp(&a))
-                })
-                .unwrap_or(0);
+            let widest = widest_axis(&node.lo, &node.hi);
             let width = &node.hi[widest] - &node.lo[widest];
             match class {
                 Class::Empty => continue,
@@ -568,7 +545,7 @@ impl Tracer<'_> {
                     0 => continue,
                     2 if width <= resolution => {
                         self.arcs.push(Arc {
-                            bounds: self.domain_box(&node.lo, &node.hi),
+                            bounds: self.system.domain_box(&node.lo, &node.hi),
                             ends: [node.points[0], node.points[1]],
                             monotone_axis: k,
                         });

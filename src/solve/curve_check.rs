@@ -152,8 +152,8 @@ fn check_arc(system: &System, curves: &Curves, arc: &Arc) -> Result<(), String> 
     }
     let sub: Vec<(Rational, Rational)> = b
         .iter()
-        .zip(&system.domain)
-        .map(|((lo, hi), (a, bb))| ((lo - a) / (bb - a), (hi - a) / (bb - a)))
+        .enumerate()
+        .map(|(k, (lo, hi))| (system.to_unit(k, lo), system.to_unit(k, hi)))
         .collect();
     let f: Vec<Bernstein<Rational>> = system
         .equations

@@ -130,6 +130,20 @@ impl System {
             .map(|((a, b), t)| a + (b - a) * t)
             .collect()
     }
+
+    /// The unit-box parameter of the domain coordinate `x` on `axis`: `(x − a)/(b − a)`.
+    pub(crate) fn to_unit(&self, axis: usize, x: &Rational) -> Rational {
+        let (a, b) = &self.domain[axis];
+        (x - a) / (b - a)
+    }
+
+    /// The domain box of the unit-box bounds `lo`, `hi`.
+    pub(crate) fn domain_box(&self, lo: &[Rational], hi: &[Rational]) -> RationalBox {
+        self.to_domain(lo)
+            .into_iter()
+            .zip(self.to_domain(hi))
+            .collect()
+    }
 }
 
 /// Options of [`solve`].

@@ -437,6 +437,13 @@ fn refine<T: Coefficient>(
     Ok(keep())
 }
 
+/// The axis of the box's widest side (the lowest such axis on ties).
+pub(super) fn widest_axis(lo: &[Rational], hi: &[Rational]) -> usize {
+    (0..lo.len())
+        .max_by(|&a, &b| (&hi[a] - &lo[a]).cmp(&(&hi[b] - &lo[b])).then(b.cmp(&a)))
+        .unwrap_or(0)
+}
+
 /// The depth from which splits are always at ½.
 pub(super) const MOVED_SPLITS_DEPTH: u32 = 24;
 
@@ -557,7 +564,7 @@ fn run<T: Coefficient>(
         visited: 0,
     };
     let cluster = |node: &Node<T>, reason| {
-        let bounds = domain_box(system, &node.lo, &node.hi);
+        let bounds = system.domain_box(&node.lo, &node.hi);
         let max_abs_f = max_abs(&node.polys);
         (
             Cluster {
@@ -604,13 +611,7 @@ fn run<T: Coefficient>(
             continue;
         }
         // Split the widest side (in unit coordinates) at a root-free plane if one is found.
-        let axis = (0..n)
-            .max_by(|&a, &b| {
-                (&node.hi[a] - &node.lo[a])
-                    .cmp(&(&node.hi[b] - &node.lo[b]))
-                    .then(b.cmp(&a))
-            })
-            .unwrap_or(0);
+        let axis = widest_axis(&node.lo, &node.hi);
         let s = split_parameter(&node.polys, axis, node.depth)?;
         let st = T::from_rational(&s);
         let mut left = Vec::with_capacity(node.polys.len());
@@ -641,18 +642,9 @@ fn run<T: Coefficient>(
     Ok(found)
 }
 
-/// The domain box of unit-box bounds `lo`, `hi`.
-fn domain_box(system: &System, lo: &[Rational], hi: &[Rational]) -> Vec<(Rational, Rational)> {
-    system
-        .to_domain(lo)
-        .into_iter()
-        .zip(system.to_domain(hi))
-        .collect()
-}
-
 /// A certified root from its unit box.
 fn root(system: &System, lo: &[Rational], hi: &[Rational], certificate: RootCertificate) -> Root {
-    let bounds = domain_box(system, lo, hi);
+    let bounds = system.domain_box(lo, hi);
     let two = Rational::from_integer(2.into());
     let approx: Vec<f64> = bounds
         .iter()
@@ -736,8 +728,10 @@ fn certify_across_planes(
             .roots
             .iter()
             .map(|r| {
-                let ulo: Vec<Rational> = (0..n).map(|k| unit(system, k, &r.bounds[k].0)).collect();
-                let uhi: Vec<Rational> = (0..n).map(|k| unit(system, k, &r.bounds[k].1)).collect();
+                let ulo: Vec<Rational> =
+                    (0..n).map(|k| system.to_unit(k, &r.bounds[k].0)).collect();
+                let uhi: Vec<Rational> =
+                    (0..n).map(|k| system.to_unit(k, &r.bounds[k].1)).collect();
                 (ulo, uhi)
             })
             .chain(
@@ -777,12 +771,6 @@ fn certify_across_planes(
         .map(|(c, _)| c)
         .collect();
     Ok(found)
-}
-
-/// The unit coordinate of a domain coordinate.
-fn unit(system: &System, k: usize, x: &Rational) -> Rational {
-    let (a, b) = &system.domain[k];
-    (x - a) / (b - a)
 }
 
 /// Solves `system` (as many equations as unknowns) on its domain on the path `opts.path`.

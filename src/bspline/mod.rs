@@ -49,6 +49,12 @@ pub enum BsplineError {
         /// Which knot.
         what: String,
     },
+    #[error("the box crosses a knot or leaves the domain on axis {axis}")]
+    /// A box asked to lie inside one knot span does not.
+    CrossesKnot {
+        /// The axis.
+        axis: usize,
+    },
     #[error("factors live on different domains (factor {factor})")]
     /// Product factors live on different domains.
     DomainMismatch {

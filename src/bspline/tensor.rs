@@ -149,6 +149,71 @@ impl<T: Field + PartialOrd> TensorSpline<T> {
         })
     }
 
+    /// The polynomial piece on `bounds` (a box inside one non-empty knot span per axis), in
+    /// Bernstein form over `bounds`: per axis the blossom `b_i = F(lo^{p−i}, hi^i)` on every
+    /// line. Fails when the box leaves the domain or crosses a knot strictly inside it.
+    pub fn bezier_on_box(&self, bounds: &[(T, T)]) -> Result<Bernstein<T>, BsplineError> {
+        let n = self.dim();
+        if bounds.len() != n {
+            return Err(BsplineError::DimensionMismatch {
+                expected: n,
+                found: bounds.len(),
+            });
+        }
+        let mut counts = self.counts();
+        let mut coeffs = self.coeffs.clone();
+        for (a, (lo, hi)) in bounds.iter().enumerate() {
+            let probe = self.axis_spline(a, vec![T::zero(); counts[a]]);
+            let mu = probe
+                .spans()
+                .into_iter()
+                .find(|&mu| &self.knots[a][mu] <= lo && hi <= &self.knots[a][mu + 1])
+                .filter(|_| lo <= hi)
+                .ok_or(BsplineError::CrossesKnot { axis: a })?;
+            let p = self.degrees[a];
+            let degs: Vec<usize> = counts.iter().map(|c| c - 1).collect();
+            coeffs = map_lines(&degs, &coeffs, a, p + 1, &T::zero(), |line, out| {
+                out.clone_from_slice(&self.axis_spline(a, line.to_vec()).bezier_on(mu, lo, hi));
+            });
+            counts[a] = p + 1;
+        }
+        Ok(Bernstein::new(self.degrees.clone(), coeffs)?)
+    }
+
+    /// The same field with the knots `xs` (strictly inside the domain) inserted along `axis`
+    /// on every line (the Oslo algorithm in blossom form).
+    pub fn insert_knots(&self, axis: usize, xs: &[T]) -> Result<TensorSpline<T>, BsplineError> {
+        if axis >= self.dim() {
+            return Err(BsplineError::DimensionMismatch {
+                expected: self.dim(),
+                found: axis + 1,
+            });
+        }
+        let counts = self.counts();
+        let degs: Vec<usize> = counts.iter().map(|c| c - 1).collect();
+        let refined = self
+            .axis_spline(axis, vec![T::zero(); counts[axis]])
+            .insert_knots(xs)?;
+        let mut err = None;
+        let coeffs = map_lines(
+            &degs,
+            &self.coeffs,
+            axis,
+            refined.coeffs().len(),
+            &T::zero(),
+            |line, out| match self.axis_spline(axis, line.to_vec()).insert_knots(xs) {
+                Ok(s) => out.clone_from_slice(s.coeffs()),
+                Err(e) => err = Some(e),
+            },
+        );
+        if let Some(e) = err {
+            return Err(e);
+        }
+        let mut knots = self.knots.clone();
+        knots[axis] = refined.knots().to_vec();
+        TensorSpline::new(self.degrees.clone(), knots, coeffs)
+    }
+
     /// Converts every line along every axis into its Bézier pieces with `pieces`
     /// (`(spline, spans) → one coefficient vector per span`), then cuts the net into cells.
     fn cells_with<F>(&self, pieces: F) -> Result<Vec<BezierCell<T>>, BsplineError>

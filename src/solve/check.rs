@@ -2,11 +2,17 @@
 //! restricts the original equations to the root's box directly, forms `g = A f` and reads
 //! the faces and the partial derivatives itself, all in exact rationals.
 
-use super::input::{certificate_from_json, parse_box, system_from_json, system_to_json};
-use super::{RationalBox, RootCertificate, Solution, SolveError, System};
+use super::input::{
+    certificate_from_json, parse_box, piecewise_system_from_json, piecewise_system_to_json,
+    system_to_json,
+};
+use super::{
+    Equation, PiecewiseSystem, RationalBox, RootCertificate, Solution, SolveError, System,
+};
 use crate::bernstein::{Bernstein, BernsteinError};
+use crate::bspline::BsplineError;
 use crate::num::{rational_to_string, Rational};
-use num_traits::{Signed, Zero};
+use num_traits::{One, Signed, Zero};
 use serde_json::{json, Value};
 
 /// The kind string of a root-certificate file.
@@ -61,6 +67,9 @@ pub enum RootRefusal {
     /// The Bernstein kernel refused an operation.
     #[error("Bernstein kernel: {0}")]
     Kernel(#[from] BernsteinError),
+    /// The B-spline kernel refused an operation.
+    #[error("B-spline kernel: {0}")]
+    Spline(BsplineError),
 }
 
 /// Re-checks that `bounds` (domain coordinates) holds exactly one root of `system`, from the
@@ -71,123 +80,258 @@ pub fn verify_root(
     certificate: &RootCertificate,
 ) -> Result<RootCheck, RootRefusal> {
     let n = system.unknowns();
+    shape(n, system.equations.len(), bounds, certificate)?;
+    let sub = unit_box(&system.domain, bounds)?;
+    let f = system
+        .equations
+        .iter()
+        .map(|e| e.restrict(&sub))
+        .collect::<Result<Vec<_>, _>>()?;
+    let whole = Part {
+        f: common_degrees(f)?,
+        lower: vec![true; n],
+        upper: vec![true; n],
+        ratio: vec![Rational::one(); n],
+    };
+    check_parts(&[whole], certificate)
+}
+
+/// [`verify_root`] for a system with B-spline equations. The box is cut by the equations'
+/// knots strictly inside it into parts; each equation is taken on each part directly (a
+/// B-spline by blossoming, a polynomial by restriction); Miranda's conditions are checked on
+/// every part of every face, and the interval Jacobian over all parts (which is what the mean
+/// value theorem along a segment crossing parts needs; the field is continuous).
+pub fn verify_piecewise_root(
+    system: &PiecewiseSystem,
+    bounds: &RationalBox,
+    certificate: &RootCertificate,
+) -> Result<RootCheck, RootRefusal> {
+    let n = system.unknowns();
+    shape(n, system.equations().len(), bounds, certificate)?;
+    unit_box(system.domain(), bounds)?;
+    // Per axis, the part boundaries: the box's ends and the knots strictly inside it.
+    let mut cuts: Vec<Vec<Rational>> = bounds
+        .iter()
+        .map(|(a, b)| vec![a.clone(), b.clone()])
+        .collect();
+    for e in system.equations() {
+        if let Equation::Spline(s) = e {
+            for (k, knots) in s.knots().iter().enumerate() {
+                let (a, b) = &bounds[k];
+                cuts[k].extend(knots.iter().filter(|x| a < *x && *x < b).cloned());
+            }
+        }
+    }
+    for c in &mut cuts {
+        c.sort();
+        c.dedup();
+    }
+    let counts: Vec<usize> = cuts.iter().map(|c| c.len() - 1).collect();
+    let total: usize = counts.iter().product();
+    let mut parts = Vec::with_capacity(total);
+    for mut flat in 0..total {
+        let mut part = Vec::with_capacity(n);
+        for k in 0..n {
+            let j = flat % counts[k];
+            flat /= counts[k];
+            part.push((cuts[k][j].clone(), cuts[k][j + 1].clone()));
+        }
+        let sub = unit_box(system.domain(), &part)?;
+        let f = system
+            .equations()
+            .iter()
+            .map(|e| match e {
+                Equation::Polynomial(p) => Ok(p.restrict(&sub)?),
+                Equation::Spline(s) => s.bezier_on_box(&part).map_err(RootRefusal::Spline),
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        parts.push(Part {
+            f: common_degrees(f)?,
+            lower: (0..n).map(|k| part[k].0 == bounds[k].0).collect(),
+            upper: (0..n).map(|k| part[k].1 == bounds[k].1).collect(),
+            ratio: (0..n)
+                .map(|k| (&bounds[k].1 - &bounds[k].0) / (&part[k].1 - &part[k].0))
+                .collect(),
+        });
+    }
+    check_parts(&parts, certificate)
+}
+
+/// The box, the matrix and the signs have the system's dimension, and it is square.
+fn shape(
+    n: usize,
+    equations: usize,
+    bounds: &RationalBox,
+    certificate: &RootCertificate,
+) -> Result<(), RootRefusal> {
     let a = &certificate.preconditioner;
     if bounds.len() != n
         || a.len() != n
         || a.iter().any(|r| r.len() != n)
         || certificate.lower_face_signs.len() != n
-        || system.equations.len() != n
+        || equations != n
     {
         return Err(RootRefusal::Shape(n));
     }
-    // The box in the unit coordinates of the domain.
-    let mut sub = Vec::with_capacity(n);
-    for (axis, ((lo, hi), (a0, b0))) in bounds.iter().zip(&system.domain).enumerate() {
+    Ok(())
+}
+
+/// `bounds` in the unit coordinates of `domain`; refused when empty or not inside.
+fn unit_box(
+    domain: &[(Rational, Rational)],
+    bounds: &RationalBox,
+) -> Result<Vec<(Rational, Rational)>, RootRefusal> {
+    let mut sub = Vec::with_capacity(bounds.len());
+    for (axis, ((lo, hi), (a0, b0))) in bounds.iter().zip(domain).enumerate() {
         let w = b0 - a0;
         let (u, v) = ((lo - a0) / &w, (hi - a0) / &w);
-        if u.is_negative() || v > Rational::from_integer(1.into()) || u >= v {
+        if u.is_negative() || v > Rational::one() || u >= v {
             return Err(RootRefusal::Bounds { axis });
         }
         sub.push((u, v));
     }
-    // Each equation on the box, at the common degrees.
+    Ok(sub)
+}
+
+/// The polynomials elevated to the highest degree each axis has among them.
+fn common_degrees(f: Vec<Bernstein<Rational>>) -> Result<Vec<Bernstein<Rational>>, RootRefusal> {
+    let n = f.first().map_or(0, Bernstein::dim);
     let top: Vec<usize> = (0..n)
-        .map(|k| {
-            system
-                .equations
-                .iter()
-                .map(|e| e.degrees()[k])
-                .max()
-                .unwrap_or(0)
-        })
+        .map(|k| f.iter().map(|e| e.degrees()[k]).max().unwrap_or(0))
         .collect();
-    let mut f = Vec::with_capacity(n);
-    for e in &system.equations {
-        let mut p = e.restrict(&sub)?;
-        for (k, &t) in top.iter().enumerate() {
-            let d = p.degrees()[k];
-            if d < t {
-                p = p.elevate(k, t - d)?;
+    f.into_iter()
+        .map(|mut p| {
+            for (k, &t) in top.iter().enumerate() {
+                let d = p.degrees()[k];
+                if d < t {
+                    p = p.elevate(k, t - d)?;
+                }
+            }
+            Ok(p)
+        })
+        .collect()
+}
+
+/// One part of the box under check: the equations on it (Bernstein form on the part, common
+/// degrees), whether it lies on the box's lower / upper face per axis, and per axis the box's
+/// width over the part's (a derivative in the part's unit coordinates times this is one in
+/// the box's).
+struct Part {
+    f: Vec<Bernstein<Rational>>,
+    lower: Vec<bool>,
+    upper: Vec<bool>,
+    ratio: Vec<Rational>,
+}
+
+/// Miranda on every part of every face and diagonal dominance over all parts, for
+/// `g = A f`.
+fn check_parts(parts: &[Part], certificate: &RootCertificate) -> Result<RootCheck, RootRefusal> {
+    let a = &certificate.preconditioner;
+    let n = a.len();
+    for part in parts {
+        let top = part.f[0].degrees().to_vec();
+        // g = A f, coefficient by coefficient.
+        let size = part.f[0].coeffs().len();
+        let g: Vec<Bernstein<Rational>> = a
+            .iter()
+            .map(|row| {
+                let coeffs = (0..size)
+                    .map(|c| {
+                        row.iter()
+                            .zip(&part.f)
+                            .map(|(aij, fj)| aij * &fj.coeffs()[c])
+                            .fold(Rational::zero(), |s, x| s + x)
+                    })
+                    .collect();
+                Bernstein::new(top.clone(), coeffs)
+            })
+            .collect::<Result<_, _>>()?;
+        // Miranda: every coefficient on the face t_i = 0 has the certified sign, on t_i = 1
+        // the other.
+        let strides: Vec<usize> = (0..n)
+            .scan(1, |s, k| {
+                let here = *s;
+                *s *= top[k] + 1;
+                Some(here)
+            })
+            .collect();
+        for (i, gi) in g.iter().enumerate() {
+            let negative_below = certificate.lower_face_signs[i] < 0;
+            for upper in [false, true] {
+                if !(if upper { part.upper[i] } else { part.lower[i] }) {
+                    continue;
+                }
+                let want_negative = negative_below != upper;
+                let on_face =
+                    |c: usize| (c / strides[i]) % (top[i] + 1) == if upper { top[i] } else { 0 };
+                let ok = gi
+                    .coeffs()
+                    .iter()
+                    .enumerate()
+                    .filter(|(c, _)| on_face(*c))
+                    .all(|(_, x)| {
+                        if want_negative {
+                            x.is_negative()
+                        } else {
+                            x.is_positive()
+                        }
+                    });
+                if !ok {
+                    return Err(RootRefusal::Miranda {
+                        equation: i,
+                        upper,
+                        negative: want_negative,
+                    });
+                }
             }
         }
-        f.push(p);
     }
-    // g = A f, coefficient by coefficient.
-    let size = f[0].coeffs().len();
-    let g: Vec<Bernstein<Rational>> = a
-        .iter()
-        .map(|row| {
-            let coeffs = (0..size)
-                .map(|c| {
-                    row.iter()
-                        .zip(&f)
-                        .map(|(aij, fj)| aij * &fj.coeffs()[c])
-                        .fold(Rational::zero(), |s, x| s + x)
-                })
-                .collect();
-            Bernstein::new(top.clone(), coeffs)
-        })
-        .collect::<Result<_, _>>()?;
-    // Miranda: every coefficient on the face t_i = 0 has the certified sign, on t_i = 1 the
-    // other.
-    let strides: Vec<usize> = (0..n)
-        .scan(1, |s, k| {
-            let here = *s;
-            *s *= top[k] + 1;
-            Some(here)
-        })
-        .collect();
-    for (i, gi) in g.iter().enumerate() {
-        let negative_below = certificate.lower_face_signs[i] < 0;
-        for upper in [false, true] {
-            let want_negative = negative_below != upper;
-            let on_face =
-                |c: usize| (c / strides[i]) % (top[i] + 1) == if upper { top[i] } else { 0 };
-            let ok = gi
-                .coeffs()
+    // Uniqueness: min |∂g_i/∂t_i| > Σ_{k≠i} max |∂g_i/∂t_k| over the coefficients of all
+    // parts (in the box's coordinates), the diagonal of one strict sign everywhere.
+    for (i, row) in a.iter().enumerate() {
+        let mut off = vec![Rational::zero(); n];
+        let mut diag: Option<Rational> = None;
+        let mut diag_sign = 0i8;
+        for part in parts {
+            let top = part.f[0].degrees();
+            let gi = part
+                .f
                 .iter()
-                .enumerate()
-                .filter(|(c, _)| on_face(*c))
-                .all(|(_, x)| {
-                    if want_negative {
-                        x.is_negative()
-                    } else {
-                        x.is_positive()
+                .zip(row)
+                .map(|(fj, aij)| fj.scale(aij))
+                .reduce(|s, t| s.add(&t).expect("same degrees"))
+                .ok_or(RootRefusal::Shape(n))?;
+            for (k, &degree) in top.iter().enumerate() {
+                if degree == 0 {
+                    if k == i {
+                        return Err(RootRefusal::Uniqueness { row: i });
                     }
-                });
-            if !ok {
-                return Err(RootRefusal::Miranda {
-                    equation: i,
-                    upper,
-                    negative: want_negative,
-                });
-            }
-        }
-    }
-    // Uniqueness: min |∂g_i/∂t_i| > Σ_{k≠i} max |∂g_i/∂t_k| over the coefficients, the
-    // diagonal of one strict sign.
-    for (i, gi) in g.iter().enumerate() {
-        let mut off = Rational::zero();
-        let mut diag = None;
-        for (k, &degree) in top.iter().enumerate() {
-            if degree == 0 {
+                    continue;
+                }
+                let d = gi.derivative(k)?;
                 if k == i {
-                    return Err(RootRefusal::Uniqueness { row: i });
+                    let sign = if d.coeffs().iter().all(|c| c.is_positive()) {
+                        1
+                    } else if d.coeffs().iter().all(|c| c.is_negative()) {
+                        -1
+                    } else {
+                        0
+                    };
+                    if sign == 0 || (diag_sign != 0 && sign != diag_sign) {
+                        return Err(RootRefusal::Uniqueness { row: i });
+                    }
+                    diag_sign = sign;
+                    let least = d.coeffs().iter().map(|c| c.abs()).min().unwrap_or_default()
+                        * &part.ratio[k];
+                    diag = Some(diag.map_or(least.clone(), |m| m.min(least)));
+                } else {
+                    let most = d.coeffs().iter().map(|c| c.abs()).max().unwrap_or_default()
+                        * &part.ratio[k];
+                    off[k] = off[k].clone().max(most);
                 }
-                continue;
-            }
-            let d = gi.derivative(k)?;
-            if k == i {
-                let all_pos = d.coeffs().iter().all(|c| c.is_positive());
-                let all_neg = d.coeffs().iter().all(|c| c.is_negative());
-                if !(all_pos || all_neg) {
-                    return Err(RootRefusal::Uniqueness { row: i });
-                }
-                diag = d.coeffs().iter().map(|c| c.abs()).min();
-            } else {
-                off += d.coeffs().iter().map(|c| c.abs()).max().unwrap_or_default();
             }
         }
+        let off: Rational = off.into_iter().sum();
         if diag.is_none_or(|m| m <= off) {
             return Err(RootRefusal::Uniqueness { row: i });
         }
@@ -198,9 +342,18 @@ pub fn verify_root(
 /// The certificate file of a solution: the system (exactly) and each root's box,
 /// preconditioner and face signs.
 pub fn solution_certificate(system: &System, solution: &Solution) -> Value {
+    certificate_with(system_to_json(system), solution)
+}
+
+/// [`solution_certificate`] for a system with B-spline equations (written as given).
+pub fn piecewise_solution_certificate(system: &PiecewiseSystem, solution: &Solution) -> Value {
+    certificate_with(piecewise_system_to_json(system), solution)
+}
+
+fn certificate_with(system: Value, solution: &Solution) -> Value {
     json!({
         "kind": CERTIFICATE_KIND,
-        "system": system_to_json(system),
+        "system": system,
         "roots": solution.roots.iter().map(|r| json!({
             "box": r.bounds.iter()
                 .map(|(a, b)| json!([rational_to_string(a), rational_to_string(b)]))
@@ -211,7 +364,8 @@ pub fn solution_certificate(system: &System, solution: &Solution) -> Value {
     })
 }
 
-/// Re-checks every root of a certificate file with [`verify_root`]. The outer error is a
+/// Re-checks every root of a certificate file with [`verify_piecewise_root`] (which is
+/// [`verify_root`] when no equation has a knot inside the root's box). The outer error is a
 /// malformed file; each root has its own outcome.
 #[allow(clippy::type_complexity)]
 pub fn verify_solution_certificate(
@@ -225,7 +379,7 @@ pub fn verify_solution_certificate(
     if v.get("kind").and_then(Value::as_str) != Some(CERTIFICATE_KIND) {
         return Err(field("kind", &format!("expected {CERTIFICATE_KIND:?}")));
     }
-    let system = system_from_json(&v["system"].to_string())?;
+    let system = piecewise_system_from_json(&v["system"].to_string())?;
     let n = system.unknowns();
     let roots = v
         .get("roots")
@@ -235,7 +389,7 @@ pub fn verify_solution_certificate(
     for (r, root) in roots.iter().enumerate() {
         let bounds = parse_box(root.get("box"), &format!("roots[{r}].box"), Some(n))?;
         let certificate = certificate_from_json(root, n)?;
-        out.push(verify_root(&system, &bounds, &certificate));
+        out.push(verify_piecewise_root(&system, &bounds, &certificate));
     }
     Ok(out)
 }

@@ -3,18 +3,46 @@
 //! fastest), in power form in the domain's coordinates (`{"terms": [[[e0, …], c], …]}`), or
 //! a rational function `{"rational": {"numerator": P, "denominator": Q}}` of two such
 //! polynomials: its zero set is the numerator's once the denominator is certified to keep
-//! one strict sign on the box (else the file is refused, naming the equation).
+//! one strict sign on the box (else the file is refused, naming the equation), or a tensor
+//! B-spline field `{"bspline": {"orders": [k0, …], "knots": [[…], …], "coeffs": […]}}` in
+//! domain coordinates (order = degree + 1, full knot vectors, clamped or not, `len(knots_i) −
+//! k_i` coefficients per axis, axis 0 fastest; its domain must cover the box, and a knot
+//! inside the box may have any multiplicity up to the degree).
 //! Numbers are JSON numbers (exact as the `f64` they denote) or `"p/q"` / decimal strings
 //! (exact).
 
-use super::{RationalBox, RootCertificate, SolveError, System};
+use super::{Equation, PiecewiseSystem, RationalBox, RootCertificate, SolveError, System};
 use crate::bernstein::{parse_number, poly_from_json, poly_to_json, Bernstein};
+use crate::bspline::TensorSpline;
 use crate::num::{rational_to_string, Rational};
 use num_traits::{One, Zero};
 use serde_json::{json, Value};
 
-/// Parses a system file (see the module docs).
+/// Parses a system file (see the module docs) whose equations are polynomials on the whole
+/// box: a B-spline equation with a knot strictly inside the box is refused here (read such a
+/// file with [`piecewise_system_from_json`]).
 pub fn system_from_json(text: &str) -> Result<System, SolveError> {
+    let p = piecewise_system_from_json(text)?;
+    match p.polynomial() {
+        Some(s) => Ok(s.clone()),
+        None => {
+            let equation = p
+                .equations()
+                .iter()
+                .position(|e| matches!(e, Equation::Spline(_)))
+                .unwrap_or(0);
+            Err(SolveError::Equation {
+                equation,
+                why: "is a B-spline with knots inside the box, piecewise: read the file with \
+                      `piecewise_system_from_json` and solve it with `solve_piecewise`"
+                    .into(),
+            })
+        }
+    }
+}
+
+/// Parses a system file (see the module docs), B-spline equations included.
+pub fn piecewise_system_from_json(text: &str) -> Result<PiecewiseSystem, SolveError> {
     let v: Value = serde_json::from_str(text).map_err(|e| SolveError::Json(e.to_string()))?;
     let field = |f: &str, why: &str| SolveError::Field {
         field: f.into(),
@@ -48,13 +76,82 @@ pub fn system_from_json(text: &str) -> Result<System, SolveError> {
                 why: format!("the denominator {why}"),
             })?;
             num
+        } else if let Some(b) = e.get("bspline") {
+            equations.push(Equation::Spline(bspline(b, &format!("{name}.bspline"))?));
+            continue;
         } else {
             polynomial(Some(e), &domain, &name)?
         };
         same_dim(&p, n, i)?;
-        equations.push(p);
+        equations.push(Equation::Polynomial(p));
     }
-    System::new(domain, equations)
+    PiecewiseSystem::new(domain, equations)
+}
+
+/// A tensor B-spline field `{"orders": [k0, …], "knots": [[…], …], "coeffs": […]}`: order
+/// `k = degree + 1` per axis, full knot vectors, `len(knots_i) − k_i` coefficients per axis,
+/// axis 0 fastest.
+fn bspline(v: &Value, name: &str) -> Result<TensorSpline<Rational>, SolveError> {
+    let field = |f: &str, why: String| SolveError::Field {
+        field: format!("{name}.{f}"),
+        why,
+    };
+    let orders: Vec<usize> = v
+        .get("orders")
+        .and_then(Value::as_array)
+        .and_then(|a| {
+            a.iter()
+                .map(|k| {
+                    k.as_u64()
+                        .filter(|&k| (1..=super::MAX_DEGREE as u64 + 1).contains(&k))
+                        .map(|k| k as usize)
+                })
+                .collect::<Option<Vec<_>>>()
+        })
+        .ok_or_else(|| {
+            field(
+                "orders",
+                format!("expected integers 1…{} per axis", super::MAX_DEGREE + 1),
+            )
+        })?;
+    let knot_lists = v
+        .get("knots")
+        .and_then(Value::as_array)
+        .filter(|k| k.len() == orders.len())
+        .ok_or_else(|| field("knots", format!("expected {} knot vectors", orders.len())))?;
+    let mut knots = Vec::with_capacity(orders.len());
+    for (k, list) in knot_lists.iter().enumerate() {
+        let list = list
+            .as_array()
+            .filter(|l| l.len() > orders[k])
+            .ok_or_else(|| {
+                field(
+                    &format!("knots[{k}]"),
+                    format!("expected more than the order {} knots", orders[k]),
+                )
+            })?;
+        knots.push(
+            list.iter()
+                .enumerate()
+                .map(|(j, x)| {
+                    parse_number(x).map_err(|e| field(&format!("knots[{k}][{j}]"), e.to_string()))
+                })
+                .collect::<Result<Vec<_>, _>>()?,
+        );
+    }
+    let coeffs = v
+        .get("coeffs")
+        .and_then(Value::as_array)
+        .ok_or_else(|| field("coeffs", "missing or not an array".into()))?
+        .iter()
+        .enumerate()
+        .map(|(j, x)| parse_number(x).map_err(|e| field(&format!("coeffs[{j}]"), e.to_string())))
+        .collect::<Result<Vec<_>, _>>()?;
+    let degrees = orders.iter().map(|k| k - 1).collect();
+    TensorSpline::new(degrees, knots, coeffs).map_err(|e| SolveError::Field {
+        field: name.into(),
+        why: e.to_string(),
+    })
 }
 
 fn same_dim(p: &Bernstein<Rational>, n: usize, equation: usize) -> Result<(), SolveError> {
@@ -84,7 +181,7 @@ fn polynomial(
         poly_from_json(e).map_err(|why| field(&why.to_string()))
     } else if e.get("bspline").is_some() {
         Err(field(
-            "B-spline equations are not read yet: give the Bernstein pieces or the power form",
+            "a B-spline is an equation of its own, not part of a rational function",
         ))
     } else {
         Err(field(
@@ -253,6 +350,25 @@ pub fn system_to_json(s: &System) -> Value {
             .map(|(a, b)| json!([rational_to_string(a), rational_to_string(b)]))
             .collect::<Vec<_>>(),
         "equations": s.equations.iter().map(poly_to_json).collect::<Vec<_>>(),
+    })
+}
+
+/// A piecewise system in the file format (exact strings; B-spline equations as given).
+pub fn piecewise_system_to_json(s: &PiecewiseSystem) -> Value {
+    json!({
+        "box": s.domain().iter()
+            .map(|(a, b)| json!([rational_to_string(a), rational_to_string(b)]))
+            .collect::<Vec<_>>(),
+        "equations": s.equations().iter().map(|e| match e {
+            Equation::Polynomial(p) => poly_to_json(p),
+            Equation::Spline(t) => json!({"bspline": {
+                "orders": t.degrees().iter().map(|d| d + 1).collect::<Vec<_>>(),
+                "knots": t.knots().iter()
+                    .map(|k| k.iter().map(rational_to_string).collect::<Vec<_>>())
+                    .collect::<Vec<_>>(),
+                "coeffs": t.coeffs().iter().map(rational_to_string).collect::<Vec<_>>(),
+            }}),
+        }).collect::<Vec<_>>(),
     })
 }
 

@@ -46,11 +46,12 @@ mod check;
 mod curve;
 mod curve_check;
 mod input;
+mod piecewise;
 mod subdivision;
 
 pub use check::{
-    solution_certificate, verify_root, verify_solution_certificate, RootCheck, RootRefusal,
-    CERTIFICATE_KIND,
+    piecewise_solution_certificate, solution_certificate, verify_piecewise_root, verify_root,
+    verify_solution_certificate, RootCheck, RootRefusal, CERTIFICATE_KIND,
 };
 pub use curve::{
     extreme_system, plane_system, trace, Arc, Component, CurveEnd, CurveOptions, CurvePoint,
@@ -60,7 +61,10 @@ pub use curve_check::{
     curve_certificate, verify_curve_certificate, verify_curves, CurveCheck, CurveRefusal,
     CURVE_CERTIFICATE_KIND,
 };
-pub use input::{system_from_json, system_to_json};
+pub use input::{
+    piecewise_system_from_json, piecewise_system_to_json, system_from_json, system_to_json,
+};
+pub use piecewise::{solve_piecewise, Equation, PiecewiseSystem, MAX_CELLS};
 pub use subdivision::solve;
 
 use crate::bernstein::{Bernstein, BernsteinError, Limits};

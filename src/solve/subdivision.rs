@@ -2,7 +2,8 @@
 //! reference path, outward-rounded intervals for the fast one.
 
 use super::{
-    Cluster, ClusterReason, Root, RootCertificate, Solution, SolveError, SolveOptions, System,
+    Cluster, ClusterReason, RationalBox, Root, RootCertificate, Solution, SolveError, SolveOptions,
+    System,
 };
 use crate::bernstein::Bernstein;
 use crate::num::{rational_from_f64, rational_to_f64, Field, Interval, Rational, Sign};
@@ -147,7 +148,7 @@ pub(super) fn root_free<T: Field>(polys: &[Bernstein<T>]) -> Decision {
 }
 
 /// `g = A f`: each `g_i = Σ_j A_ij f_j` (all equations share their degrees).
-fn precondition<T: Field>(
+pub(super) fn precondition<T: Field>(
     a: &[Vec<Rational>],
     f: &[Bernstein<T>],
 ) -> Result<Vec<Bernstein<T>>, SolveError> {
@@ -186,12 +187,19 @@ fn preconditioner<T: Field>(polys: &[Bernstein<T>]) -> Result<Vec<Vec<Rational>>
             };
         }
     }
+    Ok(rounded_inverse(j))
+}
+
+/// The inverse of the `f64` matrix `j` (the identity where it is singular or not finite),
+/// each entry rounded to 24 significant bits and taken exactly.
+pub(super) fn rounded_inverse(j: Vec<Vec<f64>>) -> Vec<Vec<Rational>> {
+    let n = j.len();
     let inverse = invert(j).unwrap_or_else(|| {
         (0..n)
             .map(|i| (0..n).map(|k| f64::from(u8::from(i == k))).collect())
             .collect()
     });
-    Ok(inverse
+    inverse
         .iter()
         .map(|row| {
             row.iter()
@@ -202,11 +210,11 @@ fn preconditioner<T: Field>(polys: &[Bernstein<T>]) -> Result<Vec<Vec<Rational>>
                 })
                 .collect()
         })
-        .collect())
+        .collect()
 }
 
 /// Gauss–Jordan inversion with partial pivoting in `f64`; `None` when singular or not finite.
-fn invert(mut m: Vec<Vec<f64>>) -> Option<Vec<Vec<f64>>> {
+pub(super) fn invert(mut m: Vec<Vec<f64>>) -> Option<Vec<Vec<f64>>> {
     let n = m.len();
     let mut inv: Vec<Vec<f64>> = (0..n)
         .map(|i| (0..n).map(|k| f64::from(u8::from(i == k))).collect())
@@ -506,7 +514,9 @@ struct Found {
 }
 
 /// The common degrees of all equations (each axis: the highest), for preconditioning.
-fn elevated(equations: &[Bernstein<Rational>]) -> Result<Vec<Bernstein<Rational>>, SolveError> {
+pub(super) fn elevated(
+    equations: &[Bernstein<Rational>],
+) -> Result<Vec<Bernstein<Rational>>, SolveError> {
     let n = equations[0].dim();
     let top: Vec<usize> = (0..n)
         .map(|k| equations.iter().map(|e| e.degrees()[k]).max().unwrap_or(0))
@@ -525,6 +535,53 @@ fn elevated(equations: &[Bernstein<Rational>]) -> Result<Vec<Bernstein<Rational>
         .collect()
 }
 
+/// Faces of the unit box at which the subdivision stops early: a box at least `depth`
+/// levels deep that touches one of them (index `2·axis + upper`) on which the system may
+/// vanish goes back as a [`ClusterReason::DomainBoundary`] cluster (a piecewise system's
+/// cells stop so at knot planes; the roots there are solved across the plane).
+pub(super) struct FaceStop {
+    pub(super) faces: Vec<bool>,
+    pub(super) depth: u32,
+}
+
+impl FaceStop {
+    fn none() -> FaceStop {
+        FaceStop {
+            faces: Vec::new(),
+            depth: u32::MAX,
+        }
+    }
+
+    /// Whether `node` is deep enough and touches a stop face on which no equation is of one
+    /// strict sign.
+    fn stops<T: Field>(&self, node: &Node<T>) -> Result<bool, SolveError> {
+        let n = node.lo.len();
+        if self.faces.is_empty() || node.depth < self.depth.saturating_mul(n as u32) {
+            return Ok(false);
+        }
+        for axis in 0..n {
+            for upper in [false, true] {
+                let touches = if upper {
+                    node.hi[axis].is_one()
+                } else {
+                    node.lo[axis].is_zero()
+                };
+                if touches && self.faces[2 * axis + usize::from(upper)] {
+                    let faces: Vec<_> = node
+                        .polys
+                        .iter()
+                        .map(|p| p.face(axis, upper))
+                        .collect::<Result<_, _>>()?;
+                    if root_free(&faces) != Decision::Yes {
+                        return Ok(true);
+                    }
+                }
+            }
+        }
+        Ok(false)
+    }
+}
+
 /// The subdivision from the given start boxes (unit coordinates) of `exact`'s equations,
 /// in the coefficient field `T`.
 fn run<T: Coefficient>(
@@ -534,6 +591,7 @@ fn run<T: Coefficient>(
     opts: &SolveOptions,
     clock: Instant,
     visited_before: usize,
+    stop: &FaceStop,
 ) -> Result<Found, SolveError> {
     let n = system.unknowns();
     let limits = opts.limits;
@@ -591,7 +649,13 @@ fn run<T: Coefficient>(
         let (certified, certificate) = certify(&node.polys)?;
         if let (Decision::Yes, Some(certificate)) = (certified, certificate) {
             let (lo, hi, certificate) = refine(&node, certificate, opts.tolerance)?;
-            found.roots.push(root(system, &lo, &hi, certificate));
+            found.roots.push(root_of(system, &lo, &hi, certificate));
+            continue;
+        }
+        if stop.stops(&node)? {
+            found
+                .clusters
+                .push(cluster(&node, ClusterReason::DomainBoundary));
             continue;
         }
         // Rounding may leave a decision open (fast path only): splitting is always sound, so
@@ -643,8 +707,18 @@ fn run<T: Coefficient>(
 }
 
 /// A certified root from its unit box.
-fn root(system: &System, lo: &[Rational], hi: &[Rational], certificate: RootCertificate) -> Root {
-    let bounds = system.domain_box(lo, hi);
+fn root_of(
+    system: &System,
+    lo: &[Rational],
+    hi: &[Rational],
+    certificate: RootCertificate,
+) -> Root {
+    root_in(system.domain_box(lo, hi), certificate)
+}
+
+/// A certified root from its box in domain coordinates: the centre rounded to `f64` and the
+/// bound on the distance from it to any point of the box.
+pub(super) fn root_in(bounds: RationalBox, certificate: RootCertificate) -> Root {
     let two = Rational::from_integer(2.into());
     let approx: Vec<f64> = bounds
         .iter()
@@ -758,7 +832,7 @@ fn certify_across_planes(
                 depth: 0,
             };
             let (rlo, rhi, c) = refine(&node, c, opts.tolerance)?;
-            found.roots.push(root(system, &rlo, &rhi, c));
+            found.roots.push(root_of(system, &rlo, &rhi, c));
             for &m in members {
                 replaced[m] = true;
             }
@@ -780,6 +854,15 @@ fn certify_across_planes(
 /// tangential root, and roots closer together than the depth limit resolves come back as
 /// clusters.
 pub fn solve(system: &System, opts: &SolveOptions) -> Result<Solution, SolveError> {
+    solve_stopping(system, opts, &FaceStop::none())
+}
+
+/// [`solve`] with early stops at the faces `stop` names.
+pub(super) fn solve_stopping(
+    system: &System,
+    opts: &SolveOptions,
+    stop: &FaceStop,
+) -> Result<Solution, SolveError> {
     let n = system.unknowns();
     if system.equations.len() != n {
         return Err(SolveError::NotSquare {
@@ -795,16 +878,16 @@ pub fn solve(system: &System, opts: &SolveOptions) -> Result<Solution, SolveErro
     )];
     let clock = Instant::now();
     let found = match opts.path {
-        Path::Exact => run::<Rational>(system, &exact, whole, opts, clock, 0)?,
-        Path::Fast => run::<Interval>(system, &exact, whole, opts, clock, 0)?,
+        Path::Exact => run::<Rational>(system, &exact, whole, opts, clock, 0, stop)?,
+        Path::Fast => run::<Interval>(system, &exact, whole, opts, clock, 0, stop)?,
         Path::Filtered => {
-            let mut fast = run::<Interval>(system, &exact, whole, opts, clock, 0)?;
+            let mut fast = run::<Interval>(system, &exact, whole, opts, clock, 0, stop)?;
             let (open, mut kept): (Vec<_>, Vec<_>) = fast
                 .clusters
                 .drain(..)
                 .partition(|c| c.0.reason == ClusterReason::Uncertain);
             let starts = open.into_iter().map(|(_, lo, hi, d)| (lo, hi, d)).collect();
-            let more = run::<Rational>(system, &exact, starts, opts, clock, fast.visited)?;
+            let more = run::<Rational>(system, &exact, starts, opts, clock, fast.visited, stop)?;
             fast.roots.extend(more.roots);
             kept.extend(more.clusters);
             fast.clusters = kept;

@@ -1,0 +1,814 @@
+//! Piecewise systems: an equation given as a tensor B-spline field is a polynomial only
+//! between its knots. The box is cut by every equation's knot planes into a grid of cells;
+//! each cell is an ordinary [`System`] solved by subdivision. A root on a knot plane lies on
+//! the boundary of every cell that holds it, so no cell certifies it: the cells leave
+//! clusters on the plane, and those are certified once, as one box across the plane, by
+//! Miranda's test and the interval Jacobian taken over the box's pieces (one per cell it
+//! meets).
+//!
+//! Why the two tests still hold across pieces: the field is continuous (interior knots of
+//! multiplicity at most the degree), which is all Miranda's theorem asks; and along any
+//! segment of the box each `g_i = Σ_j A_ij f_j` is continuous and piecewise polynomial, so
+//! `g_i(x) − g_i(y) = ∫₀¹ ∇g_i(y + s(x − y))·(x − y) ds` with the gradient taken piece by
+//! piece. That integral is a convex combination of gradients from the pieces, so its row
+//! lies in the interval row formed over *all* pieces; a strictly diagonally dominant interval
+//! Jacobian over all pieces makes every such matrix non-singular and rules out a second root.
+
+use super::subdivision::{
+    elevated, max_abs, precondition, root_in, rounded_inverse, solve, solve_stopping, strict_sign,
+    FaceStop, SPLITS,
+};
+use super::{
+    touching_groups, Cluster, ClusterReason, RationalBox, Root, RootCertificate, Solution,
+    SolveError, SolveOptions, System, MAX_DEGREE, MAX_UNKNOWNS,
+};
+use crate::bernstein::{Bernstein, Limits};
+use crate::bspline::TensorSpline;
+use crate::num::{rational_from_f64, rational_to_f64, Rational, Sign};
+use num_traits::{Signed, Zero};
+use std::time::Instant;
+
+/// The most cells (products of knot spans inside the box) a piecewise system may have.
+pub const MAX_CELLS: usize = 4096;
+
+/// One equation of a [`PiecewiseSystem`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum Equation {
+    /// A polynomial in tensor Bernstein form on the whole domain.
+    Polynomial(Bernstein<Rational>),
+    /// A tensor B-spline field in domain coordinates; its domain covers the box.
+    Spline(TensorSpline<Rational>),
+}
+
+/// A system whose equations may be tensor B-spline fields: the box, the equations as given,
+/// the grid of cells their knots cut the box into, and each cell's polynomial [`System`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct PiecewiseSystem {
+    domain: RationalBox,
+    equations: Vec<Equation>,
+    breaks: Vec<Vec<Rational>>,
+    cells: Vec<System>,
+}
+
+impl PiecewiseSystem {
+    /// Checks the equations against the box and cuts it into cells. A B-spline field must
+    /// have the box's dimension, degrees up to [`MAX_DEGREE`], a domain `[s_p, s_n]` covering
+    /// the box on every axis, and no knot strictly inside the box of multiplicity above its
+    /// degree (the field would jump there, and its zero set on that plane is not defined).
+    /// At most [`MAX_CELLS`] cells.
+    pub fn new(domain: RationalBox, equations: Vec<Equation>) -> Result<Self, SolveError> {
+        let n = domain.len();
+        if n == 0 || n > MAX_UNKNOWNS {
+            return Err(SolveError::Unknowns(n));
+        }
+        for (axis, (a, b)) in domain.iter().enumerate() {
+            if a >= b {
+                return Err(SolveError::EmptyBox { axis });
+            }
+        }
+        let mut breaks: Vec<Vec<Rational>> = domain
+            .iter()
+            .map(|(a, b)| vec![a.clone(), b.clone()])
+            .collect();
+        for (i, e) in equations.iter().enumerate() {
+            if let Equation::Spline(s) = e {
+                spline_fits(s, &domain).map_err(|why| SolveError::Equation { equation: i, why })?;
+                for (k, knots) in s.knots().iter().enumerate() {
+                    let (a, b) = &domain[k];
+                    breaks[k].extend(knots.iter().filter(|x| a < *x && *x < b).cloned());
+                }
+            }
+        }
+        for b in &mut breaks {
+            b.sort();
+            b.dedup();
+        }
+        let counts: Vec<usize> = breaks.iter().map(|b| b.len() - 1).collect();
+        let total = counts
+            .iter()
+            .try_fold(1usize, |acc, &c| acc.checked_mul(c))
+            .filter(|&t| t <= MAX_CELLS)
+            .ok_or_else(|| SolveError::Field {
+                field: "equations".into(),
+                why: format!(
+                    "the knots cut the box into {} cells, more than the limit of {MAX_CELLS}",
+                    counts
+                        .iter()
+                        .map(|c| c.to_string())
+                        .collect::<Vec<_>>()
+                        .join(" × ")
+                ),
+            })?;
+        let mut cells = Vec::with_capacity(total);
+        for flat in 0..total {
+            let bounds = cell_bounds(&breaks, &counts, flat);
+            let mut eqs = Vec::with_capacity(equations.len());
+            for (i, e) in equations.iter().enumerate() {
+                eqs.push(match e {
+                    Equation::Polynomial(p) if total == 1 => p.clone(),
+                    Equation::Polynomial(p) => {
+                        if p.dim() != n {
+                            return Err(SolveError::Equation {
+                                equation: i,
+                                why: format!("has {} variables, the box {n}", p.dim()),
+                            });
+                        }
+                        let unit: Vec<(Rational, Rational)> = bounds
+                            .iter()
+                            .zip(&domain)
+                            .map(|((lo, hi), (a, b))| ((lo - a) / (b - a), (hi - a) / (b - a)))
+                            .collect();
+                        p.restrict(&unit)?
+                    }
+                    Equation::Spline(s) => {
+                        s.bezier_on_box(&bounds).map_err(|e| SolveError::Equation {
+                            equation: i,
+                            why: e.to_string(),
+                        })?
+                    }
+                });
+            }
+            cells.push(System::new(bounds, eqs)?);
+        }
+        Ok(PiecewiseSystem {
+            domain,
+            equations,
+            breaks,
+            cells,
+        })
+    }
+
+    /// A polynomial system as a piecewise one with a single cell.
+    pub fn from_polynomial(system: System) -> PiecewiseSystem {
+        PiecewiseSystem {
+            breaks: system
+                .domain
+                .iter()
+                .map(|(a, b)| vec![a.clone(), b.clone()])
+                .collect(),
+            equations: system
+                .equations
+                .iter()
+                .cloned()
+                .map(Equation::Polynomial)
+                .collect(),
+            domain: system.domain.clone(),
+            cells: vec![system],
+        }
+    }
+
+    /// The box.
+    pub fn domain(&self) -> &[(Rational, Rational)] {
+        &self.domain
+    }
+    /// The equations as given.
+    pub fn equations(&self) -> &[Equation] {
+        &self.equations
+    }
+    /// The number of unknowns.
+    pub fn unknowns(&self) -> usize {
+        self.domain.len()
+    }
+    /// Per axis, the cell boundaries `a = x_0 < x_1 < … < x_m = b`: the box's ends and every
+    /// equation's knots strictly inside it.
+    pub fn breaks(&self) -> &[Vec<Rational>] {
+        &self.breaks
+    }
+    /// The cells, axis 0 fastest, each with every equation in Bernstein form on it.
+    pub fn cells(&self) -> &[System] {
+        &self.cells
+    }
+    /// The system itself when it has one cell (no knot inside the box).
+    pub fn polynomial(&self) -> Option<&System> {
+        match self.cells.as_slice() {
+            [only] => Some(only),
+            _ => None,
+        }
+    }
+
+    /// Whether `x` is a cell boundary strictly inside the box on `axis`.
+    fn interior_break(&self, axis: usize, x: &Rational) -> bool {
+        let b = &self.breaks[axis];
+        b[1..b.len() - 1].binary_search(x).is_ok()
+    }
+
+    /// The index of a cell containing the point `x` (closed cells; the first on ties).
+    fn cell_of(&self, x: &[Rational]) -> usize {
+        let mut flat = 0;
+        let mut stride = 1;
+        for (k, b) in self.breaks.iter().enumerate() {
+            let m = b.len() - 1;
+            let j = b[1..m].partition_point(|t| t < &x[k]);
+            flat += j * stride;
+            stride *= m;
+        }
+        flat
+    }
+}
+
+/// Why a B-spline field does not fit the box, if it does not.
+fn spline_fits(s: &TensorSpline<Rational>, domain: &RationalBox) -> Result<(), String> {
+    let n = domain.len();
+    if s.dim() != n {
+        return Err(format!("has {} variables, the box {n}", s.dim()));
+    }
+    for (k, (&p, knots)) in s.degrees().iter().zip(s.knots()).enumerate() {
+        if p > MAX_DEGREE {
+            return Err(format!(
+                "degree {p} on axis {k} exceeds the limit of {MAX_DEGREE}"
+            ));
+        }
+        let count = knots.len() - p - 1;
+        let (a, b) = &domain[k];
+        if &knots[p] > a || &knots[count] < b {
+            return Err(format!(
+                "the B-spline's domain [s_p, s_n] = [{}, {}] on axis {k} does not cover the box [{}, {}]",
+                knots[p], knots[count], a, b
+            ));
+        }
+        for x in knots.iter().filter(|x| a < *x && *x < b) {
+            let m = knots.iter().filter(|y| *y == x).count();
+            if m > p {
+                return Err(format!(
+                    "knot {x} on axis {k} has multiplicity {m}, above the degree {p}: the field \
+                     jumps across that plane inside the box and its zero set there is not defined"
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The bounds of cell `flat` (axis 0 fastest) of the grid.
+fn cell_bounds(breaks: &[Vec<Rational>], counts: &[usize], mut flat: usize) -> RationalBox {
+    breaks
+        .iter()
+        .zip(counts)
+        .map(|(b, &c)| {
+            let j = flat % c;
+            flat /= c;
+            (b[j].clone(), b[j + 1].clone())
+        })
+        .collect()
+}
+
+/// The depth (levels per side) at which a cell's subdivision stops at a knot plane the
+/// system may vanish on, handing the box to the solve across the plane.
+const FACE_DEPTH: u32 = 10;
+
+/// Solves a piecewise system: every cell by subdivision (within what is left of the box and
+/// time budgets), stopping at knot planes the system may vanish on; then each group of
+/// touching unresolved boxes on a knot plane is solved again as one box across the plane.
+///
+/// The guarantee is [`solve`](super::solve)'s: every root in the box lies in exactly one
+/// root's box (holding no other root) or in clusters' boxes; a root on a knot plane that
+/// cannot be certified across it is a [`ClusterReason::DepthLimit`] cluster.
+pub fn solve_piecewise(
+    system: &PiecewiseSystem,
+    opts: &SolveOptions,
+) -> Result<Solution, SolveError> {
+    let n = system.unknowns();
+    if system.equations.len() != n {
+        return Err(SolveError::NotSquare {
+            equations: system.equations.len(),
+            unknowns: n,
+        });
+    }
+    if let Some(only) = system.polynomial() {
+        return solve(only, opts);
+    }
+    let clock = Instant::now();
+    let mut roots = Vec::new();
+    let mut clusters = Vec::new();
+    let mut visited = 0;
+    for cell in &system.cells {
+        let Some(limits) = remaining(opts, clock, visited) else {
+            clusters.push(Cluster {
+                bounds: cell.domain.clone(),
+                reason: ClusterReason::Budget,
+                max_abs_f: max_abs(&cell.equations),
+            });
+            continue;
+        };
+        let faces = (0..2 * n)
+            .map(|f| {
+                let (k, upper) = (f / 2, f % 2 == 1);
+                if upper {
+                    cell.domain[k].1 != system.domain[k].1
+                } else {
+                    cell.domain[k].0 != system.domain[k].0
+                }
+            })
+            .collect();
+        let stop = FaceStop {
+            faces,
+            depth: FACE_DEPTH.min(opts.limits.max_depth),
+        };
+        let s = solve_stopping(cell, &opts.with_limits(limits), &stop)?;
+        visited += s.boxes_visited;
+        roots.extend(s.roots);
+        clusters.extend(s.clusters);
+    }
+    let found = Found {
+        roots,
+        clusters,
+        visited,
+    };
+    let found = across_knot_planes(system, found, opts, clock)?;
+    Ok(Solution {
+        roots: found.roots,
+        clusters: found.clusters,
+        boxes_visited: found.visited,
+        path: opts.path,
+    })
+}
+
+/// The limits left after `visited` boxes and the time since `clock`; `None` when spent.
+fn remaining(opts: &SolveOptions, clock: Instant, visited: usize) -> Option<Limits> {
+    let mut limits = opts.limits;
+    limits.max_boxes = limits.max_boxes.saturating_sub(visited);
+    limits.time_limit = limits.time_limit.map(|t| t.saturating_sub(clock.elapsed()));
+    (limits.max_boxes > 0 && !limits.time_limit.is_some_and(|t| t.is_zero())).then_some(limits)
+}
+
+/// What the solve has found so far.
+struct Found {
+    roots: Vec<Root>,
+    clusters: Vec<Cluster>,
+    visited: usize,
+}
+
+/// Each group of touching unresolved boxes (any reason but the budget) with a member on an
+/// interior knot plane is solved again as one box across the plane: the group's hull,
+/// inflated by a quarter of its width on every side (inside the domain), by an exact
+/// subdivision whose boxes cross knot planes ([`solve_across`]). That box meets no other
+/// root's or cluster's box (else the group is left as it is), so every root in it is one of
+/// the group's and nothing is counted twice. Clusters left on interior planes are depth-limit
+/// clusters (a root on a box face), not domain-boundary ones.
+fn across_knot_planes(
+    system: &PiecewiseSystem,
+    found: Found,
+    opts: &SolveOptions,
+    clock: Instant,
+) -> Result<Found, SolveError> {
+    let n = system.unknowns();
+    let Found {
+        mut roots,
+        clusters,
+        mut visited,
+    } = found;
+    let on_plane = |c: &Cluster| {
+        (0..n).any(|k| {
+            system.interior_break(k, &c.bounds[k].0) || system.interior_break(k, &c.bounds[k].1)
+        })
+    };
+    let candidates: Vec<usize> = (0..clusters.len())
+        .filter(|&i| clusters[i].reason != ClusterReason::Budget)
+        .collect();
+    let corners: Vec<(Vec<Rational>, Vec<Rational>)> = clusters
+        .iter()
+        .map(|c| c.bounds.iter().cloned().unzip())
+        .collect();
+    let boxes: Vec<(&[Rational], &[Rational])> = candidates
+        .iter()
+        .map(|&i| (corners[i].0.as_slice(), corners[i].1.as_slice()))
+        .collect();
+    let meets = |a: &RationalBox, lo: &[Rational], hi: &[Rational]| {
+        (0..n).all(|k| a[k].0 <= hi[k] && lo[k] <= a[k].1)
+    };
+    let mut replaced = vec![false; clusters.len()];
+    let mut new_clusters = Vec::new();
+    for group in touching_groups(&boxes) {
+        let members: Vec<usize> = group.into_iter().map(|g| candidates[g]).collect();
+        if !members.iter().any(|&m| on_plane(&clusters[m])) {
+            continue;
+        }
+        let mut lo = corners[members[0]].0.clone();
+        let mut hi = corners[members[0]].1.clone();
+        for &m in &members {
+            for k in 0..n {
+                lo[k] = lo[k].clone().min(corners[m].0[k].clone());
+                hi[k] = hi[k].clone().max(corners[m].1[k].clone());
+            }
+        }
+        let quarter = Rational::new(1.into(), 4.into());
+        for k in 0..n {
+            let w = (&hi[k] - &lo[k]) * &quarter;
+            lo[k] = (&lo[k] - &w).max(system.domain[k].0.clone());
+            hi[k] = (&hi[k] + &w).min(system.domain[k].1.clone());
+        }
+        let clear = roots.iter().all(|r| !meets(&r.bounds, &lo, &hi))
+            && (0..clusters.len())
+                .filter(|i| !members.contains(i))
+                .all(|i| !meets(&clusters[i].bounds, &lo, &hi));
+        let Some(limits) = remaining(opts, clock, visited).filter(|_| clear) else {
+            continue;
+        };
+        let levels = opts.limits.max_depth.saturating_sub(FACE_DEPTH) + 2;
+        let sub = solve_across(system, lo, hi, levels, &limits, opts.tolerance, clock)?;
+        visited += sub.visited;
+        roots.extend(sub.roots);
+        new_clusters.extend(sub.clusters);
+        for &m in &members {
+            replaced[m] = true;
+        }
+    }
+    let outer = |c: &Cluster| {
+        (0..n).any(|k| c.bounds[k].0 == system.domain[k].0 || c.bounds[k].1 == system.domain[k].1)
+    };
+    let clusters = clusters
+        .into_iter()
+        .zip(replaced)
+        .filter(|(_, r)| !r)
+        .map(|(c, _)| c)
+        .chain(new_clusters)
+        .map(|mut c| {
+            if c.reason == ClusterReason::DomainBoundary && !outer(&c) {
+                c.reason = ClusterReason::DepthLimit;
+            }
+            c
+        })
+        .collect();
+    Ok(Found {
+        roots,
+        clusters,
+        visited,
+    })
+}
+
+/// Exact subdivision of the box `[lo, hi]` (domain coordinates) whose boxes may cross knot
+/// planes: a box is culled when some equation is of one strict sign on all its parts,
+/// certified by [`certify_parts`], or split (its widest side relative to the domain, at the
+/// first of the split points some equation is of one strict sign on), down to `levels`
+/// levels per side; deeper it is a cluster.
+fn solve_across(
+    system: &PiecewiseSystem,
+    lo: Vec<Rational>,
+    hi: Vec<Rational>,
+    levels: u32,
+    limits: &Limits,
+    tolerance: f64,
+    clock: Instant,
+) -> Result<Found, SolveError> {
+    let n = system.unknowns();
+    let mut found = Found {
+        roots: Vec::new(),
+        clusters: Vec::new(),
+        visited: 0,
+    };
+    let mut stack = vec![(lo, hi, 0u32)];
+    while let Some((lo, hi, depth)) = stack.pop() {
+        let parts = parts(system, &lo, &hi)?;
+        let cluster = |reason| Cluster {
+            bounds: lo.iter().cloned().zip(hi.iter().cloned()).collect(),
+            reason,
+            max_abs_f: parts
+                .iter()
+                .map(|p| max_abs(&p.f))
+                .fold(vec![0.0; n], |a, b| {
+                    a.iter().zip(&b).map(|(x, y)| x.max(*y)).collect()
+                }),
+        };
+        let over_time = limits.time_limit.is_some_and(|t| clock.elapsed() > t);
+        if found.visited >= limits.max_boxes || over_time {
+            found.clusters.push(cluster(ClusterReason::Budget));
+            continue;
+        }
+        found.visited += 1;
+        let culled = (0..n).any(|i| {
+            let mut sign = None;
+            parts.iter().all(|p| {
+                let s = strict_sign(&p.f[i]);
+                let ok =
+                    matches!(s, Sign::Positive | Sign::Negative) && sign.is_none_or(|o| o == s);
+                sign = Some(s);
+                ok
+            })
+        });
+        if culled {
+            continue;
+        }
+        if let Some(c) = certify_parts(&parts, &lo, &hi)? {
+            let (lo, hi, c) = refine_box(system, lo, hi, c, tolerance)?;
+            found
+                .roots
+                .push(root_in(lo.into_iter().zip(hi).collect(), c));
+            continue;
+        }
+        if depth >= levels.saturating_mul(n as u32) {
+            let outer = (0..n).any(|k| lo[k] == system.domain[k].0 || hi[k] == system.domain[k].1);
+            found.clusters.push(cluster(if outer {
+                ClusterReason::DomainBoundary
+            } else {
+                ClusterReason::DepthLimit
+            }));
+            continue;
+        }
+        let relative = |k: usize| (&hi[k] - &lo[k]) / (&system.domain[k].1 - &system.domain[k].0);
+        let axis = (0..n)
+            .max_by(|&a, &b| relative(a).cmp(&relative(b)).then(b.cmp(&a)))
+            .unwrap_or(0);
+        let at = |s: &Rational| &lo[axis] + (&hi[axis] - &lo[axis]) * s;
+        let mut mid = at(&Rational::new(1.into(), 2.into()));
+        for &(p, q) in &SPLITS {
+            let x = at(&Rational::new(p.into(), q.into()));
+            if plane_root_free(&parts, axis, &x)? {
+                mid = x;
+                break;
+            }
+        }
+        let mut hi_left = hi.clone();
+        hi_left[axis] = mid.clone();
+        let mut lo_right = lo.clone();
+        lo_right[axis] = mid;
+        stack.push((lo_right, hi, depth + 1));
+        stack.push((lo, hi_left, depth + 1));
+    }
+    Ok(found)
+}
+
+/// Whether some equation is of one strict sign on the plane `x_axis = x` across all parts.
+fn plane_root_free(parts: &[Part], axis: usize, x: &Rational) -> Result<bool, SolveError> {
+    let on: Vec<&Part> = parts
+        .iter()
+        .filter(|p| p.lo[axis] <= *x && *x <= p.hi[axis])
+        .collect();
+    for i in 0..on.first().map_or(0, |p| p.f.len()) {
+        let mut sign = None;
+        let mut ok = true;
+        for p in &on {
+            let t = (x - &p.lo[axis]) / (&p.hi[axis] - &p.lo[axis]);
+            let s = strict_sign(&p.f[i].eval_axis(axis, &t)?);
+            if !matches!(s, Sign::Positive | Sign::Negative) || sign.is_some_and(|o| o != s) {
+                ok = false;
+                break;
+            }
+            sign = Some(s);
+        }
+        if ok {
+            return Ok(true);
+        }
+    }
+    Ok(false)
+}
+
+/// One cell's part of a box: its bounds (domain coordinates), the equations on it (Bernstein
+/// form on the part, common degrees), and per axis the box's width over the part's, which
+/// turns a derivative in the part's unit coordinates into one in the box's.
+struct Part {
+    lo: Vec<Rational>,
+    hi: Vec<Rational>,
+    f: Vec<Bernstein<Rational>>,
+    ratio: Vec<Rational>,
+}
+
+/// The parts of the box `[lo, hi]`: one per cell it meets with positive volume.
+fn parts(
+    system: &PiecewiseSystem,
+    lo: &[Rational],
+    hi: &[Rational],
+) -> Result<Vec<Part>, SolveError> {
+    let n = system.unknowns();
+    let ranges: Vec<Vec<usize>> = (0..n)
+        .map(|k| {
+            let b = &system.breaks[k];
+            (0..b.len() - 1)
+                .filter(|&j| b[j] < hi[k] && b[j + 1] > lo[k])
+                .collect()
+        })
+        .collect();
+    let strides: Vec<usize> = system
+        .breaks
+        .iter()
+        .scan(1, |s, b| {
+            let here = *s;
+            *s *= b.len() - 1;
+            Some(here)
+        })
+        .collect();
+    let total: usize = ranges.iter().map(Vec::len).product();
+    let mut out = Vec::with_capacity(total);
+    for mut flat in 0..total {
+        let mut cell = 0;
+        for k in 0..n {
+            cell += ranges[k][flat % ranges[k].len()] * strides[k];
+            flat /= ranges[k].len();
+        }
+        let c = &system.cells[cell];
+        let (mut plo, mut phi, mut unit, mut ratio) = (vec![], vec![], vec![], vec![]);
+        for k in 0..n {
+            let (a, b) = &c.domain[k];
+            let (l, h) = (lo[k].clone().max(a.clone()), hi[k].clone().min(b.clone()));
+            unit.push(((&l - a) / (b - a), (&h - a) / (b - a)));
+            ratio.push((&hi[k] - &lo[k]) / (&h - &l));
+            plo.push(l);
+            phi.push(h);
+        }
+        let f: Vec<Bernstein<Rational>> = c
+            .equations
+            .iter()
+            .map(|e| e.restrict(&unit))
+            .collect::<Result<_, _>>()?;
+        out.push(Part {
+            lo: plo,
+            hi: phi,
+            f: elevated(&f)?,
+            ratio,
+        });
+    }
+    Ok(out)
+}
+
+/// Existence and uniqueness on the box `[lo, hi]` across its parts, exactly: the
+/// certificate, or `None`.
+fn certify_parts(
+    parts: &[Part],
+    lo: &[Rational],
+    hi: &[Rational],
+) -> Result<Option<RootCertificate>, SolveError> {
+    let n = lo.len();
+    // The preconditioner: the inverse Jacobian (in the box's unit coordinates) at the centre.
+    let two = Rational::from_integer(2.into());
+    let centre: Vec<Rational> = (0..n).map(|k| (&lo[k] + &hi[k]) / &two).collect();
+    let Some(at) = parts
+        .iter()
+        .find(|p| (0..n).all(|k| p.lo[k] <= centre[k] && centre[k] <= p.hi[k]))
+    else {
+        return Ok(None);
+    };
+    let tau: Vec<f64> = (0..n)
+        .map(|k| rational_to_f64(&((&centre[k] - &at.lo[k]) / (&at.hi[k] - &at.lo[k]))))
+        .collect();
+    let mut j = vec![vec![0.0; n]; n];
+    for (fi, row) in at.f.iter().zip(j.iter_mut()) {
+        let fi = fi.map(rational_to_f64);
+        for (k, jk) in row.iter_mut().enumerate() {
+            if fi.degrees()[k] > 0 {
+                *jk = fi.derivative(k)?.eval(&tau)? * rational_to_f64(&at.ratio[k]);
+            }
+        }
+    }
+    let a = rounded_inverse(j);
+    let g: Vec<Vec<Bernstein<Rational>>> = parts
+        .iter()
+        .map(|p| precondition(&a, &p.f))
+        .collect::<Result<_, _>>()?;
+    // Miranda: g_i of one strict sign on every part of the face t_i = 0, the other on t_i = 1.
+    let mut signs = Vec::with_capacity(n);
+    for i in 0..n {
+        let mut sides = [None, None];
+        for (p, gp) in parts.iter().zip(&g) {
+            for (upper, on) in [(false, p.lo[i] == lo[i]), (true, p.hi[i] == hi[i])] {
+                if !on {
+                    continue;
+                }
+                let s = strict_sign(&gp[i].face(i, upper)?);
+                if !matches!(s, Sign::Positive | Sign::Negative)
+                    || sides[usize::from(upper)].is_some_and(|o| o != s)
+                {
+                    return Ok(None);
+                }
+                sides[usize::from(upper)] = Some(s);
+            }
+        }
+        match sides {
+            [Some(Sign::Negative), Some(Sign::Positive)] => signs.push(-1),
+            [Some(Sign::Positive), Some(Sign::Negative)] => signs.push(1),
+            _ => return Ok(None),
+        }
+    }
+    // Uniqueness: the interval Jacobian over all parts, strictly diagonally dominant by rows.
+    for i in 0..n {
+        let mut diag: Option<(Sign, Rational)> = None;
+        let mut off = vec![Rational::zero(); n];
+        for (p, gp) in parts.iter().zip(&g) {
+            for (k, off_k) in off.iter_mut().enumerate() {
+                if gp[i].degrees()[k] == 0 {
+                    if k == i {
+                        return Ok(None);
+                    }
+                    continue;
+                }
+                let d = gp[i].derivative(k)?;
+                if k == i {
+                    let s = strict_sign(&d);
+                    let least =
+                        d.coeffs().iter().map(|c| c.abs()).min().unwrap_or_default() * &p.ratio[k];
+                    diag = match (diag, s) {
+                        (None, Sign::Positive | Sign::Negative) => Some((s, least)),
+                        (Some((o, m)), s) if o == s => Some((s, m.min(least))),
+                        _ => return Ok(None),
+                    };
+                } else {
+                    let most =
+                        d.coeffs().iter().map(|c| c.abs()).max().unwrap_or_default() * &p.ratio[k];
+                    if most > *off_k {
+                        *off_k = most;
+                    }
+                }
+            }
+        }
+        let off: Rational = off.into_iter().sum();
+        if diag.is_none_or(|(_, m)| m <= off) {
+            return Ok(None);
+        }
+    }
+    Ok(Some(RootCertificate {
+        preconditioner: a,
+        lower_face_signs: signs,
+    }))
+}
+
+/// Shrinks a certified box around its root as [`solve`](super::solve) does: Newton's method
+/// in `f64` on the cell holding the current point, then [`certify_parts`] on boxes around the
+/// result (inside the certified box, which holds exactly one root) from the requested width
+/// upwards by factors of 16.
+#[allow(clippy::type_complexity)]
+fn refine_box(
+    system: &PiecewiseSystem,
+    lo: Vec<Rational>,
+    hi: Vec<Rational>,
+    certificate: RootCertificate,
+    tolerance: f64,
+) -> Result<(Vec<Rational>, Vec<Rational>, RootCertificate), SolveError> {
+    let n = system.unknowns();
+    let side: Vec<f64> = system
+        .domain
+        .iter()
+        .map(|(a, b)| rational_to_f64(&(b - a)))
+        .collect();
+    let width = (0..n)
+        .map(|k| rational_to_f64(&(&hi[k] - &lo[k])) / side[k])
+        .fold(0.0, f64::max);
+    if tolerance.is_nan() || tolerance <= 0.0 || width <= tolerance {
+        return Ok((lo, hi, certificate));
+    }
+    let lof: Vec<f64> = lo.iter().map(rational_to_f64).collect();
+    let hif: Vec<f64> = hi.iter().map(rational_to_f64).collect();
+    let mut x: Vec<f64> = (0..n).map(|k| 0.5 * (lof[k] + hif[k])).collect();
+    for _ in 0..40 {
+        let Ok(xr) = x
+            .iter()
+            .map(|&v| rational_from_f64(v, "point"))
+            .collect::<Result<Vec<_>, _>>()
+        else {
+            break;
+        };
+        let cell = &system.cells[system.cell_of(&xr)];
+        let (mut tau, mut w) = (vec![0.0; n], vec![0.0; n]);
+        for k in 0..n {
+            let (a, b) = (
+                rational_to_f64(&cell.domain[k].0),
+                rational_to_f64(&cell.domain[k].1),
+            );
+            w[k] = b - a;
+            tau[k] = ((x[k] - a) / w[k]).clamp(0.0, 1.0);
+        }
+        let mut m = vec![vec![0.0; n]; n];
+        let mut fx = vec![0.0; n];
+        for (i, e) in cell.equations.iter().enumerate() {
+            let e = e.map(rational_to_f64);
+            fx[i] = e.eval(&tau)?;
+            for k in 0..n {
+                if e.degrees()[k] > 0 {
+                    m[i][k] = e.derivative(k)?.eval(&tau)? / w[k];
+                }
+            }
+        }
+        let Some(inv) = super::subdivision::invert(m) else {
+            break;
+        };
+        let mut moved = 0.0f64;
+        for k in 0..n {
+            let step: f64 = inv[k].iter().zip(&fx).map(|(a, b)| a * b).sum();
+            let next = (x[k] - step).clamp(lof[k], hif[k]);
+            moved = moved.max((next - x[k]).abs() / side[k]);
+            x[k] = next;
+        }
+        if !moved.is_finite() || moved <= 1e-17 {
+            break;
+        }
+    }
+    let mut rho = (0.5 * tolerance).max(4.0 * f64::EPSILON);
+    while rho < 0.25 * width {
+        let mut slo = Vec::with_capacity(n);
+        let mut shi = Vec::with_capacity(n);
+        for k in 0..n {
+            let (Ok(a), Ok(b)) = (
+                rational_from_f64((x[k] - rho * side[k]).max(lof[k]), "box"),
+                rational_from_f64((x[k] + rho * side[k]).min(hif[k]), "box"),
+            ) else {
+                return Ok((lo, hi, certificate));
+            };
+            slo.push(a.max(lo[k].clone()));
+            shi.push(b.min(hi[k].clone()));
+        }
+        if (0..n).all(|k| slo[k] < shi[k]) {
+            if let Some(c) = certify_parts(&parts(system, &slo, &shi)?, &slo, &shi)? {
+                return Ok((slo, shi, c));
+            }
+        }
+        rho *= 16.0;
+    }
+    Ok((lo, hi, certificate))
+}

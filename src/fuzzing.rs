@@ -546,6 +546,122 @@ pub fn check_solve(data: &[u8]) -> Result<(), String> {
     Ok(())
 }
 
+/// Differential solving of B-spline equations: a system of 1–2 unknowns decoded from bytes,
+/// each equation a tensor B-spline on the unit box (degree 1–3 per axis, clamped, one to
+/// three interior knots on the grid k/8 of multiplicity at most the degree, coefficients
+/// k/8); with the first byte's low bit set, a product of linear factors with roots on the
+/// grid k/8 written as such a B-spline with its knots through the roots (roots on knot
+/// planes, where the cells meet). Solved on the exact and fast paths (depth ≤ 12, ≤ 800
+/// boxes): every certified root of either path passes the piecewise checker, and each is
+/// accounted for by the other path (its box meets one of the other's boxes).
+pub fn check_solve_bspline(data: &[u8]) -> Result<(), String> {
+    use crate::bernstein::{Bernstein, Limits};
+    use crate::bspline::TensorSpline;
+    use crate::solve::{
+        solve_piecewise, verify_piecewise_root, Equation, PiecewiseSystem, Solution, SolveOptions,
+    };
+    let mut bytes = data.iter().copied();
+    let mut next = move || bytes.next().unwrap_or(0);
+    let head = next();
+    let n = 1 + (head as usize >> 1) % 2;
+    let q = |a: i64, b: i64| Rational::new(a.into(), b.into());
+    let mut equations = Vec::with_capacity(n);
+    for i in 0..n {
+        let spline = if head & 1 == 1 {
+            // Π (x_i − r_k), up to three roots k/8 along axis i, as a clamped B-spline with
+            // knots at its roots.
+            let mut p = Bernstein::constant(vec![0; n], q(1, 1));
+            let mut roots = Vec::new();
+            for _ in 0..1 + next() % 3 {
+                let r = q(1 + (next() % 7) as i64, 8);
+                let mut degrees = vec![0; n];
+                degrees[i] = 1;
+                let lin = Bernstein::new(degrees, vec![-r.clone(), q(1, 1) - r.clone()])
+                    .map_err(|e| e.to_string())?;
+                p = p.product(&lin).map_err(|e| e.to_string())?;
+                roots.push(r);
+            }
+            let knots: Vec<Vec<Rational>> = p
+                .degrees()
+                .iter()
+                .map(|&d| {
+                    let mut k = vec![q(0, 1); d + 1];
+                    k.extend(vec![q(1, 1); d + 1]);
+                    k
+                })
+                .collect();
+            roots.sort();
+            roots.dedup();
+            TensorSpline::new(p.degrees().to_vec(), knots, p.coeffs().to_vec())
+                .and_then(|s| s.insert_knots(i, &roots))
+                .map_err(|e| e.to_string())?
+        } else {
+            let degrees: Vec<usize> = (0..n).map(|_| 1 + next() as usize % 3).collect();
+            let knots: Vec<Vec<Rational>> = degrees
+                .iter()
+                .map(|&d| {
+                    let mut inner: Vec<Rational> = (0..1 + next() % 3)
+                        .map(|_| q(1 + (next() % 7) as i64, 8))
+                        .collect();
+                    inner.sort();
+                    let mut capped: Vec<Rational> = Vec::new();
+                    for x in inner {
+                        if capped.iter().filter(|y| **y == x).count() < d {
+                            capped.push(x);
+                        }
+                    }
+                    let mut k = vec![q(0, 1); d + 1];
+                    k.extend(capped);
+                    k.extend(vec![q(1, 1); d + 1]);
+                    k
+                })
+                .collect();
+            let count: usize = knots
+                .iter()
+                .zip(&degrees)
+                .map(|(k, d)| k.len() - d - 1)
+                .product();
+            let coeffs = (0..count).map(|_| q(next() as i8 as i64, 8)).collect();
+            TensorSpline::new(degrees, knots, coeffs).map_err(|e| e.to_string())?
+        };
+        equations.push(Equation::Spline(spline));
+    }
+    let system =
+        PiecewiseSystem::new(vec![(q(0, 1), q(1, 1)); n], equations).map_err(|e| e.to_string())?;
+    let limits = Limits::new().with_max_depth(12).with_max_boxes(800);
+    let run = |path| {
+        solve_piecewise(
+            &system,
+            &SolveOptions::new().with_path(path).with_limits(limits),
+        )
+        .map_err(|e| format!("{path}: {e}"))
+    };
+    let exact = run(crate::Path::Exact)?;
+    let fast = run(crate::Path::Fast)?;
+    let meets = |a: &[(Rational, Rational)], b: &[(Rational, Rational)]| {
+        a.iter()
+            .zip(b)
+            .all(|((a0, a1), (b0, b1))| a0 <= b1 && b0 <= a1)
+    };
+    let accounted = |bounds: &[(Rational, Rational)], other: &Solution| {
+        other.roots.iter().any(|r| meets(bounds, &r.bounds))
+            || other.clusters.iter().any(|c| meets(bounds, &c.bounds))
+    };
+    for (name, mine, other) in [("exact", &exact, &fast), ("fast", &fast, &exact)] {
+        for r in &mine.roots {
+            verify_piecewise_root(&system, &r.bounds, &r.certificate)
+                .map_err(|e| format!("{name} root {:?} refused by the checker: {e}", r.bounds))?;
+            if !accounted(&r.bounds, other) {
+                return Err(format!(
+                    "{name} certified a root in {:?} that the other path does not account for",
+                    r.bounds
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Differential check of curve tracing: one random bivariate equation (degrees 1–3 per axis,
 /// coefficients k/8) or a product of two lines, traced on the exact and the fast path with
 /// small limits (depth 8, 600 boxes). Both traces must pass the independent checker

@@ -670,6 +670,71 @@ fn solve_certifies_roots_and_the_checker_agrees() {
 }
 
 #[test]
+fn solve_reads_b_spline_equations_and_certifies_a_root_on_a_knot() {
+    // f1: the piecewise-linear field through (0, −⅓), (⅓, 0), (1, 2) with its kink and root
+    // on the knot ⅓; f2: a uniform quadratic B-spline in y (unclamped knots) equal to y − ¼.
+    let system = tmp("kink.json");
+    std::fs::write(
+        &system,
+        r#"{"box": [["0","1"],["0","1"]], "equations": [
+            {"bspline": {"orders": [2, 1], "knots": [["0","0","1/3","1","1"], ["0","1"]],
+                         "coeffs": ["-1/3", "0", "2"]}},
+            {"bspline": {"orders": [1, 3], "knots": [["0","1"], ["-1","-1/2","0","1/2","1","3/2","2"]],
+                         "coeffs": ["-1/2", "0", "1/2", "1"]}}]}"#,
+    )
+    .unwrap();
+    let cert = tmp("kink.cert.json");
+    let out = geocert()
+        .args(["solve", system.to_str().unwrap(), "--json"])
+        .args(["--cert", cert.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let roots = v["roots"].as_array().unwrap();
+    assert_eq!(roots.len(), 1, "{v}");
+    assert_eq!(v["clusters"].as_array().unwrap().len(), 0, "{v}");
+    approx::assert_abs_diff_eq!(
+        roots[0]["approx"][0].as_f64().unwrap(),
+        1.0 / 3.0,
+        epsilon = 1e-12
+    );
+    approx::assert_abs_diff_eq!(
+        roots[0]["approx"][1].as_f64().unwrap(),
+        0.25,
+        epsilon = 1e-12
+    );
+    let out = geocert()
+        .args(["solve", "verify-cert", cert.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    // Curves of piecewise equations are refused with a clear error, nothing written.
+    let curve = tmp("kink-curve.json");
+    std::fs::write(
+        &curve,
+        r#"{"box": [["0","1"],["0","1"]], "equations": [
+            {"bspline": {"orders": [2, 1], "knots": [["0","0","1/3","1","1"], ["0","1"]],
+                         "coeffs": ["-1/3", "0", "2"]}}]}"#,
+    )
+    .unwrap();
+    let out = geocert()
+        .args(["solve", curve.to_str().unwrap(), "--curves"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("not traced yet"));
+}
+
+#[test]
 fn solve_traces_curves_and_the_checker_agrees() {
     // A circle of radius 1/2 about (3/4, 0) on [−1, 1]²: it leaves through the face x = 1.
     let system = tmp("arc.json");

@@ -111,6 +111,15 @@ fn solve_paths_regressions() {
 }
 
 #[test]
+fn solve_bspline_regressions() {
+    let n = replay(
+        "solve_bspline",
+        geocert::internals::fuzzing::check_solve_bspline,
+    );
+    assert!(n > 0, "the regression corpus must not be empty");
+}
+
+#[test]
 fn solve_curves_regressions() {
     let n = replay("solve_curves", geocert::internals::fuzzing::check_curve);
     assert!(n > 0, "the regression corpus must not be empty");

@@ -241,3 +241,29 @@ fn rational_equations_use_the_numerator_once_the_denominator_keeps_its_sign() {
         );
     }
 }
+
+#[test]
+fn the_filtered_path_refines_to_the_requested_width_where_the_fast_one_stops_at_rounding() {
+    // The unit circle and x − 2y + x³/3 = 0 on [−2, 2]²: two irrational roots.
+    let system = geocert::solve::system_from_json(
+        r#"{"box": [["-2","2"],["-2","2"]], "equations": [
+            {"terms": [[[2,0],1],[[0,2],1],[[0,0],-1]]},
+            {"terms": [[[1,0],1],[[0,1],-2],[[3,0],"1/3"]]}]}"#,
+    )
+    .unwrap();
+    let side = q(4, 1);
+    for (path, widest) in [
+        (Path::Filtered, q(1, 100_000_000_000_000)),
+        (Path::Exact, q(1, 100_000_000_000_000)),
+        (Path::Fast, q(1, 1_000_000_000_000)),
+    ] {
+        let s = solve(&system, &SolveOptions::new().with_path(path)).unwrap();
+        assert_eq!(s.roots.len(), 2, "{path}");
+        for r in &s.roots {
+            verify_root(&system, &r.bounds, &r.certificate).unwrap();
+            for (a, b) in &r.bounds {
+                assert!((b - a) / &side <= widest, "{path}: width {}", b - a);
+            }
+        }
+    }
+}

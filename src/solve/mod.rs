@@ -29,6 +29,11 @@
 //!   box (their hull, inflated), certified exactly, and kept only when that box meets no
 //!   other root's or cluster's box.
 //!
+//! Equations may be tensor B-spline fields ([`PiecewiseSystem`], [`solve_piecewise`]): their
+//! knots cut the box into cells, each solved as above; a root on a knot plane, on the
+//! boundary of every cell holding it, is solved once more in a box across the plane with both
+//! tests taken over the box's parts, and [`verify_piecewise_root`] re-checks it part by part.
+//!
 //! One equation fewer than unknowns defines a curve: [`trace`] subdivides into boxes where a
 //! component of the tangent has one strict sign, certifies the curve's crossings of every
 //! split plane with the square solver above, and links the arcs into components (open or
@@ -162,7 +167,9 @@ pub struct SolveOptions {
     /// Certified roots are refined to boxes of at most this width relative to the domain's
     /// side on every axis (Newton's method in `f64`, then the same certificate on the small
     /// box around its result; a box that cannot be certified that small keeps the smallest
-    /// width that could). `0` keeps the first certified box.
+    /// width that could). `0` keeps the first certified box. The fast path stops where
+    /// interval rounding does (about `1e-13`); the filtered path decides that last box in
+    /// exact integers and reaches `1e-15`.
     pub tolerance: f64,
 }
 

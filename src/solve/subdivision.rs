@@ -5,7 +5,7 @@ use super::{
     Cluster, ClusterReason, RationalBox, Root, RootCertificate, Solution, SolveError, SolveOptions,
     System,
 };
-use crate::bernstein::Bernstein;
+use crate::bernstein::{Bernstein, ScaledBernstein};
 use crate::num::{rational_from_f64, rational_to_f64, Field, Interval, Rational, Sign};
 use crate::Path;
 use num_traits::{One, Signed, Zero};
@@ -23,9 +23,12 @@ pub(super) trait Coefficient: Field {
     fn min_lower(&self, o: &Self) -> Self;
     /// A certified upper bound of `|c|` as an `f64`.
     fn abs_upper_f64(&self) -> f64;
+    /// Whether the arithmetic is exact (no decision is ever left open by rounding).
+    const EXACT: bool;
 }
 
 impl Coefficient for Rational {
+    const EXACT: bool = true;
     fn abs_upper(&self) -> Self {
         self.abs()
     }
@@ -53,6 +56,7 @@ impl Coefficient for Rational {
 }
 
 impl Coefficient for Interval {
+    const EXACT: bool = false;
     fn abs_upper(&self) -> Self {
         Interval::point(self.lo.abs().max(self.hi.abs()))
     }
@@ -350,15 +354,165 @@ fn certify<T: Coefficient>(
     })
 }
 
+/// `p` (on the unit box) restricted to the sub-box `[lo, hi]` of it, in integers: per axis a
+/// de Casteljau split at `lo_k`, then at `(hi_k − lo_k)/(1 − lo_k)`.
+fn restrict_scaled(
+    p: &ScaledBernstein,
+    lo: &[Rational],
+    hi: &[Rational],
+) -> Result<ScaledBernstein, SolveError> {
+    let mut p = p.clone();
+    for (k, (a, b)) in lo.iter().zip(hi).enumerate() {
+        if !a.is_zero() {
+            p = p.split(k, a.numer(), a.denom())?.1;
+        }
+        let t = (b - a) / (<Rational as One>::one() - a);
+        if !t.is_one() {
+            p = p.split(k, t.numer(), t.denom())?.0;
+        }
+        p.normalise_twos();
+    }
+    Ok(p)
+}
+
+/// The certificate of [`certify`] on the box `[lo, hi]` (unit coordinates) decided in exact
+/// integers with the preconditioner `a`: the equations restricted to the box and brought to
+/// one denominator `D`, `A` scaled to integers by `2^E`; every sign and every comparison of
+/// Miranda's test and of diagonal dominance is then one of integers (`D·2^E > 0`). No gcd is
+/// taken.
+fn certify_scaled(
+    exact: &[ScaledBernstein],
+    lo: &[Rational],
+    hi: &[Rational],
+    a: Vec<Vec<Rational>>,
+) -> Result<Option<RootCertificate>, SolveError> {
+    use num_bigint::BigInt;
+    let n = exact.len();
+    let f: Vec<ScaledBernstein> = exact
+        .iter()
+        .map(|p| restrict_scaled(p, lo, hi))
+        .collect::<Result<_, _>>()?;
+    // One denominator for all: numerators of f_j times Π_{k≠j} D_k.
+    let scale: Vec<BigInt> = (0..n)
+        .map(|j| {
+            (0..n)
+                .filter(|&k| k != j)
+                .fold(BigInt::one(), |acc, k| acc * f[k].denominator())
+        })
+        .collect();
+    // A times the lcm of its denominators (powers of two: the entries are dyadic).
+    let lcm = a.iter().flatten().fold(BigInt::one(), |l, x| {
+        num_integer::Integer::lcm(&l, x.denom())
+    });
+    let m: Vec<Vec<BigInt>> = a
+        .iter()
+        .map(|row| row.iter().map(|x| x.numer() * (&lcm / x.denom())).collect())
+        .collect();
+    let degrees = f[0].degrees().to_vec();
+    let size = f[0].numerators().len();
+    let g: Vec<ScaledBernstein> = m
+        .iter()
+        .map(|row| {
+            let num = (0..size)
+                .map(|c| {
+                    row.iter()
+                        .enumerate()
+                        .filter(|(_, mij)| !mij.is_zero())
+                        .fold(BigInt::zero(), |acc, (j, mij)| {
+                            acc + mij * &scale[j] * &f[j].numerators()[c]
+                        })
+                })
+                .collect();
+            ScaledBernstein::from_integers(degrees.clone(), num)
+        })
+        .collect::<Result<_, _>>()?;
+    let strict = |nums: &mut dyn Iterator<Item = &BigInt>| -> Option<i8> {
+        let mut sign = None;
+        for x in nums {
+            let s = match x.sign() {
+                num_bigint::Sign::Plus => 1,
+                num_bigint::Sign::Minus => -1,
+                num_bigint::Sign::NoSign => return None,
+            };
+            if sign.is_some_and(|o| o != s) {
+                return None;
+            }
+            sign = Some(s);
+        }
+        sign
+    };
+    let strides: Vec<usize> = (0..n)
+        .scan(1, |acc, k| {
+            let here = *acc;
+            *acc *= degrees[k] + 1;
+            Some(here)
+        })
+        .collect();
+    let mut signs = Vec::with_capacity(n);
+    for (i, gi) in g.iter().enumerate() {
+        let (stride, len) = (strides[i], degrees[i] + 1);
+        let face = |upper: bool| {
+            let at = if upper { len - 1 } else { 0 };
+            gi.numerators()
+                .iter()
+                .enumerate()
+                .filter(move |(c, _)| (c / stride) % len == at)
+                .map(|(_, x)| x)
+        };
+        match (strict(&mut face(false)), strict(&mut face(true))) {
+            (Some(l), Some(u)) if l == -u => signs.push(l),
+            _ => return Ok(None),
+        }
+    }
+    for (i, gi) in g.iter().enumerate() {
+        let mut off = BigInt::zero();
+        let mut diag = None;
+        for (k, &d) in degrees.iter().enumerate() {
+            if d == 0 {
+                if k == i {
+                    return Ok(None);
+                }
+                continue;
+            }
+            let dk = gi.derivative(k)?;
+            if k == i {
+                if strict(&mut dk.numerators().iter()).is_none() {
+                    return Ok(None);
+                }
+                diag = dk.numerators().iter().map(|x| x.abs()).min();
+            } else {
+                off += dk
+                    .numerators()
+                    .iter()
+                    .map(|x| x.abs())
+                    .max()
+                    .unwrap_or_default();
+            }
+        }
+        if diag.is_none_or(|m| m <= off) {
+            return Ok(None);
+        }
+    }
+    Ok(Some(RootCertificate {
+        preconditioner: a,
+        lower_face_signs: signs,
+    }))
+}
+
 /// Shrinks a certified box around its root: Newton's method in `f64` from the box centre,
 /// then the certificate on boxes of half-width `ρ` around the result, from `ρ` giving the
 /// requested relative width upwards by factors of 16. Every box tried lies inside the
 /// certified one, which holds exactly one root, so a certified small box holds that root.
+/// With `exact` (the filtered path's equations on the whole domain, as integers over a
+/// shared denominator), the smallest box that rounding cannot certify is tried once more in
+/// exact integer arithmetic ([`certify_scaled`]), so the filtered path reaches the requested
+/// width where interval rounding stops short of it.
 #[allow(clippy::type_complexity)]
 fn refine<T: Coefficient>(
     node: &Node<T>,
     certificate: RootCertificate,
     tolerance: f64,
+    exact: Option<&[ScaledBernstein]>,
 ) -> Result<(Vec<Rational>, Vec<Rational>, RootCertificate), SolveError> {
     let keep = || (node.lo.clone(), node.hi.clone(), certificate.clone());
     let n = node.lo.len();
@@ -411,6 +565,7 @@ fn refine<T: Coefficient>(
         return Ok(keep());
     }
     let mut rho = (0.5 * tolerance / width).max(4.0 * f64::EPSILON);
+    let mut first = true;
     while rho < 0.25 {
         let mut sub = Vec::with_capacity(n);
         for &x in &t {
@@ -430,16 +585,23 @@ fn refine<T: Coefficient>(
                 .iter()
                 .map(|p| p.restrict(&tsub))
                 .collect::<Result<_, _>>()?;
+            let lo: Vec<Rational> = (0..n)
+                .map(|k| &node.lo[k] + (&node.hi[k] - &node.lo[k]) * &sub[k].0)
+                .collect();
+            let hi: Vec<Rational> = (0..n)
+                .map(|k| &node.lo[k] + (&node.hi[k] - &node.lo[k]) * &sub[k].1)
+                .collect();
             if let (Decision::Yes, Some(c)) = certify(&small)? {
-                let lo = (0..n)
-                    .map(|k| &node.lo[k] + (&node.hi[k] - &node.lo[k]) * &sub[k].0)
-                    .collect();
-                let hi = (0..n)
-                    .map(|k| &node.lo[k] + (&node.hi[k] - &node.lo[k]) * &sub[k].1)
-                    .collect();
                 return Ok((lo, hi, c));
             }
+            if let Some(exact) = exact.filter(|_| !T::EXACT && first) {
+                let a = preconditioner(&small)?;
+                if let Some(c) = certify_scaled(exact, &lo, &hi, a)? {
+                    return Ok((lo, hi, c));
+                }
+            }
         }
+        first = false;
         rho *= 16.0;
     }
     Ok(keep())
@@ -582,17 +744,33 @@ impl FaceStop {
     }
 }
 
-/// The subdivision from the given start boxes (unit coordinates) of `exact`'s equations,
+/// What every run of one solve shares: the system, its equations at common degrees (exact,
+/// and as integers over a shared denominator for the filtered path's last refinement), the
+/// options, the clock and the early stops.
+struct Context<'a> {
+    system: &'a System,
+    exact: &'a [Bernstein<Rational>],
+    opts: &'a SolveOptions,
+    clock: Instant,
+    stop: &'a FaceStop,
+    finish: Option<&'a [ScaledBernstein]>,
+}
+
+/// The subdivision from the given start boxes (unit coordinates) of the context's equations,
 /// in the coefficient field `T`.
 fn run<T: Coefficient>(
-    system: &System,
-    exact: &[Bernstein<Rational>],
+    ctx: &Context<'_>,
     starts: Vec<(Vec<Rational>, Vec<Rational>, u32)>,
-    opts: &SolveOptions,
-    clock: Instant,
     visited_before: usize,
-    stop: &FaceStop,
 ) -> Result<Found, SolveError> {
+    let Context {
+        system,
+        exact,
+        opts,
+        clock,
+        stop,
+        finish,
+    } = *ctx;
     let n = system.unknowns();
     let limits = opts.limits;
     let mut stack: Vec<Node<T>> = Vec::new();
@@ -648,7 +826,7 @@ fn run<T: Coefficient>(
         }
         let (certified, certificate) = certify(&node.polys)?;
         if let (Decision::Yes, Some(certificate)) = (certified, certificate) {
-            let (lo, hi, certificate) = refine(&node, certificate, opts.tolerance)?;
+            let (lo, hi, certificate) = refine(&node, certificate, opts.tolerance, finish)?;
             found.roots.push(root_of(system, &lo, &hi, certificate));
             continue;
         }
@@ -831,7 +1009,7 @@ fn certify_across_planes(
                 polys,
                 depth: 0,
             };
-            let (rlo, rhi, c) = refine(&node, c, opts.tolerance)?;
+            let (rlo, rhi, c) = refine(&node, c, opts.tolerance, None)?;
             found.roots.push(root_of(system, &rlo, &rhi, c));
             for &m in members {
                 replaced[m] = true;
@@ -871,23 +1049,37 @@ pub(super) fn solve_stopping(
         });
     }
     let exact = elevated(&system.equations)?;
+    let scaled: Vec<ScaledBernstein> = if opts.path == Path::Filtered {
+        exact.iter().map(ScaledBernstein::from_rational).collect()
+    } else {
+        Vec::new()
+    };
     let whole = vec![(
         vec![<Rational as Zero>::zero(); n],
         vec![<Rational as One>::one(); n],
         0,
     )];
     let clock = Instant::now();
+    let mut ctx = Context {
+        system,
+        exact: &exact,
+        opts,
+        clock,
+        stop,
+        finish: None,
+    };
     let found = match opts.path {
-        Path::Exact => run::<Rational>(system, &exact, whole, opts, clock, 0, stop)?,
-        Path::Fast => run::<Interval>(system, &exact, whole, opts, clock, 0, stop)?,
+        Path::Exact => run::<Rational>(&ctx, whole, 0)?,
+        Path::Fast => run::<Interval>(&ctx, whole, 0)?,
         Path::Filtered => {
-            let mut fast = run::<Interval>(system, &exact, whole, opts, clock, 0, stop)?;
+            ctx.finish = Some(&scaled);
+            let mut fast = run::<Interval>(&ctx, whole, 0)?;
             let (open, mut kept): (Vec<_>, Vec<_>) = fast
                 .clusters
                 .drain(..)
                 .partition(|c| c.0.reason == ClusterReason::Uncertain);
             let starts = open.into_iter().map(|(_, lo, hi, d)| (lo, hi, d)).collect();
-            let more = run::<Rational>(system, &exact, starts, opts, clock, fast.visited, stop)?;
+            let more = run::<Rational>(&ctx, starts, fast.visited)?;
             fast.roots.extend(more.roots);
             kept.extend(more.clusters);
             fast.clusters = kept;

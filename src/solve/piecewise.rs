@@ -15,8 +15,8 @@
 //! Jacobian over all pieces makes every such matrix non-singular and rules out a second root.
 
 use super::subdivision::{
-    elevated, max_abs, precondition, root_in, rounded_inverse, solve, solve_stopping, strict_sign,
-    FaceStop, SPLITS,
+    max_abs, precondition, root_in, rounded_inverse, solve, solve_stopping, strict_sign,
+    Coefficient, Decision, FaceStop, SPLITS,
 };
 use super::{
     touching_groups, Cluster, ClusterReason, RationalBox, Root, RootCertificate, Solution,
@@ -24,8 +24,7 @@ use super::{
 };
 use crate::bernstein::{Bernstein, Limits};
 use crate::bspline::TensorSpline;
-use crate::num::{rational_from_f64, rational_to_f64, Rational, Sign};
-use num_traits::{Signed, Zero};
+use crate::num::{rational_from_f64, rational_to_f64, Interval, Rational, Sign};
 use std::time::Instant;
 
 /// The most cells (products of knot spans inside the box) a piecewise system may have.
@@ -186,12 +185,6 @@ impl PiecewiseSystem {
         }
     }
 
-    /// Whether `x` is a cell boundary strictly inside the box on `axis`.
-    fn interior_break(&self, axis: usize, x: &Rational) -> bool {
-        let b = &self.breaks[axis];
-        b[1..b.len() - 1].binary_search(x).is_ok()
-    }
-
     /// The index of a cell containing the point `x` (closed cells; the first on ties).
     fn cell_of(&self, x: &[Rational]) -> usize {
         let mut flat = 0;
@@ -338,12 +331,12 @@ struct Found {
     visited: usize,
 }
 
-/// Each group of touching unresolved boxes (any reason but the budget) with a member on an
-/// interior knot plane is solved again as one box across the plane: the group's hull,
-/// inflated by a quarter of its width on every side (inside the domain), by an exact
-/// subdivision whose boxes cross knot planes ([`solve_across`]). That box meets no other
-/// root's or cluster's box (else the group is left as it is), so every root in it is one of
-/// the group's and nothing is counted twice. Clusters left on interior planes are depth-limit
+/// Each group of touching unresolved boxes (any reason but the budget) is solved again as one
+/// box across the knot planes its hull meets: the group's hull, inflated by a quarter of its
+/// width on every side (inside the domain; groups whose inflated hulls meet are merged), by
+/// an exact subdivision whose boxes cross knot planes ([`solve_across`]). That box meets no
+/// other root's or cluster's box (else the group is left as it is), so every root in it is
+/// one of the group's and nothing is counted twice. Clusters left on interior planes are depth-limit
 /// clusters (a root on a box face), not domain-boundary ones.
 fn across_knot_planes(
     system: &PiecewiseSystem,
@@ -357,11 +350,6 @@ fn across_knot_planes(
         clusters,
         mut visited,
     } = found;
-    let on_plane = |c: &Cluster| {
-        (0..n).any(|k| {
-            system.interior_break(k, &c.bounds[k].0) || system.interior_break(k, &c.bounds[k].1)
-        })
-    };
     let candidates: Vec<usize> = (0..clusters.len())
         .filter(|&i| clusters[i].reason != ClusterReason::Budget)
         .collect();
@@ -373,19 +361,15 @@ fn across_knot_planes(
         .iter()
         .map(|&i| (corners[i].0.as_slice(), corners[i].1.as_slice()))
         .collect();
-    let meets = |a: &RationalBox, lo: &[Rational], hi: &[Rational]| {
-        (0..n).all(|k| a[k].0 <= hi[k] && lo[k] <= a[k].1)
+    let meets = |alo: &[Rational], ahi: &[Rational], lo: &[Rational], hi: &[Rational]| {
+        (0..n).all(|k| alo[k] <= hi[k] && lo[k] <= ahi[k])
     };
-    let mut replaced = vec![false; clusters.len()];
-    let mut new_clusters = Vec::new();
-    for group in touching_groups(&boxes) {
-        let members: Vec<usize> = group.into_iter().map(|g| candidates[g]).collect();
-        if !members.iter().any(|&m| on_plane(&clusters[m])) {
-            continue;
-        }
+    // The inflated hull of a group: its members' hull grown by a quarter of its width on
+    // every side, inside the domain.
+    let hull = |members: &[usize]| {
         let mut lo = corners[members[0]].0.clone();
         let mut hi = corners[members[0]].1.clone();
-        for &m in &members {
+        for &m in members {
             for k in 0..n {
                 lo[k] = lo[k].clone().min(corners[m].0[k].clone());
                 hi[k] = hi[k].clone().max(corners[m].1[k].clone());
@@ -397,10 +381,53 @@ fn across_knot_planes(
             lo[k] = (&lo[k] - &w).max(system.domain[k].0.clone());
             hi[k] = (&hi[k] + &w).min(system.domain[k].1.clone());
         }
-        let clear = roots.iter().all(|r| !meets(&r.bounds, &lo, &hi))
-            && (0..clusters.len())
-                .filter(|i| !members.contains(i))
-                .all(|i| !meets(&clusters[i].bounds, &lo, &hi));
+        (lo, hi)
+    };
+    // Touching clusters form groups; groups whose inflated hulls meet are merged until no
+    // two hulls meet, so the boxes solved across planes are disjoint.
+    let mut groups: Vec<Vec<usize>> = touching_groups(&boxes)
+        .into_iter()
+        .map(|g| g.into_iter().map(|i| candidates[i]).collect())
+        .collect();
+    let mut hulls: Vec<(Vec<Rational>, Vec<Rational>)> = groups.iter().map(|g| hull(g)).collect();
+    'merge: loop {
+        for i in 0..groups.len() {
+            for j in i + 1..groups.len() {
+                if meets(&hulls[i].0, &hulls[i].1, &hulls[j].0, &hulls[j].1) {
+                    let absorbed = groups.swap_remove(j);
+                    hulls.swap_remove(j);
+                    groups[i].extend(absorbed);
+                    hulls[i] = hull(&groups[i]);
+                    continue 'merge;
+                }
+            }
+        }
+        break;
+    }
+    let crosses_plane = |lo: &[Rational], hi: &[Rational]| {
+        (0..n).any(|k| {
+            let b = &system.breaks[k];
+            b[1..b.len() - 1].iter().any(|x| &lo[k] <= x && x <= &hi[k])
+        })
+    };
+    let outer = |c: &Cluster| {
+        (0..n).any(|k| c.bounds[k].0 == system.domain[k].0 || c.bounds[k].1 == system.domain[k].1)
+    };
+    // A cell stopped early near a knot plane (a domain-boundary cluster of the cell that is
+    // not on the domain's boundary).
+    let stopped = |c: &Cluster| c.reason == ClusterReason::DomainBoundary && !outer(c);
+    let mut replaced = vec![false; clusters.len()];
+    let mut new_clusters = Vec::new();
+    for (members, (lo, hi)) in groups.into_iter().zip(hulls) {
+        if !crosses_plane(&lo, &hi) && !members.iter().any(|&m| stopped(&clusters[m])) {
+            continue;
+        }
+        let clear = roots.iter().all(|r| {
+            let (rlo, rhi): (Vec<Rational>, Vec<Rational>) = r.bounds.iter().cloned().unzip();
+            !meets(&rlo, &rhi, &lo, &hi)
+        }) && (0..clusters.len())
+            .filter(|i| !members.contains(i))
+            .all(|i| !meets(&corners[i].0, &corners[i].1, &lo, &hi));
         let Some(limits) = remaining(opts, clock, visited).filter(|_| clear) else {
             continue;
         };
@@ -413,9 +440,6 @@ fn across_knot_planes(
             replaced[m] = true;
         }
     }
-    let outer = |c: &Cluster| {
-        (0..n).any(|k| c.bounds[k].0 == system.domain[k].0 || c.bounds[k].1 == system.domain[k].1)
-    };
     let clusters = clusters
         .into_iter()
         .zip(replaced)
@@ -436,11 +460,12 @@ fn across_knot_planes(
     })
 }
 
-/// Exact subdivision of the box `[lo, hi]` (domain coordinates) whose boxes may cross knot
-/// planes: a box is culled when some equation is of one strict sign on all its parts,
-/// certified by [`certify_parts`], or split (its widest side relative to the domain, at the
-/// first of the split points some equation is of one strict sign on), down to `levels`
-/// levels per side; deeper it is a cluster.
+/// Subdivision of the box `[lo, hi]` (domain coordinates) whose boxes may cross knot planes:
+/// a box is culled when some equation is of one strict sign on all its parts, certified by
+/// [`certify_parts`], or split (its widest side relative to the domain, at the first of the
+/// split points some equation is of one strict sign on), down to `levels` levels per side;
+/// deeper it is a cluster. Each box is decided in outward-rounded intervals first and, where
+/// rounding leaves the decision open, exactly.
 fn solve_across(
     system: &PiecewiseSystem,
     lo: Vec<Rational>,
@@ -456,13 +481,19 @@ fn solve_across(
         clusters: Vec::new(),
         visited: 0,
     };
+    let cells_exact: Vec<Vec<Bernstein<Rational>>> =
+        system.cells.iter().map(|c| c.equations.clone()).collect();
+    let cells_iv: Vec<Vec<Bernstein<Interval>>> = cells_exact
+        .iter()
+        .map(|c| c.iter().map(|e| e.map(Interval::from_rational)).collect())
+        .collect();
     let mut stack = vec![(lo, hi, 0u32)];
     while let Some((lo, hi, depth)) = stack.pop() {
-        let parts = parts(system, &lo, &hi)?;
+        let fast = parts(system, &cells_iv, &lo, &hi)?;
         let cluster = |reason| Cluster {
             bounds: lo.iter().cloned().zip(hi.iter().cloned()).collect(),
             reason,
-            max_abs_f: parts
+            max_abs_f: fast
                 .iter()
                 .map(|p| max_abs(&p.f))
                 .fold(vec![0.0; n], |a, b| {
@@ -475,20 +506,26 @@ fn solve_across(
             continue;
         }
         found.visited += 1;
-        let culled = (0..n).any(|i| {
-            let mut sign = None;
-            parts.iter().all(|p| {
-                let s = strict_sign(&p.f[i]);
-                let ok =
-                    matches!(s, Sign::Positive | Sign::Negative) && sign.is_none_or(|o| o == s);
-                sign = Some(s);
-                ok
-            })
-        });
-        if culled {
+        // Intervals first; the exact parts only where rounding left a decision open.
+        let mut cull = culled(&fast);
+        let (mut certified, mut certificate) = if cull == Decision::Yes {
+            (Decision::No, None)
+        } else {
+            certify_parts(&fast, &lo, &hi)?
+        };
+        if cull == Decision::Uncertain || certified == Decision::Uncertain {
+            let exact = parts(system, &cells_exact, &lo, &hi)?;
+            cull = culled(&exact);
+            (certified, certificate) = if cull == Decision::Yes {
+                (Decision::No, None)
+            } else {
+                certify_parts(&exact, &lo, &hi)?
+            };
+        }
+        if cull == Decision::Yes {
             continue;
         }
-        if let Some(c) = certify_parts(&parts, &lo, &hi)? {
+        if let (Decision::Yes, Some(c)) = (certified, certificate) {
             let (lo, hi, c) = refine_box(system, lo, hi, c, tolerance)?;
             found
                 .roots
@@ -512,7 +549,7 @@ fn solve_across(
         let mut mid = at(&Rational::new(1.into(), 2.into()));
         for &(p, q) in &SPLITS {
             let x = at(&Rational::new(p.into(), q.into()));
-            if plane_root_free(&parts, axis, &x)? {
+            if plane_root_free(&fast, axis, &x)? {
                 mid = x;
                 break;
             }
@@ -527,9 +564,14 @@ fn solve_across(
     Ok(found)
 }
 
-/// Whether some equation is of one strict sign on the plane `x_axis = x` across all parts.
-fn plane_root_free(parts: &[Part], axis: usize, x: &Rational) -> Result<bool, SolveError> {
-    let on: Vec<&Part> = parts
+/// Whether some equation is of one certified strict sign on the plane `x_axis = x` across
+/// all parts.
+fn plane_root_free<T: Coefficient>(
+    parts: &[Part<T>],
+    axis: usize,
+    x: &Rational,
+) -> Result<bool, SolveError> {
+    let on: Vec<&Part<T>> = parts
         .iter()
         .filter(|p| p.lo[axis] <= *x && *x <= p.hi[axis])
         .collect();
@@ -537,7 +579,7 @@ fn plane_root_free(parts: &[Part], axis: usize, x: &Rational) -> Result<bool, So
         let mut sign = None;
         let mut ok = true;
         for p in &on {
-            let t = (x - &p.lo[axis]) / (&p.hi[axis] - &p.lo[axis]);
+            let t = T::from_rational(&((x - &p.lo[axis]) / (&p.hi[axis] - &p.lo[axis])));
             let s = strict_sign(&p.f[i].eval_axis(axis, &t)?);
             if !matches!(s, Sign::Positive | Sign::Negative) || sign.is_some_and(|o| o != s) {
                 ok = false;
@@ -553,21 +595,24 @@ fn plane_root_free(parts: &[Part], axis: usize, x: &Rational) -> Result<bool, So
 }
 
 /// One cell's part of a box: its bounds (domain coordinates), the equations on it (Bernstein
-/// form on the part, common degrees), and per axis the box's width over the part's, which
-/// turns a derivative in the part's unit coordinates into one in the box's.
-struct Part {
+/// form on the part, common degrees, in the coefficient field `T`), and per axis the box's
+/// width over the part's, which turns a derivative in the part's unit coordinates into one in
+/// the box's.
+struct Part<T> {
     lo: Vec<Rational>,
     hi: Vec<Rational>,
-    f: Vec<Bernstein<Rational>>,
+    f: Vec<Bernstein<T>>,
     ratio: Vec<Rational>,
 }
 
-/// The parts of the box `[lo, hi]`: one per cell it meets with positive volume.
-fn parts(
+/// Calls `visit(cell, unit)` for every cell the box `[lo, hi]` meets with positive volume,
+/// `unit` the intersection in the cell's unit coordinates.
+fn for_each_part(
     system: &PiecewiseSystem,
     lo: &[Rational],
     hi: &[Rational],
-) -> Result<Vec<Part>, SolveError> {
+    mut visit: impl FnMut(usize, Vec<(Rational, Rational)>) -> Result<(), SolveError>,
+) -> Result<(), SolveError> {
     let n = system.unknowns();
     let ranges: Vec<Vec<usize>> = (0..n)
         .map(|k| {
@@ -587,45 +632,109 @@ fn parts(
         })
         .collect();
     let total: usize = ranges.iter().map(Vec::len).product();
-    let mut out = Vec::with_capacity(total);
     for mut flat in 0..total {
         let mut cell = 0;
         for k in 0..n {
             cell += ranges[k][flat % ranges[k].len()] * strides[k];
             flat /= ranges[k].len();
         }
+        let domain = &system.cells[cell].domain;
+        let unit = (0..n)
+            .map(|k| {
+                let (a, b) = &domain[k];
+                let (l, h) = (lo[k].clone().max(a.clone()), hi[k].clone().min(b.clone()));
+                ((&l - a) / (b - a), (&h - a) / (b - a))
+            })
+            .collect();
+        visit(cell, unit)?;
+    }
+    Ok(())
+}
+
+/// The parts of the box `[lo, hi]`: one per cell it meets with positive volume, each
+/// restricted from `cells[cell]` (the cells' equations in `T`).
+fn parts<T: Coefficient>(
+    system: &PiecewiseSystem,
+    cells: &[Vec<Bernstein<T>>],
+    lo: &[Rational],
+    hi: &[Rational],
+) -> Result<Vec<Part<T>>, SolveError> {
+    let n = system.unknowns();
+    let mut out = Vec::new();
+    for_each_part(system, lo, hi, |cell, unit| {
         let c = &system.cells[cell];
-        let (mut plo, mut phi, mut unit, mut ratio) = (vec![], vec![], vec![], vec![]);
+        let (mut plo, mut phi, mut ratio) = (vec![], vec![], vec![]);
         for k in 0..n {
             let (a, b) = &c.domain[k];
-            let (l, h) = (lo[k].clone().max(a.clone()), hi[k].clone().min(b.clone()));
-            unit.push(((&l - a) / (b - a), (&h - a) / (b - a)));
+            let (l, h) = (a + (b - a) * &unit[k].0, a + (b - a) * &unit[k].1);
             ratio.push((&hi[k] - &lo[k]) / (&h - &l));
             plo.push(l);
             phi.push(h);
         }
-        let f: Vec<Bernstein<Rational>> = c
-            .equations
+        let sub: Vec<(T, T)> = unit
             .iter()
-            .map(|e| e.restrict(&unit))
+            .map(|(a, b)| (T::from_rational(a), T::from_rational(b)))
+            .collect();
+        let mut f: Vec<Bernstein<T>> = cells[cell]
+            .iter()
+            .map(|e| e.restrict(&sub))
             .collect::<Result<_, _>>()?;
+        for k in 0..n {
+            let top = f.iter().map(|e| e.degrees()[k]).max().unwrap_or(0);
+            for e in &mut f {
+                if e.degrees()[k] < top {
+                    *e = e.elevate(k, top - e.degrees()[k])?;
+                }
+            }
+        }
         out.push(Part {
             lo: plo,
             hi: phi,
-            f: elevated(&f)?,
+            f,
             ratio,
         });
-    }
+        Ok(())
+    })?;
     Ok(out)
 }
 
-/// Existence and uniqueness on the box `[lo, hi]` across its parts, exactly: the
-/// certificate, or `None`.
-fn certify_parts(
-    parts: &[Part],
+/// Some equation of one strict sign on every part (the same sign on all): `Yes` culls.
+fn culled<T: Coefficient>(parts: &[Part<T>]) -> Decision {
+    let n = parts.first().map_or(0, |p| p.f.len());
+    let mut uncertain = false;
+    for i in 0..n {
+        let mut sign = None;
+        let mut ok = true;
+        for p in parts {
+            match strict_sign(&p.f[i]) {
+                s @ (Sign::Positive | Sign::Negative) if sign.is_none_or(|o| o == s) => {
+                    sign = Some(s)
+                }
+                Sign::Uncertain => {
+                    uncertain = true;
+                    ok = false;
+                }
+                _ => ok = false,
+            }
+        }
+        if ok {
+            return Decision::Yes;
+        }
+    }
+    if uncertain {
+        Decision::Uncertain
+    } else {
+        Decision::No
+    }
+}
+
+/// Existence and uniqueness on the box `[lo, hi]` across its parts, in `T`: the
+/// certificate, `No`, or `Uncertain` (rounding).
+fn certify_parts<T: Coefficient>(
+    parts: &[Part<T>],
     lo: &[Rational],
     hi: &[Rational],
-) -> Result<Option<RootCertificate>, SolveError> {
+) -> Result<(Decision, Option<RootCertificate>), SolveError> {
     let n = lo.len();
     // The preconditioner: the inverse Jacobian (in the box's unit coordinates) at the centre.
     let two = Rational::from_integer(2.into());
@@ -634,14 +743,14 @@ fn certify_parts(
         .iter()
         .find(|p| (0..n).all(|k| p.lo[k] <= centre[k] && centre[k] <= p.hi[k]))
     else {
-        return Ok(None);
+        return Ok((Decision::No, None));
     };
     let tau: Vec<f64> = (0..n)
         .map(|k| rational_to_f64(&((&centre[k] - &at.lo[k]) / (&at.hi[k] - &at.lo[k]))))
         .collect();
     let mut j = vec![vec![0.0; n]; n];
     for (fi, row) in at.f.iter().zip(j.iter_mut()) {
-        let fi = fi.map(rational_to_f64);
+        let fi = fi.map(|c| c.approx());
         for (k, jk) in row.iter_mut().enumerate() {
             if fi.degrees()[k] > 0 {
                 *jk = fi.derivative(k)?.eval(&tau)? * rational_to_f64(&at.ratio[k]);
@@ -649,10 +758,11 @@ fn certify_parts(
         }
     }
     let a = rounded_inverse(j);
-    let g: Vec<Vec<Bernstein<Rational>>> = parts
+    let g: Vec<Vec<Bernstein<T>>> = parts
         .iter()
         .map(|p| precondition(&a, &p.f))
         .collect::<Result<_, _>>()?;
+    let mut uncertain = false;
     // Miranda: g_i of one strict sign on every part of the face t_i = 0, the other on t_i = 1.
     let mut signs = Vec::with_capacity(n);
     for i in 0..n {
@@ -662,61 +772,87 @@ fn certify_parts(
                 if !on {
                     continue;
                 }
-                let s = strict_sign(&gp[i].face(i, upper)?);
-                if !matches!(s, Sign::Positive | Sign::Negative)
-                    || sides[usize::from(upper)].is_some_and(|o| o != s)
-                {
-                    return Ok(None);
+                match strict_sign(&gp[i].face(i, upper)?) {
+                    Sign::Uncertain => uncertain = true,
+                    s @ (Sign::Positive | Sign::Negative)
+                        if sides[usize::from(upper)].is_none_or(|o| o == s) =>
+                    {
+                        sides[usize::from(upper)] = Some(s)
+                    }
+                    _ => return Ok((Decision::No, None)),
                 }
-                sides[usize::from(upper)] = Some(s);
             }
         }
         match sides {
             [Some(Sign::Negative), Some(Sign::Positive)] => signs.push(-1),
             [Some(Sign::Positive), Some(Sign::Negative)] => signs.push(1),
-            _ => return Ok(None),
+            _ if uncertain => signs.push(0),
+            _ => return Ok((Decision::No, None)),
         }
     }
     // Uniqueness: the interval Jacobian over all parts, strictly diagonally dominant by rows.
     for i in 0..n {
-        let mut diag: Option<(Sign, Rational)> = None;
-        let mut off = vec![Rational::zero(); n];
+        let mut diag: Option<(Sign, T)> = None;
+        let mut off = vec![T::zero(); n];
         for (p, gp) in parts.iter().zip(&g) {
             for (k, off_k) in off.iter_mut().enumerate() {
                 if gp[i].degrees()[k] == 0 {
                     if k == i {
-                        return Ok(None);
+                        return Ok((Decision::No, None));
                     }
                     continue;
                 }
                 let d = gp[i].derivative(k)?;
+                let ratio = T::from_rational(&p.ratio[k]);
                 if k == i {
                     let s = strict_sign(&d);
-                    let least =
-                        d.coeffs().iter().map(|c| c.abs()).min().unwrap_or_default() * &p.ratio[k];
+                    if s == Sign::Uncertain {
+                        return Ok((Decision::Uncertain, None));
+                    }
+                    let least = d
+                        .coeffs()
+                        .iter()
+                        .map(Coefficient::abs_lower)
+                        .reduce(|a, b| a.min_lower(&b))
+                        .unwrap_or_else(T::zero)
+                        .mul(&ratio);
                     diag = match (diag, s) {
                         (None, Sign::Positive | Sign::Negative) => Some((s, least)),
-                        (Some((o, m)), s) if o == s => Some((s, m.min(least))),
-                        _ => return Ok(None),
+                        (Some((o, m)), s) if o == s => Some((s, m.min_lower(&least))),
+                        _ => return Ok((Decision::No, None)),
                     };
                 } else {
-                    let most =
-                        d.coeffs().iter().map(|c| c.abs()).max().unwrap_or_default() * &p.ratio[k];
-                    if most > *off_k {
-                        *off_k = most;
-                    }
+                    let most = d
+                        .coeffs()
+                        .iter()
+                        .map(Coefficient::abs_upper)
+                        .reduce(|a, b| a.max_upper(&b))
+                        .unwrap_or_else(T::zero)
+                        .mul(&ratio);
+                    *off_k = off_k.max_upper(&most);
                 }
             }
         }
-        let off: Rational = off.into_iter().sum();
-        if diag.is_none_or(|(_, m)| m <= off) {
-            return Ok(None);
+        let off = off.iter().fold(T::zero(), |s, x| s.add(x));
+        let Some((_, m)) = diag else {
+            return Ok((Decision::No, None));
+        };
+        match m.sub(&off).sign() {
+            Sign::Positive => {}
+            Sign::Uncertain => uncertain = true,
+            _ => return Ok((Decision::No, None)),
         }
     }
-    Ok(Some(RootCertificate {
-        preconditioner: a,
-        lower_face_signs: signs,
-    }))
+    if uncertain {
+        return Ok((Decision::Uncertain, None));
+    }
+    Ok((
+        Decision::Yes,
+        Some(RootCertificate {
+            preconditioner: a,
+            lower_face_signs: signs,
+        }),
+    ))
 }
 
 /// Shrinks a certified box around its root as [`solve`](super::solve) does: Newton's method
@@ -804,7 +940,11 @@ fn refine_box(
             shi.push(b.min(hi[k].clone()));
         }
         if (0..n).all(|k| slo[k] < shi[k]) {
-            if let Some(c) = certify_parts(&parts(system, &slo, &shi)?, &slo, &shi)? {
+            let cells: Vec<Vec<Bernstein<Rational>>> =
+                system.cells.iter().map(|c| c.equations.clone()).collect();
+            if let (Decision::Yes, Some(c)) =
+                certify_parts(&parts(system, &cells, &slo, &shi)?, &slo, &shi)?
+            {
                 return Ok((slo, shi, c));
             }
         }

@@ -698,9 +698,11 @@ pub(super) fn elevated(
 }
 
 /// Faces of the unit box at which the subdivision stops early: a box at least `depth`
-/// levels deep that touches one of them (index `2·axis + upper`) on which the system may
-/// vanish goes back as a [`ClusterReason::DomainBoundary`] cluster (a piecewise system's
-/// cells stop so at knot planes; the roots there are solved across the plane).
+/// levels deep within `2^(1−depth)` of one of them (index `2·axis + upper`) goes back as a
+/// [`ClusterReason::DomainBoundary`] cluster — unless it touches the face and the system
+/// cannot vanish there. A piecewise system's cells stop so at knot planes: a root on (or
+/// near) a plane is solved across it, since a root on a box's corner can neither be certified
+/// nor be separated from the zero sets through it by culling.
 pub(super) struct FaceStop {
     pub(super) faces: Vec<bool>,
     pub(super) depth: u32,
@@ -714,29 +716,39 @@ impl FaceStop {
         }
     }
 
-    /// Whether `node` is deep enough and touches a stop face on which no equation is of one
-    /// strict sign.
+    /// Whether `node` is deep enough and near a stop face.
     fn stops<T: Field>(&self, node: &Node<T>) -> Result<bool, SolveError> {
         let n = node.lo.len();
         if self.faces.is_empty() || node.depth < self.depth.saturating_mul(n as u32) {
             return Ok(false);
         }
+        let band = Rational::new(
+            1.into(),
+            num_bigint::BigInt::from(2u8).pow(self.depth.saturating_sub(1)),
+        );
         for axis in 0..n {
             for upper in [false, true] {
-                let touches = if upper {
-                    node.hi[axis].is_one()
+                if !self.faces[2 * axis + usize::from(upper)] {
+                    continue;
+                }
+                let distance = if upper {
+                    <Rational as One>::one() - &node.hi[axis]
                 } else {
-                    node.lo[axis].is_zero()
+                    node.lo[axis].clone()
                 };
-                if touches && self.faces[2 * axis + usize::from(upper)] {
-                    let faces: Vec<_> = node
-                        .polys
-                        .iter()
-                        .map(|p| p.face(axis, upper))
-                        .collect::<Result<_, _>>()?;
-                    if root_free(&faces) != Decision::Yes {
-                        return Ok(true);
-                    }
+                if distance > band {
+                    continue;
+                }
+                if !distance.is_zero() {
+                    return Ok(true);
+                }
+                let faces: Vec<_> = node
+                    .polys
+                    .iter()
+                    .map(|p| p.face(axis, upper))
+                    .collect::<Result<_, _>>()?;
+                if root_free(&faces) != Decision::Yes {
+                    return Ok(true);
                 }
             }
         }

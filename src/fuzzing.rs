@@ -475,6 +475,37 @@ pub fn check_mc_fe(data: &[u8]) -> Result<(), String> {
         .map_err(|e| format!("invalid mesh: {e}"))
 }
 
+/// Every certified root of either path passes `check`, and the root it holds is accounted
+/// for by the other path: its box meets one of the other's root or cluster boxes.
+fn cross_account(
+    exact: &crate::solve::Solution,
+    fast: &crate::solve::Solution,
+    check: impl Fn(&crate::solve::Root) -> Result<(), String>,
+) -> Result<(), String> {
+    let meets = |a: &[(Rational, Rational)], b: &[(Rational, Rational)]| {
+        a.iter()
+            .zip(b)
+            .all(|((a0, a1), (b0, b1))| a0 <= b1 && b0 <= a1)
+    };
+    let accounted = |bounds: &[(Rational, Rational)], other: &crate::solve::Solution| {
+        other.roots.iter().any(|r| meets(bounds, &r.bounds))
+            || other.clusters.iter().any(|c| meets(bounds, &c.bounds))
+    };
+    for (name, mine, other) in [("exact", exact, fast), ("fast", fast, exact)] {
+        for r in &mine.roots {
+            check(r)
+                .map_err(|e| format!("{name} root {:?} refused by the checker: {e}", r.bounds))?;
+            if !accounted(&r.bounds, other) {
+                return Err(format!(
+                    "{name} certified a root in {:?} that the other path does not account for",
+                    r.bounds
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Differential solving: a system of 1–2 unknowns decoded from bytes (per equation, degrees
 /// 1–3 and small integer Bernstein coefficients; with the first byte's low bit set, a product
 /// of linear factors with roots on a grid of sixteenths, often on split planes and faces)
@@ -483,7 +514,7 @@ pub fn check_mc_fe(data: &[u8]) -> Result<(), String> {
 /// other path: its box meets one of the other's root or cluster boxes.
 pub fn check_solve(data: &[u8]) -> Result<(), String> {
     use crate::bernstein::{Bernstein, Limits};
-    use crate::solve::{solve, verify_root, Solution, SolveOptions, System};
+    use crate::solve::{solve, verify_root, SolveOptions, System};
     let mut bytes = data.iter().copied();
     let mut next = move || bytes.next().unwrap_or(0);
     let head = next();
@@ -522,28 +553,11 @@ pub fn check_solve(data: &[u8]) -> Result<(), String> {
     };
     let exact = run(crate::Path::Exact)?;
     let fast = run(crate::Path::Fast)?;
-    let meets = |a: &[(Rational, Rational)], b: &[(Rational, Rational)]| {
-        a.iter()
-            .zip(b)
-            .all(|((a0, a1), (b0, b1))| a0 <= b1 && b0 <= a1)
-    };
-    let accounted = |bounds: &[(Rational, Rational)], other: &Solution| {
-        other.roots.iter().any(|r| meets(bounds, &r.bounds))
-            || other.clusters.iter().any(|c| meets(bounds, &c.bounds))
-    };
-    for (name, mine, other) in [("exact", &exact, &fast), ("fast", &fast, &exact)] {
-        for r in &mine.roots {
-            verify_root(&system, &r.bounds, &r.certificate)
-                .map_err(|e| format!("{name} root {:?} refused by the checker: {e}", r.bounds))?;
-            if !accounted(&r.bounds, other) {
-                return Err(format!(
-                    "{name} certified a root in {:?} that the other path does not account for",
-                    r.bounds
-                ));
-            }
-        }
-    }
-    Ok(())
+    cross_account(&exact, &fast, |r| {
+        verify_root(&system, &r.bounds, &r.certificate)
+            .map(drop)
+            .map_err(|e| e.to_string())
+    })
 }
 
 /// Differential solving of B-spline equations: a system of 1–2 unknowns decoded from bytes,
@@ -558,7 +572,7 @@ pub fn check_solve_bspline(data: &[u8]) -> Result<(), String> {
     use crate::bernstein::{Bernstein, Limits};
     use crate::bspline::TensorSpline;
     use crate::solve::{
-        solve_piecewise, verify_piecewise_root, Equation, PiecewiseSystem, Solution, SolveOptions,
+        solve_piecewise, verify_piecewise_root, Equation, PiecewiseSystem, SolveOptions,
     };
     let mut bytes = data.iter().copied();
     let mut next = move || bytes.next().unwrap_or(0);
@@ -638,28 +652,11 @@ pub fn check_solve_bspline(data: &[u8]) -> Result<(), String> {
     };
     let exact = run(crate::Path::Exact)?;
     let fast = run(crate::Path::Fast)?;
-    let meets = |a: &[(Rational, Rational)], b: &[(Rational, Rational)]| {
-        a.iter()
-            .zip(b)
-            .all(|((a0, a1), (b0, b1))| a0 <= b1 && b0 <= a1)
-    };
-    let accounted = |bounds: &[(Rational, Rational)], other: &Solution| {
-        other.roots.iter().any(|r| meets(bounds, &r.bounds))
-            || other.clusters.iter().any(|c| meets(bounds, &c.bounds))
-    };
-    for (name, mine, other) in [("exact", &exact, &fast), ("fast", &fast, &exact)] {
-        for r in &mine.roots {
-            verify_piecewise_root(&system, &r.bounds, &r.certificate)
-                .map_err(|e| format!("{name} root {:?} refused by the checker: {e}", r.bounds))?;
-            if !accounted(&r.bounds, other) {
-                return Err(format!(
-                    "{name} certified a root in {:?} that the other path does not account for",
-                    r.bounds
-                ));
-            }
-        }
-    }
-    Ok(())
+    cross_account(&exact, &fast, |r| {
+        verify_piecewise_root(&system, &r.bounds, &r.certificate)
+            .map(drop)
+            .map_err(|e| e.to_string())
+    })
 }
 
 /// Differential check of curve tracing: one random bivariate equation (degrees 1–3 per axis,

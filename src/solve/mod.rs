@@ -101,14 +101,7 @@ impl System {
         equations: Vec<Bernstein<Rational>>,
     ) -> Result<System, SolveError> {
         let n = domain.len();
-        if n == 0 || n > MAX_UNKNOWNS {
-            return Err(SolveError::Unknowns(n));
-        }
-        for (axis, (a, b)) in domain.iter().enumerate() {
-            if a >= b {
-                return Err(SolveError::EmptyBox { axis });
-            }
-        }
+        check_domain(&domain)?;
         for (i, e) in equations.iter().enumerate() {
             if e.dim() != n {
                 return Err(SolveError::Equation {
@@ -152,6 +145,30 @@ impl System {
             .into_iter()
             .zip(self.to_domain(hi))
             .collect()
+    }
+}
+
+/// 1…[`MAX_UNKNOWNS`] unknowns, each interval non-empty.
+fn check_domain(domain: &[(Rational, Rational)]) -> Result<(), SolveError> {
+    let n = domain.len();
+    if n == 0 || n > MAX_UNKNOWNS {
+        return Err(SolveError::Unknowns(n));
+    }
+    match domain.iter().position(|(a, b)| a >= b) {
+        Some(axis) => Err(SolveError::EmptyBox { axis }),
+        None => Ok(()),
+    }
+}
+
+/// As many equations as unknowns.
+fn check_square(equations: usize, unknowns: usize) -> Result<(), SolveError> {
+    if equations == unknowns {
+        Ok(())
+    } else {
+        Err(SolveError::NotSquare {
+            equations,
+            unknowns,
+        })
     }
 }
 

@@ -1,10 +1,12 @@
 //! Piecewise systems: an equation given as a tensor B-spline field is a polynomial only
 //! between its knots. The box is cut by every equation's knot planes into a grid of cells;
 //! each cell is an ordinary [`System`] solved by subdivision. A root on a knot plane lies on
-//! the boundary of every cell that holds it, so no cell certifies it: the cells leave
-//! clusters on the plane, and those are certified once, as one box across the plane, by
-//! Miranda's test and the interval Jacobian taken over the box's pieces (one per cell it
-//! meets).
+//! the boundary of every cell that holds it, so no cell certifies it (and at a cell's corner
+//! culling cannot separate it from the zero sets through it either): the cells stop early
+//! near knot planes, and what they leave there is solved once more, as boxes across the
+//! planes, by a subdivision whose boxes are cut into pieces (one per cell they meet) and
+//! whose tests — culling, Miranda's test and the interval Jacobian — are taken over all
+//! pieces.
 //!
 //! Why the two tests still hold across pieces: the field is continuous (interior knots of
 //! multiplicity at most the degree), which is all Miranda's theorem asks; and along any
@@ -19,8 +21,8 @@ use super::subdivision::{
     Coefficient, Decision, FaceStop, SPLITS,
 };
 use super::{
-    touching_groups, Cluster, ClusterReason, RationalBox, Root, RootCertificate, Solution,
-    SolveError, SolveOptions, System, MAX_DEGREE, MAX_UNKNOWNS,
+    check_domain, check_square, touching_groups, Cluster, ClusterReason, RationalBox, Root,
+    RootCertificate, Solution, SolveError, SolveOptions, System, MAX_DEGREE,
 };
 use crate::bernstein::{Bernstein, Limits};
 use crate::bspline::TensorSpline;
@@ -57,14 +59,7 @@ impl PiecewiseSystem {
     /// At most [`MAX_CELLS`] cells.
     pub fn new(domain: RationalBox, equations: Vec<Equation>) -> Result<Self, SolveError> {
         let n = domain.len();
-        if n == 0 || n > MAX_UNKNOWNS {
-            return Err(SolveError::Unknowns(n));
-        }
-        for (axis, (a, b)) in domain.iter().enumerate() {
-            if a >= b {
-                return Err(SolveError::EmptyBox { axis });
-            }
-        }
+        check_domain(&domain)?;
         let mut breaks: Vec<Vec<Rational>> = domain
             .iter()
             .map(|(a, b)| vec![a.clone(), b.clone()])
@@ -245,13 +240,13 @@ fn cell_bounds(breaks: &[Vec<Rational>], counts: &[usize], mut flat: usize) -> R
         .collect()
 }
 
-/// The depth (levels per side) at which a cell's subdivision stops at a knot plane the
-/// system may vanish on, handing the box to the solve across the plane.
+/// The depth (levels per side) from which a cell's subdivision stops within `2^(1−depth)` of
+/// a knot plane, handing the box to the solve across the plane.
 const FACE_DEPTH: u32 = 10;
 
 /// Solves a piecewise system: every cell by subdivision (within what is left of the box and
-/// time budgets), stopping at knot planes the system may vanish on; then each group of
-/// touching unresolved boxes on a knot plane is solved again as one box across the plane.
+/// time budgets), stopping near knot planes; then each group of touching unresolved boxes
+/// there is solved again as one box across the planes.
 ///
 /// The guarantee is [`solve`](super::solve)'s: every root in the box lies in exactly one
 /// root's box (holding no other root) or in clusters' boxes; a root on a knot plane that
@@ -261,12 +256,7 @@ pub fn solve_piecewise(
     opts: &SolveOptions,
 ) -> Result<Solution, SolveError> {
     let n = system.unknowns();
-    if system.equations.len() != n {
-        return Err(SolveError::NotSquare {
-            equations: system.equations.len(),
-            unknowns: n,
-        });
-    }
+    check_square(system.equations.len(), n)?;
     if let Some(only) = system.polynomial() {
         return solve(only, opts);
     }

@@ -1054,12 +1054,7 @@ pub(super) fn solve_stopping(
     stop: &FaceStop,
 ) -> Result<Solution, SolveError> {
     let n = system.unknowns();
-    if system.equations.len() != n {
-        return Err(SolveError::NotSquare {
-            equations: system.equations.len(),
-            unknowns: n,
-        });
-    }
+    super::check_square(system.equations.len(), n)?;
     let exact = elevated(&system.equations)?;
     let scaled: Vec<ScaledBernstein> = if opts.path == Path::Filtered {
         exact.iter().map(ScaledBernstein::from_rational).collect()

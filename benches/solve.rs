@@ -1,11 +1,14 @@
 //! The certified solver on dense random systems (bicubic, biquintic, tricubic: the report's
-//! msolve comparison sizes) on the filtered path, and curve tracing (a circle in the plane, a
-//! sphere cut by a plane in space). `reports/solve.md` times the same sizes side by side
+//! msolve comparison sizes) on the filtered path, a B-spline system with its six roots on
+//! knot planes, and curve tracing (a circle in the plane, a sphere cut by a plane in space). `reports/solve.md` times the same sizes side by side
 //! with msolve.
 #![allow(missing_docs)] // criterion's group and main macros generate undocumented items
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use geocert::solve::{solve, system_from_json, trace, CurveOptions, SolveOptions, System};
+use geocert::solve::{
+    piecewise_system_from_json, solve, solve_piecewise, system_from_json, trace, CurveOptions,
+    SolveOptions, System,
+};
 use std::hint::black_box;
 
 /// `n` equations with every monomial up to degree `d` in each of `n` unknowns, integer
@@ -50,7 +53,69 @@ fn zero_dimensional(c: &mut Criterion) {
             b.iter(|| black_box(solve(&system, &opts).unwrap()))
         });
     }
+    // (x − 1/4)(x − 1/2)(x − 3/4) + (y − 1/3)(y − 2/3) and (x − 1/4)(x − 1/2)(x − 3/4) −
+    // (y − 1/3)(y − 2/3) as quadratic-by-cubic B-splines with knots at every root coordinate:
+    // six roots, each where four cells meet.
+    let bspline = piecewise_system_from_json(&knotted_grid()).expect("well-formed");
+    let opts = SolveOptions::new();
+    g.bench_function("bspline_roots_on_knots", |b| {
+        b.iter(|| black_box(solve_piecewise(&bspline, &opts).unwrap()))
+    });
     g.finish();
+}
+
+/// The system of `bspline_roots_on_knots` in the file format: the polynomials written as
+/// clamped B-splines (Bernstein coefficients) with the root coordinates inserted as knots.
+fn knotted_grid() -> String {
+    use geocert::bernstein::Bernstein;
+    use geocert::bspline::TensorSpline;
+    use geocert::num::{rational_to_string, Rational};
+    let q = |a: i64, b: i64| Rational::new(a.into(), b.into());
+    let lin = |k: usize, r: Rational| {
+        let mut d = vec![0, 0];
+        d[k] = 1;
+        Bernstein::new(d, vec![-r.clone(), q(1, 1) - r]).unwrap()
+    };
+    let one = Bernstein::constant(vec![0, 0], q(1, 1));
+    let xs = [q(1, 4), q(1, 2), q(3, 4)];
+    let ys = [q(1, 3), q(2, 3)];
+    let a = xs
+        .iter()
+        .fold(one.clone(), |p, r| p.product(&lin(0, r.clone())).unwrap());
+    let b = ys
+        .iter()
+        .fold(one, |p, r| p.product(&lin(1, r.clone())).unwrap());
+    let (a, b) = (a.elevate(1, 2).unwrap(), b.elevate(0, 3).unwrap());
+    let eqs: Vec<String> = [a.add(&b).unwrap(), a.add(&b.scale(&q(-1, 1))).unwrap()]
+        .iter()
+        .map(|p| {
+            let clamped = |d: usize| {
+                let mut k = vec![q(0, 1); d + 1];
+                k.extend(vec![q(1, 1); d + 1]);
+                k
+            };
+            let s = TensorSpline::new(vec![3, 2], vec![clamped(3), clamped(2)], p.coeffs().to_vec())
+                .and_then(|s| s.insert_knots(0, &xs))
+                .and_then(|s| s.insert_knots(1, &ys))
+                .unwrap();
+            let list = |v: &[Rational]| {
+                v.iter()
+                    .map(|x| format!("\"{}\"", rational_to_string(x)))
+                    .collect::<Vec<_>>()
+                    .join(",")
+            };
+            format!(
+                "{{\"bspline\": {{\"orders\": [4, 3], \"knots\": [[{}], [{}]], \"coeffs\": [{}]}}}}",
+                list(&s.knots()[0]),
+                list(&s.knots()[1]),
+                list(s.coeffs())
+            )
+        })
+        .collect();
+    format!(
+        "{{\"box\": [[\"0\", \"1\"], [\"0\", \"1\"]], \"equations\": [{}]}}",
+        eqs.join(",")
+    )
 }
 
 fn curves(c: &mut Criterion) {

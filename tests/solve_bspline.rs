@@ -8,8 +8,8 @@ use geocert::bspline::TensorSpline;
 use geocert::num::Rational;
 use geocert::solve::{
     piecewise_solution_certificate, piecewise_system_from_json, solve_piecewise, system_from_json,
-    verify_piecewise_root, verify_solution_certificate, Equation, PiecewiseSystem, Solution,
-    SolveError, SolveOptions,
+    verify_piecewise_root, verify_solution_certificate, ClusterReason, Equation, PiecewiseSystem,
+    Solution, SolveError, SolveOptions,
 };
 use geocert::Path;
 use proptest::prelude::*;
@@ -239,7 +239,16 @@ proptest! {
         for path in [Path::Fast, Path::Filtered] {
             let s = solve_piecewise(&system, &SolveOptions::new().with_path(path)).unwrap();
             account(&system, &s, std::slice::from_ref(&root)).map_err(TestCaseError::fail)?;
-            prop_assert_eq!((s.roots.len(), s.clusters.len()), (1, 0), "{}: {:?}", path, s.clusters);
+            if path == Path::Fast {
+                // Rounding may leave the root open at the depth limit: then only uncertain
+                // clusters hold it.
+                prop_assert!(s.roots.len() == 1 && s.clusters.is_empty()
+                    || s.roots.is_empty()
+                        && s.clusters.iter().all(|c| c.reason == ClusterReason::Uncertain),
+                    "fast: {:?}", s.clusters);
+            } else {
+                prop_assert_eq!((s.roots.len(), s.clusters.len()), (1, 0), "{}: {:?}", path, s.clusters);
+            }
         }
     }
 }

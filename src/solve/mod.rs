@@ -30,9 +30,10 @@
 //!   other root's or cluster's box.
 //!
 //! Equations may be tensor B-spline fields ([`PiecewiseSystem`], [`solve_piecewise`]): their
-//! knots cut the box into cells, each solved as above; a root on a knot plane, on the
-//! boundary of every cell holding it, is solved once more in a box across the plane with both
-//! tests taken over the box's parts, and [`verify_piecewise_root`] re-checks it part by part.
+//! knots cut the box into cells, and the subdivision's boxes cross the knot planes freely,
+//! each cut into parts (one per cell) over which culling and both tests are taken, so a root
+//! on a knot plane is found once like any other; [`verify_piecewise_root`] re-checks a root
+//! part by part.
 //!
 //! One equation fewer than unknowns defines a curve: [`trace`] subdivides into boxes where a
 //! component of the tangent has one strict sign, certifies the curve's crossings of every

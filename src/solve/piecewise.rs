@@ -1,12 +1,11 @@
 //! Piecewise systems: an equation given as a tensor B-spline field is a polynomial only
-//! between its knots. The box is cut by every equation's knot planes into a grid of cells;
-//! each cell is an ordinary [`System`] solved by subdivision. A root on a knot plane lies on
-//! the boundary of every cell that holds it, so no cell certifies it (and at a cell's corner
-//! culling cannot separate it from the zero sets through it either): the cells stop early
-//! near knot planes, and what they leave there is solved once more, as boxes across the
-//! planes, by a subdivision whose boxes are cut into pieces (one per cell they meet) and
-//! whose tests — culling, Miranda's test and the interval Jacobian — are taken over all
-//! pieces.
+//! between its knots. The box is cut by every equation's knot planes into a grid of cells,
+//! each with every equation in Bernstein form; the subdivision then runs over the whole box
+//! with boxes free to cross knot planes: a box is cut into parts (one per cell it meets, each
+//! carrying the equations on it, split with the box by de Casteljau), and culling,
+//! Miranda's test and the interval Jacobian are taken over all its parts. A root on a knot
+//! plane is thus an ordinary root — inside a box that straddles the plane — found once; split
+//! planes are chosen where some equation is of one strict sign, as in [`solve`].
 //!
 //! Why the two tests still hold across pieces: the field is continuous (interior knots of
 //! multiplicity at most the degree), which is all Miranda's theorem asks; and along any
@@ -17,16 +16,17 @@
 //! Jacobian over all pieces makes every such matrix non-singular and rules out a second root.
 
 use super::subdivision::{
-    max_abs, precondition, root_in, rounded_inverse, solve, solve_stopping, strict_sign,
-    Coefficient, Decision, FaceStop, SPLITS,
+    max_abs, precondition, root_in, rounded_inverse, solve, strict_sign, Coefficient, Decision,
+    SPLITS,
 };
 use super::{
     check_domain, check_square, touching_groups, Cluster, ClusterReason, RationalBox, Root,
     RootCertificate, Solution, SolveError, SolveOptions, System, MAX_DEGREE,
 };
-use crate::bernstein::{Bernstein, Limits};
+use crate::bernstein::Bernstein;
 use crate::bspline::TensorSpline;
 use crate::num::{rational_from_f64, rational_to_f64, Interval, Rational, Sign};
+use crate::Path;
 use std::time::Instant;
 
 /// The most cells (products of knot spans inside the box) a piecewise system may have.
@@ -240,17 +240,16 @@ fn cell_bounds(breaks: &[Vec<Rational>], counts: &[usize], mut flat: usize) -> R
         .collect()
 }
 
-/// The depth (levels per side) from which a cell's subdivision stops within `2^(1−depth)` of
-/// a knot plane, handing the box to the solve across the plane.
-const FACE_DEPTH: u32 = 10;
+/// Exact certificate attempts when refining a root.
+const REFINE_TRIES: usize = 3;
 
-/// Solves a piecewise system: every cell by subdivision (within what is left of the box and
-/// time budgets), stopping near knot planes; then each group of touching unresolved boxes
-/// there is solved again as one box across the planes.
+/// Solves a piecewise system by one subdivision of the whole box whose boxes cross knot
+/// planes (see the module docs), on `opts.path`: exact, fast (intervals; what rounding leaves
+/// open at the depth limit is an uncertain cluster) or filtered (that last decision exact).
+/// A system with no knot inside the box is handed to [`solve`].
 ///
 /// The guarantee is [`solve`](super::solve)'s: every root in the box lies in exactly one
-/// root's box (holding no other root) or in clusters' boxes; a root on a knot plane that
-/// cannot be certified across it is a [`ClusterReason::DepthLimit`] cluster.
+/// root's box (holding no other root) or in clusters' boxes.
 pub fn solve_piecewise(
     system: &PiecewiseSystem,
     opts: &SolveOptions,
@@ -261,57 +260,18 @@ pub fn solve_piecewise(
         return solve(only, opts);
     }
     let clock = Instant::now();
-    let mut roots = Vec::new();
-    let mut clusters = Vec::new();
-    let mut visited = 0;
-    for cell in &system.cells {
-        let Some(limits) = remaining(opts, clock, visited) else {
-            clusters.push(Cluster {
-                bounds: cell.domain.clone(),
-                reason: ClusterReason::Budget,
-                max_abs_f: max_abs(&cell.equations),
-            });
-            continue;
-        };
-        let faces = (0..2 * n)
-            .map(|f| {
-                let (k, upper) = (f / 2, f % 2 == 1);
-                if upper {
-                    cell.domain[k].1 != system.domain[k].1
-                } else {
-                    cell.domain[k].0 != system.domain[k].0
-                }
-            })
-            .collect();
-        let stop = FaceStop {
-            faces,
-            depth: FACE_DEPTH.min(opts.limits.max_depth),
-        };
-        let s = solve_stopping(cell, &opts.with_limits(limits), &stop)?;
-        visited += s.boxes_visited;
-        roots.extend(s.roots);
-        clusters.extend(s.clusters);
-    }
-    let found = Found {
-        roots,
-        clusters,
-        visited,
+    let found = match opts.path {
+        Path::Exact => subdivide::<Rational>(system, opts, false, clock)?,
+        Path::Fast => subdivide::<Interval>(system, opts, false, clock)?,
+        Path::Filtered => subdivide::<Interval>(system, opts, true, clock)?,
     };
-    let found = across_knot_planes(system, found, opts, clock)?;
+    let found = across_split_planes(system, found, opts.tolerance)?;
     Ok(Solution {
         roots: found.roots,
         clusters: found.clusters,
         boxes_visited: found.visited,
         path: opts.path,
     })
-}
-
-/// The limits left after `visited` boxes and the time since `clock`; `None` when spent.
-fn remaining(opts: &SolveOptions, clock: Instant, visited: usize) -> Option<Limits> {
-    let mut limits = opts.limits;
-    limits.max_boxes = limits.max_boxes.saturating_sub(visited);
-    limits.time_limit = limits.time_limit.map(|t| t.saturating_sub(clock.elapsed()));
-    (limits.max_boxes > 0 && !limits.time_limit.is_some_and(|t| t.is_zero())).then_some(limits)
 }
 
 /// What the solve has found so far.
@@ -321,96 +281,55 @@ struct Found {
     visited: usize,
 }
 
-/// Each group of touching unresolved boxes (any reason but the budget) is solved again as one
-/// box across the knot planes its hull meets: the group's hull, inflated by a quarter of its
-/// width on every side (inside the domain; groups whose inflated hulls meet are merged), by
-/// an exact subdivision whose boxes cross knot planes ([`solve_across`]). That box meets no
-/// other root's or cluster's box (else the group is left as it is), so every root in it is
-/// one of the group's and nothing is counted twice. Clusters left on interior planes are depth-limit
-/// clusters (a root on a box face), not domain-boundary ones.
-fn across_knot_planes(
+/// A root on a split plane leaves touching depth-limit clusters, none of which can certify
+/// it: each group of them is tried once more as one box (their hull, grown by a quarter of
+/// its width on every side inside the domain), certified exactly across its parts, and kept
+/// only when that box meets no other root's or cluster's box, so nothing is counted twice.
+fn across_split_planes(
     system: &PiecewiseSystem,
     found: Found,
-    opts: &SolveOptions,
-    clock: Instant,
+    tolerance: f64,
 ) -> Result<Found, SolveError> {
     let n = system.unknowns();
     let Found {
         mut roots,
         clusters,
-        mut visited,
+        visited,
     } = found;
-    let candidates: Vec<usize> = (0..clusters.len())
-        .filter(|&i| clusters[i].reason != ClusterReason::Budget)
-        .collect();
     let corners: Vec<(Vec<Rational>, Vec<Rational>)> = clusters
         .iter()
         .map(|c| c.bounds.iter().cloned().unzip())
         .collect();
-    let boxes: Vec<(&[Rational], &[Rational])> = candidates
+    let deep: Vec<usize> = (0..clusters.len())
+        .filter(|&i| clusters[i].reason == ClusterReason::DepthLimit)
+        .collect();
+    let boxes: Vec<(&[Rational], &[Rational])> = deep
         .iter()
         .map(|&i| (corners[i].0.as_slice(), corners[i].1.as_slice()))
         .collect();
     let meets = |alo: &[Rational], ahi: &[Rational], lo: &[Rational], hi: &[Rational]| {
         (0..n).all(|k| alo[k] <= hi[k] && lo[k] <= ahi[k])
     };
-    // The inflated hull of a group: its members' hull grown by a quarter of its width on
-    // every side, inside the domain.
-    let hull = |members: &[usize]| {
-        let mut lo = corners[members[0]].0.clone();
-        let mut hi = corners[members[0]].1.clone();
-        for &m in members {
+    let cells: Vec<Vec<Bernstein<Rational>>> =
+        system.cells.iter().map(|c| c.equations.clone()).collect();
+    let quarter = Rational::new(1.into(), 4.into());
+    let mut replaced = vec![false; clusters.len()];
+    for group in touching_groups(&boxes) {
+        if group.len() < 2 {
+            continue;
+        }
+        let members: Vec<usize> = group.into_iter().map(|g| deep[g]).collect();
+        let (mut lo, mut hi) = corners[members[0]].clone();
+        for &m in &members {
             for k in 0..n {
                 lo[k] = lo[k].clone().min(corners[m].0[k].clone());
                 hi[k] = hi[k].clone().max(corners[m].1[k].clone());
             }
         }
-        let quarter = Rational::new(1.into(), 4.into());
         for k in 0..n {
             let w = (&hi[k] - &lo[k]) * &quarter;
             lo[k] = (&lo[k] - &w).max(system.domain[k].0.clone());
             hi[k] = (&hi[k] + &w).min(system.domain[k].1.clone());
-        }
-        (lo, hi)
-    };
-    // Touching clusters form groups; groups whose inflated hulls meet are merged until no
-    // two hulls meet, so the boxes solved across planes are disjoint.
-    let mut groups: Vec<Vec<usize>> = touching_groups(&boxes)
-        .into_iter()
-        .map(|g| g.into_iter().map(|i| candidates[i]).collect())
-        .collect();
-    let mut hulls: Vec<(Vec<Rational>, Vec<Rational>)> = groups.iter().map(|g| hull(g)).collect();
-    'merge: loop {
-        for i in 0..groups.len() {
-            for j in i + 1..groups.len() {
-                if meets(&hulls[i].0, &hulls[i].1, &hulls[j].0, &hulls[j].1) {
-                    let absorbed = groups.swap_remove(j);
-                    hulls.swap_remove(j);
-                    groups[i].extend(absorbed);
-                    hulls[i] = hull(&groups[i]);
-                    continue 'merge;
-                }
-            }
-        }
-        break;
-    }
-    let crosses_plane = |lo: &[Rational], hi: &[Rational]| {
-        (0..n).any(|k| {
-            let b = &system.breaks[k];
-            b[1..b.len() - 1].iter().any(|x| &lo[k] <= x && x <= &hi[k])
-        })
-    };
-    let outer = |c: &Cluster| {
-        (0..n).any(|k| c.bounds[k].0 == system.domain[k].0 || c.bounds[k].1 == system.domain[k].1)
-    };
-    // A cell stopped early near a knot plane (a domain-boundary cluster of the cell that is
-    // not on the domain's boundary).
-    let stopped = |c: &Cluster| c.reason == ClusterReason::DomainBoundary && !outer(c);
-    let mut replaced = vec![false; clusters.len()];
-    let mut new_clusters = Vec::new();
-    for (members, (lo, hi)) in groups.into_iter().zip(hulls) {
-        if !crosses_plane(&lo, &hi) && !members.iter().any(|&m| stopped(&clusters[m])) {
-            continue;
         }
         let clear = roots.iter().all(|r| {
             let (rlo, rhi): (Vec<Rational>, Vec<Rational>) = r.bounds.iter().cloned().unzip();
@@ -418,16 +337,17 @@ fn across_knot_planes(
         }) && (0..clusters.len())
             .filter(|i| !members.contains(i))
             .all(|i| !meets(&corners[i].0, &corners[i].1, &lo, &hi));
-        let Some(limits) = remaining(opts, clock, visited).filter(|_| clear) else {
+        if !clear {
             continue;
-        };
-        let levels = opts.limits.max_depth.saturating_sub(FACE_DEPTH) + 2;
-        let sub = solve_across(system, lo, hi, levels, &limits, opts.tolerance, clock)?;
-        visited += sub.visited;
-        roots.extend(sub.roots);
-        new_clusters.extend(sub.clusters);
-        for &m in &members {
-            replaced[m] = true;
+        }
+        if let (Decision::Yes, Some(c)) =
+            certify_parts(&parts(system, &cells, &lo, &hi)?, &lo, &hi)?
+        {
+            let (lo, hi, c) = refine_box(system, lo, hi, c, tolerance)?;
+            roots.push(root_in(lo.into_iter().zip(hi).collect(), c));
+            for &m in &members {
+                replaced[m] = true;
+            }
         }
     }
     let clusters = clusters
@@ -435,13 +355,6 @@ fn across_knot_planes(
         .zip(replaced)
         .filter(|(_, r)| !r)
         .map(|(c, _)| c)
-        .chain(new_clusters)
-        .map(|mut c| {
-            if c.reason == ClusterReason::DomainBoundary && !outer(&c) {
-                c.reason = ClusterReason::DepthLimit;
-            }
-            c
-        })
         .collect();
     Ok(Found {
         roots,
@@ -450,22 +363,22 @@ fn across_knot_planes(
     })
 }
 
-/// Subdivision of the box `[lo, hi]` (domain coordinates) whose boxes may cross knot planes:
-/// a box is culled when some equation is of one strict sign on all its parts, certified by
-/// [`certify_parts`], or split (its widest side relative to the domain, at the first of the
-/// split points some equation is of one strict sign on), down to `levels` levels per side;
-/// deeper it is a cluster. Each box is decided in outward-rounded intervals first and, where
-/// rounding leaves the decision open, exactly.
-fn solve_across(
+/// The subdivision of the domain in the coefficient field `T`, its boxes free to cross knot
+/// planes: a box is culled when some equation is of one strict sign on all its parts,
+/// certified by [`certify_parts`], or split (its widest side relative to the domain, at the
+/// first of the split points some equation is of one strict sign on), down to the depth
+/// limit; deeper it is a cluster. Where rounding leaves a decision open the box is split on
+/// (always sound); at the depth limit it is decided exactly with `finish` (the filtered
+/// path) or reported [`ClusterReason::Uncertain`] (the fast path).
+fn subdivide<T: Coefficient>(
     system: &PiecewiseSystem,
-    lo: Vec<Rational>,
-    hi: Vec<Rational>,
-    levels: u32,
-    limits: &Limits,
-    tolerance: f64,
+    opts: &SolveOptions,
+    finish: bool,
     clock: Instant,
 ) -> Result<Found, SolveError> {
     let n = system.unknowns();
+    let (limits, tolerance, levels) = (&opts.limits, opts.tolerance, opts.limits.max_depth);
+    let (lo, hi): (Vec<Rational>, Vec<Rational>) = system.domain.iter().cloned().unzip();
     let mut found = Found {
         roots: Vec::new(),
         clusters: Vec::new(),
@@ -473,13 +386,15 @@ fn solve_across(
     };
     let cells_exact: Vec<Vec<Bernstein<Rational>>> =
         system.cells.iter().map(|c| c.equations.clone()).collect();
-    let cells_iv: Vec<Vec<Bernstein<Interval>>> = cells_exact
+    let cells_t: Vec<Vec<Bernstein<T>>> = cells_exact
         .iter()
-        .map(|c| c.iter().map(|e| e.map(Interval::from_rational)).collect())
+        .map(|c| c.iter().map(|e| e.map(T::from_rational)).collect())
         .collect();
-    let mut stack = vec![(lo, hi, 0u32)];
-    while let Some((lo, hi, depth)) = stack.pop() {
-        let fast = parts(system, &cells_iv, &lo, &hi)?;
+    // Each box carries its parts, split with it (de Casteljau keeps the rounding relative to
+    // the box, which restricting from the cell again would not).
+    let first = parts(system, &cells_t, &lo, &hi)?;
+    let mut stack = vec![(lo, hi, 0u32, first)];
+    while let Some((lo, hi, depth, fast)) = stack.pop() {
         let cluster = |reason| Cluster {
             bounds: lo.iter().cloned().zip(hi.iter().cloned()).collect(),
             reason,
@@ -496,14 +411,21 @@ fn solve_across(
             continue;
         }
         found.visited += 1;
-        // Intervals first; the exact parts only where rounding left a decision open.
+        // Intervals; where rounding leaves a decision open the box is split on (always
+        // sound), and at the depth limit it is decided exactly.
         let mut cull = culled(&fast);
         let (mut certified, mut certificate) = if cull == Decision::Yes {
             (Decision::No, None)
         } else {
             certify_parts(&fast, &lo, &hi)?
         };
-        if cull == Decision::Uncertain || certified == Decision::Uncertain {
+        let deepest = depth >= levels.saturating_mul(n as u32);
+        let open = cull == Decision::Uncertain || certified == Decision::Uncertain;
+        if deepest && open && !finish {
+            found.clusters.push(cluster(ClusterReason::Uncertain));
+            continue;
+        }
+        if deepest && open {
             let exact = parts(system, &cells_exact, &lo, &hi)?;
             cull = culled(&exact);
             (certified, certificate) = if cull == Decision::Yes {
@@ -522,7 +444,7 @@ fn solve_across(
                 .push(root_in(lo.into_iter().zip(hi).collect(), c));
             continue;
         }
-        if depth >= levels.saturating_mul(n as u32) {
+        if deepest {
             let outer = (0..n).any(|k| lo[k] == system.domain[k].0 || hi[k] == system.domain[k].1);
             found.clusters.push(cluster(if outer {
                 ClusterReason::DomainBoundary
@@ -547,9 +469,47 @@ fn solve_across(
         let mut hi_left = hi.clone();
         hi_left[axis] = mid.clone();
         let mut lo_right = lo.clone();
-        lo_right[axis] = mid;
-        stack.push((lo_right, hi, depth + 1));
-        stack.push((lo, hi_left, depth + 1));
+        lo_right[axis] = mid.clone();
+        let (mut left, mut right) = (Vec::new(), Vec::new());
+        for p in fast {
+            if p.hi[axis] <= mid {
+                left.push(p);
+            } else if p.lo[axis] >= mid {
+                right.push(p);
+            } else {
+                let t = T::from_rational(&((&mid - &p.lo[axis]) / (&p.hi[axis] - &p.lo[axis])));
+                let (mut fl, mut fr) = (Vec::new(), Vec::new());
+                for e in &p.f {
+                    let (l, r) = e.split(axis, &t)?;
+                    fl.push(l);
+                    fr.push(r);
+                }
+                let (mut lhi, mut rlo) = (p.hi.clone(), p.lo.clone());
+                lhi[axis] = mid.clone();
+                rlo[axis] = mid.clone();
+                left.push(Part {
+                    lo: p.lo,
+                    hi: lhi,
+                    f: fl,
+                    ratio: Vec::new(),
+                });
+                right.push(Part {
+                    lo: rlo,
+                    hi: p.hi,
+                    f: fr,
+                    ratio: Vec::new(),
+                });
+            }
+        }
+        for (blo, bhi, ps) in [(&lo_right, &hi, &mut right), (&lo, &hi_left, &mut left)] {
+            for p in ps.iter_mut() {
+                p.ratio = (0..n)
+                    .map(|k| (&bhi[k] - &blo[k]) / (&p.hi[k] - &p.lo[k]))
+                    .collect();
+            }
+        }
+        stack.push((lo_right, hi, depth + 1, right));
+        stack.push((lo, hi_left, depth + 1, left));
     }
     Ok(found)
 }
@@ -757,13 +717,14 @@ fn certify_parts<T: Coefficient>(
     let mut signs = Vec::with_capacity(n);
     for i in 0..n {
         let mut sides = [None, None];
+        let mut row_uncertain = false;
         for (p, gp) in parts.iter().zip(&g) {
             for (upper, on) in [(false, p.lo[i] == lo[i]), (true, p.hi[i] == hi[i])] {
                 if !on {
                     continue;
                 }
                 match strict_sign(&gp[i].face(i, upper)?) {
-                    Sign::Uncertain => uncertain = true,
+                    Sign::Uncertain => row_uncertain = true,
                     s @ (Sign::Positive | Sign::Negative)
                         if sides[usize::from(upper)].is_none_or(|o| o == s) =>
                     {
@@ -774,9 +735,13 @@ fn certify_parts<T: Coefficient>(
             }
         }
         match sides {
-            [Some(Sign::Negative), Some(Sign::Positive)] => signs.push(-1),
-            [Some(Sign::Positive), Some(Sign::Negative)] => signs.push(1),
-            _ if uncertain => signs.push(0),
+            [Some(Sign::Negative), Some(Sign::Positive)] if !row_uncertain => signs.push(-1),
+            [Some(Sign::Positive), Some(Sign::Negative)] if !row_uncertain => signs.push(1),
+            [Some(a), Some(b)] if a == b => return Ok((Decision::No, None)),
+            _ if row_uncertain => {
+                uncertain = true;
+                signs.push(0);
+            }
             _ => return Ok((Decision::No, None)),
         }
     }
@@ -797,7 +762,8 @@ fn certify_parts<T: Coefficient>(
                 if k == i {
                     let s = strict_sign(&d);
                     if s == Sign::Uncertain {
-                        return Ok((Decision::Uncertain, None));
+                        uncertain = true;
+                        continue;
                     }
                     let least = d
                         .coeffs()
@@ -825,6 +791,9 @@ fn certify_parts<T: Coefficient>(
         }
         let off = off.iter().fold(T::zero(), |s, x| s.add(x));
         let Some((_, m)) = diag else {
+            if uncertain {
+                continue;
+            }
             return Ok((Decision::No, None));
         };
         match m.sub(&off).sign() {
@@ -916,7 +885,10 @@ fn refine_box(
         }
     }
     let mut rho = (0.5 * tolerance).max(4.0 * f64::EPSILON);
-    while rho < 0.25 * width {
+    // Each try is exact: three at most (ρ, 16ρ, 256ρ), then the certified box is kept.
+    let mut tries = 0;
+    while rho < 0.25 * width && tries < REFINE_TRIES {
+        tries += 1;
         let mut slo = Vec::with_capacity(n);
         let mut shi = Vec::with_capacity(n);
         for k in 0..n {

@@ -697,74 +697,14 @@ pub(super) fn elevated(
         .collect()
 }
 
-/// Faces of the unit box at which the subdivision stops early: a box at least `depth`
-/// levels deep within `2^(1−depth)` of one of them (index `2·axis + upper`) goes back as a
-/// [`ClusterReason::DomainBoundary`] cluster — unless it touches the face and the system
-/// cannot vanish there. A piecewise system's cells stop so at knot planes: a root on (or
-/// near) a plane is solved across it, since a root on a box's corner can neither be certified
-/// nor be separated from the zero sets through it by culling.
-pub(super) struct FaceStop {
-    pub(super) faces: Vec<bool>,
-    pub(super) depth: u32,
-}
-
-impl FaceStop {
-    fn none() -> FaceStop {
-        FaceStop {
-            faces: Vec::new(),
-            depth: u32::MAX,
-        }
-    }
-
-    /// Whether `node` is deep enough and near a stop face.
-    fn stops<T: Field>(&self, node: &Node<T>) -> Result<bool, SolveError> {
-        let n = node.lo.len();
-        if self.faces.is_empty() || node.depth < self.depth.saturating_mul(n as u32) {
-            return Ok(false);
-        }
-        let band = Rational::new(
-            1.into(),
-            num_bigint::BigInt::from(2u8).pow(self.depth.saturating_sub(1)),
-        );
-        for axis in 0..n {
-            for upper in [false, true] {
-                if !self.faces[2 * axis + usize::from(upper)] {
-                    continue;
-                }
-                let distance = if upper {
-                    <Rational as One>::one() - &node.hi[axis]
-                } else {
-                    node.lo[axis].clone()
-                };
-                if distance > band {
-                    continue;
-                }
-                if !distance.is_zero() {
-                    return Ok(true);
-                }
-                let faces: Vec<_> = node
-                    .polys
-                    .iter()
-                    .map(|p| p.face(axis, upper))
-                    .collect::<Result<_, _>>()?;
-                if root_free(&faces) != Decision::Yes {
-                    return Ok(true);
-                }
-            }
-        }
-        Ok(false)
-    }
-}
-
 /// What every run of one solve shares: the system, its equations at common degrees (exact,
 /// and as integers over a shared denominator for the filtered path's last refinement), the
-/// options, the clock and the early stops.
+/// options and the clock.
 struct Context<'a> {
     system: &'a System,
     exact: &'a [Bernstein<Rational>],
     opts: &'a SolveOptions,
     clock: Instant,
-    stop: &'a FaceStop,
     finish: Option<&'a [ScaledBernstein]>,
 }
 
@@ -780,7 +720,6 @@ fn run<T: Coefficient>(
         exact,
         opts,
         clock,
-        stop,
         finish,
     } = *ctx;
     let n = system.unknowns();
@@ -840,12 +779,6 @@ fn run<T: Coefficient>(
         if let (Decision::Yes, Some(certificate)) = (certified, certificate) {
             let (lo, hi, certificate) = refine(&node, certificate, opts.tolerance, finish)?;
             found.roots.push(root_of(system, &lo, &hi, certificate));
-            continue;
-        }
-        if stop.stops(&node)? {
-            found
-                .clusters
-                .push(cluster(&node, ClusterReason::DomainBoundary));
             continue;
         }
         // Rounding may leave a decision open (fast path only): splitting is always sound, so
@@ -1044,15 +977,6 @@ fn certify_across_planes(
 /// tangential root, and roots closer together than the depth limit resolves come back as
 /// clusters.
 pub fn solve(system: &System, opts: &SolveOptions) -> Result<Solution, SolveError> {
-    solve_stopping(system, opts, &FaceStop::none())
-}
-
-/// [`solve`] with early stops at the faces `stop` names.
-pub(super) fn solve_stopping(
-    system: &System,
-    opts: &SolveOptions,
-    stop: &FaceStop,
-) -> Result<Solution, SolveError> {
     let n = system.unknowns();
     super::check_square(system.equations.len(), n)?;
     let exact = elevated(&system.equations)?;
@@ -1072,7 +996,6 @@ pub(super) fn solve_stopping(
         exact: &exact,
         opts,
         clock,
-        stop,
         finish: None,
     };
     let found = match opts.path {

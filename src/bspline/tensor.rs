@@ -180,15 +180,21 @@ impl<T: Field + PartialOrd> TensorSpline<T> {
         Ok(Bernstein::new(self.degrees.clone(), coeffs)?)
     }
 
-    /// The same field with the knots `xs` (strictly inside the domain) inserted along `axis`
-    /// on every line (the Oslo algorithm in blossom form).
-    pub fn insert_knots(&self, axis: usize, xs: &[T]) -> Result<TensorSpline<T>, BsplineError> {
+    /// `axis` names one of the variables.
+    fn check_axis(&self, axis: usize) -> Result<(), BsplineError> {
         if axis >= self.dim() {
             return Err(BsplineError::DimensionMismatch {
                 expected: self.dim(),
                 found: axis + 1,
             });
         }
+        Ok(())
+    }
+
+    /// The same field with the knots `xs` (strictly inside the domain) inserted along `axis`
+    /// on every line (the Oslo algorithm in blossom form).
+    pub fn insert_knots(&self, axis: usize, xs: &[T]) -> Result<TensorSpline<T>, BsplineError> {
+        self.check_axis(axis)?;
         let counts = self.counts();
         let degs: Vec<usize> = counts.iter().map(|c| c - 1).collect();
         let refined = self
@@ -334,12 +340,7 @@ impl<T: Field + PartialOrd> TensorSpline<T> {
     /// The partial derivative along `axis`: the univariate derivative
     /// `p (c_i − c_{i−1}) / (s_{i+p} − s_i)` on every line (de Boor, ch. X, eq. (12)).
     pub fn derivative(&self, axis: usize) -> Result<TensorSpline<T>, BsplineError> {
-        if axis >= self.dim() {
-            return Err(BsplineError::DimensionMismatch {
-                expected: self.dim(),
-                found: axis + 1,
-            });
-        }
+        self.check_axis(axis)?;
         let counts = self.counts();
         let degs: Vec<usize> = counts.iter().map(|c| c - 1).collect();
         let probe = self

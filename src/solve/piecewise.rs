@@ -310,8 +310,6 @@ fn across_split_planes(
     let meets = |alo: &[Rational], ahi: &[Rational], lo: &[Rational], hi: &[Rational]| {
         (0..n).all(|k| alo[k] <= hi[k] && lo[k] <= ahi[k])
     };
-    let cells: Vec<Vec<Bernstein<Rational>>> =
-        system.cells.iter().map(|c| c.equations.clone()).collect();
     let quarter = Rational::new(1.into(), 4.into());
     let mut replaced = vec![false; clusters.len()];
     for group in touching_groups(&boxes) {
@@ -340,9 +338,11 @@ fn across_split_planes(
         if !clear {
             continue;
         }
-        if let (Decision::Yes, Some(c)) =
-            certify_parts(&parts(system, &cells, &lo, &hi)?, &lo, &hi)?
-        {
+        if let (Decision::Yes, Some(c)) = certify_parts(
+            &parts(system, |c| exact_cell(system, c), &lo, &hi)?,
+            &lo,
+            &hi,
+        )? {
             let (lo, hi, c) = refine_box(system, lo, hi, c, tolerance)?;
             roots.push(root_in(lo.into_iter().zip(hi).collect(), c));
             for &m in &members {
@@ -384,21 +384,25 @@ fn subdivide<T: Coefficient>(
         clusters: Vec::new(),
         visited: 0,
     };
-    let cells_exact: Vec<Vec<Bernstein<Rational>>> =
-        system.cells.iter().map(|c| c.equations.clone()).collect();
-    let cells_t: Vec<Vec<Bernstein<T>>> = cells_exact
+    let cells_t: Vec<Vec<Bernstein<T>>> = system
+        .cells
         .iter()
-        .map(|c| c.iter().map(|e| e.map(T::from_rational)).collect())
+        .map(|c| {
+            c.equations
+                .iter()
+                .map(|e| e.map(T::from_rational))
+                .collect()
+        })
         .collect();
     // Each box carries its parts, split with it (de Casteljau keeps the rounding relative to
     // the box, which restricting from the cell again would not).
-    let first = parts(system, &cells_t, &lo, &hi)?;
+    let first = parts(system, |c| cells_t[c].as_slice(), &lo, &hi)?;
     let mut stack = vec![(lo, hi, 0u32, first)];
-    while let Some((lo, hi, depth, fast)) = stack.pop() {
+    while let Some((lo, hi, depth, pieces)) = stack.pop() {
         let cluster = |reason| Cluster {
             bounds: lo.iter().cloned().zip(hi.iter().cloned()).collect(),
             reason,
-            max_abs_f: fast
+            max_abs_f: pieces
                 .iter()
                 .map(|p| max_abs(&p.f))
                 .fold(vec![0.0; n], |a, b| {
@@ -413,11 +417,11 @@ fn subdivide<T: Coefficient>(
         found.visited += 1;
         // Intervals; where rounding leaves a decision open the box is split on (always
         // sound), and at the depth limit it is decided exactly.
-        let mut cull = culled(&fast);
+        let mut cull = culled(&pieces);
         let (mut certified, mut certificate) = if cull == Decision::Yes {
             (Decision::No, None)
         } else {
-            certify_parts(&fast, &lo, &hi)?
+            certify_parts(&pieces, &lo, &hi)?
         };
         let deepest = depth >= levels.saturating_mul(n as u32);
         let open = cull == Decision::Uncertain || certified == Decision::Uncertain;
@@ -426,7 +430,7 @@ fn subdivide<T: Coefficient>(
             continue;
         }
         if deepest && open {
-            let exact = parts(system, &cells_exact, &lo, &hi)?;
+            let exact = parts(system, |c| exact_cell(system, c), &lo, &hi)?;
             cull = culled(&exact);
             (certified, certificate) = if cull == Decision::Yes {
                 (Decision::No, None)
@@ -461,7 +465,7 @@ fn subdivide<T: Coefficient>(
         let mut mid = at(&Rational::new(1.into(), 2.into()));
         for &(p, q) in &SPLITS {
             let x = at(&Rational::new(p.into(), q.into()));
-            if plane_root_free(&fast, axis, &x)? {
+            if plane_root_free(&pieces, axis, &x)? {
                 mid = x;
                 break;
             }
@@ -471,7 +475,7 @@ fn subdivide<T: Coefficient>(
         let mut lo_right = lo.clone();
         lo_right[axis] = mid.clone();
         let (mut left, mut right) = (Vec::new(), Vec::new());
-        for p in fast {
+        for p in pieces {
             if p.hi[axis] <= mid {
                 left.push(p);
             } else if p.lo[axis] >= mid {
@@ -601,18 +605,23 @@ fn for_each_part(
     Ok(())
 }
 
+/// The exact equations of cell `index`.
+fn exact_cell(system: &PiecewiseSystem, index: usize) -> &[Bernstein<Rational>] {
+    &system.cells[index].equations
+}
+
 /// The parts of the box `[lo, hi]`: one per cell it meets with positive volume, each
-/// restricted from `cells[cell]` (the cells' equations in `T`).
-fn parts<T: Coefficient>(
+/// restricted from `cell(index)` (a cell's equations in `T`).
+fn parts<'a, T: Coefficient + 'a>(
     system: &PiecewiseSystem,
-    cells: &[Vec<Bernstein<T>>],
+    cell: impl Fn(usize) -> &'a [Bernstein<T>],
     lo: &[Rational],
     hi: &[Rational],
 ) -> Result<Vec<Part<T>>, SolveError> {
     let n = system.unknowns();
     let mut out = Vec::new();
-    for_each_part(system, lo, hi, |cell, unit| {
-        let c = &system.cells[cell];
+    for_each_part(system, lo, hi, |index, unit| {
+        let c = &system.cells[index];
         let (mut plo, mut phi, mut ratio) = (vec![], vec![], vec![]);
         for k in 0..n {
             let (a, b) = &c.domain[k];
@@ -625,7 +634,7 @@ fn parts<T: Coefficient>(
             .iter()
             .map(|(a, b)| (T::from_rational(a), T::from_rational(b)))
             .collect();
-        let mut f: Vec<Bernstein<T>> = cells[cell]
+        let mut f: Vec<Bernstein<T>> = cell(index)
             .iter()
             .map(|e| e.restrict(&sub))
             .collect::<Result<_, _>>()?;
@@ -902,11 +911,11 @@ fn refine_box(
             shi.push(b.min(hi[k].clone()));
         }
         if (0..n).all(|k| slo[k] < shi[k]) {
-            let cells: Vec<Vec<Bernstein<Rational>>> =
-                system.cells.iter().map(|c| c.equations.clone()).collect();
-            if let (Decision::Yes, Some(c)) =
-                certify_parts(&parts(system, &cells, &slo, &shi)?, &slo, &shi)?
-            {
+            if let (Decision::Yes, Some(c)) = certify_parts(
+                &parts(system, |c| exact_cell(system, c), &slo, &shi)?,
+                &slo,
+                &shi,
+            )? {
                 return Ok((slo, shi, c));
             }
         }

@@ -93,6 +93,7 @@ pub mod num;
 pub mod solve;
 #[cfg(feature = "proptest")]
 pub mod strategies;
+pub mod sweep;
 
 mod fuzzing;
 mod memory;

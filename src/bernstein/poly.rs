@@ -414,6 +414,110 @@ impl<T: Field> Bernstein<T> {
         })
     }
 
+    /// The sum of two polynomials of any degrees: each is first elevated to the larger
+    /// degree per axis.
+    pub fn add_elevated(&self, other: &Self) -> Result<Self, BernsteinError> {
+        if other.dim() != self.dim() {
+            return Err(BernsteinError::DimensionMismatch {
+                expected: self.dim(),
+                found: other.dim(),
+            });
+        }
+        let mut a = self.clone();
+        let mut b = other.clone();
+        for axis in 0..self.dim() {
+            let (da, db) = (a.degrees[axis], b.degrees[axis]);
+            if da < db {
+                a = a.elevate(axis, db - da)?;
+            } else if db < da {
+                b = b.elevate(axis, da - db)?;
+            }
+        }
+        a.add(&b)
+    }
+
+    /// The same polynomial as an `n`-variate one, constant along the other axes: axis `k` of
+    /// `self` becomes axis `axes[k]` (strictly increasing, below `n`). The coefficient order is
+    /// unchanged: degree-0 axes hold one coefficient.
+    pub fn embed(&self, axes: &[usize], n: usize) -> Result<Self, BernsteinError> {
+        if axes.len() != self.dim() || axes.windows(2).any(|w| w[0] >= w[1]) {
+            return Err(BernsteinError::DimensionMismatch {
+                expected: self.dim(),
+                found: axes.len(),
+            });
+        }
+        if let Some(&a) = axes.iter().find(|&&a| a >= n) {
+            return Err(BernsteinError::Axis { axis: a, dim: n });
+        }
+        let mut degrees = vec![0; n];
+        for (k, &a) in axes.iter().enumerate() {
+            degrees[a] = self.degrees[k];
+        }
+        Ok(Bernstein {
+            degrees,
+            coeffs: self.coeffs.clone(),
+        })
+    }
+
+    /// `p / t_axis` (`upper = false`) or `p / (1 − t_axis)` when `p` vanishes identically on
+    /// that face (every face coefficient exactly zero), else `None`. Exact in Bernstein form:
+    /// `b'_j = b_{j+1}·d/(j+1)`, resp. `b'_j = b_j·d/(d−j)`, `j < d`.
+    pub fn divide_by_face(&self, axis: usize, upper: bool) -> Result<Option<Self>, BernsteinError> {
+        self.check_axis(axis)?;
+        let d = self.degrees[axis];
+        let face = self.face(axis, upper)?;
+        if d == 0 || !face.coeffs.iter().all(Field::is_exact_zero) {
+            return Ok(None);
+        }
+        let coeffs = map_lines(
+            &self.degrees,
+            &self.coeffs,
+            axis,
+            d,
+            &T::zero(),
+            |line, out| {
+                for (j, o) in out.iter_mut().enumerate() {
+                    *o = if upper {
+                        line[j].mul(&T::from_ratio(d as i64, (d - j) as i64))
+                    } else {
+                        line[j + 1].mul(&T::from_ratio(d as i64, (j + 1) as i64))
+                    };
+                }
+            },
+        );
+        let mut degrees = self.degrees.clone();
+        degrees[axis] = d - 1;
+        Ok(Some(Bernstein { degrees, coeffs }))
+    }
+
+    /// The same polynomial at its exact degree per axis (the highest power actually present),
+    /// found in the power basis and converted back; never higher than the current degrees.
+    pub fn at_exact_degrees(&self) -> Self {
+        let power = self.to_power();
+        let mut exact = vec![0; self.dim()];
+        for (flat, c) in power.iter().enumerate() {
+            if c.is_exact_zero() {
+                continue;
+            }
+            for (a, i) in multi_index(&self.degrees, flat).into_iter().enumerate() {
+                exact[a] = exact[a].max(i);
+            }
+        }
+        if exact == self.degrees {
+            return self.clone();
+        }
+        let mut trimmed = vec![T::zero(); coefficient_count(&exact)];
+        let out = strides(&exact);
+        for (flat, c) in power.iter().enumerate() {
+            let idx = multi_index(&self.degrees, flat);
+            if idx.iter().zip(&exact).all(|(i, e)| i <= e) {
+                let k: usize = idx.iter().zip(&out).map(|(i, st)| i * st).sum();
+                trimmed[k] = c.clone();
+            }
+        }
+        Bernstein::from_power(exact, trimmed).expect("degrees and coefficients agree")
+    }
+
     /// Every coefficient times `k`.
     pub fn scale(&self, k: &T) -> Self {
         self.map(|c| c.mul(k))

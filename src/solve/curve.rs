@@ -28,9 +28,11 @@ use super::subdivision::{
     max_abs, root_free, strict_sign, widest_axis, Coefficient, Decision, MOVED_SPLITS_DEPTH, SPLITS,
 };
 use super::{solve, Cluster, ClusterReason, RationalBox, Root, SolveError, SolveOptions, System};
-use crate::bernstein::{Bernstein, BernsteinError, Limits};
+use crate::bernstein::poly::map_lines;
+use crate::bernstein::{Bernstein, BernsteinError, Limits, ScaledBernstein};
 use crate::num::{rational_to_f64, Interval, Rational, Sign};
 use crate::Path;
+use num_bigint::BigInt;
 use num_traits::{One, Zero};
 use std::time::Instant;
 
@@ -221,22 +223,84 @@ pub fn plane_system(
     System::new(domain, equations)
 }
 
-/// `a + b` at the common degrees (each raised to the higher degree per axis).
-fn add_elevated<T: crate::num::Field>(
-    a: &Bernstein<T>,
-    b: &Bernstein<T>,
-) -> Result<Bernstein<T>, BernsteinError> {
-    let raise = |p: &Bernstein<T>, o: &Bernstein<T>| -> Result<Bernstein<T>, BernsteinError> {
-        let mut p = p.clone();
-        for k in 0..p.dim() {
-            let (d, t) = (p.degrees()[k], o.degrees()[k]);
-            if d < t {
-                p = p.elevate(k, t - d)?;
+/// `p` restricted to `[lo, hi] ⊂ [0, 1]` along `axis` (reparametrised to `[0, 1]`), by
+/// integer de Casteljau.
+fn restrict_scaled(
+    p: ScaledBernstein,
+    axis: usize,
+    lo: &Rational,
+    hi: &Rational,
+) -> Result<ScaledBernstein, BernsteinError> {
+    let mut p = p;
+    if !hi.is_one() {
+        p = p.split(axis, hi.numer(), hi.denom())?.0;
+    }
+    if !lo.is_zero() {
+        let r = lo / hi;
+        p = p.split(axis, r.numer(), r.denom())?.1;
+    }
+    Ok(p)
+}
+
+/// The face `t_axis = 0` (`upper = false`) or `1` of an integer polynomial, as rationals.
+fn face_scaled(
+    p: &ScaledBernstein,
+    axis: usize,
+    upper: bool,
+) -> Result<Bernstein<Rational>, BernsteinError> {
+    let d = p.degrees()[axis];
+    let num = map_lines(
+        p.degrees(),
+        p.numerators(),
+        axis,
+        1,
+        &BigInt::zero(),
+        |line, out| {
+            out[0] = line[if upper { d } else { 0 }].clone();
+        },
+    );
+    let mut degrees = p.degrees().to_vec();
+    degrees.remove(axis);
+    Ok(ScaledBernstein::with_denominator(degrees, num, p.denominator().clone())?.to_rational())
+}
+
+/// [`plane_system`] from the equations in integer form (`scaled[i]` is `system.equations[i]`):
+/// the same polynomials, computed by integer de Casteljau instead of rational arithmetic.
+fn plane_system_scaled(
+    system: &System,
+    scaled: &[ScaledBernstein],
+    axis: usize,
+    c: &Rational,
+    bounds: &RationalBox,
+) -> Result<System, SolveError> {
+    let n = system.unknowns();
+    if axis >= n || bounds.len() != n || n < 2 {
+        return Err(SolveError::Unknowns(n));
+    }
+    let at = system.to_unit(axis, c);
+    let mut equations = Vec::with_capacity(scaled.len());
+    for e in scaled {
+        let mut q = e.clone();
+        for (k, (lo, hi)) in bounds.iter().enumerate() {
+            if k != axis {
+                q = restrict_scaled(q, k, &system.to_unit(k, lo), &system.to_unit(k, hi))?;
             }
         }
-        Ok(p)
-    };
-    raise(a, b)?.add(&raise(b, a)?)
+        let face = if at.is_zero() || at.is_one() {
+            face_scaled(&q, axis, at.is_one())?
+        } else {
+            let right = q.split(axis, at.numer(), at.denom())?.1;
+            face_scaled(&right, axis, false)?
+        };
+        equations.push(face);
+    }
+    let domain = bounds
+        .iter()
+        .enumerate()
+        .filter(|&(k, _)| k != axis)
+        .map(|(_, b)| b.clone())
+        .collect();
+    System::new(domain, equations)
 }
 
 /// The determinant of the square matrix of polynomials `m[rows][cols]` (Laplace expansion
@@ -265,7 +329,7 @@ fn determinant<T: crate::num::Field>(
         }
         acc = Some(match acc {
             None => term,
-            Some(s) => add_elevated(&s, &term)?,
+            Some(s) => s.add_elevated(&term)?,
         });
     }
     acc.ok_or(BernsteinError::NoAxes)
@@ -290,6 +354,87 @@ pub(super) fn tangent_minor<T: crate::num::Field>(
     determinant(&refs)
 }
 
+/// [`tangent_minor`] in integers over a common denominator (no gcd in the products): the
+/// permutation expansion `Σ_σ sgn σ Π_i ∂f_i/∂x_σ(i)`, skipping the terms with an identically
+/// zero factor (a derivative along a degree-0 axis); every other term has the same degrees
+/// (each derivative lowers its axis by one), so the terms add without elevation.
+pub(super) fn tangent_minor_exact(
+    polys: &[Bernstein<Rational>],
+    k: usize,
+) -> Result<Bernstein<Rational>, BernsteinError> {
+    let n = polys.first().map_or(0, Bernstein::dim);
+    let cols: Vec<usize> = (0..n).filter(|&j| j != k).collect();
+    let mut derivs: Vec<Vec<Option<ScaledBernstein>>> = Vec::with_capacity(polys.len());
+    for p in polys {
+        let s = ScaledBernstein::from_rational(p);
+        let mut row = Vec::with_capacity(cols.len());
+        for &j in &cols {
+            let d = s.derivative(j)?;
+            row.push((!d.numerators().iter().all(Zero::is_zero)).then_some(d));
+        }
+        derivs.push(row);
+    }
+    fn expand(
+        derivs: &[Vec<Option<ScaledBernstein>>],
+        row: usize,
+        used: &mut Vec<bool>,
+        negative: bool,
+        partial: Option<ScaledBernstein>,
+        acc: &mut Option<ScaledBernstein>,
+    ) -> Result<(), BernsteinError> {
+        if row == derivs.len() {
+            let term = partial.expect("at least one row");
+            *acc = Some(match acc.take() {
+                None if negative => ScaledBernstein::from_integers(
+                    term.degrees().to_vec(),
+                    vec![BigInt::zero(); term.numerators().len()],
+                )?
+                .sub(&term)?,
+                None => term,
+                Some(a) if negative => a.sub(&term)?,
+                Some(a) => a.add(&term)?,
+            });
+            return Ok(());
+        }
+        // The sign of the permutation: one flip per used column to the right of the chosen one.
+        for c in 0..used.len() {
+            if used[c] {
+                continue;
+            }
+            let Some(d) = &derivs[row][c] else { continue };
+            let flips = used[c + 1..].iter().filter(|&&u| u).count();
+            let next = match &partial {
+                None => d.clone(),
+                Some(p) => p.product(d)?,
+            };
+            used[c] = true;
+            expand(
+                derivs,
+                row + 1,
+                used,
+                negative ^ (flips % 2 == 1),
+                Some(next),
+                acc,
+            )?;
+            used[c] = false;
+        }
+        Ok(())
+    }
+    let mut acc = None;
+    expand(
+        &derivs,
+        0,
+        &mut vec![false; cols.len()],
+        false,
+        None,
+        &mut acc,
+    )?;
+    Ok(match acc {
+        Some(a) => a.to_rational(),
+        None => Bernstein::constant(vec![0; n], Rational::zero()),
+    })
+}
+
 /// What a box of the subdivision is.
 enum Class {
     /// Some equation has one strict sign: no curve.
@@ -302,15 +447,19 @@ enum Class {
     Uncertain,
 }
 
-fn classify<T: Coefficient>(polys: &[Bernstein<T>]) -> Result<Class, SolveError> {
+/// Classifies a box from its equations and its tangent minors (`minors[k]` the minor without
+/// column `k`, restricted to the box: up to a positive factor, the box's own minor).
+fn classify<T: Coefficient>(
+    polys: &[Bernstein<T>],
+    minors: &[Bernstein<T>],
+) -> Result<Class, SolveError> {
     let culled = root_free(polys);
     if culled == Decision::Yes {
         return Ok(Class::Empty);
     }
     let mut uncertain = culled == Decision::Uncertain;
-    let n = polys[0].dim();
-    for k in 0..n {
-        match strict_sign(&tangent_minor(polys, k)?) {
+    for (k, minor) in minors.iter().enumerate() {
+        match strict_sign(minor) {
             Sign::Positive | Sign::Negative => return Ok(Class::Regular(k)),
             Sign::Uncertain => uncertain = true,
             Sign::Zero => {}
@@ -328,6 +477,10 @@ struct Node<T> {
     lo: Vec<Rational>,
     hi: Vec<Rational>,
     polys: Vec<Bernstein<T>>,
+    /// The tangent minors on the box, carried down by de Casteljau with the equations (the
+    /// minor of the restricted equations is the restricted minor times the product of the
+    /// box's widths along the other axes: the same signs).
+    minors: Vec<Bernstein<T>>,
     depth: u32,
     /// Certified curve points on the box's boundary.
     points: Vec<usize>,
@@ -356,6 +509,8 @@ struct Tracer<'a> {
     clusters: Vec<(Cluster, Vec<usize>)>,
     visited: usize,
     cross_sections: usize,
+    /// The equations in integer form, for the cross-sections.
+    scaled: Vec<ScaledBernstein>,
 }
 
 impl Tracer<'_> {
@@ -382,7 +537,7 @@ impl Tracer<'_> {
         let bounds = self.system.domain_box(lo, hi);
         let (a, b) = &self.system.domain[axis];
         let c = a + (b - a) * at;
-        let plane = plane_system(self.system, axis, &c, &bounds)?;
+        let plane = plane_system_scaled(self.system, &self.scaled, axis, &c, &bounds)?;
         self.cross_sections += 1;
         // An equation that vanishes on the whole cross-section leaves infinitely many curve
         // points on it (the solver would subdivide to its budget): no crossings to certify.
@@ -463,25 +618,29 @@ impl Tracer<'_> {
         ));
     }
 
-    /// The class of a node, exactly where rounding left it open on the filtered path.
+    /// The class of a node; on the filtered path, exactly where rounding left it open at the
+    /// depth limit.
     fn class_of<T: Coefficient>(
         &self,
         node: &Node<T>,
         exact: &[Bernstein<Rational>],
+        exact_minors: &[Bernstein<Rational>],
+        at_limit: bool,
     ) -> Result<Class, SolveError> {
-        let class = classify(&node.polys)?;
-        if matches!(class, Class::Uncertain) && self.opts.path == Path::Filtered {
+        let class = classify(&node.polys, &node.minors)?;
+        // Rounding that leaves the class open is usually settled by splitting (the
+        // coefficients tighten); only boxes at the depth limit are decided exactly.
+        if matches!(class, Class::Uncertain) && self.opts.path == Path::Filtered && at_limit {
             let sub: Vec<(Rational, Rational)> = node
                 .lo
                 .iter()
                 .cloned()
                 .zip(node.hi.iter().cloned())
                 .collect();
-            let polys: Vec<Bernstein<Rational>> = exact
-                .iter()
-                .map(|e| e.restrict(&sub))
-                .collect::<Result<_, _>>()?;
-            return classify(&polys);
+            let restrict = |ps: &[Bernstein<Rational>]| -> Result<Vec<_>, BernsteinError> {
+                ps.iter().map(|e| e.restrict(&sub)).collect()
+            };
+            return classify(&restrict(exact)?, &restrict(exact_minors)?);
         }
         Ok(class)
     }
@@ -521,10 +680,17 @@ impl Tracer<'_> {
         } else {
             Rational::one()
         };
+        let exact_minors: Vec<Bernstein<Rational>> = (0..n)
+            .map(|k| tangent_minor_exact(exact, k))
+            .collect::<Result<_, _>>()?;
         let mut stack = vec![Node {
             lo: zero,
             hi: one,
             polys: exact.iter().map(|e| e.map(T::from_rational)).collect(),
+            minors: exact_minors
+                .iter()
+                .map(|e| e.map(T::from_rational))
+                .collect(),
             depth: 0,
             points,
             blobs,
@@ -536,7 +702,8 @@ impl Tracer<'_> {
                 continue;
             }
             self.visited += 1;
-            let class = self.class_of(&node, exact)?;
+            let at_limit = node.depth >= limits.max_depth.saturating_mul(n as u32);
+            let class = self.class_of(&node, exact, &exact_minors, at_limit)?;
             let widest = widest_axis(&node.lo, &node.hi);
             let width = &node.hi[widest] - &node.lo[widest];
             match class {
@@ -557,7 +724,7 @@ impl Tracer<'_> {
             }
             // Splitting is always sound; rounding that left the class open shows in the
             // reason at the depth limit (fast path only: the filtered path decided exactly).
-            if node.depth >= limits.max_depth.saturating_mul(n as u32) {
+            if at_limit {
                 let reason = if matches!(class, Class::Uncertain) {
                     ClusterReason::Uncertain
                 } else {
@@ -616,6 +783,13 @@ impl Tracer<'_> {
             lp.push(l);
             rp.push(r);
         }
+        let mut lm = Vec::with_capacity(node.minors.len());
+        let mut rm = Vec::with_capacity(node.minors.len());
+        for p in &node.minors {
+            let (l, r) = p.split(axis, &st)?;
+            lm.push(l);
+            rm.push(r);
+        }
         let (mut lpts, mut rpts) = (new_points.clone(), new_points);
         let (mut lblobs, mut rblobs) = (new_blobs.clone(), new_blobs);
         for &id in &node.points {
@@ -662,6 +836,7 @@ impl Tracer<'_> {
                 lo: node.lo,
                 hi: hi_left,
                 polys: lp,
+                minors: lm,
                 depth: node.depth + 1,
                 points: lpts,
                 blobs: lblobs,
@@ -670,6 +845,7 @@ impl Tracer<'_> {
                 lo: lo_right,
                 hi: node.hi,
                 polys: rp,
+                minors: rm,
                 depth: node.depth + 1,
                 points: rpts,
                 blobs: rblobs,
@@ -805,6 +981,7 @@ pub fn trace(system: &System, opts: &CurveOptions) -> Result<Curves, SolveError>
         clusters: Vec::new(),
         visited: 0,
         cross_sections: 0,
+        scaled: exact.iter().map(ScaledBernstein::from_rational).collect(),
     };
     match opts.path {
         Path::Exact => tracer.run::<Rational>(exact)?,
@@ -859,7 +1036,7 @@ fn groups(clusters: &[(Cluster, Vec<usize>)]) -> (Vec<Vec<usize>>, Vec<usize>) {
 /// roots are the curve's extreme points along `axis` (and its singular points).
 pub fn extreme_system(system: &System, axis: usize) -> Result<System, SolveError> {
     let mut equations = system.equations.clone();
-    equations.push(tangent_minor(&system.equations, axis)?);
+    equations.push(tangent_minor_exact(&system.equations, axis)?);
     System::new(system.domain.clone(), equations)
 }
 
@@ -921,4 +1098,93 @@ fn extremes(
         })
         .collect();
     Ok((extremes, sol.clusters))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn poly(degrees: Vec<usize>, seed: i64) -> Bernstein<Rational> {
+        let count: usize = degrees.iter().map(|d| d + 1).product();
+        let coeffs = (0..count as i64)
+            .map(|i| {
+                Rational::new(
+                    ((i * 7 + seed * 13) % 11 - 5).into(),
+                    (1 + (i + seed) % 4).into(),
+                )
+            })
+            .collect();
+        Bernstein::new(degrees, coeffs).unwrap()
+    }
+
+    #[test]
+    fn the_integer_cross_section_equals_the_rational_one() {
+        let system = System::new(
+            vec![
+                (
+                    Rational::new((-1).into(), 2.into()),
+                    Rational::from_integer(2.into()),
+                ),
+                (Rational::zero(), Rational::one()),
+                (
+                    Rational::from_integer(1.into()),
+                    Rational::from_integer(3.into()),
+                ),
+            ],
+            vec![poly(vec![2, 3, 1], 1), poly(vec![1, 2, 2], 2)],
+        )
+        .unwrap();
+        let scaled: Vec<_> = system
+            .equations
+            .iter()
+            .map(ScaledBernstein::from_rational)
+            .collect();
+        let q = |n: i64, d: i64| Rational::new(n.into(), d.into());
+        let bounds = vec![(q(-1, 4), q(3, 2)), (q(1, 3), q(1, 1)), (q(1, 1), q(5, 2))];
+        let mut compared = 0;
+        for axis in 0..3 {
+            let (lo, hi) = bounds[axis].clone();
+            let inside = &lo + (&hi - &lo) * q(2, 5);
+            for c in [lo, inside, hi] {
+                let a = plane_system(&system, axis, &c, &bounds).unwrap();
+                let s = plane_system_scaled(&system, &scaled, axis, &c, &bounds).unwrap();
+                assert_eq!(a, s, "axis {axis} at {c}");
+                compared += 1;
+            }
+        }
+        assert_eq!(compared, 9);
+    }
+
+    #[test]
+    fn the_integer_tangent_minor_equals_the_laplace_expansion() {
+        let mut compared = 0;
+        for (degrees, m) in [
+            (vec![vec![2, 3, 1], vec![1, 2, 2]], 2),
+            (vec![vec![2, 3, 0], vec![1, 2, 2]], 2),
+            (
+                vec![vec![1, 2, 1, 2], vec![2, 1, 1, 0], vec![1, 1, 2, 1]],
+                3,
+            ),
+        ] {
+            let polys: Vec<_> = degrees
+                .iter()
+                .enumerate()
+                .map(|(i, d)| poly(d.clone(), i as i64 + 1))
+                .collect();
+            assert_eq!(polys.len(), m);
+            for k in 0..polys[0].dim() {
+                let a = tangent_minor(&polys, k).unwrap();
+                let b = tangent_minor_exact(&polys, k).unwrap();
+                // Compare as polynomials: at a handful of rational points.
+                for s in 0..5i64 {
+                    let at: Vec<Rational> = (0..a.dim())
+                        .map(|x| Rational::new((s + x as i64).into(), 7.into()))
+                        .collect();
+                    assert_eq!(a.eval(&at).unwrap(), b.eval(&at).unwrap(), "minor {k}");
+                    compared += 1;
+                }
+            }
+        }
+        assert_eq!(compared, 5 * (3 + 3 + 4));
+    }
 }

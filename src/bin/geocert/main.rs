@@ -19,6 +19,7 @@ mod out;
 mod positivity;
 mod prove;
 mod solve;
+mod sweep;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -59,6 +60,10 @@ enum Command {
     /// existence, diagonally dominant interval Jacobian for uniqueness); what cannot be
     /// certified comes back as clusters. `solve verify-cert CERT.json` re-checks certificates.
     Solve(solve::Args),
+    /// Perspective silhouettes of swept volumes (Seong, Kim, Kim and Elber): the envelope's
+    /// components with their types and certified t-extreme points.
+    #[command(subcommand)]
+    Sweep(sweep::Command),
 }
 
 /// Exit codes: 0 done (whatever the verdict), 1 a refused certificate / failed proof / inexact
@@ -73,6 +78,7 @@ fn main() -> ExitCode {
         Command::Decimate(a) => decimate::run(a),
         Command::Undecimate(a) => decimate::undo(a),
         Command::Solve(a) => solve::run(a),
+        Command::Sweep(c) => sweep::run(c),
     };
     result.unwrap_or_else(|e| {
         eprintln!("error: {e}");

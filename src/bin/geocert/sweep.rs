@@ -1,0 +1,266 @@
+//! `geocert sweep silhouette`: the perspective silhouette of a swept volume (Seong et al.).
+
+use crate::out::{choice, pretty, read, write};
+use clap::Subcommand;
+use geocert::bernstein::Limits;
+use geocert::num::rational_to_string;
+use geocert::sweep::{
+    builtin_scene, scene_from_json, silhouette, ComponentEnd, ComponentKind, Eye, Scene,
+    SilhouetteOptions, Silhouettes,
+};
+use geocert::Path;
+use serde_json::{json, Value};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Subcommand)]
+pub(crate) enum Command {
+    /// The silhouette components of a swept volume seen from the eye: the envelope's
+    /// components (F = G = 0, with Algorithm 1's types 1–3), the certified t-extreme points
+    /// (F = G = H = 0), and the contours of the start and end positions.
+    Silhouette(SilhouetteArgs),
+}
+
+#[derive(clap::Args)]
+pub(crate) struct SilhouetteArgs {
+    /// A scene JSON file (`{"surfaces": [...], "t": [a, b], "motion": {...}, "eye": ...}`), or
+    /// `builtin:NAME` (sphere-line, sphere-cone, ellipsoid-line, ellipsoid-turn, tuba).
+    scene: String,
+    #[arg(long, default_value_t = Path::Filtered, value_parser = choice::<Path>(Path::NAMES))]
+    path: Path,
+    /// The widest arc box relative to the parameter domain (the polylines' density).
+    #[arg(long, default_value_t = 1.0 / 16.0)]
+    resolution: f64,
+    /// Deepest subdivision level per side of the tracer.
+    #[arg(long, default_value_t = 14)]
+    max_depth: u32,
+    /// Leave out the contours of the start and end positions.
+    #[arg(long)]
+    no_caps: bool,
+    /// Use eq. 2 exactly as printed (⟨A(t)S − P, M(t)N⟩) instead of the cofactor normal, to
+    /// see how far it is from the contour under a non-similarity motion.
+    #[arg(long)]
+    printed_eq2: bool,
+    /// Draw the silhouettes in perspective from the eye into this SVG file.
+    #[arg(long)]
+    svg: Option<PathBuf>,
+    #[arg(long)]
+    json: bool,
+}
+
+pub(crate) fn run(c: Command) -> Result<ExitCode, String> {
+    match c {
+        Command::Silhouette(a) => run_silhouette(a),
+    }
+}
+
+fn load(scene: &str) -> Result<Scene, String> {
+    match scene.strip_prefix("builtin:") {
+        Some(name) => builtin_scene(name).map_err(|e| e.to_string()),
+        None => {
+            let file = PathBuf::from(scene);
+            scene_from_json(&read(&file)?).map_err(|e| format!("{}: {e}", file.display()))
+        }
+    }
+}
+
+fn run_silhouette(a: SilhouetteArgs) -> Result<ExitCode, String> {
+    if !(a.resolution.is_finite() && a.resolution > 0.0) {
+        return Err(format!(
+            "--resolution must be a positive number, got {}",
+            a.resolution
+        ));
+    }
+    let scene = load(&a.scene)?;
+    let opts = SilhouetteOptions::default()
+        .with_path(a.path)
+        .with_resolution(a.resolution)
+        .with_limits(
+            Limits::new()
+                .with_max_depth(a.max_depth)
+                .with_max_boxes(200_000),
+        )
+        .with_caps(!a.no_caps)
+        .with_printed_eq2(a.printed_eq2);
+    let s = silhouette(&scene, &opts).map_err(|e| e.to_string())?;
+    if let Some(file) = &a.svg {
+        write(file, svg(&scene, &s))?;
+    }
+    if a.json {
+        println!("{}", pretty(&to_json(&s))?);
+    } else {
+        print_summary(&s);
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn end_name(e: &ComponentEnd) -> &'static str {
+    match e {
+        ComponentEnd::Time { upper: false } => "t=a",
+        ComponentEnd::Time { upper: true } => "t=b",
+        ComponentEnd::Border => "border",
+        ComponentEnd::Cluster => "cluster",
+    }
+}
+
+fn to_json(s: &Silhouettes) -> Value {
+    let boxed = |b: &[(geocert::num::Rational, geocert::num::Rational)]| -> Value {
+        b.iter()
+            .map(|(lo, hi)| json!([rational_to_string(lo), rational_to_string(hi)]))
+            .collect()
+    };
+    json!({
+        "path": s.path.to_string(),
+        "components": s.components.iter().map(|c| json!({
+            "kind": c.kind.name(),
+            "type": c.component_type.map(|t| t as u8),
+            "surface": c.surface,
+            "patches": c.patches,
+            "closed": c.closed,
+            "ends": c.ends.iter().map(end_name).collect::<Vec<_>>(),
+            "extremes": c.extremes,
+            "hausdorff_bound_uvt": c.hausdorff_bound,
+            "uvt": c.uvt,
+            "points": c.points,
+        })).collect::<Vec<_>>(),
+        "t_extreme": s.t_extreme.iter().map(|x| json!({
+            "surface": x.surface,
+            "patch": x.patch,
+            "component": x.component,
+            "box": boxed(&x.root.bounds),
+            "approx": x.root.approx,
+            "certificate": x.root.certificate,
+        })).collect::<Vec<_>>(),
+        "clusters": s.clusters.iter().map(|(surface, patch, kind, c)| json!({
+            "surface": surface,
+            "patch": patch,
+            "kind": kind.name(),
+            "reason": c.reason,
+            "box": boxed(&c.bounds),
+        })).collect::<Vec<_>>(),
+        "extreme_clusters": s.extreme_clusters.len(),
+        "patches": s.patches,
+        "seconds": s.seconds,
+    })
+}
+
+fn print_summary(s: &Silhouettes) {
+    println!(
+        "{} patches, {} components, {} certified t-extreme points, {} clusters ({} path, {:.3} s)",
+        s.patches,
+        s.components.len(),
+        s.t_extreme.len(),
+        s.clusters.len() + s.extreme_clusters.len(),
+        s.path,
+        s.seconds
+    );
+    for (i, c) in s.components.iter().enumerate() {
+        let kind = match c.component_type {
+            Some(t) => format!("{} type {}", c.kind.name(), t as u8),
+            None => c.kind.name().to_string(),
+        };
+        let shape = if c.closed {
+            "closed".to_string()
+        } else {
+            format!("{} → {}", end_name(&c.ends[0]), end_name(&c.ends[1]))
+        };
+        println!(
+            "  component {i}: {kind}, surface {}, {} points, {shape}, {} t-extreme",
+            c.surface,
+            c.points.len(),
+            c.extremes.len()
+        );
+    }
+}
+
+/// A perspective drawing from the eye towards the silhouettes' centroid.
+fn svg(scene: &Scene, s: &Silhouettes) -> String {
+    let eye = match &scene.eye {
+        Eye::Point(p) => p.clone().map(|x| geocert::num::rational_to_f64(&x)),
+        Eye::Path { path, r } => path.clone().map(|p| {
+            p.iter().rev().fold(0.0, |acc, c| {
+                acc * geocert::num::rational_to_f64(&r.0) + geocert::num::rational_to_f64(c)
+            })
+        }),
+    };
+    let pts: Vec<[f64; 3]> = s.components.iter().flat_map(|c| c.points.clone()).collect();
+    let n = pts.len().max(1) as f64;
+    let centre: Vec<f64> = (0..3)
+        .map(|k| pts.iter().map(|p| p[k]).sum::<f64>() / n)
+        .collect();
+    let norm = |v: [f64; 3]| {
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+            .sqrt()
+            .max(f64::MIN_POSITIVE);
+        [v[0] / l, v[1] / l, v[2] / l]
+    };
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let d = norm([centre[0] - eye[0], centre[1] - eye[1], centre[2] - eye[2]]);
+    let up0 = if d[2].abs() > 0.9 {
+        [0.0, 1.0, 0.0]
+    } else {
+        [0.0, 0.0, 1.0]
+    };
+    let right = norm(cross(d, up0));
+    let up = cross(right, d);
+    let project = |p: &[f64; 3]| {
+        let v = [p[0] - eye[0], p[1] - eye[1], p[2] - eye[2]];
+        let z = dot(v, d).max(1e-9);
+        (dot(v, right) / z, -dot(v, up) / z)
+    };
+    let projected: Vec<Vec<(f64, f64)>> = s
+        .components
+        .iter()
+        .map(|c| c.points.iter().map(project).collect())
+        .collect();
+    let all = projected.iter().flatten();
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in all {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    let span = (x1 - x0).max(y1 - y0).max(1e-12);
+    let size = 800.0;
+    let margin = 20.0;
+    let to_px = |(x, y): (f64, f64)| {
+        (
+            margin + (x - x0) / span * (size - 2.0 * margin),
+            margin + (y - y0) / span * (size - 2.0 * margin),
+        )
+    };
+    let colours = [
+        "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2",
+    ];
+    let mut out = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{size}\" height=\"{size}\" viewBox=\"0 0 {size} {size}\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+    );
+    for (i, (c, line)) in s.components.iter().zip(&projected).enumerate() {
+        let mut d = String::new();
+        for (k, &p) in line.iter().enumerate() {
+            let (x, y) = to_px(p);
+            d.push_str(&format!("{}{x:.2},{y:.2} ", if k == 0 { "M" } else { "L" }));
+        }
+        if c.closed {
+            d.push('Z');
+        }
+        let (colour, dash, width) = match c.kind {
+            ComponentKind::Envelope => (colours[i % colours.len()], "", 2.5),
+            _ => ("#555555", " stroke-dasharray=\"6 4\"", 1.2),
+        };
+        out.push_str(&format!(
+            "<path d=\"{d}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"{width}\"{dash}><title>component {i}: {}</title></path>\n",
+            c.kind.name()
+        ));
+    }
+    out.push_str("</svg>\n");
+    out
+}

@@ -1,0 +1,587 @@
+//! Algorithm 1: the silhouette components of a swept volume, their types, and the certified
+//! `t`-extreme points `Z₀`.
+//!
+//! Per patch, `Z₁ = {F̃ = G̃ = 0}` is traced on `[0,1]² × [a, b]` by the certified tracer with
+//! `t` as the extreme axis, so `Z₀ = {F = G = H = 0}` (eq. 3: `H` is the tangent minor without
+//! the `t` column) comes out of the same run as certified roots on the traced components. The
+//! pieces of a surface's patches are then joined where one ends on a patch edge and another
+//! begins: at the same time `t` and the same 3-D point (within [`JOIN_TOLERANCE`] of the
+//! scene's size; both ends are certified curve points refined to the tracer's tolerance).
+//!
+//! Types (Fig. 3): a closed loop is type 1; an open component with a `t`-extreme point on it
+//! is type 2; a `t`-monotone open component is type 3 (on a closed surface it ends on
+//! `t = a` and `t = b`; on a surface with a border it may end there).
+//!
+//! The contours of the end positions `A(a)[S]` and `A(b)[S]` — `G̃(u, v, a) = 0`, one equation
+//! in `(u, v)` — are traced the same way and reported as caps.
+
+use super::equations::{equations, Equations};
+use super::scene::Patch;
+use super::{Eye, Scene, SweepError};
+use crate::bernstein::{Bernstein, Limits};
+use crate::num::{rational_to_f64, Rational};
+use crate::solve::{
+    solve, trace, Cluster, CurveEnd, CurveOptions, Curves, Root, SolveOptions, System,
+};
+use crate::Path;
+use num_traits::Zero;
+use std::time::Instant;
+
+/// Ends of pieces on patch edges are joined when their 3-D points are this close (relative to
+/// `1 + ` the largest coordinate) at times this close.
+pub const JOIN_TOLERANCE: f64 = 1e-7;
+
+/// Options of [`silhouette`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct SilhouetteOptions {
+    /// The arithmetic of the tracer ([`Path::Filtered`] by default).
+    pub path: Path,
+    /// The tracer's limits per patch.
+    pub limits: Limits,
+    /// The widest arc box relative to the parameter domain: the polylines follow the curve
+    /// this closely in parameter space.
+    pub resolution: f64,
+    /// Trace the contours of the end positions too.
+    pub caps: bool,
+    /// Use eq. 2 as printed (`⟨A(t)S − P, M(t)N⟩`) instead of the cofactor normal; only to
+    /// measure how far that is from the contour.
+    pub printed_eq2: bool,
+}
+
+impl Default for SilhouetteOptions {
+    fn default() -> Self {
+        SilhouetteOptions {
+            path: Path::Filtered,
+            limits: Limits::new().with_max_depth(14).with_max_boxes(100_000),
+            resolution: 1.0 / 16.0,
+            caps: true,
+            printed_eq2: false,
+        }
+    }
+}
+
+crate::choice::setters!(SilhouetteOptions {
+    with_path => path: Path,
+    with_limits => limits: Limits,
+    with_resolution => resolution: f64,
+    with_caps => caps: bool,
+    with_printed_eq2 => printed_eq2: bool,
+});
+
+/// What a component is a silhouette of.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ComponentKind {
+    /// The envelope (`F = G = 0`).
+    Envelope,
+    /// The contour of the start position `A(a)[S]`.
+    CapA,
+    /// The contour of the end position `A(b)[S]`.
+    CapB,
+}
+
+impl ComponentKind {
+    /// `envelope`, `cap_a` or `cap_b`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ComponentKind::Envelope => "envelope",
+            ComponentKind::CapA => "cap_a",
+            ComponentKind::CapB => "cap_b",
+        }
+    }
+}
+
+/// Fig. 3's types of an envelope component.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ComponentType {
+    /// Type 1: a closed loop.
+    Loop = 1,
+    /// Type 2: open, with local `t`-extreme points.
+    Extremes = 2,
+    /// Type 3: open and `t`-monotone.
+    Monotone = 3,
+}
+
+/// How an open component ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ComponentEnd {
+    /// On `t = a` (`upper = false`) or `t = b`.
+    Time {
+        /// Whether on `t = b`.
+        upper: bool,
+    },
+    /// On a patch edge that no other patch continues (the surface's border).
+    Border,
+    /// In a box the tracer could not resolve (see [`Silhouettes::clusters`]).
+    Cluster,
+}
+
+/// One connected silhouette component.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SilhouetteComponent {
+    /// Envelope or cap.
+    pub kind: ComponentKind,
+    /// Its type (envelope components only).
+    pub component_type: Option<ComponentType>,
+    /// The surface (index in [`Scene::surfaces`]).
+    pub surface: usize,
+    /// Per polyline vertex, the patch it was traced on.
+    pub patches: Vec<usize>,
+    /// The polyline in `(u, v, t)` (certified curve points, box centres).
+    pub uvt: Vec<[f64; 3]>,
+    /// The same in 3-D, `A(t) S(u, v)`.
+    pub points: Vec<[f64; 3]>,
+    /// Whether it is a closed loop.
+    pub closed: bool,
+    /// The two ends of an open component.
+    pub ends: Vec<ComponentEnd>,
+    /// Indices in [`Silhouettes::t_extreme`] of the `t`-extreme points on it.
+    pub extremes: Vec<usize>,
+    /// A bound on the parameter-space distance between the polyline and the curve (the
+    /// largest arc box diagonal over its pieces).
+    pub hausdorff_bound: f64,
+}
+
+/// A certified `t`-extreme point (a root of eq. 3's system `F = G = H = 0`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TExtreme {
+    /// The surface.
+    pub surface: usize,
+    /// The patch.
+    pub patch: usize,
+    /// The certified root in `(u, v, t)`, with its certificate.
+    pub root: Root,
+    /// The component it lies on, when the tracer could attribute it.
+    pub component: Option<usize>,
+}
+
+/// The result of [`silhouette`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Silhouettes {
+    /// The components.
+    pub components: Vec<SilhouetteComponent>,
+    /// `Z₀`.
+    pub t_extreme: Vec<TExtreme>,
+    /// Boxes the tracer could not resolve: `(surface, patch, kind, cluster)`.
+    pub clusters: Vec<(usize, usize, ComponentKind, Cluster)>,
+    /// `t`-extreme candidates the solver could not certify (singular points of `Z₁` among
+    /// them): `(surface, patch, cluster)`.
+    pub extreme_clusters: Vec<(usize, usize, Cluster)>,
+    /// Patches traced.
+    pub patches: usize,
+    /// The path that ran.
+    pub path: Path,
+    /// Wall time.
+    pub seconds: f64,
+}
+
+fn horner(p: &[Rational], t: f64) -> f64 {
+    p.iter()
+        .rev()
+        .fold(0.0, |acc, c| acc * t + rational_to_f64(c))
+}
+
+/// `A(t) x` in `f64`.
+pub(crate) fn apply_motion(scene: &Scene, t: f64, x: [f64; 3]) -> [f64; 3] {
+    let m = &scene.motion;
+    let d = horner(&m.denominator, t);
+    let mut out = [0.0; 3];
+    for (i, o) in out.iter_mut().enumerate() {
+        let mut acc = horner(&m.translation[i], t);
+        for (j, xj) in x.iter().enumerate() {
+            acc += horner(&m.linear[i][j], t) * xj;
+        }
+        *o = acc / d;
+    }
+    out
+}
+
+/// The eye the static silhouette is seen from (`P(r₀)` for a path).
+pub(crate) fn eye_point(scene: &Scene) -> [Rational; 3] {
+    match &scene.eye {
+        Eye::Point(p) => p.clone(),
+        Eye::Path { path, r } => path.clone().map(|p| {
+            p.iter()
+                .rev()
+                .fold(Rational::zero(), |acc, c| acc * &r.0 + c)
+        }),
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum End {
+    Time(bool),
+    Edge,
+    Cluster,
+}
+
+/// One traced component of one patch.
+struct Piece {
+    surface: usize,
+    patch: usize,
+    kind: ComponentKind,
+    uvt: Vec<[f64; 3]>,
+    world: Vec<[f64; 3]>,
+    closed: bool,
+    ends: [End; 2],
+    extremes: Vec<usize>,
+    hausdorff: f64,
+}
+
+fn centre(root: &Root) -> Vec<f64> {
+    root.bounds
+        .iter()
+        .map(|(lo, hi)| rational_to_f64(&((lo + hi) / Rational::from_integer(2.into()))))
+        .collect()
+}
+
+fn world(scene: &Scene, patch: &Patch, uvt: [f64; 3]) -> [f64; 3] {
+    let x = patch.point(uvt[0], uvt[1]).unwrap_or([f64::NAN; 3]);
+    apply_motion(scene, uvt[2], x)
+}
+
+/// Pieces of one trace: `t` is the fixed time of a cap (its domain is 2-D).
+#[allow(clippy::too_many_arguments)]
+fn pieces_of(
+    scene: &Scene,
+    patch: &Patch,
+    surface: usize,
+    patch_index: usize,
+    kind: ComponentKind,
+    curves: &Curves,
+    cap_t: Option<f64>,
+    extreme_offset: usize,
+) -> Vec<Piece> {
+    let uvt_of = |p: usize| -> [f64; 3] {
+        let c = centre(&curves.points[p].root);
+        [c[0], c[1], cap_t.unwrap_or_else(|| c[2])]
+    };
+    let end = |e: &CurveEnd| match *e {
+        CurveEnd::Face { axis: 2, upper, .. } => End::Time(upper),
+        CurveEnd::Face { .. } => End::Edge,
+        CurveEnd::Cluster { .. } => End::Cluster,
+    };
+    curves
+        .components
+        .iter()
+        .enumerate()
+        .map(|(c, comp)| {
+            let uvt: Vec<[f64; 3]> = comp.points.iter().map(|&p| uvt_of(p)).collect();
+            let world = uvt.iter().map(|&q| world(scene, patch, q)).collect();
+            let ends = if comp.closed {
+                [End::Edge, End::Edge]
+            } else {
+                [end(&comp.ends[0]), end(&comp.ends[1])]
+            };
+            Piece {
+                surface,
+                patch: patch_index,
+                kind,
+                uvt,
+                world,
+                closed: comp.closed,
+                ends,
+                extremes: curves
+                    .extremes
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, x)| x.component == Some(c))
+                    .map(|(i, _)| extreme_offset + i)
+                    .collect(),
+                hausdorff: comp.hausdorff_bound,
+            }
+        })
+        .collect()
+}
+
+fn unit_domain(n: usize) -> Vec<(Rational, Rational)> {
+    vec![(Rational::zero(), Rational::from_integer(1.into())); n]
+}
+
+fn close(a: &[f64; 3], b: &[f64; 3], scale: f64) -> bool {
+    (0..3).all(|k| (a[k] - b[k]).abs() <= JOIN_TOLERANCE * scale)
+}
+
+/// Joins pieces that meet on patch edges into components.
+fn join(pieces: Vec<Piece>, t_extreme: &mut [TExtreme]) -> Vec<SilhouetteComponent> {
+    let scale = 1.0
+        + pieces
+            .iter()
+            .flat_map(|p| p.world.iter().flatten())
+            .fold(0.0f64, |m, x| m.max(x.abs()));
+    // End slots: (piece, 0 = first vertex / 1 = last vertex).
+    let endpoint = |p: &Piece, e: usize| -> ([f64; 3], f64) {
+        let k = if e == 0 { 0 } else { p.uvt.len() - 1 };
+        (p.world[k], p.uvt[k][2])
+    };
+    let mut partner: Vec<[Option<(usize, usize)>; 2]> = vec![[None, None]; pieces.len()];
+    for i in 0..pieces.len() {
+        if pieces[i].closed {
+            continue;
+        }
+        for ei in 0..2 {
+            if pieces[i].ends[ei] != End::Edge || partner[i][ei].is_some() {
+                continue;
+            }
+            let (pi, ti) = endpoint(&pieces[i], ei);
+            let mut best: Option<(f64, usize, usize)> = None;
+            for (j, pj) in pieces.iter().enumerate() {
+                if pj.closed || pj.surface != pieces[i].surface || pj.kind != pieces[i].kind {
+                    continue;
+                }
+                for (ej, end) in pj.ends.iter().enumerate() {
+                    if (j, ej) == (i, ei) || *end != End::Edge || partner[j][ej].is_some() {
+                        continue;
+                    }
+                    let (q, tq) = endpoint(pj, ej);
+                    if close(&pi, &q, scale) && (ti - tq).abs() <= JOIN_TOLERANCE * scale {
+                        let d: f64 = (0..3).map(|k| (pi[k] - q[k]).abs()).sum();
+                        if best.is_none_or(|b| d < b.0) {
+                            best = Some((d, j, ej));
+                        }
+                    }
+                }
+            }
+            if let Some((_, j, ej)) = best {
+                partner[i][ei] = Some((j, ej));
+                partner[j][ej] = Some((i, ei));
+            }
+        }
+    }
+    let mut used = vec![false; pieces.len()];
+    let mut out = Vec::new();
+    let emit = |chain: Vec<(usize, bool)>, closed: bool, out: &mut Vec<SilhouetteComponent>| {
+        let first = &pieces[chain[0].0];
+        let mut comp = SilhouetteComponent {
+            kind: first.kind,
+            component_type: None,
+            surface: first.surface,
+            patches: Vec::new(),
+            uvt: Vec::new(),
+            points: Vec::new(),
+            closed,
+            ends: Vec::new(),
+            extremes: Vec::new(),
+            hausdorff_bound: 0.0,
+        };
+        for (n, &(p, reversed)) in chain.iter().enumerate() {
+            let piece = &pieces[p];
+            let mut idx: Vec<usize> = (0..piece.uvt.len()).collect();
+            if reversed {
+                idx.reverse();
+            }
+            // Consecutive pieces share their joint point: keep it once.
+            let skip = usize::from(n > 0);
+            for &k in idx.iter().skip(skip) {
+                comp.patches.push(piece.patch);
+                comp.uvt.push(piece.uvt[k]);
+                comp.points.push(piece.world[k]);
+            }
+            comp.extremes.extend(&piece.extremes);
+            comp.hausdorff_bound = comp.hausdorff_bound.max(piece.hausdorff);
+        }
+        if !closed {
+            let (p0, r0) = chain[0];
+            let (p1, r1) = *chain.last().expect("non-empty chain");
+            let to_end = |e: End| match e {
+                End::Time(upper) => ComponentEnd::Time { upper },
+                End::Edge => ComponentEnd::Border,
+                End::Cluster => ComponentEnd::Cluster,
+            };
+            comp.ends = vec![
+                to_end(pieces[p0].ends[usize::from(r0)]),
+                to_end(pieces[p1].ends[usize::from(!r1)]),
+            ];
+        }
+        if comp.kind == ComponentKind::Envelope {
+            comp.component_type = Some(if closed {
+                ComponentType::Loop
+            } else if comp.extremes.is_empty() {
+                ComponentType::Monotone
+            } else {
+                ComponentType::Extremes
+            });
+        }
+        out.push(comp);
+    };
+    // Open chains start at an end that has no partner.
+    for start in 0..pieces.len() {
+        if used[start] || pieces[start].closed {
+            continue;
+        }
+        let free = (0..2).find(|&e| partner[start][e].is_none());
+        let Some(e0) = free else { continue };
+        let mut chain = Vec::new();
+        let (mut p, mut entry) = (start, e0);
+        loop {
+            used[p] = true;
+            chain.push((p, entry == 1));
+            match partner[p][1 - entry] {
+                Some((q, eq)) if !used[q] => {
+                    p = q;
+                    entry = eq;
+                }
+                _ => break,
+            }
+        }
+        emit(chain, false, &mut out);
+    }
+    // What is left is closed: single closed pieces and cycles of joined pieces.
+    for start in 0..pieces.len() {
+        if used[start] {
+            continue;
+        }
+        let mut chain = Vec::new();
+        let (mut p, mut entry) = (start, 0);
+        loop {
+            used[p] = true;
+            chain.push((p, entry == 1));
+            if pieces[p].closed {
+                break;
+            }
+            match partner[p][1 - entry] {
+                Some((q, eq)) if !used[q] => {
+                    p = q;
+                    entry = eq;
+                }
+                _ => break,
+            }
+        }
+        emit(chain, true, &mut out);
+    }
+    for (c, comp) in out.iter().enumerate() {
+        for &x in &comp.extremes {
+            t_extreme[x].component = Some(c);
+        }
+    }
+    out
+}
+
+/// The traced systems of one patch.
+fn patch_system(scene: &Scene, eq: &Equations, printed: bool) -> Result<System, SweepError> {
+    let mut domain = unit_domain(2);
+    domain.push(scene.t.clone());
+    let g = if printed { &eq.g_printed } else { &eq.g };
+    Ok(System::new(domain, vec![eq.f.clone(), g.clone()])?)
+}
+
+fn cap_system(g: &Bernstein<Rational>, upper: bool) -> Result<System, SweepError> {
+    Ok(System::new(unit_domain(2), vec![g.face(2, upper)?])?)
+}
+
+/// Certifies that the eye is not on the moving patch: the system `M̂X + (T̂ − δP)w = 0` in
+/// `(u, v, t)` has no root (every box culled). A certified root, or a box the solver could not
+/// clear, is refused.
+fn eye_off_surface(
+    scene: &Scene,
+    eq: &Equations,
+    surface: usize,
+    patch: usize,
+    path: Path,
+) -> Result<(), SweepError> {
+    let mut domain = unit_domain(2);
+    domain.push(scene.t.clone());
+    let system = System::new(domain, eq.sight.to_vec())?;
+    let sol = solve(
+        &system,
+        &SolveOptions::new()
+            .with_path(path)
+            .with_limits(Limits::new().with_max_depth(24).with_max_boxes(20_000)),
+    )?;
+    let first = sol
+        .roots
+        .first()
+        .map(|r| r.bounds[2].clone())
+        .or_else(|| sol.clusters.first().map(|c| c.bounds[2].clone()));
+    match first {
+        None => Ok(()),
+        Some((lo, hi)) => Err(SweepError::EyeOnSurface {
+            surface,
+            patch,
+            t_lo: rational_to_f64(&lo),
+            t_hi: rational_to_f64(&hi),
+        }),
+    }
+}
+
+/// Algorithm 1 on every patch of every surface: the envelope's silhouette components with
+/// their types, the certified `t`-extreme points, and (optionally) the end positions'
+/// contours.
+pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes, SweepError> {
+    let clock = Instant::now();
+    let eye = eye_point(scene);
+    let (a, b) = (rational_to_f64(&scene.t.0), rational_to_f64(&scene.t.1));
+    let curve_opts = CurveOptions::default()
+        .with_path(opts.path)
+        .with_limits(opts.limits)
+        .with_resolution(opts.resolution);
+    let mut pieces = Vec::new();
+    let mut t_extreme = Vec::new();
+    let mut clusters = Vec::new();
+    let mut extreme_clusters = Vec::new();
+    let mut patches = 0;
+    for (s, surface) in scene.surfaces.iter().enumerate() {
+        for (p, patch) in surface.patches.iter().enumerate() {
+            patches += 1;
+            let eq = equations(scene, patch, &eye).map_err(|e| match e {
+                SweepError::DegeneratePatch { .. } => SweepError::DegeneratePatch {
+                    surface: s,
+                    patch: p,
+                },
+                other => other,
+            })?;
+            eye_off_surface(scene, &eq, s, p, opts.path)?;
+            let system = patch_system(scene, &eq, opts.printed_eq2)?;
+            let curves = trace(&system, &curve_opts.with_extreme_axis(Some(2)))?;
+            let offset = t_extreme.len();
+            pieces.extend(pieces_of(
+                scene,
+                patch,
+                s,
+                p,
+                ComponentKind::Envelope,
+                &curves,
+                None,
+                offset,
+            ));
+            t_extreme.extend(curves.extremes.iter().map(|x| TExtreme {
+                surface: s,
+                patch: p,
+                root: x.root.clone(),
+                component: None,
+            }));
+            clusters.extend(
+                curves
+                    .clusters
+                    .iter()
+                    .map(|c| (s, p, ComponentKind::Envelope, c.clone())),
+            );
+            extreme_clusters.extend(curves.extreme_clusters.iter().map(|c| (s, p, c.clone())));
+            if opts.caps {
+                let g = if opts.printed_eq2 {
+                    &eq.g_printed
+                } else {
+                    &eq.g
+                };
+                for (upper, kind, t) in [
+                    (false, ComponentKind::CapA, a),
+                    (true, ComponentKind::CapB, b),
+                ] {
+                    let cap = trace(&cap_system(g, upper)?, &curve_opts)?;
+                    pieces.extend(pieces_of(scene, patch, s, p, kind, &cap, Some(t), 0));
+                    clusters.extend(cap.clusters.iter().map(|c| (s, p, kind, c.clone())));
+                }
+            }
+        }
+    }
+    let components = join(pieces, &mut t_extreme);
+    Ok(Silhouettes {
+        components,
+        t_extreme,
+        clusters,
+        extreme_clusters,
+        patches,
+        path: opts.path,
+        seconds: clock.elapsed().as_secs_f64(),
+    })
+}

@@ -1,0 +1,461 @@
+//! Swept-volume silhouettes against an independent oracle: a moving ellipsoid is the zero set
+//! of `φ(x, t) = |D⁻¹(M(t)⁻¹(x − T(t)) − c)|² − 1` (`D` its radii), so an envelope silhouette
+//! point satisfies `φ = 0`, `φ_t = 0` (the characteristic curve) and `∇φ · (x − P) = 0` (the
+//! contour from the eye) — conditions computed here in `f64` from the scene's motion, not from
+//! the library's F and G.
+
+use geocert::num::rational_to_f64;
+use geocert::sweep::{
+    builtin_scene, equations, scene_from_json, silhouette, ComponentEnd, ComponentKind,
+    ComponentType, Eye, Scene, SilhouetteOptions, Silhouettes, SweepError,
+};
+use geocert::Path;
+
+/// An ellipsoid under the scene's motion, in `f64`.
+struct Oracle {
+    centre: [f64; 3],
+    radii: [f64; 3],
+    eye: [f64; 3],
+    scene: Scene,
+}
+
+fn horner(p: &[geocert::num::Rational], t: f64) -> f64 {
+    p.iter()
+        .rev()
+        .fold(0.0, |acc, c| acc * t + rational_to_f64(c))
+}
+
+fn inverse(m: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    // The adjugate's (i, j) entry is the cofactor of (j, i).
+    [0, 1, 2].map(|i| {
+        [0, 1, 2].map(|j| {
+            let (a, b) = ((j + 1) % 3, (j + 2) % 3);
+            let (c, d) = ((i + 1) % 3, (i + 2) % 3);
+            (m[a][c] * m[b][d] - m[a][d] * m[b][c]) / det
+        })
+    })
+}
+
+impl Oracle {
+    fn new(scene: Scene, centre: [f64; 3], radii: [f64; 3]) -> Oracle {
+        let Eye::Point(p) = &scene.eye else {
+            panic!("a fixed eye")
+        };
+        let eye = [0, 1, 2].map(|k| rational_to_f64(&p[k]));
+        Oracle {
+            centre,
+            radii,
+            eye,
+            scene,
+        }
+    }
+
+    /// `y(x, t)`: the point's preimage on the unit sphere's scale.
+    fn y(&self, x: [f64; 3], t: f64) -> [f64; 3] {
+        let m = &self.scene.motion;
+        let d = horner(&m.denominator, t);
+        let lin = [0, 1, 2].map(|i| [0, 1, 2].map(|j| horner(&m.linear[i][j], t) / d));
+        let tr = [0, 1, 2].map(|i| horner(&m.translation[i], t) / d);
+        let inv = inverse(lin);
+        let v = [0, 1, 2].map(|k| x[k] - tr[k]);
+        [0, 1, 2].map(|i| {
+            let s: f64 = (0..3).map(|j| inv[i][j] * v[j]).sum();
+            (s - self.centre[i]) / self.radii[i]
+        })
+    }
+
+    fn phi(&self, x: [f64; 3], t: f64) -> f64 {
+        self.y(x, t).iter().map(|a| a * a).sum::<f64>() - 1.0
+    }
+
+    fn gradient(&self, x: [f64; 3], t: f64) -> [f64; 3] {
+        let h = 1e-6;
+        [0, 1, 2].map(|k| {
+            let (mut a, mut b) = (x, x);
+            a[k] += h;
+            b[k] -= h;
+            (self.phi(a, t) - self.phi(b, t)) / (2.0 * h)
+        })
+    }
+
+    /// `(|φ|, |φ_t| / |∇φ|, |∇φ·(x−P)| / (|∇φ| |x−P|))` at a traced point.
+    fn residuals(&self, x: [f64; 3], t: f64) -> (f64, f64, f64) {
+        let h = 1e-6;
+        let g = self.gradient(x, t);
+        let gn = g.iter().map(|a| a * a).sum::<f64>().sqrt();
+        let phi_t = (self.phi(x, t + h) - self.phi(x, t - h)) / (2.0 * h);
+        let s = [0, 1, 2].map(|k| x[k] - self.eye[k]);
+        let sn = s.iter().map(|a| a * a).sum::<f64>().sqrt();
+        let contour: f64 = (0..3).map(|k| g[k] * s[k]).sum::<f64>() / (gn * sn);
+        (self.phi(x, t).abs(), phi_t.abs() / gn, contour.abs())
+    }
+
+    /// The largest residuals over every vertex of every component of a kind.
+    fn worst(&self, s: &Silhouettes, kind: ComponentKind) -> (f64, f64, f64, usize) {
+        let mut w = (0.0f64, 0.0f64, 0.0f64, 0);
+        for c in s.components.iter().filter(|c| c.kind == kind) {
+            for (x, uvt) in c.points.iter().zip(&c.uvt) {
+                let (a, b, d) = self.residuals(*x, uvt[2]);
+                w = (w.0.max(a), w.1.max(b), w.2.max(d), w.3 + 1);
+            }
+        }
+        w
+    }
+}
+
+fn oracle_for(name: &str) -> Oracle {
+    let scene = builtin_scene(name).unwrap();
+    let (centre, radii) = match name {
+        "sphere-line" | "sphere-cone" => ([0.0; 3], [1.0; 3]),
+        "ellipsoid-line" => ([0.0; 3], [1.0, 0.5, 0.5]),
+        "ellipsoid-turn" => ([0.0; 3], [2.0, 0.5, 0.5]),
+        _ => unreachable!(),
+    };
+    Oracle::new(scene, centre, radii)
+}
+
+fn types(s: &Silhouettes) -> Vec<(Option<ComponentType>, Vec<ComponentEnd>)> {
+    let mut v: Vec<_> = s
+        .components
+        .iter()
+        .filter(|c| c.kind == ComponentKind::Envelope)
+        .map(|c| {
+            let mut ends = c.ends.clone();
+            ends.sort_by_key(|e| format!("{e:?}"));
+            (c.component_type, ends)
+        })
+        .collect();
+    v.sort_by_key(|x| format!("{x:?}"));
+    v
+}
+
+#[test]
+fn moving_ellipsoids_silhouettes_lie_on_the_oracles_contour() {
+    let time = ComponentEnd::Time { upper: false };
+    let time_b = ComponentEnd::Time { upper: true };
+    for name in [
+        "sphere-line",
+        "sphere-cone",
+        "ellipsoid-line",
+        "ellipsoid-turn",
+    ] {
+        let o = oracle_for(name);
+        let s = silhouette(&o.scene, &SilhouetteOptions::default()).unwrap();
+        assert!(
+            s.clusters.is_empty(),
+            "{name}: {} clusters",
+            s.clusters.len()
+        );
+        let (phi, speed, contour, n) = o.worst(&s, ComponentKind::Envelope);
+        println!(
+            "{name}: {} components, {} t-extreme, {n} envelope vertices: |φ| ≤ {phi:.1e}, |φ_t|/|∇φ| ≤ {speed:.1e}, contour ≤ {contour:.1e}",
+            s.components.len(),
+            s.t_extreme.len()
+        );
+        assert!(n > 20, "{name}: {n} vertices");
+        assert!(phi < 1e-9 && speed < 1e-6 && contour < 1e-9, "{name}");
+        for kind in [ComponentKind::CapA, ComponentKind::CapB] {
+            let t = if kind == ComponentKind::CapA { 0 } else { 1 };
+            let (phi, _, contour, n) = o.worst(&s, kind);
+            assert!(n > 20 && phi < 1e-9 && contour < 1e-9, "{name} cap {t}");
+            // A convex body's contour from outside is one closed loop.
+            let caps: Vec<_> = s.components.iter().filter(|c| c.kind == kind).collect();
+            assert!(
+                caps.len() == 1 && caps[0].closed,
+                "{name}: {} caps",
+                caps.len()
+            );
+        }
+        // Each envelope silhouette of a convex body moving forward runs from t = a to t = b.
+        let ty = types(&s);
+        assert_eq!(ty.len(), 2, "{name}: {ty:?}");
+        for (t, ends) in &ty {
+            assert_eq!(ends, &vec![time, time_b], "{name}");
+            if name == "ellipsoid-turn" {
+                assert!(t.is_some());
+            } else {
+                assert_eq!(*t, Some(ComponentType::Monotone), "{name}");
+            }
+        }
+    }
+}
+
+#[test]
+fn the_turning_ellipsoid_has_certified_t_extreme_points_on_a_type_2_component() {
+    let o = oracle_for("ellipsoid-turn");
+    let s = silhouette(&o.scene, &SilhouetteOptions::default().with_caps(false)).unwrap();
+    assert!(!s.t_extreme.is_empty());
+    for x in &s.t_extreme {
+        let c = x.component.expect("on a component");
+        assert_eq!(
+            s.components[c].component_type,
+            Some(ComponentType::Extremes)
+        );
+        // The extreme's (u, v, t) maps onto the oracle's contour and characteristic curve.
+        let patch = &o.scene.surfaces[0].patches[x.patch];
+        let p = patch.point(x.root.approx[0], x.root.approx[1]).unwrap();
+        let m = &o.scene.motion;
+        let t = x.root.approx[2];
+        let d = horner(&m.denominator, t);
+        let world = [0, 1, 2].map(|i| {
+            (horner(&m.translation[i], t)
+                + (0..3)
+                    .map(|j| horner(&m.linear[i][j], t) * p[j])
+                    .sum::<f64>())
+                / d
+        });
+        let (phi, speed, contour) = o.residuals(world, t);
+        assert!(phi < 1e-9 && speed < 1e-6 && contour < 1e-9);
+    }
+    println!(
+        "ellipsoid-turn: {} certified t-extreme points, all on type-2 components",
+        s.t_extreme.len()
+    );
+}
+
+#[test]
+fn eq_2_as_printed_is_off_the_contour_under_a_non_uniform_scale_and_exact_under_a_similarity() {
+    for (name, similarity) in [("ellipsoid-line", false), ("sphere-cone", true)] {
+        let o = oracle_for(name);
+        let opts = SilhouetteOptions::default().with_caps(false);
+        let right = silhouette(&o.scene, &opts).unwrap();
+        let printed = silhouette(&o.scene, &opts.with_printed_eq2(true)).unwrap();
+        let (_, _, good, _) = o.worst(&right, ComponentKind::Envelope);
+        let (_, _, bad, n) = o.worst(&printed, ComponentKind::Envelope);
+        println!(
+            "{name}: contour residual with cof(M)N {good:.1e}, with eq. 2 as printed {bad:.1e} ({n} vertices)"
+        );
+        assert!(good < 1e-9);
+        if similarity {
+            assert!(bad < 1e-9, "{name}: a similarity keeps eq. 2 right");
+        } else {
+            assert!(
+                bad > 1e-3,
+                "{name}: eq. 2 as printed should miss the contour"
+            );
+        }
+    }
+}
+
+#[test]
+fn sphere_poles_are_divided_out_not_traced() {
+    let scene = builtin_scene("sphere-line").unwrap();
+    let eye = match &scene.eye {
+        Eye::Point(p) => p.clone(),
+        _ => unreachable!(),
+    };
+    for (k, patch) in scene.surfaces[0].patches.iter().enumerate() {
+        let eq = equations(&scene, patch, &eye).unwrap();
+        assert_eq!(eq.divided, vec![(0, k >= 4)], "patch {k}: its pole edge");
+    }
+    let s = silhouette(&scene, &SilhouetteOptions::default()).unwrap();
+    // No component runs along a pole edge (u = 0 or u = 1 on every vertex).
+    for c in &s.components {
+        let on_pole = c.uvt.iter().filter(|p| p[0] == 0.0 || p[0] == 1.0).count();
+        assert!(on_pole < c.uvt.len() / 2, "a component along a pole edge");
+    }
+    assert!(s.clusters.is_empty() && s.extreme_clusters.is_empty());
+}
+
+#[test]
+fn the_fast_and_exact_paths_agree_with_the_filtered_one() {
+    let scene = builtin_scene("sphere-line").unwrap();
+    let opts = SilhouetteOptions::default().with_caps(false);
+    let filtered = silhouette(&scene, &opts).unwrap();
+    let fast = silhouette(&scene, &opts.with_path(Path::Fast)).unwrap();
+    let exact = silhouette(&scene, &opts.with_path(Path::Exact)).unwrap();
+    assert_eq!(types(&filtered), types(&exact));
+    // The fast path may leave uncertain clusters; where it has none it must agree.
+    if fast.clusters.is_empty() {
+        assert_eq!(types(&filtered), types(&fast));
+    }
+    // The same certified vertices up to the refinement tolerance.
+    let ends = |s: &Silhouettes| {
+        let mut v: Vec<[f64; 3]> = s
+            .components
+            .iter()
+            .flat_map(|c| [c.uvt[0], *c.uvt.last().unwrap()])
+            .collect();
+        v.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        v
+    };
+    for (a, b) in ends(&filtered).iter().zip(ends(&exact)) {
+        assert!((0..3).all(|k| (a[k] - b[k]).abs() < 1e-9), "{a:?} vs {b:?}");
+    }
+    println!(
+        "sphere-line: filtered {:.3} s, fast {:.3} s, exact {:.3} s; {} components on each",
+        filtered.seconds,
+        fast.seconds,
+        exact.seconds,
+        filtered.components.len()
+    );
+}
+
+#[test]
+fn bad_scenes_are_refused_with_their_cause() {
+    let base = |surface: &str, motion: &str, eye: &str| {
+        format!(r#"{{"surfaces": [{surface}], "t": [0, 2], "motion": {motion}, "eye": {eye}}}"#)
+    };
+    let sphere = r#"{"sphere": {"center": [0, 0, 0], "radius": 1}}"#;
+    let line = r#"{"translation": [[0, 2], [0, "1/2"], [0]]}"#;
+    // det M(t) = 1 − t vanishes at t = 1.
+    let singular = r#"{"linear": [[[1, -1], [0], [0]], [[0], [1], [0]], [[0], [0], [1]]]}"#;
+    let scene = scene_from_json(&base(sphere, singular, "[0, -9, 0]")).unwrap();
+    let e = silhouette(&scene, &SilhouetteOptions::default()).unwrap_err();
+    assert!(matches!(e, SweepError::SingularMotion { .. }), "{e}");
+    // The eye on the sphere at t = 1 (centre (2, ½, 0) plus the unit vector (0.48, 0.64, 0.6)).
+    let scene = scene_from_json(&base(sphere, line, r#"["2.48", "1.14", "0.6"]"#)).unwrap();
+    let e = silhouette(&scene, &SilhouetteOptions::default()).unwrap_err();
+    assert!(matches!(e, SweepError::EyeOnSurface { .. }), "{e}");
+    // A patch collapsed to a point has no normal anywhere.
+    let flat = r#"{"bezier": {"degrees": [1, 1], "points": [[1,1,1],[1,1,1],[1,1,1],[1,1,1]]}}"#;
+    let scene = scene_from_json(&base(flat, line, "[0, -9, 0]")).unwrap();
+    let e = silhouette(&scene, &SilhouetteOptions::default()).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            SweepError::DegeneratePatch {
+                surface: 0,
+                patch: 0
+            }
+        ),
+        "{e}"
+    );
+    // Degrees and malformed fields name the field.
+    let big = r#"{"bezier": {"degrees": [7, 1], "points": []}}"#;
+    let e = scene_from_json(&base(big, line, "[0, -9, 0]")).unwrap_err();
+    assert!(e.to_string().contains("surfaces[0].bezier.degrees"), "{e}");
+}
+
+/// `(F, G)` at a traced vertex in `f64` from finite differences of the patch and the motion,
+/// normalised: `F / (|A′S| |MS_u| |MS_v|)` and `G / (|A S − P| |cof(M) N|)`.
+fn generic_residuals(scene: &Scene, surface: usize, patch: usize, uvt: [f64; 3]) -> (f64, f64) {
+    let p = &scene.surfaces[surface].patches[patch];
+    let m = &scene.motion;
+    let h = 1e-6;
+    let [u, v, t] = uvt;
+    let at = |u: f64, v: f64, t: f64| -> [f64; 3] {
+        let x = p.point(u.clamp(0.0, 1.0), v.clamp(0.0, 1.0)).unwrap();
+        let d = horner(&m.denominator, t);
+        [0, 1, 2].map(|i| {
+            (horner(&m.translation[i], t)
+                + (0..3)
+                    .map(|j| horner(&m.linear[i][j], t) * x[j])
+                    .sum::<f64>())
+                / d
+        })
+    };
+    let diff = |a: [f64; 3], b: [f64; 3], w: f64| [0, 1, 2].map(|k| (a[k] - b[k]) / w);
+    // One-sided near the patch's edges.
+    let (u0, u1) = ((u - h).max(0.0), (u + h).min(1.0));
+    let (v0, v1) = ((v - h).max(0.0), (v + h).min(1.0));
+    let xu = diff(at(u1, v, t), at(u0, v, t), u1 - u0);
+    let xv = diff(at(u, v1, t), at(u, v0, t), v1 - v0);
+    let xt = diff(at(u, v, t + h), at(u, v, t - h), 2.0 * h);
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| (0..3).map(|k| a[k] * b[k]).sum::<f64>();
+    let norm = |a: [f64; 3]| dot(a, a).sqrt();
+    // M S_u and M S_v are the derivatives of the moved point: their cross product is cof(M) N.
+    let n = cross(xu, xv);
+    let Eye::Point(eye) = &scene.eye else {
+        panic!("a fixed eye")
+    };
+    let x = at(u, v, t);
+    let sight = [0, 1, 2].map(|k| x[k] - rational_to_f64(&eye[k]));
+    let f = dot(xt, n) / (norm(xt) * norm(xu) * norm(xv));
+    let g = dot(sight, n) / (norm(sight) * norm(n));
+    (f.abs(), g.abs())
+}
+
+#[test]
+fn the_tuba_traces_a_sphere_and_a_torus_onto_their_characteristic_curves_and_contours() {
+    let scene = builtin_scene("tuba").unwrap();
+    let s = silhouette(&scene, &SilhouetteOptions::default().with_caps(false)).unwrap();
+    let mut worst = (0.0f64, 0.0f64);
+    let mut n = 0;
+    for c in &s.components {
+        for (uvt, &patch) in c.uvt.iter().zip(&c.patches) {
+            let (f, g) = generic_residuals(&scene, c.surface, patch, *uvt);
+            worst = (worst.0.max(f), worst.1.max(g));
+            n += 1;
+        }
+    }
+    println!(
+        "tuba: {} components ({} on the torus), {n} vertices: |F| ≤ {:.1e}, |G| ≤ {:.1e} (normalised)",
+        s.components.len(),
+        s.components.iter().filter(|c| c.surface == 1).count(),
+        worst.0,
+        worst.1
+    );
+    assert!(s.components.iter().any(|c| c.surface == 0));
+    assert!(s.components.iter().any(|c| c.surface == 1));
+    assert!(n > 50 && worst.0 < 1e-5 && worst.1 < 1e-5);
+}
+
+#[test]
+fn a_bspline_patch_is_split_into_its_bezier_pieces_and_traced() {
+    // A bicubic bump over [0,2]² with one interior knot per axis, moving along (½, 0, ⅕) and
+    // seen at a grazing angle from −y: its envelope silhouette crosses the knot lines between
+    // the pieces. (Along x alone the characteristic curve would be the symmetry line x = 1,
+    // which is a knot line: a curve inside a patch edge, see the module docs.)
+    let mut points = Vec::new();
+    for j in 0..5 {
+        for i in 0..5 {
+            let z = if (1..4).contains(&i) && (1..4).contains(&j) {
+                1.0
+            } else {
+                0.0
+            };
+            points.push(format!("[{}, {}, {z}]", i as f64 / 2.0, j as f64 / 2.0));
+        }
+    }
+    let text = format!(
+        r#"{{"surfaces": [{{"bspline": {{"orders": [4, 4], "knots": [[0,0,0,0,1,2,2,2,2],[0,0,0,0,1,2,2,2,2]], "points": [{}]}}}}],
+            "t": [0, 1], "motion": {{"translation": [[0, "1/2"], [0], [0, "1/5"]]}}, "eye": [1, -6, "1/2"]}}"#,
+        points.join(",")
+    );
+    let scene = scene_from_json(&text).unwrap();
+    assert_eq!(scene.surfaces[0].patches.len(), 4);
+    let s = silhouette(&scene, &SilhouetteOptions::default().with_caps(false)).unwrap();
+    let mut worst = (0.0f64, 0.0f64);
+    let mut n = 0;
+    for c in &s.components {
+        for (uvt, &patch) in c.uvt.iter().zip(&c.patches) {
+            let (f, g) = generic_residuals(&scene, c.surface, patch, *uvt);
+            worst = (worst.0.max(f), worst.1.max(g));
+            n += 1;
+        }
+    }
+    println!(
+        "bicubic B-spline sweep: {} components over {} pieces, {n} vertices, {} clusters: |F| ≤ {:.1e}, |G| ≤ {:.1e}",
+        s.components.len(),
+        s.patches,
+        s.clusters.len(),
+        worst.0,
+        worst.1
+    );
+    assert!(n > 10 && worst.0 < 1e-5 && worst.1 < 1e-5);
+    // The bump's two flanks each carry one t-monotone component from t = a to t = b.
+    assert_eq!(s.components.len(), 2);
+    for c in &s.components {
+        assert_eq!(c.component_type, Some(ComponentType::Monotone));
+        let mut ends = c.ends.clone();
+        ends.sort_by_key(|e| format!("{e:?}"));
+        assert_eq!(
+            ends,
+            vec![
+                ComponentEnd::Time { upper: false },
+                ComponentEnd::Time { upper: true }
+            ]
+        );
+    }
+}

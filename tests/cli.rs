@@ -831,3 +831,55 @@ fn solve_refuses_malformed_systems() {
         refuses("solve", &format!("bad-system-{i}.json"), text, expect);
     }
 }
+
+#[test]
+fn sweep_silhouette_writes_components_json_and_a_drawing() {
+    let svg = tmp("sphere-line.svg");
+    let out = geocert()
+        .args(["sweep", "silhouette", "builtin:sphere-line", "--json"])
+        .args(["--svg", svg.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let comps = v["components"].as_array().unwrap();
+    let envelope: Vec<_> = comps.iter().filter(|c| c["kind"] == "envelope").collect();
+    assert_eq!(envelope.len(), 2, "{v}");
+    for c in &envelope {
+        assert_eq!(c["type"], 3);
+        assert_eq!(
+            c["points"].as_array().unwrap().len(),
+            c["uvt"].as_array().unwrap().len()
+        );
+    }
+    assert_eq!(comps.iter().filter(|c| c["kind"] == "cap_a").count(), 1);
+    assert_eq!(v["clusters"].as_array().unwrap().len(), 0);
+    let drawing = std::fs::read_to_string(&svg).unwrap();
+    assert!(drawing.starts_with("<svg") && drawing.matches("<path").count() == comps.len());
+    // Bad scenes: exit 2, the field named, nothing written.
+    let bad = tmp("bad-scene.json");
+    std::fs::write(
+        &bad,
+        r#"{"surfaces": [{"sphere": {"center": [0,0,0], "radius": -1}}], "t": [0,1], "eye": [0,0,9]}"#,
+    )
+    .unwrap();
+    let none = tmp("never.svg");
+    let out = geocert()
+        .args(["sweep", "silhouette", bad.to_str().unwrap()])
+        .args(["--svg", none.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("surfaces[0].sphere.radius"));
+    assert!(!none.exists());
+    let out = geocert()
+        .args(["sweep", "silhouette", "builtin:nope"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("sphere-line"));
+}

@@ -6,8 +6,8 @@
 
 use geocert::num::rational_to_f64;
 use geocert::sweep::{
-    builtin_scene, equations, scene_from_json, silhouette, ComponentEnd, ComponentKind,
-    ComponentType, Eye, Scene, SilhouetteOptions, Silhouettes, SweepError,
+    builtin_scene, equations, scene_from_json, silhouette, verify_t_extreme, ComponentEnd,
+    ComponentKind, ComponentType, Eye, Scene, SilhouetteOptions, Silhouettes, SweepError,
 };
 use geocert::Path;
 
@@ -209,6 +209,8 @@ fn the_turning_ellipsoid_has_certified_t_extreme_points_on_a_type_2_component() 
         });
         let (phi, speed, contour) = o.residuals(world, t);
         assert!(phi < 1e-9 && speed < 1e-6 && contour < 1e-9);
+        // The certificate re-checks independently of the solver.
+        verify_t_extreme(&o.scene, x, false).unwrap().unwrap();
     }
     println!(
         "ellipsoid-turn: {} certified t-extreme points, all on type-2 components",

@@ -452,14 +452,19 @@ enum Class {
 fn classify<T: Coefficient>(
     polys: &[Bernstein<T>],
     minors: &[Bernstein<T>],
+    first: Option<usize>,
 ) -> Result<Class, SolveError> {
     let culled = root_free(polys);
     if culled == Decision::Yes {
         return Ok(Class::Empty);
     }
     let mut uncertain = culled == Decision::Uncertain;
-    for (k, minor) in minors.iter().enumerate() {
-        match strict_sign(minor) {
+    // The preferred axis first (the extreme axis: a box monotone along it holds no extreme).
+    let order = first
+        .into_iter()
+        .chain((0..minors.len()).filter(|&k| Some(k) != first));
+    for k in order {
+        match strict_sign(&minors[k]) {
             Sign::Positive | Sign::Negative => return Ok(Class::Regular(k)),
             Sign::Uncertain => uncertain = true,
             Sign::Zero => {}
@@ -627,7 +632,7 @@ impl Tracer<'_> {
         exact_minors: &[Bernstein<Rational>],
         at_limit: bool,
     ) -> Result<Class, SolveError> {
-        let class = classify(&node.polys, &node.minors)?;
+        let class = classify(&node.polys, &node.minors, self.opts.extreme_axis)?;
         // Rounding that leaves the class open is usually settled by splitting (the
         // coefficients tighten); only boxes at the depth limit are decided exactly.
         if matches!(class, Class::Uncertain) && self.opts.path == Path::Filtered && at_limit {
@@ -640,7 +645,11 @@ impl Tracer<'_> {
             let restrict = |ps: &[Bernstein<Rational>]| -> Result<Vec<_>, BernsteinError> {
                 ps.iter().map(|e| e.restrict(&sub)).collect()
             };
-            return classify(&restrict(exact)?, &restrict(exact_minors)?);
+            return classify(
+                &restrict(exact)?,
+                &restrict(exact_minors)?,
+                self.opts.extreme_axis,
+            );
         }
         Ok(class)
     }
@@ -1045,7 +1054,41 @@ fn extremes(
     components: &[Component],
     axis: usize,
 ) -> Result<(Vec<Extreme>, Vec<Cluster>), SolveError> {
-    let system = extreme_system(tracer.system, axis)?;
+    // Every extreme lies on the curve, so in an arc box or a cluster box, and not in an arc
+    // box monotone along `axis` (its tangent component there has one strict sign): the solve
+    // runs on the hull of the other boxes, and not at all when there are none. Every root of
+    // the system in that hull is on the curve, hence an extreme.
+    let candidates: Vec<&RationalBox> = tracer
+        .arcs
+        .iter()
+        .filter(|a| a.monotone_axis != axis)
+        .map(|a| &a.bounds)
+        .chain(tracer.clusters.iter().map(|(c, _)| &c.bounds))
+        .collect();
+    let Some(first) = candidates.first() else {
+        return Ok((Vec::new(), Vec::new()));
+    };
+    let mut hull: RationalBox = (*first).clone();
+    for b in &candidates[1..] {
+        for (h, (lo, hi)) in hull.iter_mut().zip(b.iter()) {
+            if lo < &h.0 {
+                h.0 = lo.clone();
+            }
+            if hi > &h.1 {
+                h.1 = hi.clone();
+            }
+        }
+    }
+    let whole = extreme_system(tracer.system, axis)?;
+    let mut equations = Vec::with_capacity(whole.equations.len());
+    for e in &whole.equations {
+        let mut q = ScaledBernstein::from_rational(e);
+        for (k, (lo, hi)) in hull.iter().enumerate() {
+            q = restrict_scaled(q, k, &whole.to_unit(k, lo), &whole.to_unit(k, hi))?;
+        }
+        equations.push(q.to_rational());
+    }
+    let system = System::new(hull, equations)?;
     let remaining = tracer
         .opts
         .limits
@@ -1056,12 +1099,15 @@ fn extremes(
         // Eight levels deeper than the curve's boxes, and a box budget: near a singular
         // point of the curve (a singular root of this system) the subdivision would
         // otherwise fill the budget with depth-limit boxes.
-        &SolveOptions::new().with_path(tracer.opts.path).with_limits(
-            Limits::new()
-                .with_max_depth(tracer.opts.limits.max_depth.saturating_add(8))
-                .with_max_boxes(EXTREME_BOXES)
-                .with_time_limit(remaining),
-        ),
+        &SolveOptions::new()
+            .with_path(tracer.opts.path)
+            .with_tolerance(tracer.opts.tolerance)
+            .with_limits(
+                Limits::new()
+                    .with_max_depth(tracer.opts.limits.max_depth.saturating_add(8))
+                    .with_max_boxes(EXTREME_BOXES)
+                    .with_time_limit(remaining),
+            ),
     )?;
     let mut component_of_arc = vec![usize::MAX; tracer.arcs.len()];
     for (c, comp) in components.iter().enumerate() {

@@ -29,8 +29,8 @@ mod silhouette;
 pub use equations::{equations, patch_normal, Equations, Normal};
 pub use scene::{builtin_scene, builtin_scene_json, scene_from_json, Patch, BUILTIN_SCENES};
 pub use silhouette::{
-    silhouette, ComponentEnd, ComponentKind, ComponentType, SilhouetteComponent, SilhouetteOptions,
-    Silhouettes, TExtreme, JOIN_TOLERANCE,
+    silhouette, verify_t_extreme, ComponentEnd, ComponentKind, ComponentType, SilhouetteComponent,
+    SilhouetteOptions, Silhouettes, TExtreme, JOIN_TOLERANCE,
 };
 
 use crate::bernstein::BernsteinError;

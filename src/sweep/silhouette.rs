@@ -18,10 +18,11 @@
 use super::equations::{equations, Equations};
 use super::scene::Patch;
 use super::{Eye, Scene, SweepError};
-use crate::bernstein::{Bernstein, Limits};
+use crate::bernstein::{prove_positive, Bernstein, Limits, PositivityOptions, PositivityVerdict};
 use crate::num::{rational_to_f64, Rational};
 use crate::solve::{
-    solve, trace, Cluster, CurveEnd, CurveOptions, Curves, Root, SolveOptions, System,
+    extreme_system, trace, verify_root, Cluster, CurveEnd, CurveOptions, Curves, Root, RootCheck,
+    RootRefusal, System,
 };
 use crate::Path;
 use num_traits::Zero;
@@ -469,39 +470,75 @@ fn cap_system(g: &Bernstein<Rational>, upper: bool) -> Result<System, SweepError
     Ok(System::new(unit_domain(2), vec![g.face(2, upper)?])?)
 }
 
-/// Certifies that the eye is not on the moving patch: the system `M̂X + (T̂ − δP)w = 0` in
-/// `(u, v, t)` has no root (every box culled). A certified root, or a box the solver could not
-/// clear, is refused.
+/// Certifies that the eye is not on the moving patch: `|M̂X + (T̂ − δP)w|² > 0` on
+/// `[0,1]² × [a, b]` by the positivity prover (a sum of squares is bounded away from zero
+/// wherever one term is, so this ends where a solve of the three components would follow the
+/// curves where two of them vanish). A witness where it is zero — the eye on the surface — or
+/// a box the prover could not decide within its limits is refused.
 fn eye_off_surface(
-    scene: &Scene,
     eq: &Equations,
+    scene: &Scene,
     surface: usize,
     patch: usize,
     path: Path,
 ) -> Result<(), SweepError> {
-    let mut domain = unit_domain(2);
-    domain.push(scene.t.clone());
-    let system = System::new(domain, eq.sight.to_vec())?;
-    let sol = solve(
-        &system,
-        &SolveOptions::new()
+    let mut sum = eq.sight[0].product(&eq.sight[0])?;
+    for s in &eq.sight[1..] {
+        sum = sum.add_elevated(&s.product(s)?)?;
+    }
+    let verdict = prove_positive(
+        &sum,
+        &PositivityOptions::new()
             .with_path(path)
-            .with_limits(Limits::new().with_max_depth(24).with_max_boxes(20_000)),
+            .with_limits(Limits::new().with_max_depth(30).with_max_boxes(50_000)),
     )?;
-    let first = sol
-        .roots
-        .first()
-        .map(|r| r.bounds[2].clone())
-        .or_else(|| sol.clusters.first().map(|c| c.bounds[2].clone()));
-    match first {
-        None => Ok(()),
-        Some((lo, hi)) => Err(SweepError::EyeOnSurface {
+    let (a, b) = (rational_to_f64(&scene.t.0), rational_to_f64(&scene.t.1));
+    let at = |s: f64| a + (b - a) * s;
+    match verdict {
+        PositivityVerdict::Positive { .. } => Ok(()),
+        PositivityVerdict::NotPositive { witness, .. } => {
+            let t = at(rational_to_f64(&witness[2]));
+            Err(SweepError::EyeOnSurface {
+                surface,
+                patch,
+                t_lo: t,
+                t_hi: t,
+            })
+        }
+        _ => Err(SweepError::EyeOnSurface {
             surface,
             patch,
-            t_lo: rational_to_f64(&lo),
-            t_hi: rational_to_f64(&hi),
+            t_lo: a,
+            t_hi: b,
         }),
     }
+}
+
+/// Re-checks a `t`-extreme point's certificate: rebuilds `F̃`, `G̃` of its patch from the scene
+/// and checks Miranda's test and the Jacobian's dominance on its box for `F = G = H = 0`
+/// with [`crate::solve::verify_root`], which does not call the solver.
+pub fn verify_t_extreme(
+    scene: &Scene,
+    extreme: &TExtreme,
+    printed_eq2: bool,
+) -> Result<Result<RootCheck, RootRefusal>, SweepError> {
+    let patch = scene
+        .surfaces
+        .get(extreme.surface)
+        .and_then(|s| s.patches.get(extreme.patch))
+        .ok_or_else(|| {
+            SweepError::field(
+                "t_extreme",
+                format!("no patch {} on surface {}", extreme.patch, extreme.surface),
+            )
+        })?;
+    let eq = equations(scene, patch, &eye_point(scene))?;
+    let system = extreme_system(&patch_system(scene, &eq, printed_eq2)?, 2)?;
+    Ok(verify_root(
+        &system,
+        &extreme.root.bounds,
+        &extreme.root.certificate,
+    ))
 }
 
 /// Algorithm 1 on every patch of every surface: the envelope's silhouette components with
@@ -530,7 +567,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                 },
                 other => other,
             })?;
-            eye_off_surface(scene, &eq, s, p, opts.path)?;
+            eye_off_surface(&eq, scene, s, p, opts.path)?;
             let system = patch_system(scene, &eq, opts.printed_eq2)?;
             let curves = trace(&system, &curve_opts.with_extreme_axis(Some(2)))?;
             let offset = t_extreme.len();

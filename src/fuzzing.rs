@@ -102,6 +102,42 @@ pub fn check_poly_json(data: &[u8]) -> Result<(), String> {
     Ok(())
 }
 
+/// The swept-scene reader on arbitrary bytes, and the silhouette equations of every small
+/// scene it accepts (patches of degree ≤ 3, motions of degree ≤ 4, at most 16 patches): must
+/// return `Ok` or a typed error, never panic.
+pub fn check_sweep_scene(data: &[u8]) -> Result<(), String> {
+    use crate::sweep::{equations, scene_from_json, Eye};
+    let Ok(text) = std::str::from_utf8(data) else {
+        return Ok(());
+    };
+    let Ok(scene) = scene_from_json(text) else {
+        return Ok(());
+    };
+    let patches: Vec<_> = scene.surfaces.iter().flat_map(|s| &s.patches).collect();
+    let motion_degree = scene
+        .motion
+        .linear
+        .iter()
+        .flatten()
+        .chain(&scene.motion.translation)
+        .chain(std::iter::once(&scene.motion.denominator))
+        .map(Vec::len)
+        .max()
+        .unwrap_or(0);
+    let small = patches.len() <= 16
+        && motion_degree <= 5
+        && patches.iter().all(|p| p.degrees().iter().all(|&d| d <= 3));
+    let Eye::Point(eye) = &scene.eye else {
+        return Ok(());
+    };
+    if small {
+        for p in patches {
+            let _ = equations(&scene, p, eye);
+        }
+    }
+    Ok(())
+}
+
 /// Decodes bytes into a small FFD lattice: byte 0 picks the basis, orders 2–4 and (for
 /// B-splines) 1–2 cells per axis; the rest perturb the identity lattice's points by
 /// `k · 2^{−e}` (`k` an `i8`, `e` in 3…12), so coordinates stay bounded.

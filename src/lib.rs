@@ -26,6 +26,8 @@
 //! * [`decimate`] — node decimation and exact undecimation (Krivograd et al. 2003): the bucket
 //!   queue, ear cutting, exact and fast engines, the history file, an independent
 //!   [`decimate::check`]er.
+//! * [`sweep`] — perspective silhouettes of swept volumes (Seong, Kim, Kim & Elber 2006): exact
+//!   `F`, `G` (with the cofactor normal) and Algorithm 1 on the certified curve tracer.
 //! * [`mesh`] — indexed triangle meshes, PLY/OBJ/STL/VTK readers and writers, topology checks.
 //! * `strategies` (feature `proptest`) — proptest strategies for other crates' property
 //!   tests.

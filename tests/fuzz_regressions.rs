@@ -124,3 +124,12 @@ fn solve_curves_regressions() {
     let n = replay("solve_curves", geocert::internals::fuzzing::check_curve);
     assert!(n > 0, "the regression corpus must not be empty");
 }
+
+#[test]
+fn sweep_scene_regressions() {
+    let n = replay(
+        "sweep_scene",
+        geocert::internals::fuzzing::check_sweep_scene,
+    );
+    assert!(n > 0, "the regression corpus must not be empty");
+}

@@ -1,0 +1,34 @@
+//! Swept-volume silhouettes of the built-in scenes on the filtered path: the whole of
+//! Algorithm 1 (equations, tracing, certified t-extreme points, the end positions' contours)
+//! per scene, and the equations alone.
+#![allow(missing_docs)] // criterion's group and main macros generate undocumented items
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use geocert::sweep::{builtin_scene, equations, silhouette, Eye, SilhouetteOptions};
+use std::hint::black_box;
+
+fn scenes(c: &mut Criterion) {
+    let mut g = c.benchmark_group("sweep_silhouette");
+    g.sample_size(10);
+    for name in ["sphere-line", "ellipsoid-line", "ellipsoid-turn"] {
+        let scene = builtin_scene(name).unwrap();
+        g.bench_function(name, |b| {
+            b.iter(|| silhouette(black_box(&scene), &SilhouetteOptions::default()).unwrap())
+        });
+    }
+    g.finish();
+    let scene = builtin_scene("ellipsoid-turn").unwrap();
+    let Eye::Point(eye) = scene.eye.clone() else {
+        unreachable!()
+    };
+    c.bench_function("sweep_equations_ellipsoid_turn_8_patches", |b| {
+        b.iter(|| {
+            for p in &scene.surfaces[0].patches {
+                black_box(equations(&scene, p, &eye).unwrap());
+            }
+        })
+    });
+}
+
+criterion_group!(benches, scenes);
+criterion_main!(benches);

@@ -13,6 +13,7 @@ pub mod mc_grid;
 pub mod mc_markdown;
 pub mod solve;
 pub mod solve_curves;
+pub mod sweep;
 
 use crate::proofs::ProofOutcome;
 use campaign::{KernelCampaign, SubdivisionTiming};

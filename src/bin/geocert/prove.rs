@@ -29,12 +29,15 @@ pub(crate) enum Part {
     /// The solver's campaign alone (constructed systems, msolve if installed); writes
     /// solve.md.
     Solve,
+    /// The swept-volume silhouettes of the built-in scenes; writes sweep.md and its pictures.
+    Sweep,
 }
 
 pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
     match a.part {
         Some(Part::McTable) => prove_mc_table(a.json),
         Some(Part::Solve) => prove_solve(a.out, a.json),
+        Some(Part::Sweep) => prove_sweep(a.out, a.json),
         None => prove(a.out, a.json),
     }
 }
@@ -72,7 +75,7 @@ fn mc_table_proofs() -> (Vec<ProofOutcome>, usize) {
 fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     let meta = RunMeta::collect();
     let proofs = proofs::all();
-    let bar = ProgressBar::new(proofs.len() as u64 + 5);
+    let bar = ProgressBar::new(proofs.len() as u64 + 6);
     bar.set_style(
         ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").map_err(|e| e.to_string())?,
     );
@@ -106,6 +109,9 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     bar.inc(1);
     bar.set_message("polynomial systems (and msolve, if installed)");
     let solve_camp = solve_campaign(&root)?;
+    bar.inc(1);
+    bar.set_message("swept-volume silhouettes of the built-in scenes");
+    let sweep_camp = report::sweep::sweep_campaign(&out);
     bar.finish_and_clear();
     let part = |prefix: &str| -> Vec<_> {
         outcomes
@@ -129,8 +135,10 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
             .map_err(io)?,
         report::decimate::write_decimate_report(&out, &meta, &dec_camp).map_err(io)?,
         report::solve::write_solve_report(&out, &meta, &solve_camp).map_err(io)?,
+        report::sweep::write_sweep_report(&out, &meta, &sweep_camp).map_err(io)?,
     ];
     let solve_ok = report::solve::campaign_ok(&solve_camp);
+    let sweep_ok = report::sweep::campaign_ok(&sweep_camp);
     let dec_ok = report::decimate::campaign_ok(&dec_camp);
     written.insert(
         0,
@@ -184,11 +192,19 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
                     ),
                     ok: solve_ok,
                 },
+                report::IndexEntry {
+                    file: "sweep.md".into(),
+                    what: format!(
+                        "perspective silhouettes of swept volumes ({} built-in scenes on two paths, eq. 2 as printed measured)",
+                        sweep_camp.rows.len() / 2
+                    ),
+                    ok: sweep_ok,
+                },
             ],
         )
         .map_err(io)?,
     );
-    let ok = kernel_ok && ffd_ok && mc_ok && dec_ok && solve_ok;
+    let ok = kernel_ok && ffd_ok && mc_ok && dec_ok && solve_ok && sweep_ok;
     if json {
         let v = serde_json::json!({"ok": ok, "proofs": outcomes, "campaign": camp, "timing": timing,
             "reports": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>()});
@@ -249,6 +265,27 @@ fn prove_solve(out: PathBuf, json: bool) -> Result<ExitCode, String> {
                     f.name, t.found, t.in_clusters, t.missing, t.extra, t.refused
                 );
             }
+        }
+        println!("wrote {}", written.display());
+    }
+    Ok(status(ok))
+}
+
+/// `prove sweep`: the swept-volume scenes alone; writes sweep.md.
+fn prove_sweep(out: PathBuf, json: bool) -> Result<ExitCode, String> {
+    let meta = RunMeta::collect();
+    let c = report::sweep::sweep_campaign(&out);
+    let written = report::sweep::write_sweep_report(&out, &meta, &c)
+        .map_err(|e| format!("writing {}: {e}", out.display()))?;
+    let ok = report::sweep::campaign_ok(&c);
+    if json {
+        println!("{}", pretty(&c)?);
+    } else {
+        for r in &c.rows {
+            println!(
+                "{} ({}): {} envelope components, {} t-extreme ({} re-checked), {} clusters, max |F| {:.1e}, max |G| {:.1e}, {:.3} s",
+                r.scene, r.path, r.envelope, r.t_extreme, r.t_extreme_verified, r.clusters, r.max_f, r.max_g, r.median_seconds
+            );
         }
         println!("wrote {}", written.display());
     }

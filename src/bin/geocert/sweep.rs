@@ -5,8 +5,7 @@ use clap::Subcommand;
 use geocert::bernstein::Limits;
 use geocert::num::rational_to_string;
 use geocert::sweep::{
-    builtin_scene, scene_from_json, silhouette, ComponentEnd, ComponentKind, Eye, Scene,
-    SilhouetteOptions, Silhouettes,
+    builtin_scene, scene_from_json, silhouette, ComponentEnd, Scene, SilhouetteOptions, Silhouettes,
 };
 use geocert::Path;
 use serde_json::{json, Value};
@@ -84,7 +83,7 @@ fn run_silhouette(a: SilhouetteArgs) -> Result<ExitCode, String> {
         .with_printed_eq2(a.printed_eq2);
     let s = silhouette(&scene, &opts).map_err(|e| e.to_string())?;
     if let Some(file) = &a.svg {
-        write(file, svg(&scene, &s))?;
+        write(file, geocert::internals::report::sweep::svg(&scene, &s))?;
     }
     if a.json {
         println!("{}", pretty(&to_json(&s))?);
@@ -171,96 +170,4 @@ fn print_summary(s: &Silhouettes) {
             c.extremes.len()
         );
     }
-}
-
-/// A perspective drawing from the eye towards the silhouettes' centroid.
-fn svg(scene: &Scene, s: &Silhouettes) -> String {
-    let eye = match &scene.eye {
-        Eye::Point(p) => p.clone().map(|x| geocert::num::rational_to_f64(&x)),
-        Eye::Path { path, r } => path.clone().map(|p| {
-            p.iter().rev().fold(0.0, |acc, c| {
-                acc * geocert::num::rational_to_f64(&r.0) + geocert::num::rational_to_f64(c)
-            })
-        }),
-    };
-    let pts: Vec<[f64; 3]> = s.components.iter().flat_map(|c| c.points.clone()).collect();
-    let n = pts.len().max(1) as f64;
-    let centre: Vec<f64> = (0..3)
-        .map(|k| pts.iter().map(|p| p[k]).sum::<f64>() / n)
-        .collect();
-    let norm = |v: [f64; 3]| {
-        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
-            .sqrt()
-            .max(f64::MIN_POSITIVE);
-        [v[0] / l, v[1] / l, v[2] / l]
-    };
-    let cross = |a: [f64; 3], b: [f64; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    let d = norm([centre[0] - eye[0], centre[1] - eye[1], centre[2] - eye[2]]);
-    let up0 = if d[2].abs() > 0.9 {
-        [0.0, 1.0, 0.0]
-    } else {
-        [0.0, 0.0, 1.0]
-    };
-    let right = norm(cross(d, up0));
-    let up = cross(right, d);
-    let project = |p: &[f64; 3]| {
-        let v = [p[0] - eye[0], p[1] - eye[1], p[2] - eye[2]];
-        let z = dot(v, d).max(1e-9);
-        (dot(v, right) / z, -dot(v, up) / z)
-    };
-    let projected: Vec<Vec<(f64, f64)>> = s
-        .components
-        .iter()
-        .map(|c| c.points.iter().map(project).collect())
-        .collect();
-    let all = projected.iter().flatten();
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for &(x, y) in all {
-        x0 = x0.min(x);
-        x1 = x1.max(x);
-        y0 = y0.min(y);
-        y1 = y1.max(y);
-    }
-    let span = (x1 - x0).max(y1 - y0).max(1e-12);
-    let size = 800.0;
-    let margin = 20.0;
-    let to_px = |(x, y): (f64, f64)| {
-        (
-            margin + (x - x0) / span * (size - 2.0 * margin),
-            margin + (y - y0) / span * (size - 2.0 * margin),
-        )
-    };
-    let colours = [
-        "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2",
-    ];
-    let mut out = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{size}\" height=\"{size}\" viewBox=\"0 0 {size} {size}\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-    );
-    for (i, (c, line)) in s.components.iter().zip(&projected).enumerate() {
-        let mut d = String::new();
-        for (k, &p) in line.iter().enumerate() {
-            let (x, y) = to_px(p);
-            d.push_str(&format!("{}{x:.2},{y:.2} ", if k == 0 { "M" } else { "L" }));
-        }
-        if c.closed {
-            d.push('Z');
-        }
-        let (colour, dash, width) = match c.kind {
-            ComponentKind::Envelope => (colours[i % colours.len()], "", 2.5),
-            _ => ("#555555", " stroke-dasharray=\"6 4\"", 1.2),
-        };
-        out.push_str(&format!(
-            "<path d=\"{d}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"{width}\"{dash}><title>component {i}: {}</title></path>\n",
-            c.kind.name()
-        ));
-    }
-    out.push_str("</svg>\n");
-    out
 }

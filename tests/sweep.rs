@@ -461,3 +461,60 @@ fn a_bspline_patch_is_split_into_its_bezier_pieces_and_traced() {
         );
     }
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(12))]
+
+    /// An ellipsoid under a random affine motion `M(t) = M₀ + t M₁` (kept invertible on
+    /// `[0, 1]`), `T(t) = t T₁`, seen from a random far eye: on the filtered path every traced
+    /// vertex lies on the implicit oracle's characteristic curve and contour, and where the
+    /// fast path leaves no cluster its components and types equal the filtered ones.
+    #[test]
+    fn random_affine_sweeps_of_an_ellipsoid_match_the_oracle(
+        m1 in proptest::collection::vec(-4i64..=4, 9),
+        t1 in proptest::collection::vec(-6i64..=6, 3),
+        radii in proptest::collection::vec(2i64..=6, 3),
+        eye in proptest::collection::vec(-3i64..=3, 2),
+    ) {
+        // M(t) = I + t M₁, M₁'s diagonal in [−½, ½] and its off-diagonal entries in
+        // [−⅕, ⅕]: strictly diagonally dominant on [0, 1], so invertible.
+        let entry = |i: usize, j: usize| -> String {
+            let v = m1[3 * i + j];
+            if i == j {
+                format!("[1, \"{}/8\"]", v)
+            } else {
+                format!("[0, \"{}/20\"]", v)
+            }
+        };
+        let rows: Vec<String> = (0..3)
+            .map(|i| format!("[{}, {}, {}]", entry(i, 0), entry(i, 1), entry(i, 2)))
+            .collect();
+        let text = format!(
+            r#"{{"surfaces": [{{"ellipsoid": {{"center": [0, 0, 0], "radii": ["{}/4", "{}/4", "{}/4"]}}}}],
+                "t": [0, 1],
+                "motion": {{"translation": [[0, {}], [0, {}], [0, "{}/2"]], "linear": [{}]}},
+                "eye": ["{}/2", -12, "{}/2"]}}"#,
+            radii[0], radii[1], radii[2], t1[0], t1[1], t1[2], rows.join(", "), eye[0], eye[1]
+        );
+        let scene = scene_from_json(&text).unwrap();
+        let o = Oracle::new(
+            scene,
+            [0.0; 3],
+            [0, 1, 2].map(|k| radii[k] as f64 / 4.0),
+        );
+        let opts = SilhouetteOptions::default().with_caps(false);
+        let s = match silhouette(&o.scene, &opts) {
+            Ok(s) => s,
+            // A sweep that passes through the eye is refused, never traced.
+            Err(SweepError::EyeOnSurface { .. }) => return Ok(()),
+            Err(e) => panic!("{e}"),
+        };
+        let (phi, speed, contour, _) = o.worst(&s, ComponentKind::Envelope);
+        proptest::prop_assert!(phi < 1e-9 && speed < 1e-5 && contour < 1e-9,
+            "{phi:e} {speed:e} {contour:e}");
+        let fast = silhouette(&o.scene, &opts.with_path(Path::Fast)).unwrap();
+        if fast.clusters.is_empty() && s.clusters.is_empty() {
+            proptest::prop_assert_eq!(types(&s), types(&fast));
+        }
+    }
+}

@@ -4,6 +4,7 @@
 //! contour from the eye) — conditions computed here in `f64` from the scene's motion, not from
 //! the library's F and G.
 
+use geocert::internals::report::sweep as report;
 use geocert::num::rational_to_f64;
 use geocert::sweep::{
     builtin_scene, equations, scene_from_json, silhouette, verify_t_extreme, ComponentEnd,
@@ -332,65 +333,31 @@ fn bad_scenes_are_refused_with_their_cause() {
     assert!(e.to_string().contains("surfaces[0].bezier.degrees"), "{e}");
 }
 
-/// `(F, G)` at a traced vertex in `f64` from finite differences of the patch and the motion,
-/// normalised: `F / (|A′S| |MS_u| |MS_v|)` and `G / (|A S − P| |cof(M) N|)`.
-fn generic_residuals(scene: &Scene, surface: usize, patch: usize, uvt: [f64; 3]) -> (f64, f64) {
-    let p = &scene.surfaces[surface].patches[patch];
-    let m = &scene.motion;
-    let h = 1e-6;
-    let [u, v, t] = uvt;
-    let at = |u: f64, v: f64, t: f64| -> [f64; 3] {
-        let x = p.point(u.clamp(0.0, 1.0), v.clamp(0.0, 1.0)).unwrap();
-        let d = horner(&m.denominator, t);
-        [0, 1, 2].map(|i| {
-            (horner(&m.translation[i], t)
-                + (0..3)
-                    .map(|j| horner(&m.linear[i][j], t) * x[j])
-                    .sum::<f64>())
-                / d
-        })
-    };
-    let diff = |a: [f64; 3], b: [f64; 3], w: f64| [0, 1, 2].map(|k| (a[k] - b[k]) / w);
-    // One-sided near the patch's edges.
-    let (u0, u1) = ((u - h).max(0.0), (u + h).min(1.0));
-    let (v0, v1) = ((v - h).max(0.0), (v + h).min(1.0));
-    let xu = diff(at(u1, v, t), at(u0, v, t), u1 - u0);
-    let xv = diff(at(u, v1, t), at(u, v0, t), v1 - v0);
-    let xt = diff(at(u, v, t + h), at(u, v, t - h), 2.0 * h);
-    let cross = |a: [f64; 3], b: [f64; 3]| {
-        [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ]
-    };
-    let dot = |a: [f64; 3], b: [f64; 3]| (0..3).map(|k| a[k] * b[k]).sum::<f64>();
-    let norm = |a: [f64; 3]| dot(a, a).sqrt();
-    // M S_u and M S_v are the derivatives of the moved point: their cross product is cof(M) N.
-    let n = cross(xu, xv);
-    let Eye::Point(eye) = &scene.eye else {
-        panic!("a fixed eye")
-    };
-    let x = at(u, v, t);
-    let sight = [0, 1, 2].map(|k| x[k] - rational_to_f64(&eye[k]));
-    let f = dot(xt, n) / (norm(xt) * norm(xu) * norm(xv));
-    let g = dot(sight, n) / (norm(sight) * norm(n));
-    (f.abs(), g.abs())
+/// The largest normalised `(|F|, |G|)` over every envelope vertex, from finite differences
+/// of `A(t)S(u, v)` (the report's measure), and the vertex count.
+fn worst_fd(scene: &Scene, s: &Silhouettes) -> ((f64, f64), usize) {
+    let eye = report::eye_f64(scene);
+    let mut worst = (0.0f64, 0.0f64);
+    let mut n = 0;
+    for c in s
+        .components
+        .iter()
+        .filter(|c| c.kind == ComponentKind::Envelope)
+    {
+        for (uvt, &patch) in c.uvt.iter().zip(&c.patches) {
+            let (f, g) = report::residuals(scene, c.surface, patch, *uvt, eye);
+            worst = (worst.0.max(f), worst.1.max(g));
+            n += 1;
+        }
+    }
+    (worst, n)
 }
 
 #[test]
 fn the_tuba_traces_a_sphere_and_a_torus_onto_their_characteristic_curves_and_contours() {
     let scene = builtin_scene("tuba").unwrap();
     let s = silhouette(&scene, &SilhouetteOptions::default().with_caps(false)).unwrap();
-    let mut worst = (0.0f64, 0.0f64);
-    let mut n = 0;
-    for c in &s.components {
-        for (uvt, &patch) in c.uvt.iter().zip(&c.patches) {
-            let (f, g) = generic_residuals(&scene, c.surface, patch, *uvt);
-            worst = (worst.0.max(f), worst.1.max(g));
-            n += 1;
-        }
-    }
+    let (worst, n) = worst_fd(&scene, &s);
     println!(
         "tuba: {} components ({} on the torus), {n} vertices: |F| ≤ {:.1e}, |G| ≤ {:.1e} (normalised)",
         s.components.len(),
@@ -428,15 +395,7 @@ fn a_bspline_patch_is_split_into_its_bezier_pieces_and_traced() {
     let scene = scene_from_json(&text).unwrap();
     assert_eq!(scene.surfaces[0].patches.len(), 4);
     let s = silhouette(&scene, &SilhouetteOptions::default().with_caps(false)).unwrap();
-    let mut worst = (0.0f64, 0.0f64);
-    let mut n = 0;
-    for c in &s.components {
-        for (uvt, &patch) in c.uvt.iter().zip(&c.patches) {
-            let (f, g) = generic_residuals(&scene, c.surface, patch, *uvt);
-            worst = (worst.0.max(f), worst.1.max(g));
-            n += 1;
-        }
-    }
+    let (worst, n) = worst_fd(&scene, &s);
     println!(
         "bicubic B-spline sweep: {} components over {} pieces, {n} vertices, {} clusters: |F| ≤ {:.1e}, |G| ≤ {:.1e}",
         s.components.len(),

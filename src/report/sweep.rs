@@ -7,8 +7,8 @@
 use super::RunMeta;
 use crate::num::rational_to_f64;
 use crate::sweep::{
-    builtin_scene, silhouette, verify_t_extreme, ComponentKind, Eye, Scene, SilhouetteOptions,
-    Silhouettes,
+    apply_motion, builtin_scene, eye_point, silhouette, verify_t_extreme, ComponentKind, Scene,
+    SilhouetteOptions, Silhouettes,
 };
 use crate::Path;
 use serde::Serialize;
@@ -55,12 +55,6 @@ pub struct SweepCampaign {
     pub eq2: Vec<Eq2Row>,
 }
 
-fn horner(p: &[crate::num::Rational], t: f64) -> f64 {
-    p.iter()
-        .rev()
-        .fold(0.0, |acc, c| acc * t + rational_to_f64(c))
-}
-
 /// `(|F|, |G|)` at `(u, v, t)` of a patch, normalised, from central differences of
 /// `A(t)S(u, v)`: `F = ⟨∂_t x, ∂_u x × ∂_v x⟩ / (|∂_t x||∂_u x||∂_v x|)` and
 /// `G = ⟨x − P, ∂_u x × ∂_v x⟩ / (|x − P||∂_u x × ∂_v x|)` (the moved point's own derivatives:
@@ -73,19 +67,11 @@ pub fn residuals(
     eye: [f64; 3],
 ) -> (f64, f64) {
     let p = &scene.surfaces[surface].patches[patch];
-    let m = &scene.motion;
     let at = |u: f64, v: f64, t: f64| -> [f64; 3] {
         let x = p
             .point(u.clamp(0.0, 1.0), v.clamp(0.0, 1.0))
             .unwrap_or([f64::NAN; 3]);
-        let d = horner(&m.denominator, t);
-        [0, 1, 2].map(|i| {
-            (horner(&m.translation[i], t)
-                + (0..3)
-                    .map(|j| horner(&m.linear[i][j], t) * x[j])
-                    .sum::<f64>())
-                / d
-        })
+        apply_motion(scene, t, x)
     };
     let h = 1e-6;
     let [u, v, t] = uvt;
@@ -112,10 +98,7 @@ pub fn residuals(
 
 /// The eye in `f64` (`P(r₀)` for a path).
 pub fn eye_f64(scene: &Scene) -> [f64; 3] {
-    match &scene.eye {
-        Eye::Point(p) => p.clone().map(|x| rational_to_f64(&x)),
-        Eye::Path { path, r } => path.clone().map(|p| horner(&p, rational_to_f64(&r.0))),
-    }
+    eye_point(scene).map(|x| rational_to_f64(&x))
 }
 
 /// The largest residuals over the envelope's vertices, and their count.

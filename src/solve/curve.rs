@@ -193,10 +193,7 @@ pub fn plane_system(
     c: &Rational,
     bounds: &RationalBox,
 ) -> Result<System, SolveError> {
-    let n = system.unknowns();
-    if axis >= n || bounds.len() != n || n < 2 {
-        return Err(SolveError::Unknowns(n));
-    }
+    let n = plane_shape(system, axis, bounds)?;
     let mut sub = Vec::with_capacity(n);
     for (k, (lo, hi)) in bounds.iter().enumerate() {
         sub.push(if k == axis {
@@ -214,13 +211,26 @@ pub fn plane_system(
         }
         equations.push(q.face(axis, false)?);
     }
-    let domain = bounds
+    System::new(plane_domain(bounds, axis), equations)
+}
+
+/// The number of unknowns, checked for a cross-section along `axis` within `bounds`.
+fn plane_shape(system: &System, axis: usize, bounds: &RationalBox) -> Result<usize, SolveError> {
+    let n = system.unknowns();
+    if axis >= n || bounds.len() != n || n < 2 {
+        return Err(SolveError::Unknowns(n));
+    }
+    Ok(n)
+}
+
+/// The cross-section's domain: `bounds` without `axis`.
+fn plane_domain(bounds: &RationalBox, axis: usize) -> RationalBox {
+    bounds
         .iter()
         .enumerate()
         .filter(|&(k, _)| k != axis)
         .map(|(_, b)| b.clone())
-        .collect();
-    System::new(domain, equations)
+        .collect()
 }
 
 /// `p` restricted to `[lo, hi] ⊂ [0, 1]` along `axis` (reparametrised to `[0, 1]`), by
@@ -273,10 +283,7 @@ fn plane_system_scaled(
     c: &Rational,
     bounds: &RationalBox,
 ) -> Result<System, SolveError> {
-    let n = system.unknowns();
-    if axis >= n || bounds.len() != n || n < 2 {
-        return Err(SolveError::Unknowns(n));
-    }
+    plane_shape(system, axis, bounds)?;
     let at = system.to_unit(axis, c);
     let mut equations = Vec::with_capacity(scaled.len());
     for e in scaled {
@@ -294,13 +301,7 @@ fn plane_system_scaled(
         };
         equations.push(face);
     }
-    let domain = bounds
-        .iter()
-        .enumerate()
-        .filter(|&(k, _)| k != axis)
-        .map(|(_, b)| b.clone())
-        .collect();
-    System::new(domain, equations)
+    System::new(plane_domain(bounds, axis), equations)
 }
 
 /// The determinant of the square matrix of polynomials `m[rows][cols]` (Laplace expansion

@@ -28,6 +28,7 @@ mod silhouette;
 
 pub use equations::{equations, patch_normal, Equations, Normal};
 pub use scene::{builtin_scene, builtin_scene_json, scene_from_json, Patch, BUILTIN_SCENES};
+pub(crate) use silhouette::{apply_motion, eye_point};
 pub use silhouette::{
     silhouette, verify_t_extreme, ComponentEnd, ComponentKind, ComponentType, SilhouetteComponent,
     SilhouetteOptions, Silhouettes, TExtreme, JOIN_TOLERANCE,

@@ -271,16 +271,26 @@ fn array<'a>(v: &'a Value, place: &str) -> Result<&'a Vec<Value>, SweepError> {
         .ok_or_else(|| SweepError::field(place, "expected an array"))
 }
 
-fn triple(v: &Value, place: &str) -> Result<[Rational; 3], SweepError> {
+/// Three things of one kind, `each` reading one (named `place[i]`).
+fn three<T>(
+    v: &Value,
+    place: &str,
+    what: &str,
+    each: impl Fn(&Value, &str) -> Result<T, SweepError>,
+) -> Result<[T; 3], SweepError> {
     let a = array(v, place)?;
     if a.len() != 3 {
-        return Err(SweepError::field(place, "expected 3 numbers"));
+        return Err(SweepError::field(place, format!("expected 3 {what}")));
     }
     Ok([
-        num(&a[0], &format!("{place}[0]"))?,
-        num(&a[1], &format!("{place}[1]"))?,
-        num(&a[2], &format!("{place}[2]"))?,
+        each(&a[0], &format!("{place}[0]"))?,
+        each(&a[1], &format!("{place}[1]"))?,
+        each(&a[2], &format!("{place}[2]"))?,
     ])
+}
+
+fn triple(v: &Value, place: &str) -> Result<[Rational; 3], SweepError> {
+    three(v, place, "numbers", num)
 }
 
 fn poly(v: &Value, place: &str) -> Result<Poly, SweepError> {
@@ -301,15 +311,7 @@ fn poly(v: &Value, place: &str) -> Result<Poly, SweepError> {
 }
 
 fn poly3(v: &Value, place: &str) -> Result<[Poly; 3], SweepError> {
-    let a = array(v, place)?;
-    if a.len() != 3 {
-        return Err(SweepError::field(place, "expected 3 polynomials"));
-    }
-    Ok([
-        poly(&a[0], &format!("{place}[0]"))?,
-        poly(&a[1], &format!("{place}[1]"))?,
-        poly(&a[2], &format!("{place}[2]"))?,
-    ])
+    three(v, place, "polynomials", poly)
 }
 
 fn get<'a>(v: &'a Value, key: &str, place: &str) -> Result<&'a Value, SweepError> {

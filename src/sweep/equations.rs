@@ -26,7 +26,9 @@
 
 use super::scene::Patch;
 use super::{Motion, Poly, Scene, SweepError};
-use crate::bernstein::{prove_positive, Bernstein, Limits, PositivityOptions, PositivityVerdict};
+use crate::bernstein::{
+    prove_positive, Bernstein, Limits, PositivityOptions, PositivityVerdict, ScaledBernstein,
+};
 use crate::num::Rational;
 use crate::Path;
 use num_traits::{One, Zero};
@@ -55,8 +57,11 @@ pub struct Equations {
     pub divided: Vec<(usize, bool)>,
 }
 
+/// The exact product, in integers over a common denominator (no gcd per term).
 fn mul(a: &B, b: &B) -> Result<B, SweepError> {
-    Ok(a.product(b)?)
+    Ok(ScaledBernstein::from_rational(a)
+        .product(&ScaledBernstein::from_rational(b))?
+        .to_rational())
 }
 
 fn add(a: &B, b: &B) -> Result<B, SweepError> {

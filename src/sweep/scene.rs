@@ -77,15 +77,16 @@ impl Patch {
         [d[0], d[1]]
     }
 
-    /// `S(u, v)` in `f64` (evaluated exactly, rounded once).
+    /// `S(u, v)` in `f64` (de Casteljau on the coefficients rounded to `f64`); `None` outside
+    /// the unit square or for a non-finite parameter.
     pub fn point(&self, u: f64, v: f64) -> Option<[f64; 3]> {
-        let at = [Rational::from_float(u)?, Rational::from_float(v)?];
-        let w = self.hom[3].eval(&at).ok()?;
-        let mut out = [0.0; 3];
-        for (k, o) in out.iter_mut().enumerate() {
-            *o = rational_to_f64(&(self.hom[k].eval(&at).ok()? / &w));
+        if !((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v)) {
+            return None;
         }
-        Some(out)
+        let at = [u, v];
+        let eval = |p: &Bernstein<Rational>| p.map(rational_to_f64).eval(&at).ok();
+        let w = eval(&self.hom[3])?;
+        Some([eval(&self.hom[0])? / w, eval(&self.hom[1])? / w, eval(&self.hom[2])? / w])
     }
 
     /// The patch under `x ↦ L x + c` (applied to the homogeneous coordinates).

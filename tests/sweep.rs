@@ -477,3 +477,34 @@ proptest::proptest! {
         }
     }
 }
+
+#[test]
+fn a_tolerance_refines_until_every_chord_is_certified_within_it() {
+    let scene = builtin_scene("ellipsoid-line").unwrap();
+    let coarse = silhouette(&scene, &SilhouetteOptions::default()).unwrap();
+    let worst = |s: &Silhouettes| {
+        s.components
+            .iter()
+            .map(|c| c.chord_bound)
+            .fold(0.0, f64::max)
+    };
+    let tol = worst(&coarse) / 4.0;
+    let fine = silhouette(
+        &scene,
+        &SilhouetteOptions::default().with_tolerance(Some(tol)),
+    )
+    .unwrap();
+    println!(
+        "ellipsoid-line: chord bound {:.2e} at the default resolution, {:.2e} with tolerance {tol:.2e}; {} → {} vertices",
+        worst(&coarse),
+        worst(&fine),
+        coarse.components.iter().map(|c| c.points.len()).sum::<usize>(),
+        fine.components.iter().map(|c| c.points.len()).sum::<usize>()
+    );
+    assert!(worst(&coarse).is_finite() && worst(&fine) <= tol);
+    // Every component (caps included) meets it, and refining changes no topology.
+    for c in &fine.components {
+        assert!(c.chord_bound > 0.0 && c.chord_bound <= tol);
+    }
+    assert_eq!(types(&coarse), types(&fine));
+}

@@ -52,6 +52,9 @@ pub struct Equations {
     pub normal: Normal,
     /// `M̂X + (T̂ − δP) w` (3-D): zero exactly where the eye lies on the moving surface.
     pub sight: [B; 3],
+    /// The moved patch in homogeneous form, `(M̂X + T̂w, δw)` (3-D): `A(t)S = image[0..3] /
+    /// image[3]`.
+    pub image: [B; 4],
     /// The faces `(axis, upper)` whose factor (`u`, `1 − u`, `v` or `1 − v`) was divided out
     /// of `N_h`, once per entry.
     pub divided: Vec<(usize, bool)>,
@@ -267,11 +270,12 @@ pub fn equations(
         velocity.push(v.at_exact_degrees());
         image.push(p);
     }
+    let weight = mul(&delta, w)?;
     let mut sight: Vec<B> = Vec::with_capacity(3);
     for (i, p) in image.iter().enumerate() {
-        let pe = mul(&delta.scale(&eye[i]), w)?;
-        sight.push(sub(p, &pe)?.at_exact_degrees());
+        sight.push(sub(p, &weight.scale(&eye[i]))?.at_exact_degrees());
     }
+    let image = [image[0].clone(), image[1].clone(), image[2].clone(), weight];
     let as3 = |v: Vec<B>| -> [B; 3] { v.try_into().expect("three components") };
     let (velocity, sight) = (as3(velocity), as3(sight));
     let f = dot(&velocity, &cof_n)?.at_exact_degrees();
@@ -283,6 +287,7 @@ pub fn equations(
         g_printed,
         normal,
         sight,
+        image,
         divided,
     })
 }

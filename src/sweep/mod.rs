@@ -31,7 +31,7 @@ pub use scene::{builtin_scene, builtin_scene_json, scene_from_json, Patch, BUILT
 pub(crate) use silhouette::{apply_motion, eye_point};
 pub use silhouette::{
     silhouette, verify_t_extreme, ComponentEnd, ComponentKind, ComponentType, SilhouetteComponent,
-    SilhouetteOptions, Silhouettes, TExtreme, JOIN_TOLERANCE,
+    SilhouetteOptions, Silhouettes, TExtreme, JOIN_TOLERANCE, MIN_RESOLUTION,
 };
 
 use crate::bernstein::BernsteinError;

@@ -86,7 +86,11 @@ impl Patch {
         let at = [u, v];
         let eval = |p: &Bernstein<Rational>| p.map(rational_to_f64).eval(&at).ok();
         let w = eval(&self.hom[3])?;
-        Some([eval(&self.hom[0])? / w, eval(&self.hom[1])? / w, eval(&self.hom[2])? / w])
+        Some([
+            eval(&self.hom[0])? / w,
+            eval(&self.hom[1])? / w,
+            eval(&self.hom[2])? / w,
+        ])
     }
 
     /// The patch under `x ↦ L x + c` (applied to the homogeneous coordinates).

@@ -19,7 +19,7 @@ use super::equations::{equations, Equations};
 use super::scene::Patch;
 use super::{Eye, Scene, SweepError};
 use crate::bernstein::{prove_positive, Bernstein, Limits, PositivityOptions, PositivityVerdict};
-use crate::num::{rational_to_f64, Rational};
+use crate::num::{rational_to_f64, Interval, Rational};
 use crate::solve::{
     extreme_system, trace, verify_root, Cluster, CurveEnd, CurveOptions, Curves, Root, RootCheck,
     RootRefusal, System,
@@ -48,7 +48,14 @@ pub struct SilhouetteOptions {
     /// Use eq. 2 as printed (`⟨A(t)S − P, M(t)N⟩`) instead of the cofactor normal; only to
     /// measure how far that is from the contour.
     pub printed_eq2: bool,
+    /// When set, a patch whose polylines' certified 3-D chord bound
+    /// ([`SilhouetteComponent::chord_bound`]) exceeds this distance is traced again with half
+    /// the resolution, down to [`MIN_RESOLUTION`].
+    pub tolerance: Option<f64>,
 }
+
+/// The finest resolution [`SilhouetteOptions::tolerance`] refines to.
+pub const MIN_RESOLUTION: f64 = 1.0 / 1024.0;
 
 impl Default for SilhouetteOptions {
     fn default() -> Self {
@@ -58,6 +65,7 @@ impl Default for SilhouetteOptions {
             resolution: 1.0 / 16.0,
             caps: true,
             printed_eq2: false,
+            tolerance: None,
         }
     }
 }
@@ -68,6 +76,7 @@ crate::choice::setters!(SilhouetteOptions {
     with_resolution => resolution: f64,
     with_caps => caps: bool,
     with_printed_eq2 => printed_eq2: bool,
+    with_tolerance => tolerance: Option<f64>,
 });
 
 /// What a component is a silhouette of.
@@ -141,6 +150,11 @@ pub struct SilhouetteComponent {
     /// A bound on the parameter-space distance between the polyline and the curve (the
     /// largest arc box diagonal over its pieces).
     pub hausdorff_bound: f64,
+    /// A certified bound on the 3-D distance between the polyline and the silhouette curve:
+    /// each segment and its arc lie in one arc box, whose image under `A(t)S` lies in the
+    /// bounding box of its rational Bernstein control points (positive weights); the largest
+    /// diagonal of those boxes (infinite where a weight coefficient is not certified positive).
+    pub chord_bound: f64,
 }
 
 /// A certified `t`-extreme point (a root of eq. 3's system `F = G = H = 0`).
@@ -227,6 +241,7 @@ struct Piece {
     ends: [End; 2],
     extremes: Vec<usize>,
     hausdorff: f64,
+    chord: f64,
 }
 
 fn centre(root: &Root) -> Vec<f64> {
@@ -250,6 +265,7 @@ fn pieces_of(
     patch_index: usize,
     kind: ComponentKind,
     curves: &Curves,
+    chords: &[f64],
     cap_t: Option<f64>,
     extreme_offset: usize,
 ) -> Vec<Piece> {
@@ -290,9 +306,79 @@ fn pieces_of(
                     .map(|(i, _)| extreme_offset + i)
                     .collect(),
                 hausdorff: comp.hausdorff_bound,
+                chord: chords[c],
             }
         })
         .collect()
+}
+
+/// The certified 3-D bound of every component of `curves`: per arc box, the diagonal of the
+/// bounding box of the moved patch's control points on it (`image` in unit coordinates of
+/// the traced system's domain).
+fn chord_bounds(curves: &Curves, system: &System, image: &[Bernstein<Interval>]) -> Vec<f64> {
+    let arc_bound = |bounds: &[(Rational, Rational)]| -> f64 {
+        let sub: Vec<(Interval, Interval)> = bounds
+            .iter()
+            .enumerate()
+            .map(|(k, (lo, hi))| {
+                (
+                    Interval::from_rational(&system.to_unit(k, lo)),
+                    Interval::from_rational(&system.to_unit(k, hi)),
+                )
+            })
+            .collect();
+        let Ok(parts) = image
+            .iter()
+            .map(|p| p.restrict(&sub))
+            .collect::<Result<Vec<_>, _>>()
+        else {
+            return f64::INFINITY;
+        };
+        let w = parts[3].coeffs();
+        if w.iter().any(|c| c.lo <= 0.0) {
+            return f64::INFINITY;
+        }
+        let mut diag2 = 0.0;
+        for part in &parts[..3] {
+            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+            for (x, wk) in part.coeffs().iter().zip(w) {
+                let q = crate::num::Field::div(x, wk);
+                lo = lo.min(q.lo);
+                hi = hi.max(q.hi);
+            }
+            diag2 += (hi - lo) * (hi - lo);
+        }
+        // Rounded up: the sum of squares and the root each add at most an ulp.
+        diag2.sqrt() * (1.0 + 4.0 * f64::EPSILON)
+    };
+    let per_arc: Vec<f64> = curves.arcs.iter().map(|a| arc_bound(&a.bounds)).collect();
+    curves
+        .components
+        .iter()
+        .map(|c| c.arcs.iter().map(|&a| per_arc[a]).fold(0.0, f64::max))
+        .collect()
+}
+
+/// Traces `system`, halving the resolution while a component's certified chord bound
+/// exceeds the tolerance (down to [`MIN_RESOLUTION`]); returns the curves and their bounds.
+fn trace_to_tolerance(
+    system: &System,
+    curve_opts: &CurveOptions,
+    image: &[Bernstein<Interval>],
+    tolerance: Option<f64>,
+) -> Result<(Curves, Vec<f64>), SweepError> {
+    let mut opts = *curve_opts;
+    loop {
+        let curves = trace(system, &opts)?;
+        let chords = chord_bounds(&curves, system, image);
+        let worst = chords.iter().copied().fold(0.0, f64::max);
+        match tolerance {
+            Some(tol) if worst > tol && opts.resolution / 2.0 >= MIN_RESOLUTION => {
+                opts = opts.with_resolution(opts.resolution / 2.0);
+            }
+            _ => return Ok((curves, chords)),
+        }
+    }
 }
 
 fn unit_domain(n: usize) -> Vec<(Rational, Rational)> {
@@ -364,6 +450,7 @@ fn join(pieces: Vec<Piece>, t_extreme: &mut [TExtreme]) -> Vec<SilhouetteCompone
             ends: Vec::new(),
             extremes: Vec::new(),
             hausdorff_bound: 0.0,
+            chord_bound: 0.0,
         };
         for (n, &(p, reversed)) in chain.iter().enumerate() {
             let piece = &pieces[p];
@@ -380,6 +467,7 @@ fn join(pieces: Vec<Piece>, t_extreme: &mut [TExtreme]) -> Vec<SilhouetteCompone
             }
             comp.extremes.extend(&piece.extremes);
             comp.hausdorff_bound = comp.hausdorff_bound.max(piece.hausdorff);
+            comp.chord_bound = comp.chord_bound.max(piece.chord);
         }
         if !closed {
             let (p0, r0) = chain[0];
@@ -569,7 +657,17 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
             })?;
             eye_off_surface(&eq, scene, s, p, opts.path)?;
             let system = patch_system(scene, &eq, opts.printed_eq2)?;
-            let curves = trace(&system, &curve_opts.with_extreme_axis(Some(2)))?;
+            let image: Vec<Bernstein<Interval>> = eq
+                .image
+                .iter()
+                .map(|b| b.map(Interval::from_rational))
+                .collect();
+            let (curves, chords) = trace_to_tolerance(
+                &system,
+                &curve_opts.with_extreme_axis(Some(2)),
+                &image,
+                opts.tolerance,
+            )?;
             let offset = t_extreme.len();
             pieces.extend(pieces_of(
                 scene,
@@ -578,6 +676,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                 p,
                 ComponentKind::Envelope,
                 &curves,
+                &chords,
                 None,
                 offset,
             ));
@@ -604,8 +703,25 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                     (false, ComponentKind::CapA, a),
                     (true, ComponentKind::CapB, b),
                 ] {
-                    let cap = trace(&cap_system(g, upper)?, &curve_opts)?;
-                    pieces.extend(pieces_of(scene, patch, s, p, kind, &cap, Some(t), 0));
+                    let system = cap_system(g, upper)?;
+                    let face: Vec<Bernstein<Interval>> = eq
+                        .image
+                        .iter()
+                        .map(|b| b.face(2, upper).map(|f| f.map(Interval::from_rational)))
+                        .collect::<Result<_, _>>()?;
+                    let (cap, chords) =
+                        trace_to_tolerance(&system, &curve_opts, &face, opts.tolerance)?;
+                    pieces.extend(pieces_of(
+                        scene,
+                        patch,
+                        s,
+                        p,
+                        kind,
+                        &cap,
+                        &chords,
+                        Some(t),
+                        0,
+                    ));
                     clusters.extend(cap.clusters.iter().map(|c| (s, p, kind, c.clone())));
                 }
             }

@@ -30,6 +30,10 @@ pub(crate) struct SilhouetteArgs {
     /// The widest arc box relative to the parameter domain (the polylines' density).
     #[arg(long, default_value_t = 1.0 / 16.0)]
     resolution: f64,
+    /// Refine each patch's polylines until every chord is certified within this 3-D distance
+    /// of the curve (the resolution is halved down to 1/1024).
+    #[arg(long)]
+    tolerance: Option<f64>,
     /// Deepest subdivision level per side of the tracer.
     #[arg(long, default_value_t = 14)]
     max_depth: u32,
@@ -70,6 +74,9 @@ fn run_silhouette(a: SilhouetteArgs) -> Result<ExitCode, String> {
             a.resolution
         ));
     }
+    if let Some(t) = a.tolerance.filter(|t| !(t.is_finite() && *t > 0.0)) {
+        return Err(format!("--tolerance must be a positive number, got {t}"));
+    }
     let scene = load(&a.scene)?;
     let opts = SilhouetteOptions::default()
         .with_path(a.path)
@@ -80,7 +87,8 @@ fn run_silhouette(a: SilhouetteArgs) -> Result<ExitCode, String> {
                 .with_max_boxes(200_000),
         )
         .with_caps(!a.no_caps)
-        .with_printed_eq2(a.printed_eq2);
+        .with_printed_eq2(a.printed_eq2)
+        .with_tolerance(a.tolerance);
     let s = silhouette(&scene, &opts).map_err(|e| e.to_string())?;
     if let Some(file) = &a.svg {
         write(file, geocert::internals::report::sweep::svg(&scene, &s))?;
@@ -119,6 +127,7 @@ fn to_json(s: &Silhouettes) -> Value {
             "ends": c.ends.iter().map(end_name).collect::<Vec<_>>(),
             "extremes": c.extremes,
             "hausdorff_bound_uvt": c.hausdorff_bound,
+            "chord_bound": c.chord_bound,
             "uvt": c.uvt,
             "points": c.points,
         })).collect::<Vec<_>>(),
@@ -164,10 +173,11 @@ fn print_summary(s: &Silhouettes) {
             format!("{} → {}", end_name(&c.ends[0]), end_name(&c.ends[1]))
         };
         println!(
-            "  component {i}: {kind}, surface {}, {} points, {shape}, {} t-extreme",
+            "  component {i}: {kind}, surface {}, {} points, {shape}, {} t-extreme, chords within {:.1e}",
             c.surface,
             c.points.len(),
-            c.extremes.len()
+            c.extremes.len(),
+            c.chord_bound
         );
     }
 }

@@ -508,3 +508,47 @@ fn a_tolerance_refines_until_every_chord_is_certified_within_it() {
     }
     assert_eq!(types(&coarse), types(&fine));
 }
+
+#[test]
+fn axis_aligned_motions_and_eyes_do_not_meet_the_primitives_patch_edges() {
+    // A sphere moving along x seen from eyes in coordinate planes: the characteristic curve is
+    // the great circle x = const, which would run along a patch edge of an axis-aligned
+    // parametrisation; the built-ins' patches are turned into general position. (From a point
+    // on the motion's axis, inside the envelope's cylinder, there is no envelope contour.)
+    for eye in [
+        "[\"1/2\", -8, \"3/10\"]",
+        "[0, -8, 0]",
+        "[0, 0, 8]",
+        "[8, 3, 0]",
+    ] {
+        let text = format!(
+            r#"{{"surfaces": [{{"sphere": {{"center": [0, 0, 0], "radius": 1}}}}], "t": [0, 1],
+                "motion": {{"translation": [[0, 1], [0], [0]]}}, "eye": {eye}}}"#
+        );
+        let scene = scene_from_json(&text).unwrap();
+        let s = silhouette(&scene, &SilhouetteOptions::default()).unwrap();
+        assert!(
+            s.clusters.is_empty(),
+            "eye {eye}: {} clusters",
+            s.clusters.len()
+        );
+        let envelope = s
+            .components
+            .iter()
+            .filter(|c| c.kind == ComponentKind::Envelope)
+            .count();
+        assert_eq!(envelope, 2, "eye {eye}");
+    }
+    let inside = r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": 1}}], "t": [0, 1],
+        "motion": {"translation": [[0, 1], [0], [0]]}, "eye": [8, 0, 0]}"#;
+    let s = silhouette(
+        &scene_from_json(inside).unwrap(),
+        &SilhouetteOptions::default(),
+    )
+    .unwrap();
+    assert!(s.clusters.is_empty());
+    assert!(s
+        .components
+        .iter()
+        .all(|c| c.kind != ComponentKind::Envelope));
+}

@@ -116,18 +116,68 @@ fn r(n: i64) -> Rational {
 /// A quarter of the unit circle from `a` to `b` (`b ⊥ a`, both unit) as a rational quadratic
 /// in homogeneous form `(p w, q w, w)`: control points `a, a + b, b` with weights `1, 1, 2`
 /// (the stereographic parametrisation; `w₁² / (w₀ w₂) = ½` as for the usual `1, √2/2, 1`).
-fn quarter_arc(a: [i64; 2], b: [i64; 2]) -> [[Rational; 3]; 3] {
+fn quarter_arc(a: &[Rational; 2], b: &[Rational; 2]) -> [[Rational; 3]; 3] {
     [
-        [r(a[0]), r(a[1]), r(1)],
-        [r(a[0] + b[0]), r(a[1] + b[1]), r(1)],
-        [r(2 * b[0]), r(2 * b[1]), r(2)],
+        [a[0].clone(), a[1].clone(), r(1)],
+        [&a[0] + &b[0], &a[1] + &b[1], r(1)],
+        [&b[0] * r(2), &b[1] * r(2), r(2)],
     ]
 }
 
-/// The four quarter arcs of the unit circle, counter-clockwise from `(1, 0)`.
-fn circle_arcs() -> Vec<[[Rational; 3]; 3]> {
-    let a = [[1, 0], [0, 1], [-1, 0], [0, -1]];
-    a.iter().map(|&a| quarter_arc(a, [-a[1], a[0]])).collect()
+/// The four quarter arcs of the unit circle, counter-clockwise (`clockwise = false`) from the
+/// rational unit vector `start`.
+fn circle_arcs(start: &[Rational; 2], clockwise: bool) -> Vec<[[Rational; 3]; 3]> {
+    let turn = |a: &[Rational; 2]| -> [Rational; 2] {
+        if clockwise {
+            [a[1].clone(), -a[0].clone()]
+        } else {
+            [-a[1].clone(), a[0].clone()]
+        }
+    };
+    let mut a = start.clone();
+    let mut out = Vec::with_capacity(4);
+    for _ in 0..4 {
+        let b = turn(&a);
+        out.push(quarter_arc(&a, &b));
+        a = b;
+    }
+    out
+}
+
+/// Where the built-in primitives' circles start: the rational unit vector (5/13, 12/13), so
+/// that patch edges do not lie on the coordinate planes, where axis-aligned motions and eyes
+/// would put silhouette curves along them (a curve inside a patch edge is not traced).
+fn generic_start() -> [Rational; 2] {
+    [
+        Rational::new(5.into(), 13.into()),
+        Rational::new(12.into(), 13.into()),
+    ]
+}
+
+/// The rotation by the quaternion (5, 1, 2, 3), `R̂(q)/|q|²` with `|q|² = 39`: applied to the
+/// built-in sphere's patches, it puts their poles and edges in general position for the same
+/// reason.
+fn generic_rotation() -> [[Rational; 3]; 3] {
+    let (w, x, y, z) = (5i64, 1i64, 2i64, 3i64);
+    let m = [
+        [
+            w * w + x * x - y * y - z * z,
+            2 * (x * y - w * z),
+            2 * (x * z + w * y),
+        ],
+        [
+            2 * (x * y + w * z),
+            w * w - x * x + y * y - z * z,
+            2 * (y * z - w * x),
+        ],
+        [
+            2 * (x * z - w * y),
+            2 * (y * z + w * x),
+            w * w - x * x - y * y + z * z,
+        ],
+    ];
+    let n = w * w + x * x + y * y + z * z;
+    m.map(|row| row.map(|e| Rational::new(e.into(), n.into())))
 }
 
 /// The tensor product of a meridian `(ρ w, z w, w)` (axis `u`) and a circle arc
@@ -149,15 +199,20 @@ fn revolve(meridian: &[[Rational; 3]; 3], arc: &[[Rational; 3]; 3]) -> Patch {
     }
 }
 
-/// The unit sphere as 8 rational biquadratic patches (two meridian quarter arcs from the north
-/// pole, four arcs around `z`); each patch's edge `u = 0` or `u = 1` is collapsed to a pole.
-/// Normals point outward.
+/// The unit sphere as 8 rational biquadratic patches (two meridian quarter arcs from a pole,
+/// four arcs around the polar axis), turned by [`generic_rotation`]; each patch's edge `u = 0`
+/// or `u = 1` is collapsed to a pole. Normals point outward.
 fn unit_sphere() -> Vec<Patch> {
-    let meridians = [quarter_arc([0, 1], [1, 0]), quarter_arc([1, 0], [0, -1])];
+    let meridians = [
+        quarter_arc(&[r(0), r(1)], &[r(1), r(0)]),
+        quarter_arc(&[r(1), r(0)], &[r(0), r(-1)]),
+    ];
+    let turn = generic_rotation();
+    let origin = [r(0), r(0), r(0)];
     let mut out = Vec::new();
     for m in &meridians {
-        for c in circle_arcs() {
-            out.push(revolve(m, &c));
+        for c in circle_arcs(&generic_start(), false) {
+            out.push(revolve(m, &c).mapped(&turn, &origin));
         }
     }
     out
@@ -165,14 +220,12 @@ fn unit_sphere() -> Vec<Patch> {
 
 /// The torus about `z` through the origin, major radius `major`, minor `minor`, as 16
 /// rational biquadratic patches (the meridian circle clockwise in `(ρ, z)` so that normals
-/// point outward).
+/// point outward; both circles start at [`generic_start`]).
 fn z_torus(major: &Rational, minor: &Rational) -> Vec<Patch> {
-    let a = [[1, 0], [0, -1], [-1, 0], [0, 1]];
     let mut out = Vec::new();
-    for a in a {
-        let unit = quarter_arc(a, [a[1], -a[0]]);
+    for unit in circle_arcs(&generic_start(), true) {
         let meridian = unit.map(|[p, q, w]| [&w * major + &p * minor, &q * minor, w]);
-        for c in circle_arcs() {
+        for c in circle_arcs(&generic_start(), false) {
             out.push(revolve(&meridian, &c));
         }
     }

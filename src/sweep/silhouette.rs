@@ -285,10 +285,21 @@ fn pieces_of(
         .map(|(c, comp)| {
             let uvt: Vec<[f64; 3]> = comp.points.iter().map(|&p| uvt_of(p)).collect();
             let world = uvt.iter().map(|&q| world(scene, patch, q)).collect();
+            // Each end by its point (an end the tracer could not place counts as a cluster).
+            let end_at = |p: Option<&usize>| {
+                comp.ends
+                    .iter()
+                    .find(|e| match e {
+                        CurveEnd::Face { point, .. } | CurveEnd::Cluster { point, .. } => {
+                            Some(point) == p
+                        }
+                    })
+                    .map_or(End::Cluster, end)
+            };
             let ends = if comp.closed {
                 [End::Edge, End::Edge]
             } else {
-                [end(&comp.ends[0]), end(&comp.ends[1])]
+                [end_at(comp.points.first()), end_at(comp.points.last())]
             };
             Piece {
                 surface,

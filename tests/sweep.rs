@@ -327,6 +327,21 @@ fn bad_scenes_are_refused_with_their_cause() {
         ),
         "{e}"
     );
+    // A rational biquartic patch: F and G of degree 15 in u and v, so H up to 30 > 24, is
+    // refused with the degrees named.
+    let quartic: Vec<String> = (0..25)
+        .map(|k| {
+            let w = 1.0 + (k % 3) as f64 / 2.0;
+            format!("[{}, {}, {}, {w}]", k % 5, k / 5, (k * 7 % 5) as f64 / 4.0)
+        })
+        .collect();
+    let q = format!(
+        r#"{{"bezier": {{"degrees": [4, 4], "points": [{}]}}}}"#,
+        quartic.join(",")
+    );
+    let scene = scene_from_json(&base(&q, line, "[2, -9, 5]")).unwrap();
+    let e = silhouette(&scene, &SilhouetteOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("eq. 3's H"), "{e}");
     // Degrees and malformed fields name the field.
     let big = r#"{"bezier": {"degrees": [7, 1], "points": []}}"#;
     let e = scene_from_json(&base(big, line, "[0, -9, 0]")).unwrap_err();

@@ -20,7 +20,12 @@
 //! traced with the certified solver's curve tracer ([`crate::solve::trace`]) and the
 //! `t`-extreme points `Z₀ = {F = G = H = 0}`, `H = F_u G_v − F_v G_u` (eq. 3), are its
 //! certified extreme points along `t`; Algorithm 1's three component types follow from them
-//! ([`silhouette`]).
+//! ([`silhouette`]). The degrees are bounded by the solver's (eq. 3's `H` has the sum of
+//! `F`'s and `G`'s degrees; up to [`crate::solve::MAX_DEGREE`] per variable): bicubic patches
+//! under low-degree motions fit, higher degrees are refused with the degrees named.
+//!
+//! Not yet here: the moving eye of Section 4 (a scene with an eye path is traced from
+//! `P(r₀)`).
 
 mod equations;
 mod scene;

@@ -666,6 +666,24 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                 },
                 other => other,
             })?;
+            // H = F_u G_v − F_v G_u has at most the sum of F's and G's degrees per variable.
+            let h: Vec<usize> =
+                eq.f.degrees()
+                    .iter()
+                    .zip(eq.g.degrees())
+                    .map(|(a, b)| a + b)
+                    .collect();
+            if h.iter().any(|&d| d > crate::solve::MAX_DEGREE) {
+                return Err(SweepError::field(
+                    format!("surfaces[{s}] patch {p}"),
+                    format!(
+                        "F and G have degrees {:?} and {:?} in (u, v, t), so eq. 3's H up to {h:?}; the solver takes up to {} per variable (lower the patch or motion degree)",
+                        eq.f.degrees(),
+                        eq.g.degrees(),
+                        crate::solve::MAX_DEGREE
+                    ),
+                ));
+            }
             eye_off_surface(&eq, scene, s, p, opts.path)?;
             let system = patch_system(scene, &eq, opts.printed_eq2)?;
             let image: Vec<Bernstein<Interval>> = eq

@@ -33,6 +33,8 @@ mod silhouette;
 
 pub use equations::{equations, patch_normal, Equations, Normal};
 pub use scene::{builtin_scene, builtin_scene_json, scene_from_json, Patch, BUILTIN_SCENES};
+// What the report measures with (feature `reports`).
+#[cfg(feature = "reports")]
 pub(crate) use silhouette::{apply_motion, eye_point};
 pub use silhouette::{
     silhouette, verify_t_extreme, ComponentEnd, ComponentKind, ComponentType, SilhouetteComponent,

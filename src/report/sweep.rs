@@ -415,9 +415,13 @@ pub fn svg(scene: &Scene, s: &Silhouettes) -> String {
         y0 = y0.min(y);
         y1 = y1.max(y);
     }
+    // The frame fits the drawing: 800 px across its wider side.
     let span = (x1 - x0).max(y1 - y0).max(1e-12);
     let size = 800.0;
     let margin = 20.0;
+    let width = margin * 2.0 + (x1 - x0).max(0.0) / span * (size - 2.0 * margin);
+    let height = margin * 2.0 + (y1 - y0).max(0.0) / span * (size - 2.0 * margin);
+    let (width, height) = (width.round(), height.round());
     let to_px = |(x, y): (f64, f64)| {
         (
             margin + (x - x0) / span * (size - 2.0 * margin),
@@ -428,7 +432,7 @@ pub fn svg(scene: &Scene, s: &Silhouettes) -> String {
         "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2",
     ];
     let mut out = format!(
-        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{size}\" height=\"{size}\" viewBox=\"0 0 {size} {size}\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" viewBox=\"0 0 {width} {height}\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
     );
     for (i, (c, line)) in s.components.iter().zip(&projected).enumerate() {
         let mut d = String::new();
@@ -439,12 +443,12 @@ pub fn svg(scene: &Scene, s: &Silhouettes) -> String {
         if c.closed {
             d.push('Z');
         }
-        let (colour, dash, width) = match c.kind {
+        let (colour, dash, stroke) = match c.kind {
             ComponentKind::Envelope => (colours[i % colours.len()], "", 2.5),
             _ => ("#555555", " stroke-dasharray=\"6 4\"", 1.2),
         };
         out.push_str(&format!(
-            "<path d=\"{d}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"{width}\"{dash}><title>component {i}: {}</title></path>\n",
+            "<path d=\"{d}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"{stroke}\"{dash}><title>component {i}: {}</title></path>\n",
             c.kind.name()
         ));
     }

@@ -34,6 +34,9 @@ pub(crate) struct SilhouetteArgs {
     /// of the curve (the resolution is halved down to 1/1024).
     #[arg(long)]
     tolerance: Option<f64>,
+    /// Wall-clock budget per patch in seconds (what it stops is reported as clusters).
+    #[arg(long, default_value_t = 20.0)]
+    time_limit: f64,
     /// Deepest subdivision level per side of the tracer.
     #[arg(long, default_value_t = 14)]
     max_depth: u32,
@@ -77,6 +80,7 @@ fn run_silhouette(a: SilhouetteArgs) -> Result<ExitCode, String> {
     if let Some(t) = a.tolerance.filter(|t| !(t.is_finite() && *t > 0.0)) {
         return Err(format!("--tolerance must be a positive number, got {t}"));
     }
+    let time_limit = crate::out::time_limit(Some(a.time_limit))?;
     let scene = load(&a.scene)?;
     let opts = SilhouetteOptions::default()
         .with_path(a.path)
@@ -84,7 +88,8 @@ fn run_silhouette(a: SilhouetteArgs) -> Result<ExitCode, String> {
         .with_limits(
             Limits::new()
                 .with_max_depth(a.max_depth)
-                .with_max_boxes(200_000),
+                .with_max_boxes(200_000)
+                .with_time_limit(time_limit),
         )
         .with_caps(!a.no_caps)
         .with_printed_eq2(a.printed_eq2)

@@ -217,7 +217,15 @@ pub fn equations(
     eye: &[Rational; 3],
 ) -> Result<Equations, SweepError> {
     let (a, b) = &scene.t;
-    let forms = motion_forms(&scene.motion, a, b)?;
+    equations_with(&motion_forms(&scene.motion, a, b)?, patch, eye)
+}
+
+/// [`equations`] with the motion already in Bernstein form and checked (once per scene).
+pub(crate) fn equations_with(
+    forms: &MotionForms,
+    patch: &Patch,
+    eye: &[Rational; 3],
+) -> Result<Equations, SweepError> {
     let (normal, divided) = patch_normal(patch)?;
     let lift_s = |p: &B| p.embed(&[2], 3);
     let lift_uv = |p: &B| p.embed(&[0, 1], 3);

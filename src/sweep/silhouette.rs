@@ -15,7 +15,7 @@
 //! The contours of the end positions `A(a)[S]` and `A(b)[S]` — `G̃(u, v, a) = 0`, one equation
 //! in `(u, v)` — are traced the same way and reported as caps.
 
-use super::equations::{equations, Equations};
+use super::equations::{equations, equations_with, motion_forms, Equations};
 use super::scene::Patch;
 use super::{Eye, Scene, SweepError};
 use crate::bernstein::{prove_positive, Bernstein, Limits, PositivityOptions, PositivityVerdict};
@@ -656,10 +656,12 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
     let mut clusters = Vec::new();
     let mut extreme_clusters = Vec::new();
     let mut patches = 0;
+    // The motion's Bernstein forms and their certified checks, once for every patch.
+    let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
     for (s, surface) in scene.surfaces.iter().enumerate() {
         for (p, patch) in surface.patches.iter().enumerate() {
             patches += 1;
-            let eq = equations(scene, patch, &eye).map_err(|e| match e {
+            let eq = equations_with(&forms, patch, &eye).map_err(|e| match e {
                 SweepError::DegeneratePatch { .. } => SweepError::DegeneratePatch {
                     surface: s,
                     patch: p,

@@ -1,6 +1,7 @@
 //! Exhaustive proofs: deterministic enumerations, each stating what it enumerated and how many
 //! cases passed. Run by `cargo test --release` (the `proofs` test target) and `geocert prove`.
 
+pub mod diamond;
 pub mod ffd;
 pub mod kernel;
 pub mod mc;
@@ -148,5 +149,14 @@ pub fn all() -> Vec<(&'static str, Proof)> {
         ("mc.table-trilinear-realisability", mc::trilinear),
         ("mc.table-body-ambiguity", mc_body::body),
         ("mc.face-deciders", mc::face_deciders),
+        (
+            "diamond.implicit-vs-explicit",
+            diamond::implicit_vs_explicit,
+        ),
+        (
+            "diamond.maubach-is-longest-edge",
+            diamond::maubach_is_longest_edge,
+        ),
+        ("diamond.supercube", diamond::supercube),
     ]
 }

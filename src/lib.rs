@@ -88,6 +88,7 @@ pub use choice::{Path, UnknownName};
 pub mod bernstein;
 pub mod bspline;
 pub mod decimate;
+pub mod diamond;
 pub mod ffd;
 pub mod mc;
 pub mod mesh;

@@ -32,10 +32,14 @@
 //! bisection — proved by `diamond.maubach-is-longest-edge`.
 
 mod code;
+mod error;
 pub mod explicit;
+mod field;
 mod supercube;
 
 pub use code::{Diamond, Hierarchy, Points, MAX_LEVELS};
+pub use error::{diamond_stats_exact, diamond_stats_fast, DiamondStats, ExactStats};
+pub use field::Field;
 pub use supercube::{supercube_edges, DiamondType, Supercube};
 
 use num_bigint::{BigInt, BigUint};
@@ -84,6 +88,10 @@ pub enum DiamondError {
         /// The limit given.
         limit: u64,
     },
+    /// A volume that cannot be a field: too small, sizes that disagree, NaN or infinite
+    /// samples.
+    #[error("volume: {0}")]
+    Volume(String),
     /// A type code with bits beyond `2d` or with every low bit zero.
     #[error(
         "type code {code:#b} is not a valid {d}-D diamond type (2 bits per axis, some low bit set)"
@@ -167,7 +175,7 @@ impl<const D: usize> Simplex<D> {
 
 /// The determinant of the leading `n × n` block by Bareiss's fraction-free elimination (every
 /// division is exact); `None` on `i128` overflow.
-fn bareiss_det_checked(m: &mut [[i128; MAX_DIM]; MAX_DIM], n: usize) -> Option<i128> {
+pub(crate) fn bareiss_det_checked(m: &mut [[i128; MAX_DIM]; MAX_DIM], n: usize) -> Option<i128> {
     let mut sign = 1i128;
     let mut prev = 1i128;
     for k in 0..n {

@@ -1,0 +1,236 @@
+//! The approximation error of a diamond (Section 6): `ε(δ) = max_{p ∈ δ} |F(p) − F̂_δ(p)|` over
+//! the grid points `p` of δ's domain, `F̂_δ` the barycentric interpolation of `F` on δ's
+//! simplices, and the range of `F` over the same points.
+//!
+//! * [`diamond_stats_exact`] (reference) reads like the definition: for every simplex of the
+//!   diamond, every grid point of its bounding box, barycentric coordinates by Cramer's rule in
+//!   integers, inside when all are `≥ 0`, the error in rationals.
+//! * [`diamond_stats_fast`] never locates a simplex. A class-`i` diamond is the join of the
+//!   odd axes' cube `Q` (its Kuhn simplices around the spine) and the boundary of the even axes'
+//!   cube of side `2h` around `c`, so its domain is `‖u‖∞ + ‖w‖∞ ≤ h` (`u`, `w` the offsets
+//!   from `c` along the odd and the even axes), and the barycentric coordinates of `p` times
+//!   `2h` are integers read off sorted offsets (Freudenthal's rule on both factors):
+//!   `T_k = s_k u_k + h − ‖w‖∞` on the odd axes (weights `2(h − ‖w‖∞) − T_(1)`,
+//!   `T_(j) − T_(j+1)`, `T_(m)` along the Kuhn chain) and `2(|w|_(j) − |w|_(j+1))` along the
+//!   even chain. The sum in `f64` carries a rigorous rounding bound, so the fast path returns an
+//!   interval `[error_lo, error_hi]` that contains the exact error.
+
+use super::{Diamond, Field, Point};
+use crate::num::{rational_from_f64, Rational};
+use num_traits::{Signed, Zero};
+
+/// A diamond's error and range, from the fast path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiamondStats {
+    /// A lower bound of the exact error.
+    pub error_lo: f64,
+    /// An upper bound of the exact error.
+    pub error_hi: f64,
+    /// The least sample in the domain.
+    pub min: f64,
+    /// The largest sample in the domain.
+    pub max: f64,
+}
+
+/// A diamond's error and range, exactly.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExactStats {
+    /// `ε(δ)`.
+    pub error: Rational,
+    /// The least sample in the domain.
+    pub min: f64,
+    /// The largest sample in the domain.
+    pub max: f64,
+    /// Grid points examined (counted once per simplex that contains them).
+    pub points: usize,
+}
+
+/// `γ_n = n·u / (1 − n·u)`, `u = 2^−53`: the relative bound of `n` rounded operations.
+fn gamma(n: usize) -> f64 {
+    let nu = n as f64 * f64::EPSILON / 2.0;
+    nu / (1.0 - nu)
+}
+
+/// The error and range of `dia` on `field` by the join formula, with a certified interval.
+pub fn diamond_stats_fast<const D: usize>(field: &Field<D>, dia: &Diamond<D>) -> DiamondStats {
+    let h = i64::from(dia.half_width());
+    let side = i64::from(field.hierarchy().side());
+    let c = dia.center().map(i64::from);
+    let odd = dia.odd_axes();
+    let [a, _] = dia.spine();
+    let a = a.map(i64::from);
+    // s_k: the spine's direction along each odd axis.
+    let s: [i64; D] = std::array::from_fn(|k| {
+        if odd >> k & 1 == 0 {
+            0
+        } else if c[k] > a[k] {
+            1
+        } else {
+            -1
+        }
+    });
+    let lo: [i64; D] = std::array::from_fn(|k| (c[k] - h).max(0));
+    let hi: [i64; D] = std::array::from_fn(|k| (c[k] + h).min(side));
+    let mut p = lo;
+    let (mut error_lo, mut error_hi) = (0.0f64, 0.0f64);
+    let (mut min, mut max) = (f64::INFINITY, f64::NEG_INFINITY);
+    let g = gamma(D + 4);
+    let two_h = (2 * h) as f64;
+    loop {
+        let mut nu = 0;
+        let mut nw = 0;
+        for k in 0..D {
+            let o = (p[k] - c[k]).abs();
+            if odd >> k & 1 == 1 {
+                nu = nu.max(o);
+            } else {
+                nw = nw.max(o);
+            }
+        }
+        if nu + nw <= h {
+            let fp = field.at(&p.map(|x| x as u32));
+            min = min.min(fp);
+            max = max.max(fp);
+            // Odd axes: T_k, sorted descending, along the Kuhn chain from a.
+            let mut t = [(0i64, 0usize); D];
+            let mut m = 0;
+            let mut e = [(0i64, 0usize); D];
+            let mut ne = 0;
+            for k in 0..D {
+                if odd >> k & 1 == 1 {
+                    t[m] = (s[k] * (p[k] - c[k]) + h - nw, k);
+                    m += 1;
+                } else {
+                    e[ne] = ((p[k] - c[k]).abs(), k);
+                    ne += 1;
+                }
+            }
+            t[..m].sort_unstable_by(|x, y| y.0.cmp(&x.0));
+            e[..ne].sort_unstable_by(|x, y| y.0.cmp(&x.0));
+            let mut acc = 0.0f64;
+            let mut abs = 0.0f64;
+            let mut add = |weight: i64, v: &[i64; D]| {
+                if weight != 0 {
+                    let term = weight as f64 * field.at(&v.map(|x| x as u32));
+                    acc += term;
+                    abs += term.abs();
+                }
+            };
+            let mut v = a;
+            let lambda = 2 * (h - nw);
+            let mut prev = lambda;
+            for &(tk, k) in &t[..m] {
+                add(prev - tk, &v);
+                v[k] += 2 * h * s[k];
+                prev = tk;
+            }
+            add(prev, &v);
+            let mut q = c;
+            for j in 0..ne {
+                let (wk, k) = e[j];
+                if wk == 0 {
+                    break;
+                }
+                q[k] += h * (p[k] - c[k]).signum();
+                let next = if j + 1 < ne { e[j + 1].0 } else { 0 };
+                add(2 * (wk - next), &q);
+            }
+            let err = (fp - acc / two_h).abs();
+            let bound = g * (abs / two_h + fp.abs()) * 2.0;
+            error_lo = error_lo.max(err - bound);
+            error_hi = error_hi.max(err + bound);
+        }
+        // Next point of the box, axis 0 fastest.
+        let mut k = 0;
+        loop {
+            if k == D {
+                return DiamondStats {
+                    error_lo: error_lo.max(0.0),
+                    error_hi,
+                    min,
+                    max,
+                };
+            }
+            if p[k] < hi[k] {
+                p[k] += 1;
+                break;
+            }
+            p[k] = lo[k];
+            k += 1;
+        }
+    }
+}
+
+/// The error and range of `dia` on `field`, exactly, from the definition.
+pub fn diamond_stats_exact<const D: usize>(field: &Field<D>, dia: &Diamond<D>) -> ExactStats {
+    let value = |p: &Point<D>| rational_from_f64(field.at(p), "sample").expect("finite samples");
+    let mut error = Rational::zero();
+    let (mut min, mut max) = (f64::INFINITY, f64::NEG_INFINITY);
+    let mut points = 0;
+    for simplex in dia.simplices() {
+        let v = simplex.vertices();
+        let lo: Point<D> = std::array::from_fn(|k| v.iter().map(|x| x[k]).min().unwrap_or(0));
+        let hi: Point<D> = std::array::from_fn(|k| v.iter().map(|x| x[k]).max().unwrap_or(0));
+        let det = |replace: Option<(usize, &Point<D>)>| -> i128 {
+            let mut m = [[0i128; super::MAX_DIM]; super::MAX_DIM];
+            for r in 0..D {
+                let row = match replace {
+                    Some((j, p)) if j == r + 1 => p,
+                    _ => &v[r + 1],
+                };
+                for k in 0..D {
+                    m[r][k] = i128::from(row[k]) - i128::from(v[0][k]);
+                }
+            }
+            super::bareiss_det_checked(&mut m, D).expect("grid simplices' determinants fit i128")
+        };
+        let total = det(None);
+        let values: Vec<Rational> = v.iter().map(value).collect();
+        let mut p = lo;
+        'points: loop {
+            // Barycentric coordinates times `total` (Cramer's rule).
+            let mut lambdas = [0i128; super::MAX_DIM + 1];
+            let mut rest = total;
+            for j in 1..=D {
+                lambdas[j] = det(Some((j, &p)));
+                rest -= lambdas[j];
+            }
+            lambdas[0] = rest;
+            let inside = lambdas[..=D]
+                .iter()
+                .all(|&l| l == 0 || (l > 0) == (total > 0));
+            if inside {
+                points += 1;
+                let interp: Rational = (0..=D)
+                    .map(|j| &values[j] * Rational::from_integer(lambdas[j].into()))
+                    .sum::<Rational>()
+                    / Rational::from_integer(total.into());
+                let e = (value(&p) - interp).abs();
+                if e > error {
+                    error = e;
+                }
+                let fp = field.at(&p);
+                min = min.min(fp);
+                max = max.max(fp);
+            }
+            let mut k = 0;
+            loop {
+                if k == D {
+                    break 'points;
+                }
+                if p[k] < hi[k] {
+                    p[k] += 1;
+                    break;
+                }
+                p[k] = lo[k];
+                k += 1;
+            }
+        }
+    }
+    ExactStats {
+        error,
+        min,
+        max,
+        points,
+    }
+}

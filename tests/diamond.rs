@@ -1,0 +1,144 @@
+//! Diamond hierarchies: the fast error against the exact one, and bad input.
+
+use geocert::diamond::{
+    diamond_stats_exact, diamond_stats_fast, DiamondError, DiamondType, Field, Hierarchy,
+};
+use geocert::num::rational_to_f64;
+use proptest::prelude::*;
+
+/// Every diamond of a small random field: the fast error interval holds the exact error, the
+/// ranges agree.
+fn fast_matches_exact<const D: usize>(dims: [usize; D], values: &[f64]) -> Result<usize, String> {
+    let field = Field::<D>::pad(dims, values).map_err(|e| e.to_string())?;
+    let hier = field.hierarchy();
+    let mut checked = 0;
+    for i in 0..field.values().len() {
+        let p = field.point(i);
+        let Ok(dia) = hier.diamond(p) else { continue };
+        let fast = diamond_stats_fast(&field, &dia);
+        let exact = diamond_stats_exact(&field, &dia);
+        let e = rational_to_f64(&exact.error);
+        if !(fast.error_lo <= e && e <= fast.error_hi)
+            || fast.min != exact.min
+            || fast.max != exact.max
+        {
+            return Err(format!(
+                "diamond {p:?}: fast [{}, {}] range [{}, {}], exact {e} range [{}, {}]",
+                fast.error_lo, fast.error_hi, fast.min, fast.max, exact.min, exact.max
+            ));
+        }
+        checked += 1;
+    }
+    Ok(checked)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    #[test]
+    fn fast_error_holds_the_exact_error_3d(
+        dims in (2usize..=9, 2usize..=9, 2usize..=9),
+        seed in any::<u64>(),
+        float in any::<bool>(),
+    ) {
+        let n = dims.0 * dims.1 * dims.2;
+        let mut x = seed | 1;
+        let values: Vec<f64> = (0..n).map(|_| {
+            x ^= x << 13; x ^= x >> 7; x ^= x << 17;
+            if float { (x % 20001) as f64 / 64.0 - 150.0 + 1.0 / 3.0 } else { (x % 256) as f64 }
+        }).collect();
+        let checked = fast_matches_exact([dims.0, dims.1, dims.2], &values);
+        prop_assert!(checked.is_ok(), "{:?}", checked);
+    }
+
+    #[test]
+    fn fast_error_holds_the_exact_error_2d_4d(seed in any::<u64>(), side in 2usize..=9, side4 in 2usize..=3) {
+        let mut x = seed | 1;
+        let mut next = || { x ^= x << 13; x ^= x >> 7; x ^= x << 17; (x % 1000) as f64 / 8.0 };
+        let v2: Vec<f64> = (0..side * side).map(|_| next()).collect();
+        prop_assert!(fast_matches_exact([side, side], &v2).is_ok());
+        let v4: Vec<f64> = (0..side4.pow(4)).map(|_| next()).collect();
+        let r = fast_matches_exact([side4; 4], &v4);
+        prop_assert!(r.is_ok(), "{:?}", r);
+    }
+}
+
+#[test]
+fn a_linear_field_has_zero_error_everywhere() {
+    let dims = [9, 9, 9];
+    let values: Vec<f64> = (0..729)
+        .map(|i| {
+            let (x, y, z) = (i % 9, i / 9 % 9, i / 81);
+            3.0 * x as f64 - 2.0 * y as f64 + 0.5 * z as f64 + 7.0
+        })
+        .collect();
+    let field = Field::<3>::pad(dims, &values).unwrap();
+    for i in 0..729 {
+        if let Ok(d) = field.hierarchy().diamond(field.point(i)) {
+            let s = diamond_stats_fast(&field, &d);
+            assert!(
+                s.error_lo == 0.0 && s.error_hi < 1e-9,
+                "{:?}: {:?}",
+                d.center(),
+                s
+            );
+            assert!(num_traits::Zero::is_zero(
+                &diamond_stats_exact(&field, &d).error
+            ));
+        }
+    }
+}
+
+#[test]
+fn bad_input_is_a_typed_error() {
+    assert!(matches!(
+        Hierarchy::<3>::new(0),
+        Err(DiamondError::Levels { .. })
+    ));
+    assert!(matches!(
+        Hierarchy::<3>::new(31),
+        Err(DiamondError::Levels { .. })
+    ));
+    let h = Hierarchy::<3>::new(4).unwrap();
+    assert!(matches!(
+        h.diamond([16, 0, 16]),
+        Err(DiamondError::Corner { .. })
+    ));
+    assert!(matches!(
+        h.diamond([17, 0, 3]),
+        Err(DiamondError::OutOfRange { .. })
+    ));
+    assert!(h.diamond([8, 8, 8]).is_ok());
+    assert!(matches!(
+        DiamondType::<3>::from_code(0b101010),
+        Err(DiamondError::InvalidType { .. })
+    ));
+    assert!(matches!(
+        DiamondType::<3>::from_code(1 << 6),
+        Err(DiamondError::InvalidType { .. })
+    ));
+    assert!(matches!(
+        Field::<3>::pad([2, 2, 1], &[0.0; 4]),
+        Err(DiamondError::Volume(_))
+    ));
+    assert!(matches!(
+        Field::<3>::pad([2, 2, 2], &[0.0; 7]),
+        Err(DiamondError::Volume(_))
+    ));
+    let mut v = vec![0.0; 8];
+    v[5] = f64::NAN;
+    assert!(
+        matches!(Field::<3>::pad([2, 2, 2], &v), Err(DiamondError::Volume(m)) if m.contains("sample 5"))
+    );
+}
+
+#[test]
+fn padding_replicates_the_last_sample() {
+    let values: Vec<f64> = (0..12).map(f64::from).collect();
+    let f = Field::<2>::pad([4, 3], &values).unwrap();
+    assert_eq!(f.hierarchy().levels(), 2);
+    assert_eq!(f.at(&[4, 0]), 3.0);
+    assert_eq!(f.at(&[1, 4]), 9.0);
+    assert_eq!(f.at(&[4, 4]), 11.0);
+    assert_eq!(f.real_count(), 12);
+}

@@ -142,3 +142,117 @@ fn padding_replicates_the_last_sample() {
     assert_eq!(f.at(&[4, 4]), 11.0);
     assert_eq!(f.real_count(), 12);
 }
+
+mod fronts {
+    use geocert::diamond::{
+        check_conforming, simplices_stats_exact, DiamondFront, Field, FullDmv, Lod, Refiner,
+        Simplex, SupercubeFront,
+    };
+    use proptest::prelude::*;
+
+    fn field(side: usize, seed: u64, smooth: bool) -> Field<3> {
+        let mut x = seed | 1;
+        let values: Vec<f64> = (0..side * side * side)
+            .map(|i| {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                let (a, b, c) = (i % side, i / side % side, i / side / side);
+                if smooth {
+                    ((a * a + 2 * b * b + 3 * c * c) as f64).sqrt() + (x % 3) as f64 * 0.25
+                } else {
+                    (x % 64) as f64
+                }
+            })
+            .collect();
+        Field::pad([side; 3], &values).unwrap()
+    }
+
+    fn sorted(mut m: Vec<Simplex<3>>) -> Vec<Simplex<3>> {
+        for s in &mut m {
+            *s = s.sorted();
+        }
+        m.sort_unstable();
+        m
+    }
+
+    fn lod(kind: u8, value: f64, side: f64) -> Lod<3> {
+        match kind % 3 {
+            0 => Lod {
+                error: Some(value),
+                ..Lod::default()
+            },
+            1 => Lod {
+                isovalues: vec![value * 4.0],
+                ..Lod::default()
+            },
+            _ => Lod {
+                error: Some(value / 4.0),
+                roi: Some(([0.0, 0.0, 0.0], [side / 3.0, side / 2.0, side])),
+                ..Lod::default()
+            },
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(24))]
+
+        /// Random volumes and random sequences of LOD changes: the diamond and the supercube
+        /// fronts give the same mesh, always conforming; refining changes from the current
+        /// front give the top-down front.
+        #[test]
+        fn fronts_agree_and_conform(
+            side in 3usize..=17,
+            seed in any::<u64>(),
+            smooth in any::<bool>(),
+            steps in proptest::collection::vec((0u8..3, 0.0f64..12.0), 1..5),
+        ) {
+            let dmv = FullDmv::build(field(side, seed, smooth));
+            let hier = dmv.field().hierarchy();
+            let mut d: Refiner<'_, 3, _, DiamondFront<3>> = Refiner::new(&dmv);
+            let mut s: Refiner<'_, 3, _, SupercubeFront<3>> = Refiner::new(&dmv);
+            for &(kind, value) in &steps {
+                let l = lod(kind, value, hier.side() as f64);
+                d.update(&l).unwrap();
+                s.update(&l).unwrap();
+                let md = sorted(d.mesh());
+                prop_assert_eq!(&md, &sorted(s.mesh()));
+                let c = check_conforming(&hier, &md);
+                prop_assert!(c.conforming, "{:?}", c);
+                // Refining further from here equals top-down for the stricter criterion.
+                if let Some(e) = l.error {
+                    let finer = Lod { error: Some(e / 2.0), ..l.clone() };
+                    let mut inc: Refiner<'_, 3, _, DiamondFront<3>> = Refiner::new(&dmv);
+                    inc.refine(&l).unwrap();
+                    inc.update(&finer).unwrap();
+                    let mut top: Refiner<'_, 3, _, DiamondFront<3>> = Refiner::new(&dmv);
+                    top.refine(&finer).unwrap();
+                    prop_assert_eq!(sorted(inc.mesh()), sorted(top.mesh()));
+                }
+            }
+        }
+
+        /// Threshold 0: the partial DMV of the diamonds with error > 0 (and their ancestors),
+        /// refined fully, interpolates every grid point exactly.
+        #[test]
+        fn zero_error_partial_dmv_is_lossless(side in 3usize..=9, seed in any::<u64>()) {
+            let dmv = FullDmv::build(field(side, seed, true));
+            let sel = dmv.select_by_error(0.0);
+            for encoded in [true, false] {
+                let mesh = if encoded {
+                    let ds = dmv.supercube_encoding(&sel);
+                    let mut r: Refiner<'_, 3, _, SupercubeFront<3>> = Refiner::new(&ds);
+                    r.refine(&Lod::default()).unwrap();
+                    r.mesh()
+                } else {
+                    let dd = dmv.diamond_encoding(&sel);
+                    let mut r: Refiner<'_, 3, _, DiamondFront<3>> = Refiner::new(&dd);
+                    r.refine(&Lod::default()).unwrap();
+                    r.mesh()
+                };
+                let stats = simplices_stats_exact(dmv.field(), &mesh);
+                prop_assert!(num_traits::Zero::is_zero(&stats.error));
+            }
+        }
+    }
+}

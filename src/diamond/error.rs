@@ -15,7 +15,7 @@
 //!   even chain. The sum in `f64` carries a rigorous rounding bound, so the fast path returns an
 //!   interval `[error_lo, error_hi]` that contains the exact error.
 
-use super::{Diamond, Field, Point};
+use super::{Diamond, Field, Point, Simplex};
 use crate::num::{rational_from_f64, Rational};
 use num_traits::{Signed, Zero};
 
@@ -163,11 +163,21 @@ pub fn diamond_stats_fast<const D: usize>(field: &Field<D>, dia: &Diamond<D>) ->
 
 /// The error and range of `dia` on `field`, exactly, from the definition.
 pub fn diamond_stats_exact<const D: usize>(field: &Field<D>, dia: &Diamond<D>) -> ExactStats {
+    simplices_stats_exact(field, &dia.simplices())
+}
+
+/// `max |F(p) − F̂(p)|` and the range over the grid points `p` of the given simplices, `F̂`
+/// the linear interpolation on the simplex holding `p`, exactly (a mesh's error, or a
+/// diamond's when the simplices are the diamond's).
+pub fn simplices_stats_exact<const D: usize>(
+    field: &Field<D>,
+    simplices: &[Simplex<D>],
+) -> ExactStats {
     let value = |p: &Point<D>| rational_from_f64(field.at(p), "sample").expect("finite samples");
     let mut error = Rational::zero();
     let (mut min, mut max) = (f64::INFINITY, f64::NEG_INFINITY);
     let mut points = 0;
-    for simplex in dia.simplices() {
+    for simplex in simplices {
         let v = simplex.vertices();
         let lo: Point<D> = std::array::from_fn(|k| v.iter().map(|x| x[k]).min().unwrap_or(0));
         let hi: Point<D> = std::array::from_fn(|k| v.iter().map(|x| x[k]).max().unwrap_or(0));

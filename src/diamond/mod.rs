@@ -32,14 +32,28 @@
 //! bisection — proved by `diamond.maubach-is-longest-edge`.
 
 mod code;
+mod dmv;
 mod error;
 pub mod explicit;
 mod field;
+mod front;
+mod refine;
 mod supercube;
 
 pub use code::{Diamond, Hierarchy, Points, MAX_LEVELS};
-pub use error::{diamond_stats_exact, diamond_stats_fast, DiamondStats, ExactStats};
+pub use dmv::{
+    flag_words, index_bytes, storage, DiamondData, DiamondDmv, DmvAccess, FullDmv, PointHasher,
+    PointMap, Selection, StorageSizes, SupercubeDmv,
+};
+pub use error::{
+    diamond_stats_exact, diamond_stats_fast, simplices_stats_exact, DiamondStats, ExactStats,
+};
 pub use field::Field;
+pub use front::{absent_parent_flags, full_flags, DiamondFront, Front, SupercubeFront};
+pub use refine::{
+    check_conforming, current_mesh, marching_tetrahedra, Conformity, Lod, RefineError, Refiner,
+    TetSurface,
+};
 pub use supercube::{supercube_edges, DiamondType, Supercube};
 
 use num_bigint::{BigInt, BigUint};

@@ -1,0 +1,497 @@
+//! Diamond-based multiresolution volumes (Section 6): the full DMV `Δf`, partial DMVs `Δp`
+//! (closed under ancestors) selected by error or by isovalues, and their two indexed encodings:
+//! diamond-based `Δd` (a hash from central vertex to data) and supercube-based `Δs` (per scale a
+//! hash from supercube origin to a bit-flag internal map and a packed data array, Section 5.2–5.3).
+
+use super::error::diamond_stats_fast;
+use super::{Diamond, Field, Hierarchy, Point};
+use crate::par::prelude::*;
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// The data a DMV keeps per diamond (Section 6): `F(v_c)`, the error `ε(δ)` (an upper bound,
+/// rounded up to `f32`) and the range of `F` over δ's domain (rounded outwards to `f32`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiamondData {
+    /// `F` at the central vertex.
+    pub value: f64,
+    /// `ε(δ)`, rounded up.
+    pub error: f32,
+    /// The least sample in δ's domain, rounded down.
+    pub min: f32,
+    /// The largest sample in δ's domain, rounded up.
+    pub max: f32,
+}
+
+/// `x` rounded up to an `f32`.
+pub(crate) fn f32_up(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) < x {
+        f.next_up()
+    } else {
+        f
+    }
+}
+
+/// `x` rounded down to an `f32`.
+pub(crate) fn f32_down(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) > x {
+        f.next_down()
+    } else {
+        f
+    }
+}
+
+/// Read access to a DMV's diamonds, whatever the encoding.
+pub trait DmvAccess<const D: usize> {
+    /// The hierarchy.
+    fn hierarchy(&self) -> Hierarchy<D>;
+    /// The data of `dia`, or `None` when the DMV does not hold it.
+    fn data(&self, dia: &Diamond<D>) -> Option<DiamondData>;
+    /// `F` at a grid point that is a held diamond's central vertex or a domain corner.
+    fn value(&self, p: &Point<D>) -> Option<f64>;
+}
+
+/// A fast multiplicative hasher for grid-point keys (the keys are not adversarial: they come
+/// from the DMV itself).
+#[derive(Clone, Copy, Default)]
+pub struct PointHasher(u64);
+
+impl Hasher for PointHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+    fn write_u32(&mut self, x: u32) {
+        self.write_u64(u64::from(x));
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_usize(&mut self, x: usize) {
+        self.write_u64(x as u64);
+    }
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+/// A hash map keyed by grid points.
+pub type PointMap<V, const D: usize> = HashMap<Point<D>, V, BuildHasherDefault<PointHasher>>;
+
+/// The full DMV `Δf`: every diamond's data, indexed like the field (row-major, axis 0
+/// fastest), the corners included with zero error.
+#[derive(Clone, Debug)]
+pub struct FullDmv<const D: usize> {
+    field: Field<D>,
+    error: Vec<f32>,
+    min: Vec<f32>,
+    max: Vec<f32>,
+}
+
+impl<const D: usize> FullDmv<D> {
+    /// Computes `ε` and the range of every diamond (the fast path's certified upper bound,
+    /// rounded up), in parallel over the grid.
+    pub fn build(field: Field<D>) -> FullDmv<D> {
+        let hier = field.hierarchy();
+        let n = field.values().len();
+        let stats: Vec<(f32, f32, f32)> = (0..n)
+            .into_par_iter()
+            .map(|i| match hier.diamond(field.point(i)) {
+                Ok(dia) => {
+                    let s = diamond_stats_fast(&field, &dia);
+                    (f32_up(s.error_hi), f32_down(s.min), f32_up(s.max))
+                }
+                Err(_) => {
+                    let v = field.values()[i];
+                    (0.0, f32_down(v), f32_up(v))
+                }
+            })
+            .collect();
+        let mut error = Vec::with_capacity(n);
+        let mut min = Vec::with_capacity(n);
+        let mut max = Vec::with_capacity(n);
+        for (e, lo, hi) in stats {
+            error.push(e);
+            min.push(lo);
+            max.push(hi);
+        }
+        FullDmv {
+            field,
+            error,
+            min,
+            max,
+        }
+    }
+
+    /// The field.
+    pub fn field(&self) -> &Field<D> {
+        &self.field
+    }
+
+    /// `n_f`: the number of grid points (the paper counts every sample).
+    pub fn len(&self) -> usize {
+        self.field.values().len()
+    }
+
+    /// Never empty (a grid has at least `3^d` points).
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+
+    /// The data at array index `i`.
+    pub fn data_at(&self, i: usize) -> DiamondData {
+        DiamondData {
+            value: self.field.values()[i],
+            error: self.error[i],
+            min: self.min[i],
+            max: self.max[i],
+        }
+    }
+
+    /// The partial DMV of the diamonds that `keep` selects, closed under ancestors (Section 6's
+    /// transitive closure): a bit per grid point.
+    pub fn select(&self, keep: impl Fn(&DiamondData) -> bool + Sync) -> Selection<D> {
+        let hier = self.field.hierarchy();
+        let n = self.len();
+        let mut bits = vec![0u64; n.div_ceil(64)];
+        // Children before parents: a parent has a larger key `d·γ + (d − 1 − i)`.
+        let keys = D as u32 * (hier.levels() + 1);
+        let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); keys as usize];
+        for i in 0..n {
+            if let Ok(dia) = hier.diamond(self.field.point(i)) {
+                let key = D as u32 * dia.scale() + (D - 1 - dia.class()) as u32;
+                buckets[key as usize].push(i as u32);
+                if keep(&self.data_at(i)) {
+                    bits[i / 64] |= 1 << (i % 64);
+                }
+            }
+        }
+        for bucket in &buckets {
+            for &i in bucket {
+                let i = i as usize;
+                if bits[i / 64] >> (i % 64) & 1 == 1 {
+                    let dia = hier
+                        .diamond(self.field.point(i))
+                        .expect("bucketed points are diamonds");
+                    for p in dia.parents().iter() {
+                        let j = self.field.index(p);
+                        bits[j / 64] |= 1 << (j % 64);
+                    }
+                }
+            }
+        }
+        Selection { bits, hier }
+    }
+
+    /// Δp for `ε(δ) > threshold`.
+    pub fn select_by_error(&self, threshold: f64) -> Selection<D> {
+        self.select(|d| f64::from(d.error) > threshold)
+    }
+
+    /// Δp for the diamonds whose range holds one of `isovalues`.
+    pub fn select_by_isovalues(&self, isovalues: &[f64]) -> Selection<D> {
+        self.select(|d| {
+            isovalues
+                .iter()
+                .any(|&k| f64::from(d.min) <= k && k <= f64::from(d.max))
+        })
+    }
+
+    /// The diamond-based encoding `Δd` of a selection.
+    pub fn diamond_encoding(&self, sel: &Selection<D>) -> DiamondDmv<D> {
+        let mut map = PointMap::default();
+        map.reserve(sel.count());
+        for i in sel.indices() {
+            map.insert(self.field.point(i), self.data_at(i));
+        }
+        DiamondDmv {
+            hier: self.field.hierarchy(),
+            map,
+            corners: corner_values(&self.field),
+        }
+    }
+
+    /// The supercube-based encoding `Δs` of a selection.
+    pub fn supercube_encoding(&self, sel: &Selection<D>) -> SupercubeDmv<D> {
+        let hier = self.field.hierarchy();
+        let mut cubes: std::collections::BTreeMap<(u32, Point<D>), Vec<(usize, DiamondData)>> =
+            std::collections::BTreeMap::new();
+        for i in sel.indices() {
+            let dia = hier
+                .diamond(self.field.point(i))
+                .expect("selected points are diamonds");
+            cubes
+                .entry((dia.scale(), dia.supercube_origin()))
+                .or_default()
+                .push((dia.diamond_type().index(), self.data_at(i)));
+        }
+        SupercubeDmv::from_cubes(hier, corner_values(&self.field), cubes)
+    }
+}
+
+/// The values at the `2^d` domain corners, corner `j` having `x_k = 2^N` when bit `k` of `j`
+/// is set.
+pub(crate) fn corner_values<const D: usize>(field: &Field<D>) -> Vec<f64> {
+    let side = field.hierarchy().side();
+    (0..1usize << D)
+        .map(|j| {
+            field.at(&std::array::from_fn(
+                |k| if j >> k & 1 == 1 { side } else { 0 },
+            ))
+        })
+        .collect()
+}
+
+/// The corner index of `p`, when `p` is a domain corner.
+pub(crate) fn corner_index<const D: usize>(p: &Point<D>, side: u32) -> Option<usize> {
+    let mut j = 0;
+    for (k, &x) in p.iter().enumerate() {
+        if x == side {
+            j |= 1 << k;
+        } else if x != 0 {
+            return None;
+        }
+    }
+    Some(j)
+}
+
+impl<const D: usize> DmvAccess<D> for FullDmv<D> {
+    fn hierarchy(&self) -> Hierarchy<D> {
+        self.field.hierarchy()
+    }
+    #[inline]
+    fn data(&self, dia: &Diamond<D>) -> Option<DiamondData> {
+        Some(self.data_at(self.field.index(&dia.center())))
+    }
+    #[inline]
+    fn value(&self, p: &Point<D>) -> Option<f64> {
+        Some(self.field.at(p))
+    }
+}
+
+/// A partial DMV `Δp`: which grid points' diamonds are kept (closed under ancestors).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Selection<const D: usize> {
+    bits: Vec<u64>,
+    hier: Hierarchy<D>,
+}
+
+impl<const D: usize> Selection<D> {
+    /// `n_p`: the number of diamonds kept.
+    pub fn count(&self) -> usize {
+        self.bits.iter().map(|w| w.count_ones() as usize).sum()
+    }
+
+    /// True when the diamond at array index `i` is kept.
+    pub fn contains_index(&self, i: usize) -> bool {
+        self.bits
+            .get(i / 64)
+            .is_some_and(|w| w >> (i % 64) & 1 == 1)
+    }
+
+    /// The kept array indices, increasing.
+    pub fn indices(&self) -> impl Iterator<Item = usize> + '_ {
+        self.bits.iter().enumerate().flat_map(|(w, &bits)| {
+            (0..64)
+                .filter(move |b| bits >> b & 1 == 1)
+                .map(move |b| w * 64 + b)
+        })
+    }
+
+    /// The hierarchy.
+    pub fn hierarchy(&self) -> Hierarchy<D> {
+        self.hier
+    }
+}
+
+/// The diamond-based partial DMV `Δd`: a hash from central vertex to data.
+#[derive(Clone, Debug)]
+pub struct DiamondDmv<const D: usize> {
+    hier: Hierarchy<D>,
+    map: PointMap<DiamondData, D>,
+    corners: Vec<f64>,
+}
+
+impl<const D: usize> DiamondDmv<D> {
+    /// `n_p`.
+    pub fn len(&self) -> usize {
+        self.map.len()
+    }
+    /// True when no diamond is held.
+    pub fn is_empty(&self) -> bool {
+        self.map.is_empty()
+    }
+    /// The hash table's buckets (for the load factor).
+    pub fn capacity(&self) -> usize {
+        self.map.capacity()
+    }
+}
+
+impl<const D: usize> DmvAccess<D> for DiamondDmv<D> {
+    fn hierarchy(&self) -> Hierarchy<D> {
+        self.hier
+    }
+    #[inline]
+    fn data(&self, dia: &Diamond<D>) -> Option<DiamondData> {
+        self.map.get(&dia.center()).copied()
+    }
+    fn value(&self, p: &Point<D>) -> Option<f64> {
+        match corner_index(p, self.hier.side()) {
+            Some(j) => self.corners.get(j).copied(),
+            None => self.map.get(p).map(|d| d.value),
+        }
+    }
+}
+
+/// The number of 64-bit words of a supercube's internal map: `⌈(4^d − 2^d) / 64⌉`.
+pub const fn flag_words(d: usize) -> usize {
+    ((1usize << (2 * d)) - (1usize << d)).div_ceil(64)
+}
+
+/// The supercube-based partial DMV `Δs` (Sections 5.2–5.3): per scale, a hash from supercube
+/// origin to the supercube's number; per supercube, `4^d − 2^d` bit flags (the internal map)
+/// and the start of its packed data, indexed by the prefix popcount of the flags.
+#[derive(Clone, Debug)]
+pub struct SupercubeDmv<const D: usize> {
+    pub(crate) hier: Hierarchy<D>,
+    pub(crate) corners: Vec<f64>,
+    /// Per scale `γ`: origin → supercube number.
+    pub(crate) levels: Vec<PointMap<u32, D>>,
+    /// Per supercube: its scale and origin (in file order).
+    pub(crate) keys: Vec<(u32, Point<D>)>,
+    /// `flag_words(d)` words per supercube.
+    pub(crate) flags: Vec<u64>,
+    /// Per supercube: the index of its first datum.
+    pub(crate) start: Vec<u32>,
+    /// Packed data, supercube after supercube, each in type order.
+    pub(crate) data: Vec<DiamondData>,
+}
+
+impl<const D: usize> SupercubeDmv<D> {
+    /// From supercubes in (scale, origin) order, each with its `(type index, data)` pairs.
+    pub(crate) fn from_cubes(
+        hier: Hierarchy<D>,
+        corners: Vec<f64>,
+        cubes: std::collections::BTreeMap<(u32, Point<D>), Vec<(usize, DiamondData)>>,
+    ) -> SupercubeDmv<D> {
+        let w = flag_words(D);
+        let mut out = SupercubeDmv {
+            hier,
+            corners,
+            levels: vec![PointMap::default(); hier.levels() as usize],
+            keys: Vec::with_capacity(cubes.len()),
+            flags: Vec::with_capacity(cubes.len() * w),
+            start: Vec::with_capacity(cubes.len()),
+            data: Vec::new(),
+        };
+        for ((scale, origin), mut items) in cubes {
+            items.sort_by_key(|&(t, _)| t);
+            let n = out.keys.len() as u32;
+            out.levels[scale as usize].insert(origin, n);
+            out.keys.push((scale, origin));
+            out.start.push(out.data.len() as u32);
+            let mut words = vec![0u64; w];
+            for (t, d) in items {
+                words[t / 64] |= 1 << (t % 64);
+                out.data.push(d);
+            }
+            out.flags.extend(words);
+        }
+        out
+    }
+
+    /// `n_s`: the number of supercubes.
+    pub fn supercubes(&self) -> usize {
+        self.keys.len()
+    }
+
+    /// `n_p`: the number of diamonds.
+    pub fn len(&self) -> usize {
+        self.data.len()
+    }
+
+    /// True when no diamond is held.
+    pub fn is_empty(&self) -> bool {
+        self.data.is_empty()
+    }
+
+    /// The hash tables' buckets, all scales together.
+    pub fn capacity(&self) -> usize {
+        self.levels.iter().map(|m| m.capacity()).sum()
+    }
+
+    /// The position of `dia`'s datum in the packed array, if held: scale → origin → prefix
+    /// popcount of the flags below its type (Section 5.3's three steps).
+    #[inline]
+    fn slot(&self, dia: &Diamond<D>) -> Option<usize> {
+        let cube = *self
+            .levels
+            .get(dia.scale() as usize)?
+            .get(&dia.supercube_origin())? as usize;
+        let t = dia.diamond_type().index();
+        let w = flag_words(D);
+        let words = &self.flags[cube * w..(cube + 1) * w];
+        if words[t / 64] >> (t % 64) & 1 == 0 {
+            return None;
+        }
+        let below: u32 = words[..t / 64].iter().map(|x| x.count_ones()).sum::<u32>()
+            + (words[t / 64] & ((1u64 << (t % 64)) - 1)).count_ones();
+        Some(self.start[cube] as usize + below as usize)
+    }
+}
+
+impl<const D: usize> DmvAccess<D> for SupercubeDmv<D> {
+    fn hierarchy(&self) -> Hierarchy<D> {
+        self.hier
+    }
+    #[inline]
+    fn data(&self, dia: &Diamond<D>) -> Option<DiamondData> {
+        self.slot(dia).map(|i| self.data[i])
+    }
+    fn value(&self, p: &Point<D>) -> Option<f64> {
+        match corner_index(p, self.hier.side()) {
+            Some(j) => self.corners.get(j).copied(),
+            None => {
+                let dia = self.hier.diamond(*p).ok()?;
+                self.slot(&dia).map(|i| self.data[i].value)
+            }
+        }
+    }
+}
+
+/// Table 1's storage model, in bytes.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct StorageSizes {
+    /// `n_f · b_δ`.
+    pub full: u64,
+    /// `n_p · (b_δ + b_v)`.
+    pub diamond: u64,
+    /// `n_p · b_δ + n_s · b_σ`.
+    pub supercube: u64,
+    /// `n_p · b_δ`.
+    pub ideal: u64,
+}
+
+/// Table 1 for `n_f`, `n_p`, `n_s` with `b_δ` bytes per diamond, `b_v` per central vertex and
+/// `b_σ` per supercube.
+pub fn storage(nf: u64, np: u64, ns: u64, b_delta: u64, b_v: u64, b_sigma: u64) -> StorageSizes {
+    StorageSizes {
+        full: nf * b_delta,
+        diamond: np * (b_delta + b_v),
+        supercube: np * b_delta + ns * b_sigma,
+        ideal: np * b_delta,
+    }
+}
+
+/// geocert's byte counts for a `d`-D grid of side `2^N`: `(b_v, b_σ)` — a central vertex in
+/// `d` coordinates of `⌈(N+1)/8⌉` bytes; a supercube: its origin, `⌈(4^d − 2^d)/8⌉` flag
+/// bytes and a 4-byte data offset (17 bytes in 3-D with 16-bit coordinates, as in the paper).
+pub fn index_bytes(d: usize, levels: u32) -> (u64, u64) {
+    let coord = u64::from(levels + 1).div_ceil(8);
+    let bv = d as u64 * coord;
+    let flags = (((1u64 << (2 * d)) - (1u64 << d)) as u64).div_ceil(8);
+    (bv, bv + flags + 4)
+}

@@ -1,0 +1,250 @@
+//! Active fronts (Section 7): the current mesh `Σ` as diamonds with parent flags. A diamond with
+//! `k` parents has its simplices in `k` groups, one per parent; the group of parent `p` is in
+//! `Σ` once `p` has been subdivided, so a flag per parent slot tracks both (3/2/4 bits in 3-D).
+//! Slots whose parent lies outside the domain (and all of the root's) are set from the start.
+//!
+//! Two representations give the identical mesh:
+//! * [`DiamondFront`] (`Σd`): a hash from central vertex to the flags;
+//! * [`SupercubeFront`] (`Σs`): per scale a hash from supercube origin to one bit per
+//!   (type, parent slot) pair — `Σ_τ slots(τ)` bits, 168 in 3-D (the paper's 336/2).
+
+use super::dmv::PointMap;
+use super::{Diamond, DiamondType, Hierarchy, Point};
+
+/// An active front: parent flags per diamond in `Σ` (a diamond is in `Σ` when it has flags).
+pub trait Front<const D: usize> {
+    /// An empty front on `hier`.
+    fn empty(hier: Hierarchy<D>) -> Self;
+    /// The flags of `dia` (`0` when it is not in the front).
+    fn flags(&self, dia: &Diamond<D>) -> u32;
+    /// Sets the flags of `dia`; `0` removes it.
+    fn set_flags(&mut self, dia: &Diamond<D>, flags: u32);
+    /// Every diamond in the front with its flags (in no particular order).
+    fn for_each(&self, f: impl FnMut(Diamond<D>, u32));
+    /// Diamonds in the front.
+    fn diamonds(&self) -> usize;
+    /// Bookkeeping bytes by the paper's model: `Σd` 7 bytes per diamond in 3-D (coordinates and
+    /// a flag byte), `Σs` 27 per supercube (origin and 168 bits); in `d`-D, `b_v + 1` and
+    /// `b_v + ⌈slots/8⌉`.
+    fn bookkeeping_bytes(&self) -> u64;
+}
+
+/// The flag bits of the slots whose parent does not exist (outside the domain, or above the
+/// root): always set.
+pub fn absent_parent_flags<const D: usize>(dia: &Diamond<D>) -> u32 {
+    (0..dia.parent_slots())
+        .filter(|&s| dia.parent_in_slot(s).is_none())
+        .fold(0, |m, s| m | 1 << s)
+}
+
+/// All slots of `dia`.
+pub fn full_flags<const D: usize>(dia: &Diamond<D>) -> u32 {
+    (1u32 << dia.parent_slots()) - 1
+}
+
+/// The diamond-based front `Σd`.
+#[derive(Clone, Debug)]
+pub struct DiamondFront<const D: usize> {
+    hier: Hierarchy<D>,
+    map: PointMap<u32, D>,
+}
+
+impl<const D: usize> Front<D> for DiamondFront<D> {
+    fn empty(hier: Hierarchy<D>) -> Self {
+        DiamondFront {
+            hier,
+            map: PointMap::default(),
+        }
+    }
+    #[inline]
+    fn flags(&self, dia: &Diamond<D>) -> u32 {
+        self.map.get(&dia.center()).copied().unwrap_or(0)
+    }
+    #[inline]
+    fn set_flags(&mut self, dia: &Diamond<D>, flags: u32) {
+        if flags == 0 {
+            self.map.remove(&dia.center());
+        } else {
+            self.map.insert(dia.center(), flags);
+        }
+    }
+    fn for_each(&self, mut f: impl FnMut(Diamond<D>, u32)) {
+        for (p, &flags) in &self.map {
+            f(
+                self.hier.diamond(*p).expect("front points are diamonds"),
+                flags,
+            );
+        }
+    }
+    fn diamonds(&self) -> usize {
+        self.map.len()
+    }
+    fn bookkeeping_bytes(&self) -> u64 {
+        let (bv, _) = super::index_bytes(D, self.hier.levels());
+        self.map.len() as u64 * (bv + 1)
+    }
+}
+
+/// Per type index: the first bit of its slots within a supercube's flags, and the total.
+fn slot_offsets<const D: usize>() -> (Vec<u16>, usize) {
+    let mut offsets = Vec::new();
+    let mut total = 0usize;
+    for tau in DiamondType::<D>::all() {
+        offsets.push(total as u16);
+        total += match tau.class() {
+            0 => D,
+            i => 2 * i,
+        };
+    }
+    (offsets, total)
+}
+
+/// The supercube-based front `Σs`.
+#[derive(Clone, Debug)]
+pub struct SupercubeFront<const D: usize> {
+    hier: Hierarchy<D>,
+    /// Per scale: origin → supercube number.
+    levels: Vec<PointMap<u32, D>>,
+    /// `words` per supercube.
+    bits: Vec<u64>,
+    /// Per supercube: scale and origin (`None` once freed).
+    keys: Vec<Option<(u32, Point<D>)>>,
+    /// Freed supercube numbers, for reuse.
+    free: Vec<u32>,
+    /// Per supercube: diamonds with flags.
+    counts: Vec<u16>,
+    offsets: Vec<u16>,
+    words: usize,
+    slots: usize,
+    diamonds: usize,
+}
+
+impl<const D: usize> SupercubeFront<D> {
+    /// Supercubes holding at least one diamond of the front.
+    pub fn supercubes(&self) -> usize {
+        self.keys.len() - self.free.len()
+    }
+
+    #[inline]
+    fn locate(&self, dia: &Diamond<D>) -> (Option<u32>, usize, usize) {
+        let t = dia.diamond_type().index();
+        let cube = self.levels[dia.scale() as usize]
+            .get(&dia.supercube_origin())
+            .copied();
+        (cube, self.offsets[t] as usize, dia.parent_slots())
+    }
+}
+
+impl<const D: usize> Front<D> for SupercubeFront<D> {
+    fn empty(hier: Hierarchy<D>) -> Self {
+        let (offsets, slots) = slot_offsets::<D>();
+        SupercubeFront {
+            hier,
+            levels: vec![PointMap::default(); hier.levels() as usize],
+            bits: Vec::new(),
+            keys: Vec::new(),
+            free: Vec::new(),
+            counts: Vec::new(),
+            offsets,
+            words: slots.div_ceil(64),
+            slots,
+            diamonds: 0,
+        }
+    }
+    #[inline]
+    fn flags(&self, dia: &Diamond<D>) -> u32 {
+        let (cube, off, n) = self.locate(dia);
+        let Some(cube) = cube else { return 0 };
+        let base = cube as usize * self.words * 64 + off;
+        let mut f = 0;
+        for s in 0..n {
+            let b = base + s;
+            f |= ((self.bits[b / 64] >> (b % 64)) & 1) as u32 * (1 << s);
+        }
+        f
+    }
+    fn set_flags(&mut self, dia: &Diamond<D>, flags: u32) {
+        let (cube, off, n) = self.locate(dia);
+        let cube = match cube {
+            Some(c) => c,
+            None if flags == 0 => return,
+            None => {
+                let key = (dia.scale(), dia.supercube_origin());
+                let c = match self.free.pop() {
+                    Some(c) => {
+                        self.keys[c as usize] = Some(key);
+                        c
+                    }
+                    None => {
+                        self.keys.push(Some(key));
+                        self.counts.push(0);
+                        self.bits.extend(std::iter::repeat_n(0, self.words));
+                        (self.keys.len() - 1) as u32
+                    }
+                };
+                self.levels[key.0 as usize].insert(key.1, c);
+                c
+            }
+        };
+        let base = cube as usize * self.words * 64 + off;
+        let mut had = false;
+        for s in 0..n {
+            let b = base + s;
+            had |= (self.bits[b / 64] >> (b % 64)) & 1 == 1;
+            if flags >> s & 1 == 1 {
+                self.bits[b / 64] |= 1 << (b % 64);
+            } else {
+                self.bits[b / 64] &= !(1 << (b % 64));
+            }
+        }
+        let c = cube as usize;
+        match (had, flags != 0) {
+            (false, true) => {
+                self.counts[c] += 1;
+                self.diamonds += 1;
+            }
+            (true, false) => {
+                self.counts[c] -= 1;
+                self.diamonds -= 1;
+                if self.counts[c] == 0 {
+                    if let Some((scale, origin)) = self.keys[c].take() {
+                        self.levels[scale as usize].remove(&origin);
+                    }
+                    self.free.push(cube);
+                }
+            }
+            _ => {}
+        }
+    }
+    fn for_each(&self, mut f: impl FnMut(Diamond<D>, u32)) {
+        let types: Vec<DiamondType<D>> = DiamondType::all().collect();
+        for (c, key) in self.keys.iter().enumerate() {
+            let Some((scale, origin)) = key else { continue };
+            let cube = super::Supercube {
+                origin: *origin,
+                scale: *scale,
+            };
+            for (t, tau) in types.iter().enumerate() {
+                let Ok(dia) = cube.diamond(&self.hier, *tau) else {
+                    continue;
+                };
+                let base = c * self.words * 64 + self.offsets[t] as usize;
+                let mut flags = 0;
+                for s in 0..dia.parent_slots() {
+                    let b = base + s;
+                    flags |= ((self.bits[b / 64] >> (b % 64)) & 1) as u32 * (1 << s);
+                }
+                if flags != 0 {
+                    f(dia, flags);
+                }
+            }
+        }
+    }
+    fn diamonds(&self) -> usize {
+        self.diamonds
+    }
+    fn bookkeeping_bytes(&self) -> u64 {
+        let (bv, _) = super::index_bytes(D, self.hier.levels());
+        self.supercubes() as u64 * (bv + (self.slots as u64).div_ceil(8))
+    }
+}

@@ -1,0 +1,468 @@
+//! Selective refinement (Section 7): top-down from the base diamond or incrementally from an
+//! existing front, for a level-of-detail criterion; the current mesh, an exact conformity
+//! check, and marching tetrahedra on the current mesh.
+
+use super::front::{absent_parent_flags, full_flags, Front};
+use super::{Diamond, DiamondData, DmvAccess, Hierarchy, Point, Simplex};
+use crate::mesh::Mesh;
+use num_bigint::BigUint;
+use std::collections::HashMap;
+
+/// A level-of-detail criterion: a diamond is refined when every condition given holds (the
+/// paper's Table 4 query is `error > e` and an isovalue in the range).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Lod<const D: usize> {
+    /// Refine when `ε(δ) > e`.
+    pub error: Option<f64>,
+    /// Refine when δ's range holds one of these.
+    pub isovalues: Vec<f64>,
+    /// Refine when δ's bounding box meets this box `[lo, hi]` (grid coordinates).
+    pub roi: Option<([f64; D], [f64; D])>,
+}
+
+impl<const D: usize> Lod<D> {
+    /// True when `dia` with `data` is to be refined.
+    pub fn wants(&self, dia: &Diamond<D>, data: &DiamondData) -> bool {
+        if let Some(e) = self.error {
+            if f64::from(data.error) <= e {
+                return false;
+            }
+        }
+        if !self.isovalues.is_empty()
+            && !self
+                .isovalues
+                .iter()
+                .any(|&k| f64::from(data.min) <= k && k <= f64::from(data.max))
+        {
+            return false;
+        }
+        if let Some((lo, hi)) = &self.roi {
+            let c = dia.center();
+            let h = f64::from(dia.half_width());
+            if (0..D).any(|k| f64::from(c[k]) + h < lo[k] || f64::from(c[k]) - h > hi[k]) {
+                return false;
+            }
+        }
+        true
+    }
+}
+
+/// Why refinement stopped short.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum RefineError {
+    /// A diamond had to be refined (a descendant needs it) but the DMV does not hold it: the
+    /// partial DMV is not closed under ancestors.
+    #[error("diamond {center:?} must be refined but the DMV does not hold it (not closed under ancestors)")]
+    Missing {
+        /// Its central vertex.
+        center: Vec<u64>,
+    },
+}
+
+/// Selective refinement on a DMV with a front.
+///
+/// The front lives on the grid of doubled coordinates (`N + 1` levels): subdividing a diamond of
+/// scale 0 whose spine is a grid edge inserts its central vertex and leaves the Kuhn simplices
+/// of the unit cubes, which belong to diamonds of scale −1 (centres at half-integers). Doubled,
+/// those are the scale-0 diamonds, never subdivided; every other diamond is `2·v_c` of a DMV
+/// diamond. [`Refiner::mesh`] returns the simplices in the DMV's coordinates.
+pub struct Refiner<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> {
+    dmv: &'a A,
+    /// The doubled grid's hierarchy.
+    hier: Hierarchy<D>,
+    /// The active front.
+    pub front: F,
+    /// Diamonds examined (the paper's "diamonds visited").
+    pub visited: u64,
+    queue: Vec<Diamond<D>>,
+}
+
+impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
+    /// The front of the base mesh: the root diamond with all its simplices.
+    pub fn new(dmv: &'a A) -> Self {
+        let hier =
+            Hierarchy::new(dmv.hierarchy().levels() + 1).expect("a DMV's N is below MAX_LEVELS");
+        let mut front = F::empty(hier);
+        let root = hier.root();
+        front.set_flags(&root, full_flags(&root));
+        Refiner {
+            dmv,
+            hier,
+            front,
+            visited: 0,
+            queue: Vec::new(),
+        }
+    }
+
+    /// The DMV's diamond and data for the doubled-grid diamond `dia`, when `dia` can be
+    /// subdivided at all (not a unit cube's, and held by the DMV).
+    fn refinable(&self, dia: &Diamond<D>) -> Option<(Diamond<D>, DiamondData)> {
+        if dia.scale() == 0 {
+            return None;
+        }
+        let orig = self
+            .dmv
+            .hierarchy()
+            .diamond(dia.center().map(|x| x / 2))
+            .ok()?;
+        self.dmv.data(&orig).map(|d| (orig, d))
+    }
+
+    /// Refines every front diamond the criterion wants, and the ones their refinement needs,
+    /// until no front diamond is wanted (top-down when called on a fresh refiner).
+    pub fn refine(&mut self, lod: &Lod<D>) -> Result<(), RefineError> {
+        let mut start = Vec::new();
+        self.front.for_each(|d, _| start.push(d));
+        self.queue.extend(start);
+        while let Some(dia) = self.queue.pop() {
+            self.visited += 1;
+            if self.front.flags(&dia) == 0 {
+                continue;
+            }
+            if let Some((orig, data)) = self.refinable(&dia) {
+                if lod.wants(&orig, &data) {
+                    self.force(&dia)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Refines `dia` after refining, recursively, every parent not yet refined.
+    fn force(&mut self, dia: &Diamond<D>) -> Result<(), RefineError> {
+        let mut flags = self.front.flags(dia);
+        if flags == 0 {
+            flags = absent_parent_flags(dia);
+        }
+        for slot in 0..dia.parent_slots() {
+            if flags >> slot & 1 == 0 {
+                let parent = dia
+                    .parent_in_slot(slot)
+                    .expect("slots without a parent are always set");
+                self.visited += 1;
+                self.force(&parent)?;
+            }
+        }
+        if self.refinable(dia).is_none() {
+            return Err(RefineError::Missing {
+                center: dia.center().iter().map(|&x| u64::from(x)).collect(),
+            });
+        }
+        self.split(dia);
+        Ok(())
+    }
+
+    /// Subdivides `dia` (all its parents refined): it leaves the front, and each child gains
+    /// the simplices `dia` contributes.
+    fn split(&mut self, dia: &Diamond<D>) {
+        self.front.set_flags(dia, 0);
+        for c in dia.children().iter() {
+            let child = self.hier.diamond(*c).expect("children are diamonds");
+            let slot = slot_of_parent(&child, dia);
+            let mut flags = self.front.flags(&child);
+            if flags == 0 {
+                flags = absent_parent_flags(&child);
+            }
+            self.front.set_flags(&child, flags | 1 << slot);
+            self.queue.push(child);
+        }
+    }
+
+    /// Undoes the subdivision of `dia`, whose children are all in the front and unrefined.
+    fn merge(&mut self, dia: &Diamond<D>) {
+        for c in dia.children().iter() {
+            let child = self.hier.diamond(*c).expect("children are diamonds");
+            let slot = slot_of_parent(&child, dia);
+            let flags = self.front.flags(&child) & !(1 << slot);
+            let left = if flags == absent_parent_flags(&child) {
+                0
+            } else {
+                flags
+            };
+            self.front.set_flags(&child, left);
+        }
+        self.front.set_flags(dia, full_flags(dia));
+    }
+
+    /// Moves the front to a new criterion incrementally: first merges, repeatedly, every
+    /// subdivided diamond whose children are all unrefined and which the criterion no longer
+    /// wants, then refines. From a front that is a refinement-subset of the new criterion's
+    /// (e.g. a lower error threshold) this gives exactly the top-down front.
+    pub fn update(&mut self, lod: &Lod<D>) -> Result<(), RefineError> {
+        loop {
+            let mut candidates = Vec::new();
+            self.front.for_each(|d, flags| {
+                for slot in 0..d.parent_slots() {
+                    if flags >> slot & 1 == 1 {
+                        if let Some(p) = d.parent_in_slot(slot) {
+                            candidates.push(p);
+                        }
+                    }
+                }
+            });
+            candidates.sort_unstable();
+            candidates.dedup();
+            let mut merged = false;
+            for p in candidates {
+                self.visited += 1;
+                if self.front.flags(&p) != 0 {
+                    continue;
+                }
+                let wanted = self
+                    .refinable(&p)
+                    .is_some_and(|(orig, d)| lod.wants(&orig, &d));
+                let all_unrefined = p.children().iter().all(|c| {
+                    let child = self.hier.diamond(*c).expect("children are diamonds");
+                    self.front.flags(&child) >> slot_of_parent(&child, &p) & 1 == 1
+                });
+                if !wanted && all_unrefined {
+                    self.merge(&p);
+                    merged = true;
+                }
+            }
+            if !merged {
+                break;
+            }
+        }
+        self.refine(lod)
+    }
+
+    /// The simplices of the current mesh, in the DMV's grid coordinates.
+    pub fn mesh(&self) -> Vec<Simplex<D>> {
+        current_mesh(&self.front)
+            .into_iter()
+            .map(|s| {
+                let v: Vec<Point<D>> = s.vertices().iter().map(|p| p.map(|x| x / 2)).collect();
+                Simplex::new(&v).expect("d + 1 vertices")
+            })
+            .collect()
+    }
+}
+
+/// The slot of `child` whose parent is `parent`.
+fn slot_of_parent<const D: usize>(child: &Diamond<D>, parent: &Diamond<D>) -> usize {
+    (0..child.parent_slots())
+        .find(|&s| child.parent_in_slot(s).as_ref() == Some(parent))
+        .expect("a child names its parent in one slot")
+}
+
+/// The simplices of a front's current mesh: each front diamond's simplices whose parent flag
+/// is set.
+pub fn current_mesh<const D: usize, F: Front<D>>(front: &F) -> Vec<Simplex<D>> {
+    let mut out = Vec::new();
+    front.for_each(|d, flags| {
+        d.for_each_simplex(|s, slot| {
+            if flags >> slot & 1 == 1 {
+                out.push(s);
+            }
+        })
+    });
+    out
+}
+
+/// The exact conformity certificate of a simplicial mesh of the domain.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct Conformity {
+    /// Simplices checked.
+    pub simplices: usize,
+    /// `(d−1)`-faces shared by exactly two simplices.
+    pub interior_faces: usize,
+    /// `(d−1)`-faces on the domain boundary, in exactly one simplex.
+    pub boundary_faces: usize,
+    /// Faces in one simplex but not on the boundary, or in more than two (the first few).
+    pub bad_faces: Vec<Vec<Vec<u32>>>,
+    /// Their number.
+    pub bad_face_count: usize,
+    /// `Σ d!·vol(simplex)`, exactly, as a decimal string.
+    pub volume_sum: String,
+    /// `d!·(2^N)^d`, the domain's.
+    pub domain_volume: String,
+    /// Every face matched and the volumes sum to the domain's.
+    pub conforming: bool,
+}
+
+/// Checks exactly that `simplices` form a conforming mesh of `[0, 2^N]^d`: every `(d−1)`-face is
+/// shared by exactly two simplices or lies on the domain boundary in exactly one, and the
+/// simplices' volumes sum to the domain's (no overlap, no gap).
+pub fn check_conforming<const D: usize>(
+    hier: &Hierarchy<D>,
+    simplices: &[Simplex<D>],
+) -> Conformity {
+    let side = hier.side();
+    let mut faces: HashMap<Vec<Point<D>>, u32> = HashMap::new();
+    let mut volume = BigUint::from(0u8);
+    for s in simplices {
+        let v = s.sorted();
+        let v = v.vertices();
+        for skip in 0..=D {
+            let face: Vec<Point<D>> = (0..=D).filter(|&j| j != skip).map(|j| v[j]).collect();
+            *faces.entry(face).or_insert(0) += 1;
+        }
+        volume += s.scaled_volume();
+    }
+    let on_boundary = |f: &[Point<D>]| {
+        (0..D).any(|k| {
+            let x = f[0][k];
+            (x == 0 || x == side) && f.iter().all(|p| p[k] == x)
+        })
+    };
+    let (mut interior, mut boundary, mut bad) = (0, 0, Vec::new());
+    let mut bad_count = 0;
+    for (f, n) in &faces {
+        match (*n, on_boundary(f)) {
+            (2, false) => interior += 1,
+            (1, true) => boundary += 1,
+            _ => {
+                bad_count += 1;
+                if bad.len() < 5 {
+                    bad.push(f.iter().map(|p| p.to_vec()).collect());
+                }
+            }
+        }
+    }
+    let factorial: u64 = (1..=D as u64).product();
+    let domain = BigUint::from(factorial) * BigUint::from(side).pow(D as u32);
+    Conformity {
+        simplices: simplices.len(),
+        interior_faces: interior,
+        boundary_faces: boundary,
+        bad_faces: bad,
+        bad_face_count: bad_count,
+        conforming: bad_count == 0 && volume == domain,
+        volume_sum: volume.to_string(),
+        domain_volume: domain.to_string(),
+    }
+}
+
+/// An isosurface by marching tetrahedra on a 3-D current mesh, and whether it is closed.
+#[derive(Clone, Debug)]
+pub struct TetSurface {
+    /// The triangles (grid coordinates), one vertex per cut mesh edge.
+    pub mesh: Mesh,
+    /// Surface edges used by one triangle that do not lie on the domain boundary, or by more
+    /// than two: zero when the surface is closed away from the boundary.
+    pub open_edges: usize,
+}
+
+/// Marching tetrahedra at `iso` on `tets` with the DMV's values (`F > iso` is inside). Surface
+/// vertices are keyed by the cut mesh edge, so neighbouring tetrahedra share them exactly.
+pub fn marching_tetrahedra<A: DmvAccess<3>>(
+    dmv: &A,
+    tets: &[Simplex<3>],
+    iso: f64,
+) -> Result<TetSurface, RefineError> {
+    let side = dmv.hierarchy().side();
+    let mut ids: HashMap<(Point<3>, Point<3>), u32> = HashMap::new();
+    let mut vertices: Vec<[f64; 3]> = Vec::new();
+    let mut triangles: Vec<[u32; 3]> = Vec::new();
+    let mut tri_edges: Vec<[(Point<3>, Point<3>); 3]> = Vec::new();
+    for t in tets {
+        let v = t.vertices();
+        let mut f = [0.0f64; 4];
+        for j in 0..4 {
+            f[j] = dmv.value(&v[j]).ok_or_else(|| RefineError::Missing {
+                center: v[j].iter().map(|&x| u64::from(x)).collect(),
+            })?;
+        }
+        let inside: Vec<usize> = (0..4).filter(|&j| f[j] > iso).collect();
+        let outside: Vec<usize> = (0..4).filter(|&j| f[j] <= iso).collect();
+        let mut cut = |a: usize, b: usize| -> (u32, (Point<3>, Point<3>)) {
+            let key = if v[a] < v[b] {
+                (v[a], v[b])
+            } else {
+                (v[b], v[a])
+            };
+            let id = *ids.entry(key).or_insert_with(|| {
+                let s = (iso - f[a]) / (f[b] - f[a]);
+                vertices.push(std::array::from_fn(|k| {
+                    f64::from(v[a][k]) + s * (f64::from(v[b][k]) - f64::from(v[a][k]))
+                }));
+                (vertices.len() - 1) as u32
+            });
+            (id, key)
+        };
+        let polygon: Vec<(u32, (Point<3>, Point<3>))> = match (inside.len(), outside.len()) {
+            (1, 3) => outside.iter().map(|&o| cut(inside[0], o)).collect(),
+            (3, 1) => inside.iter().map(|&i| cut(i, outside[0])).collect(),
+            (2, 2) => vec![
+                cut(inside[0], outside[0]),
+                cut(inside[0], outside[1]),
+                cut(inside[1], outside[1]),
+                cut(inside[1], outside[0]),
+            ],
+            _ => continue,
+        };
+        // Orient towards decreasing F: the normal points from inside to outside.
+        let gi: [f64; 3] = centroid(v, &inside);
+        let go: [f64; 3] = centroid(v, &outside);
+        let dir = [go[0] - gi[0], go[1] - gi[1], go[2] - gi[2]];
+        let mut emit = |a: usize, b: usize, c: usize| {
+            let (pa, pb, pc) = (polygon[a], polygon[b], polygon[c]);
+            let (x, y, z) = (
+                vertices[pa.0 as usize],
+                vertices[pb.0 as usize],
+                vertices[pc.0 as usize],
+            );
+            let n = cross(sub(y, x), sub(z, x));
+            let tri = if n[0] * dir[0] + n[1] * dir[1] + n[2] * dir[2] >= 0.0 {
+                [pa, pb, pc]
+            } else {
+                [pa, pc, pb]
+            };
+            triangles.push([tri[0].0, tri[1].0, tri[2].0]);
+            tri_edges.push([tri[0].1, tri[1].1, tri[2].1]);
+        };
+        emit(0, 1, 2);
+        if polygon.len() == 4 {
+            emit(0, 2, 3);
+        }
+    }
+    // Closedness: every surface edge in two triangles, unless it lies in a boundary face.
+    let mut edge_use: HashMap<(u32, u32), (u32, bool)> = HashMap::new();
+    for (tri, keys) in triangles.iter().zip(&tri_edges) {
+        for j in 0..3 {
+            let (a, b) = (tri[j], tri[(j + 1) % 3]);
+            let (ka, kb) = (keys[j], keys[(j + 1) % 3]);
+            let pts = [ka.0, ka.1, kb.0, kb.1];
+            let boundary = (0..3).any(|k| {
+                let x = pts[0][k];
+                (x == 0 || x == side) && pts.iter().all(|p| p[k] == x)
+            });
+            let e = edge_use
+                .entry((a.min(b), a.max(b)))
+                .or_insert((0, boundary));
+            e.0 += 1;
+        }
+    }
+    let open_edges = edge_use
+        .values()
+        .filter(|&&(n, boundary)| !(n == 2 || (n == 1 && boundary)))
+        .count();
+    Ok(TetSurface {
+        mesh: Mesh {
+            vertices,
+            triangles,
+            scalars: None,
+            normals: None,
+        },
+        open_edges,
+    })
+}
+
+fn centroid(v: &[Point<3>], which: &[usize]) -> [f64; 3] {
+    let n = which.len() as f64;
+    std::array::from_fn(|k| which.iter().map(|&j| f64::from(v[j][k])).sum::<f64>() / n)
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}

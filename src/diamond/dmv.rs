@@ -228,7 +228,12 @@ impl<const D: usize> FullDmv<D> {
                 .or_default()
                 .push((dia.diamond_type().index(), self.data_at(i)));
         }
-        SupercubeDmv::from_cubes(hier, corner_values(&self.field), cubes)
+        SupercubeDmv::from_cubes(
+            hier,
+            self.field.real_dims(),
+            corner_values(&self.field),
+            cubes,
+        )
     }
 }
 
@@ -357,6 +362,8 @@ pub const fn flag_words(d: usize) -> usize {
 #[derive(Clone, Debug)]
 pub struct SupercubeDmv<const D: usize> {
     pub(crate) hier: Hierarchy<D>,
+    /// The original volume's sides (before padding).
+    pub(crate) real: [usize; D],
     pub(crate) corners: Vec<f64>,
     /// Per scale `γ`: origin → supercube number.
     pub(crate) levels: Vec<PointMap<u32, D>>,
@@ -374,12 +381,14 @@ impl<const D: usize> SupercubeDmv<D> {
     /// From supercubes in (scale, origin) order, each with its `(type index, data)` pairs.
     pub(crate) fn from_cubes(
         hier: Hierarchy<D>,
+        real: [usize; D],
         corners: Vec<f64>,
         cubes: std::collections::BTreeMap<(u32, Point<D>), Vec<(usize, DiamondData)>>,
     ) -> SupercubeDmv<D> {
         let w = flag_words(D);
         let mut out = SupercubeDmv {
             hier,
+            real,
             corners,
             levels: vec![PointMap::default(); hier.levels() as usize],
             keys: Vec::with_capacity(cubes.len()),
@@ -421,6 +430,11 @@ impl<const D: usize> SupercubeDmv<D> {
     /// The hash tables' buckets, all scales together.
     pub fn capacity(&self) -> usize {
         self.levels.iter().map(|m| m.capacity()).sum()
+    }
+
+    /// The original volume's sides (before padding).
+    pub fn real_dims(&self) -> [usize; D] {
+        self.real
     }
 
     /// The position of `dia`'s datum in the packed array, if held: scale → origin → prefix
@@ -492,6 +506,92 @@ pub fn storage(nf: u64, np: u64, ns: u64, b_delta: u64, b_v: u64, b_sigma: u64) 
 pub fn index_bytes(d: usize, levels: u32) -> (u64, u64) {
     let coord = u64::from(levels + 1).div_ceil(8);
     let bv = d as u64 * coord;
-    let flags = (((1u64 << (2 * d)) - (1u64 << d)) as u64).div_ceil(8);
+    let flags = ((1u64 << (2 * d)) - (1u64 << d)).div_ceil(8);
     (bv, bv + flags + 4)
+}
+
+/// What a partial DMV holds and costs (Tables 1–3).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct DmvSummary {
+    /// `n_p`: diamonds kept.
+    pub diamonds: usize,
+    /// `n_s`: supercubes holding them.
+    pub supercubes: usize,
+    /// `n_f`: grid points of the padded grid.
+    pub grid_points: usize,
+    /// Samples of the original volume.
+    pub real_samples: usize,
+    /// `ρ = n_p / n_f`, both counted over the original (unpadded) samples only.
+    pub density: f64,
+    /// `κ = n_p / n_s`.
+    pub concentration: f64,
+    /// Table 1's sizes with geocert's byte counts.
+    pub bytes: StorageSizes,
+    /// `b_δ`, `b_v`, `b_σ`.
+    pub bytes_per: [u64; 3],
+}
+
+impl<const D: usize> FullDmv<D> {
+    /// The summary of `sel` encoded as `ds`; `value_bytes` is 4 when values are stored as
+    /// `f32`, 8 for `f64` (`b_δ` adds the error and the range, 12 bytes).
+    pub fn summary(
+        &self,
+        sel: &Selection<D>,
+        ds: &SupercubeDmv<D>,
+        value_bytes: u64,
+    ) -> DmvSummary {
+        let real_kept = sel
+            .indices()
+            .filter(|&i| self.field.is_real(&self.field.point(i)))
+            .count();
+        let real = self.field.real_count();
+        let b_delta = value_bytes + 12;
+        let (b_v, b_sigma) = index_bytes(D, self.field.hierarchy().levels());
+        let np = sel.count();
+        DmvSummary {
+            diamonds: np,
+            supercubes: ds.supercubes(),
+            grid_points: self.len(),
+            real_samples: real,
+            density: real_kept as f64 / real as f64,
+            concentration: np as f64 / ds.supercubes().max(1) as f64,
+            bytes: storage(
+                self.len() as u64,
+                np as u64,
+                ds.supercubes() as u64,
+                b_delta,
+                b_v,
+                b_sigma,
+            ),
+            bytes_per: [b_delta, b_v, b_sigma],
+        }
+    }
+}
+
+impl<const D: usize> DiamondDmv<D> {
+    /// `Δd` holding the same diamonds as `ds`.
+    pub fn from_supercubes(ds: &SupercubeDmv<D>) -> DiamondDmv<D> {
+        let types: Vec<super::DiamondType<D>> = super::DiamondType::all().collect();
+        let w = flag_words(D);
+        let mut map = PointMap::default();
+        map.reserve(ds.len());
+        for (n, &(scale, origin)) in ds.keys.iter().enumerate() {
+            let cube = super::Supercube { origin, scale };
+            let mut next = ds.start[n] as usize;
+            for (t, tau) in types.iter().enumerate() {
+                if ds.flags[n * w + t / 64] >> (t % 64) & 1 == 1 {
+                    let dia = cube
+                        .diamond(&ds.hier, *tau)
+                        .expect("a Δs holds diamonds of its grid");
+                    map.insert(dia.center(), ds.data[next]);
+                    next += 1;
+                }
+            }
+        }
+        DiamondDmv {
+            hier: ds.hier,
+            map,
+            corners: ds.corners.clone(),
+        }
+    }
 }

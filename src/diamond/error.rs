@@ -52,112 +52,137 @@ fn gamma(n: usize) -> f64 {
 }
 
 /// The error and range of `dia` on `field` by the join formula, with a certified interval.
+///
+/// The points are visited without a bounding-box scan: for each offset `w` along the even axes
+/// (clipped to the domain), the odd offsets run over `‖u‖∞ ≤ h − ‖w‖∞`; the even chain's part
+/// of the interpolant depends on `w` only and is summed once per `w`.
 pub fn diamond_stats_fast<const D: usize>(field: &Field<D>, dia: &Diamond<D>) -> DiamondStats {
     let h = i64::from(dia.half_width());
     let side = i64::from(field.hierarchy().side());
+    let values = field.values();
+    let mut stride = [0i64; D];
+    let mut st = 1i64;
+    for s in stride.iter_mut() {
+        *s = st;
+        st *= side + 1;
+    }
     let c = dia.center().map(i64::from);
+    let c_idx: i64 = (0..D).map(|k| c[k] * stride[k]).sum();
     let odd = dia.odd_axes();
     let [a, _] = dia.spine();
-    let a = a.map(i64::from);
-    // s_k: the spine's direction along each odd axis.
-    let s: [i64; D] = std::array::from_fn(|k| {
-        if odd >> k & 1 == 0 {
-            0
-        } else if c[k] > a[k] {
-            1
+    let a_idx: i64 = (0..D).map(|k| i64::from(a[k]) * stride[k]).sum();
+    // Odd axes (with the spine's direction) and even axes.
+    let mut oa = [(0usize, 0i64); D];
+    let mut m = 0;
+    let mut ea = [0usize; D];
+    let mut ne = 0;
+    for k in 0..D {
+        if odd >> k & 1 == 1 {
+            oa[m] = (k, if c[k] > i64::from(a[k]) { 1 } else { -1 });
+            m += 1;
         } else {
-            -1
+            ea[ne] = k;
+            ne += 1;
         }
-    });
-    let lo: [i64; D] = std::array::from_fn(|k| (c[k] - h).max(0));
-    let hi: [i64; D] = std::array::from_fn(|k| (c[k] + h).min(side));
-    let mut p = lo;
+    }
+    let g = gamma(D + 4) * 2.0;
+    let two_h = (2 * h) as f64;
     let (mut error_lo, mut error_hi) = (0.0f64, 0.0f64);
     let (mut min, mut max) = (f64::INFINITY, f64::NEG_INFINITY);
-    let g = gamma(D + 4);
-    let two_h = (2 * h) as f64;
+    // Even offsets, clipped to the domain.
+    let wlo: [i64; D] = std::array::from_fn(|j| if j < ne { (-h).max(-c[ea[j]]) } else { 0 });
+    let whi: [i64; D] = std::array::from_fn(|j| if j < ne { h.min(side - c[ea[j]]) } else { 0 });
+    let mut w = wlo;
     loop {
-        let mut nu = 0;
-        let mut nw = 0;
-        for k in 0..D {
-            let o = (p[k] - c[k]).abs();
-            if odd >> k & 1 == 1 {
-                nu = nu.max(o);
-            } else {
-                nw = nw.max(o);
-            }
+        let nw = w[..ne].iter().map(|x| x.abs()).max().unwrap_or(0);
+        let w_idx: i64 = (0..ne).map(|j| w[j] * stride[ea[j]]).sum();
+        // The even chain: c + h·sign(w) along the axes by decreasing |w|.
+        let mut order = [(0i64, 0usize); D];
+        for j in 0..ne {
+            order[j] = (w[j].abs(), j);
         }
-        if nu + nw <= h {
-            let fp = field.at(&p.map(|x| x as u32));
+        order[..ne].sort_unstable_by_key(|&(x, _)| std::cmp::Reverse(x));
+        let (mut acc_e, mut abs_e) = (0.0f64, 0.0f64);
+        let mut q = c_idx;
+        for t in 0..ne {
+            let (wk, j) = order[t];
+            if wk == 0 {
+                break;
+            }
+            q += h * w[j].signum() * stride[ea[j]];
+            let next = if t + 1 < ne { order[t + 1].0 } else { 0 };
+            let term = (2 * (wk - next)) as f64 * values[q as usize];
+            acc_e += term;
+            abs_e += term.abs();
+        }
+        let r = h - nw;
+        let lambda = 2 * r;
+        // Odd offsets u ∈ [−r, r]^m.
+        let mut u = [0i64; D];
+        for x in u[..m].iter_mut() {
+            *x = -r;
+        }
+        loop {
+            let mut idx = c_idx + w_idx;
+            let mut t = [(0i64, 0usize); D];
+            for j in 0..m {
+                let (k, s) = oa[j];
+                idx += u[j] * stride[k];
+                t[j] = (s * u[j] + r, j);
+            }
+            let fp = values[idx as usize];
             min = min.min(fp);
             max = max.max(fp);
-            // Odd axes: T_k, sorted descending, along the Kuhn chain from a.
-            let mut t = [(0i64, 0usize); D];
-            let mut m = 0;
-            let mut e = [(0i64, 0usize); D];
-            let mut ne = 0;
-            for k in 0..D {
-                if odd >> k & 1 == 1 {
-                    t[m] = (s[k] * (p[k] - c[k]) + h - nw, k);
-                    m += 1;
-                } else {
-                    e[ne] = ((p[k] - c[k]).abs(), k);
-                    ne += 1;
-                }
-            }
-            t[..m].sort_unstable_by(|x, y| y.0.cmp(&x.0));
-            e[..ne].sort_unstable_by(|x, y| y.0.cmp(&x.0));
-            let mut acc = 0.0f64;
-            let mut abs = 0.0f64;
-            let mut add = |weight: i64, v: &[i64; D]| {
-                if weight != 0 {
-                    let term = weight as f64 * field.at(&v.map(|x| x as u32));
+            t[..m].sort_unstable_by_key(|&(x, _)| std::cmp::Reverse(x));
+            let (mut acc, mut abs) = (acc_e, abs_e);
+            let mut v = a_idx;
+            let mut prev = lambda;
+            for &(tk, j) in &t[..m] {
+                if prev != tk {
+                    let term = (prev - tk) as f64 * values[v as usize];
                     acc += term;
                     abs += term.abs();
                 }
-            };
-            let mut v = a;
-            let lambda = 2 * (h - nw);
-            let mut prev = lambda;
-            for &(tk, k) in &t[..m] {
-                add(prev - tk, &v);
-                v[k] += 2 * h * s[k];
+                let (k, s) = oa[j];
+                v += 2 * h * s * stride[k];
                 prev = tk;
             }
-            add(prev, &v);
-            let mut q = c;
-            for j in 0..ne {
-                let (wk, k) = e[j];
-                if wk == 0 {
-                    break;
-                }
-                q[k] += h * (p[k] - c[k]).signum();
-                let next = if j + 1 < ne { e[j + 1].0 } else { 0 };
-                add(2 * (wk - next), &q);
+            if prev != 0 {
+                let term = prev as f64 * values[v as usize];
+                acc += term;
+                abs += term.abs();
             }
             let err = (fp - acc / two_h).abs();
-            let bound = g * (abs / two_h + fp.abs()) * 2.0;
+            let bound = g * (abs / two_h + fp.abs());
             error_lo = error_lo.max(err - bound);
             error_hi = error_hi.max(err + bound);
-        }
-        // Next point of the box, axis 0 fastest.
-        let mut k = 0;
-        loop {
-            if k == D {
-                return DiamondStats {
-                    error_lo: error_lo.max(0.0),
-                    error_hi,
-                    min,
-                    max,
-                };
+            // Next u.
+            let mut j = 0;
+            while j < m && u[j] == r {
+                u[j] = -r;
+                j += 1;
             }
-            if p[k] < hi[k] {
-                p[k] += 1;
+            if j == m {
                 break;
             }
-            p[k] = lo[k];
-            k += 1;
+            u[j] += 1;
         }
+        // Next w.
+        let mut j = 0;
+        while j < ne && w[j] == whi[j] {
+            w[j] = wlo[j];
+            j += 1;
+        }
+        if j == ne {
+            break;
+        }
+        w[j] += 1;
+    }
+    DiamondStats {
+        error_lo: error_lo.max(0.0),
+        error_hi,
+        min,
+        max,
     }
 }
 

@@ -36,25 +36,29 @@ mod dmv;
 mod error;
 pub mod explicit;
 mod field;
+mod file;
 mod front;
 mod refine;
 mod supercube;
+mod volumes;
 
 pub use code::{Diamond, Hierarchy, Points, MAX_LEVELS};
 pub use dmv::{
-    flag_words, index_bytes, storage, DiamondData, DiamondDmv, DmvAccess, FullDmv, PointHasher,
-    PointMap, Selection, StorageSizes, SupercubeDmv,
+    flag_words, index_bytes, storage, DiamondData, DiamondDmv, DmvAccess, DmvSummary, FullDmv,
+    PointHasher, PointMap, Selection, StorageSizes, SupercubeDmv,
 };
 pub use error::{
     diamond_stats_exact, diamond_stats_fast, simplices_stats_exact, DiamondStats, ExactStats,
 };
 pub use field::Field;
+pub use file::write_vtk_tets;
 pub use front::{absent_parent_flags, full_flags, DiamondFront, Front, SupercubeFront};
 pub use refine::{
     check_conforming, current_mesh, marching_tetrahedra, Conformity, Lod, RefineError, Refiner,
     TetSurface,
 };
 pub use supercube::{supercube_edges, DiamondType, Supercube};
+pub use volumes::{builtin_volume, BUILTIN_VOLUMES};
 
 use num_bigint::{BigInt, BigUint};
 use num_traits::Zero;
@@ -106,6 +110,14 @@ pub enum DiamondError {
     /// samples.
     #[error("volume: {0}")]
     Volume(String),
+    /// A `.dmv` file that cannot be read.
+    #[error(".dmv file, byte {offset}: {what}")]
+    File {
+        /// Where.
+        offset: usize,
+        /// What is wrong.
+        what: String,
+    },
     /// A type code with bits beyond `2d` or with every low bit zero.
     #[error(
         "type code {code:#b} is not a valid {d}-D diamond type (2 bits per axis, some low bit set)"

@@ -13,6 +13,7 @@ macro_rules! print {
 }
 
 mod decimate;
+mod dmv;
 mod ffd;
 mod mc;
 mod out;
@@ -64,6 +65,10 @@ enum Command {
     /// components with their types and certified t-extreme points.
     #[command(subcommand)]
     Sweep(sweep::Command),
+    /// Diamond-based multiresolution volumes (Weiss & De Floriani): supercube-encoded partial
+    /// DMVs, selective refinement with diamond or supercube fronts, adaptive isosurfaces.
+    #[command(subcommand)]
+    Dmv(dmv::Command),
 }
 
 /// Exit codes: 0 done (whatever the verdict), 1 a refused certificate / failed proof / inexact
@@ -79,6 +84,7 @@ fn main() -> ExitCode {
         Command::Undecimate(a) => decimate::undo(a),
         Command::Solve(a) => solve::run(a),
         Command::Sweep(c) => sweep::run(c),
+        Command::Dmv(c) => dmv::run(c),
     };
     result.unwrap_or_else(|e| {
         eprintln!("error: {e}");

@@ -181,28 +181,7 @@ fn extract_volume(
 ) -> Result<ExitCode, String> {
     let format = Format::from_path(&out).map_err(|e| e.to_string())?;
     let iso_q = parse_rational(iso).map_err(|e| format!("--iso: {e}"))?;
-    let bytes = read_bytes(&volume)?;
-    let name = volume.to_string_lossy().to_ascii_lowercase();
-    let vol = if name.ends_with(".nii") || name.ends_with(".nii.gz") {
-        if dims.is_some() || ty.is_some() {
-            return Err(
-                "--dims and --type are for raw volumes; NIfTI files carry their own".into(),
-            );
-        }
-        geocert::mc::nifti::read_nifti(&bytes)
-    } else {
-        let (Some(dims), Some(ty)) = (dims, ty) else {
-            return Err(format!(
-                "{}: a raw volume needs --dims X Y Z and --type (or use a .nii / .nii.gz file)",
-                volume.display()
-            ));
-        };
-        let dims: [usize; 3] = dims
-            .try_into()
-            .map_err(|_| "--dims takes three sizes".to_string())?;
-        read_raw(&bytes, dims, ty)
-    }
-    .map_err(|e| format!("{}: {e}", volume.display()))?;
+    let vol = load_volume(&volume, dims, ty)?;
     let start = std::time::Instant::now();
     let (mesh, stats) = extract(&vol, &iso_q, &ExtractOptions::new().with_path(path))
         .map_err(|e| format!("--iso {iso}: {e}"))?;
@@ -229,6 +208,36 @@ fn extract_volume(
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Reads a NIfTI (`.nii`, `.nii.gz`) or raw volume (`--dims X Y Z --type T`).
+pub(crate) fn load_volume(
+    volume: &std::path::Path,
+    dims: Option<Vec<usize>>,
+    ty: Option<RawType>,
+) -> Result<geocert::mc::grid::Volume<f64>, String> {
+    let bytes = read_bytes(volume)?;
+    let name = volume.to_string_lossy().to_ascii_lowercase();
+    if name.ends_with(".nii") || name.ends_with(".nii.gz") {
+        if dims.is_some() || ty.is_some() {
+            return Err(
+                "--dims and --type are for raw volumes; NIfTI files carry their own".into(),
+            );
+        }
+        geocert::mc::nifti::read_nifti(&bytes)
+    } else {
+        let (Some(dims), Some(ty)) = (dims, ty) else {
+            return Err(format!(
+                "{}: a raw volume needs --dims X Y Z and --type (or use a .nii / .nii.gz file)",
+                volume.display()
+            ));
+        };
+        let dims: [usize; 3] = dims
+            .try_into()
+            .map_err(|_| "--dims takes three sizes".to_string())?;
+        read_raw(&bytes, dims, ty)
+    }
+    .map_err(|e| format!("{}: {e}", volume.display()))
 }
 
 /// Polygonises a finite element model on either path and writes the mesh.

@@ -142,6 +142,23 @@ fn differences<const D: usize>(dia: &Diamond<D>, e: &explicit::ExplicitDiamond<D
     if !slots_ok {
         why.push("a simplex's parent slot is no parent".into());
     }
+    // The fast slot formulas: absent slots, and each parent found in its own slot.
+    let absent = (0..dia.parent_slots())
+        .filter(|&s| dia.parent_in_slot(s).is_none())
+        .fold(0u32, |m, s| m | 1 << s);
+    if absent != dia.absent_parent_flags() {
+        why.push(format!(
+            "absent parent flags {:#b} vs {absent:#b}",
+            dia.absent_parent_flags()
+        ));
+    }
+    for s in 0..dia.parent_slots() {
+        if let Some(p) = dia.parent_in_slot(s) {
+            if dia.slot_of_parent(&p) != Some(s) {
+                why.push(format!("parent {:?} not found in its slot {s}", p.center()));
+            }
+        }
+    }
     // The vertices are the simplices' vertices.
     let from_simplices: BTreeSet<_> = e
         .simplices
@@ -191,7 +208,7 @@ pub fn implicit_vs_explicit_on(grids: &[(usize, u32)]) -> ProofOutcome {
     let mut t = Tally::new(
         "diamond.implicit-vs-explicit",
         &format!(
-            "every grid point of [0,2^N]^d for (d, N ≤) {grids:?}: the bit encoding's spine, class, simplices, vertices, parents, children and parent slots equal the explicit Maubach hierarchy's; diamond and simplex totals (2^N+1)^d − 2^d and d!(2^(dN+1) − 1); interior class-i diamonds have (d−i)!i!2^i simplices, d or 2i parents, 2(d−i) or 2^d children"
+            "every grid point of [0,2^N]^d for (d, N ≤) {grids:?}: the bit encoding's spine, class, simplices, vertices, parents, children, parent slots (and the fast slot formulas) equal the explicit Maubach hierarchy's; diamond and simplex totals (2^N+1)^d − 2^d and d!(2^(dN+1) − 1); interior class-i diamonds have (d−i)!i!2^i simplices, d or 2i parents, 2(d−i) or 2^d children"
         ),
     );
     let mut counts = Vec::new();

@@ -83,7 +83,7 @@ impl<const D: usize> Hierarchy<D> {
     }
 
     /// [`Hierarchy::diamond`] for a point known to be a valid central vertex.
-    fn diamond_unchecked(&self, center: Point<D>) -> Diamond<D> {
+    pub(super) fn diamond_unchecked(&self, center: Point<D>) -> Diamond<D> {
         // The scale: the fewest trailing zeros (eq. 1); `0` has 32, more than any `N`.
         let scale = center.iter().map(|x| x.trailing_zeros()).min().unwrap_or(0);
         Diamond {
@@ -96,11 +96,6 @@ impl<const D: usize> Hierarchy<D> {
     /// The base diamond: the class-0 diamond at the domain's centre, spine the main diagonal.
     pub fn root(&self) -> Diamond<D> {
         self.diamond_unchecked([self.side() / 2; D])
-    }
-
-    /// A valid central vertex's diamond, or `None` (outside the domain or a corner).
-    fn valid(&self, p: Point<D>) -> Option<Diamond<D>> {
-        (self.contains(&p) && !self.is_corner(&p)).then(|| self.diamond_unchecked(p))
     }
 }
 
@@ -227,7 +222,7 @@ impl<const D: usize> Diamond<D> {
         for t in 0..3usize.pow(even.len() as u32) {
             let mut off = [0i64; D];
             let mut r = t;
-            for &k in &even {
+            for &k in even.iter() {
                 off[k] = (r % 3) as i64 - 1;
                 r /= 3;
             }
@@ -239,9 +234,69 @@ impl<const D: usize> Diamond<D> {
     }
 
     /// The odd and the even axes, in increasing order.
-    fn axes(&self) -> (Vec<usize>, Vec<usize>) {
+    fn axes(&self) -> (Axes<D>, Axes<D>) {
         let odd = self.odd_axes();
-        (0..D).partition(|&k| odd >> k & 1 == 1)
+        let mut o = Axes {
+            list: [0; D],
+            len: 0,
+        };
+        let mut e = o;
+        for k in 0..D {
+            let a = if odd >> k & 1 == 1 { &mut o } else { &mut e };
+            a.list[a.len] = k;
+            a.len += 1;
+        }
+        (o, e)
+    }
+
+    /// The slot in which `parent` (a parent of this diamond) appears, by the parents' formulas
+    /// of [`Diamond::parent_in_slot`]; `None` when `parent` is no parent.
+    #[inline]
+    pub fn slot_of_parent(&self, parent: &Diamond<D>) -> Option<usize> {
+        let slot = if self.class() == 0 {
+            // The parent (class d−1) has a single odd axis: its slot.
+            let odd = parent.odd_axes();
+            if odd.count_ones() != 1 {
+                return None;
+            }
+            odd.trailing_zeros() as usize
+        } else {
+            let k = (0..D).find(|&k| self.center[k] != parent.center[k])?;
+            let even = !self.odd_axes() & ((1 << D) - 1);
+            let rank = (even & ((1 << k) - 1)).count_ones() as usize;
+            2 * rank + usize::from(parent.center[k] > self.center[k])
+        };
+        (self.parent_in_slot(slot).as_ref() == Some(parent)).then_some(slot)
+    }
+
+    /// The flags of the slots whose parent does not exist: every slot of a class-0 diamond at
+    /// scale `N − 1` (the root's parents would be domain corners), and for class `i ≥ 1` the
+    /// slot `c ± h e_k` when `c_k` is `0` or `2^N`.
+    #[inline]
+    pub fn absent_parent_flags(&self) -> u32 {
+        if self.class() == 0 {
+            return if self.scale() + 1 == u32::from(self.levels) {
+                (1 << D) - 1
+            } else {
+                0
+            };
+        }
+        let side = self.hierarchy().side();
+        let odd = self.odd_axes();
+        let mut flags = 0;
+        let mut j = 0;
+        for k in 0..D {
+            if odd >> k & 1 == 0 {
+                if self.center[k] == 0 {
+                    flags |= 1 << (2 * j);
+                }
+                if self.center[k] == side {
+                    flags |= 1 << (2 * j + 1);
+                }
+                j += 1;
+            }
+        }
+        flags
     }
 
     /// Calls `f(simplex, parent_slot)` for every simplex of the diamond inside the domain;
@@ -315,24 +370,43 @@ impl<const D: usize> Diamond<D> {
     /// `a + 2h s_k e_k`. Class `i ≥ 1`: slot `2j + σ` is the class-`(i−1)` diamond at the same
     /// scale centred at `c ± h e_k`, `k` the `j`-th even axis, `+` when `σ = 1`.
     pub fn parent_in_slot(&self, slot: usize) -> Option<Diamond<D>> {
-        let hier = self.hierarchy();
-        let h = i64::from(self.half_width());
-        if self.class() == 0 {
-            if slot >= D {
+        let h = self.half_width();
+        let odd = self.odd_axes();
+        let mut p = self.center;
+        let scale = if odd.count_ones() as usize == D {
+            // Class 0: a + 2h s_k e_k, at scale γ + 1 (a corner, so absent, at γ + 1 = N).
+            if slot >= D || self.scale + 1 >= self.levels {
                 return None;
             }
             let [a, _] = self.spine();
-            let mut p = a.map(i64::from);
-            p[slot] += if self.up(slot) { 2 * h } else { -2 * h };
-            let p = to_point(p, hier.side())?;
-            hier.valid(p)
+            p = a;
+            if self.up(slot) {
+                p[slot] += 2 * h;
+            } else {
+                p[slot] -= 2 * h;
+            }
+            self.scale + 1
         } else {
-            let (_, even) = self.axes();
-            let k = *even.get(slot / 2)?;
-            let mut off = [0i64; D];
-            off[k] = if slot % 2 == 1 { 1 } else { -1 };
-            hier.valid(self.offset(off, self.half_width())?)
-        }
+            // Class i ≥ 1: c ± h e_k, k the (slot/2)-th even axis, at the same scale.
+            let k = (0..D).filter(|&k| odd >> k & 1 == 0).nth(slot / 2)?;
+            if slot % 2 == 1 {
+                if self.center[k] == self.hierarchy().side() {
+                    return None;
+                }
+                p[k] += h;
+            } else {
+                if self.center[k] == 0 {
+                    return None;
+                }
+                p[k] -= h;
+            }
+            self.scale
+        };
+        Some(Diamond {
+            center: p,
+            scale,
+            levels: self.levels,
+        })
     }
 
     /// The parents inside the domain, in slot order.
@@ -351,33 +425,56 @@ impl<const D: usize> Diamond<D> {
     /// `c + (h/2)·t`, `t ∈ {±1}^d` (`2^d`, none at scale 0).
     pub fn children(&self) -> Points<D> {
         let mut out = Points::new();
-        let (odd, _) = self.axes();
-        if self.class() + 1 < D {
-            for &k in &odd {
-                for sign in [-1, 1] {
-                    let mut off = [0i64; D];
-                    off[k] = sign;
-                    if let Some(p) = self.offset(off, self.half_width()) {
-                        out.push(p);
+        self.for_each_child(|c| out.push(c.center));
+        out
+    }
+
+    /// Calls `f` with each child inside the domain, in [`Diamond::children`]'s order.
+    #[inline]
+    pub fn for_each_child(&self, mut f: impl FnMut(Diamond<D>)) {
+        let odd = self.odd_axes();
+        let h = self.half_width();
+        if (odd.count_ones() as usize) > 1 {
+            // Same scale: an odd coordinate moves by ±h to a multiple of 2h.
+            for k in 0..D {
+                if odd >> k & 1 == 1 {
+                    for up in [false, true] {
+                        let mut p = self.center;
+                        p[k] = if up { p[k] + h } else { p[k] - h };
+                        f(Diamond {
+                            center: p,
+                            scale: self.scale,
+                            levels: self.levels,
+                        });
                     }
                 }
             }
         } else if self.scale > 0 {
-            for t in 0..1u32 << D {
-                let off: [i64; D] = std::array::from_fn(|k| if t >> k & 1 == 1 { 1 } else { -1 });
-                if let Some(p) = self.offset(off, self.half_width() / 2) {
-                    out.push(p);
+            let side = self.hierarchy().side();
+            let half = h / 2;
+            'corners: for t in 0..1u32 << D {
+                let mut p = self.center;
+                for k in 0..D {
+                    if t >> k & 1 == 1 {
+                        if p[k] == side {
+                            continue 'corners;
+                        }
+                        p[k] += half;
+                    } else {
+                        if p[k] == 0 {
+                            continue 'corners;
+                        }
+                        p[k] -= half;
+                    }
                 }
+                f(Diamond {
+                    center: p,
+                    scale: self.scale - 1,
+                    levels: self.levels,
+                });
             }
         }
-        out
     }
-}
-
-fn to_point<const D: usize>(p: [i64; D], side: u32) -> Option<Point<D>> {
-    p.iter()
-        .all(|&x| (0..=i64::from(side)).contains(&x))
-        .then(|| p.map(|x| x as u32))
 }
 
 /// All permutations of `0..n` (`n ≤ MAX_DIM`), each padded to `MAX_DIM` entries.
@@ -408,6 +505,20 @@ fn permutations(n: usize) -> &'static [[u8; MAX_DIM]] {
         rec(n, 0, 0, &mut cur, &mut out);
         out
     })
+}
+
+/// A short list of axes.
+#[derive(Clone, Copy, Debug)]
+struct Axes<const D: usize> {
+    list: [usize; D],
+    len: usize,
+}
+
+impl<const D: usize> std::ops::Deref for Axes<D> {
+    type Target = [usize];
+    fn deref(&self) -> &[usize] {
+        &self.list[..self.len]
+    }
 }
 
 /// A short list of grid points (at most `2^MAX_DIM`), without allocation.

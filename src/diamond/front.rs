@@ -19,6 +19,14 @@ pub trait Front<const D: usize> {
     fn flags(&self, dia: &Diamond<D>) -> u32;
     /// Sets the flags of `dia`; `0` removes it.
     fn set_flags(&mut self, dia: &Diamond<D>, flags: u32);
+    /// Adds `bits` to the flags of `dia`, starting from `absent` when it is not in the front.
+    fn add_flags(&mut self, dia: &Diamond<D>, absent: impl FnOnce() -> u32, bits: u32) {
+        let mut f = self.flags(dia);
+        if f == 0 {
+            f = absent();
+        }
+        self.set_flags(dia, f | bits);
+    }
     /// Every diamond in the front with its flags (in no particular order).
     fn for_each(&self, f: impl FnMut(Diamond<D>, u32));
     /// Diamonds in the front.
@@ -32,9 +40,7 @@ pub trait Front<const D: usize> {
 /// The flag bits of the slots whose parent does not exist (outside the domain, or above the
 /// root): always set.
 pub fn absent_parent_flags<const D: usize>(dia: &Diamond<D>) -> u32 {
-    (0..dia.parent_slots())
-        .filter(|&s| dia.parent_in_slot(s).is_none())
-        .fold(0, |m, s| m | 1 << s)
+    dia.absent_parent_flags()
 }
 
 /// All slots of `dia`.
@@ -67,6 +73,10 @@ impl<const D: usize> Front<D> for DiamondFront<D> {
         } else {
             self.map.insert(dia.center(), flags);
         }
+    }
+    #[inline]
+    fn add_flags(&mut self, dia: &Diamond<D>, absent: impl FnOnce() -> u32, bits: u32) {
+        *self.map.entry(dia.center()).or_insert_with(absent) |= bits;
     }
     fn for_each(&self, mut f: impl FnMut(Diamond<D>, u32)) {
         for (p, &flags) in &self.map {

@@ -157,16 +157,12 @@ impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
     /// the simplices `dia` contributes.
     fn split(&mut self, dia: &Diamond<D>) {
         self.front.set_flags(dia, 0);
-        for c in dia.children().iter() {
-            let child = self.hier.diamond(*c).expect("children are diamonds");
+        dia.for_each_child(|child| {
             let slot = slot_of_parent(&child, dia);
-            let mut flags = self.front.flags(&child);
-            if flags == 0 {
-                flags = absent_parent_flags(&child);
-            }
-            self.front.set_flags(&child, flags | 1 << slot);
+            self.front
+                .add_flags(&child, || absent_parent_flags(&child), 1 << slot);
             self.queue.push(child);
-        }
+        });
     }
 
     /// Undoes the subdivision of `dia`, whose children are all in the front and unrefined.
@@ -241,9 +237,10 @@ impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
 }
 
 /// The slot of `child` whose parent is `parent`.
+#[inline]
 fn slot_of_parent<const D: usize>(child: &Diamond<D>, parent: &Diamond<D>) -> usize {
-    (0..child.parent_slots())
-        .find(|&s| child.parent_in_slot(s).as_ref() == Some(parent))
+    child
+        .slot_of_parent(parent)
         .expect("a child names its parent in one slot")
 }
 

@@ -44,14 +44,21 @@ impl<const D: usize> DiamondType<D> {
     /// The position of this type among [`DiamondType::all`] (`0 ≤ index < 4^d − 2^d`): the
     /// slot of a supercube's internal map (Section 5.2).
     pub fn index(&self) -> usize {
-        // The codes below this one, minus the invalid ones below it. An invalid code has
-        // every low bit zero, so it is `Σ b_k 2^(2k+1)` for a pattern `b` of `d` bits.
-        let below = self.code as usize;
-        let invalid_below = (0..1usize << D)
-            .map(|p| (0..D).fold(0usize, |m, k| m | ((p >> k & 1) << (2 * k + 1))))
-            .filter(|&c| c < below)
-            .count();
-        below - invalid_below
+        static TABLES: [std::sync::OnceLock<Vec<u16>>; super::MAX_DIM + 1] =
+            [const { std::sync::OnceLock::new() }; super::MAX_DIM + 1];
+        let table = TABLES[D].get_or_init(|| {
+            let mut t = vec![u16::MAX; 1 << (2 * D)];
+            let mut next = 0u16;
+            for (code, slot) in t.iter_mut().enumerate() {
+                let low = (0..D).any(|k| code >> (2 * k) & 1 == 1);
+                if low {
+                    *slot = next;
+                    next += 1;
+                }
+            }
+            t
+        });
+        table[self.code as usize] as usize
     }
 
     /// The offset of the central vertex from the supercube origin, in units of `h`: `τ_k ∈

@@ -883,3 +883,87 @@ fn sweep_silhouette_writes_components_json_and_a_drawing() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("sphere-line"));
 }
+
+#[test]
+fn dmv_build_and_refine_end_to_end() {
+    let dmv = tmp("fuel.dmv");
+    let out = geocert()
+        .args([
+            "dmv",
+            "build",
+            "builtin:fuel:33",
+            "--iso",
+            "60,120",
+            "--json",
+            "--out",
+        ])
+        .arg(&dmv)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let np = v["diamonds"].as_u64().unwrap();
+    assert!(np > 0 && v["supercubes"].as_u64().unwrap() > 0);
+    assert!(v["bytes"]["supercube"].as_u64().unwrap() < v["bytes"]["full"].as_u64().unwrap());
+    let surface = tmp("fuel.ply");
+    let mesh = tmp("fuel.vtk");
+    for front in ["diamond", "supercube"] {
+        let out = geocert()
+            .args(["dmv", "refine"])
+            .arg(&dmv)
+            .args([
+                "--iso",
+                "60",
+                "--error",
+                "1",
+                "--front",
+                front,
+                "--json",
+                "--surface",
+            ])
+            .arg(&surface)
+            .arg("--mesh")
+            .arg(&mesh)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(r["conforming"], true);
+        assert_eq!(r["surface_closed"], true);
+        assert!(r["simplices"].as_u64().unwrap() > 6);
+        assert!(std::fs::read_to_string(&mesh)
+            .unwrap()
+            .contains("UNSTRUCTURED_GRID"));
+    }
+    // A corrupt file is refused with the byte offset, exit code 2.
+    let mut bytes = std::fs::read(&dmv).unwrap();
+    let n = bytes.len();
+    bytes[n / 2] ^= 0x55;
+    let bad = tmp("bad.dmv");
+    std::fs::write(&bad, &bytes).unwrap();
+    let out = geocert()
+        .args(["dmv", "refine"])
+        .arg(&bad)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("checksum"));
+    // Unknown built-ins and missing criteria are clear errors; nothing is written.
+    let none = tmp("none.dmv");
+    for args in [
+        vec!["dmv", "build", "builtin:nothing:9", "--error", "0", "--out"],
+        vec!["dmv", "build", "builtin:gyroid:9", "--out"],
+    ] {
+        let out = geocert().args(&args).arg(&none).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(!none.exists());
+    }
+}

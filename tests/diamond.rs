@@ -256,3 +256,104 @@ mod fronts {
         }
     }
 }
+
+mod partial {
+    use geocert::diamond::{
+        check_conforming, marching_tetrahedra, DiamondError, DiamondFront, DmvAccess, Field,
+        FullDmv, Lod, Refiner, SupercubeDmv, SupercubeFront,
+    };
+    use proptest::prelude::*;
+
+    /// A non-cubic volume (so that it is padded) of small integers plus noise.
+    fn volume(side: usize, seed: u64) -> Field<3> {
+        let dims = [side, side + 1, (side - 1).max(3)];
+        let mut x = seed | 1;
+        let values: Vec<f64> = (0..dims.iter().product::<usize>())
+            .map(|i| {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                let (a, b, c) = (i % dims[0], i / dims[0] % dims[1], i / dims[0] / dims[1]);
+                ((a * 7 + b * 3 + c * 5) % 40) as f64 + (x % 5) as f64
+            })
+            .collect();
+        Field::pad(dims, &values).unwrap()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(16))]
+
+        /// Partial DMVs are closed under ancestors, every vertex of a kept diamond is a kept
+        /// central vertex or a corner, the .dmv file reads back bit for bit, and the
+        /// isosurface on a refined mesh is closed away from the boundary.
+        #[test]
+        fn partial_dmvs_are_closed_and_files_round_trip(side in 3usize..=12, seed in any::<u64>(), iso in 1.0f64..40.0) {
+            let full = FullDmv::build(volume(side, seed));
+            let hier = full.field().hierarchy();
+            for sel in [full.select_by_error(3.0), full.select_by_isovalues(&[iso + 0.5])] {
+                let ds = full.supercube_encoding(&sel);
+                for i in sel.indices() {
+                    let d = hier.diamond(full.field().point(i)).unwrap();
+                    for p in d.parents().iter() {
+                        prop_assert!(sel.contains_index(full.field().index(p)));
+                    }
+                    for v in d.vertices() {
+                        prop_assert!(ds.value(&v).is_some(), "vertex {:?} of {:?}", v, d.center());
+                    }
+                }
+                let bytes = ds.to_bytes();
+                let back = SupercubeDmv::<3>::from_bytes(&bytes).unwrap();
+                prop_assert_eq!(back.to_bytes(), bytes.clone());
+                prop_assert_eq!(back.len(), sel.count());
+                for cut in [0, 8, bytes.len() / 2, bytes.len() - 1] {
+                    let e = SupercubeDmv::<3>::from_bytes(&bytes[..cut]);
+                    let refused = matches!(e, Err(DiamondError::File { .. }));
+                    prop_assert!(refused, "cut at {}: {:?}", cut, e.err());
+                }
+                let lod = Lod { error: Some(1.0), isovalues: vec![iso + 0.5], roi: None };
+                let mut r: Refiner<'_, 3, _, SupercubeFront<3>> = Refiner::new(&back);
+                r.refine(&lod).unwrap();
+                let mesh = r.mesh();
+                prop_assert!(check_conforming(&hier, &mesh).conforming);
+                let s = marching_tetrahedra(&back, &mesh, iso + 0.5).unwrap();
+                prop_assert_eq!(s.open_edges, 0);
+            }
+        }
+
+        /// 2-D (terrains) and 4-D (time-varying volumes): the two fronts give the same
+        /// conforming mesh.
+        #[test]
+        fn fronts_agree_in_2d_and_4d(seed in any::<u64>(), e in 0.0f64..8.0) {
+            let mut x = seed | 1;
+            let mut next = || { x ^= x << 13; x ^= x >> 7; x ^= x << 17; (x % 32) as f64 };
+            let v2: Vec<f64> = (0..17 * 17).map(|_| next()).collect();
+            let f2 = FullDmv::build(Field::<2>::pad([17, 17], &v2).unwrap());
+            let lod2 = Lod::<2> { error: Some(e), ..Lod::default() };
+            let mut a: Refiner<'_, 2, _, DiamondFront<2>> = Refiner::new(&f2);
+            let mut b: Refiner<'_, 2, _, SupercubeFront<2>> = Refiner::new(&f2);
+            a.refine(&lod2).unwrap();
+            b.refine(&lod2).unwrap();
+            let (mut ma, mut mb) = (a.mesh(), b.mesh());
+            for m in [&mut ma, &mut mb] {
+                for s in m.iter_mut() { *s = s.sorted(); }
+                m.sort_unstable();
+            }
+            prop_assert_eq!(&ma, &mb);
+            prop_assert!(check_conforming(&f2.field().hierarchy(), &ma).conforming);
+            let v4: Vec<f64> = (0..5usize.pow(4)).map(|_| next()).collect();
+            let f4 = FullDmv::build(Field::<4>::pad([5; 4], &v4).unwrap());
+            let lod4 = Lod::<4> { error: Some(e), ..Lod::default() };
+            let mut c: Refiner<'_, 4, _, DiamondFront<4>> = Refiner::new(&f4);
+            let mut d: Refiner<'_, 4, _, SupercubeFront<4>> = Refiner::new(&f4);
+            c.refine(&lod4).unwrap();
+            d.refine(&lod4).unwrap();
+            let (mut mc, mut md) = (c.mesh(), d.mesh());
+            for m in [&mut mc, &mut md] {
+                for s in m.iter_mut() { *s = s.sorted(); }
+                m.sort_unstable();
+            }
+            prop_assert_eq!(&mc, &md);
+            prop_assert!(check_conforming(&f4.field().hierarchy(), &mc).conforming);
+        }
+    }
+}

@@ -133,3 +133,15 @@ fn sweep_scene_regressions() {
     );
     assert!(n > 0, "the regression corpus must not be empty");
 }
+
+#[test]
+fn dmv_file_regressions() {
+    let n = replay("dmv_file", geocert::internals::fuzzing::check_dmv_file);
+    assert!(n > 0, "the regression corpus must not be empty");
+}
+
+#[test]
+fn dmv_refine_regressions() {
+    let n = replay("dmv_refine", geocert::internals::fuzzing::check_dmv_refine);
+    assert!(n > 0, "the regression corpus must not be empty");
+}

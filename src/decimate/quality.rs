@@ -216,6 +216,17 @@ impl<'a> ClosestPoints<'a> {
     /// The grid over `mesh`'s triangles, sized to cover `also` (the points to be queried)
     /// too; `None` when `mesh` has no triangles.
     pub fn new(mesh: &'a Mesh, also: &[[f64; 3]]) -> Option<ClosestPoints<'a>> {
+        Self::with_cell(mesh, also, None)
+    }
+
+    /// [`ClosestPoints::new`] with the grid's cell size given (for surfaces much larger than
+    /// their bounding box's side squared, such as isosurfaces of oscillating fields, where
+    /// the default puts many triangles in a cell).
+    pub fn with_cell(
+        mesh: &'a Mesh,
+        also: &[[f64; 3]],
+        cell: Option<f64>,
+    ) -> Option<ClosestPoints<'a>> {
         let (pv, tris) = (&mesh.vertices, &mesh.triangles);
         if tris.is_empty() {
             return None;
@@ -229,7 +240,8 @@ impl<'a> ClosestPoints<'a> {
         }
         let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max);
         // About one triangle per occupied cell of a surface: h ~ extent / √(triangles).
-        let h = (extent / (tris.len() as f64).sqrt())
+        let h = cell
+            .unwrap_or(extent / (tris.len() as f64).sqrt())
             .max(extent * 1e-9)
             .max(f64::MIN_POSITIVE);
         let mut cp = ClosestPoints {

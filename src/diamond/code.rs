@@ -454,17 +454,17 @@ impl<const D: usize> Diamond<D> {
             let half = h / 2;
             'corners: for t in 0..1u32 << D {
                 let mut p = self.center;
-                for k in 0..D {
+                for (k, x) in p.iter_mut().enumerate() {
                     if t >> k & 1 == 1 {
-                        if p[k] == side {
+                        if *x == side {
                             continue 'corners;
                         }
-                        p[k] += half;
+                        *x += half;
                     } else {
-                        if p[k] == 0 {
+                        if *x == 0 {
                             continue 'corners;
                         }
-                        p[k] -= half;
+                        *x -= half;
                     }
                 }
                 f(Diamond {

@@ -169,29 +169,39 @@ impl<const D: usize> FullDmv<D> {
         let hier = self.field.hierarchy();
         let n = self.len();
         let mut bits = vec![0u64; n.div_ceil(64)];
-        // Children before parents: a parent has a larger key `d·γ + (d − 1 − i)`.
-        let keys = D as u32 * (hier.levels() + 1);
-        let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); keys as usize];
-        for i in 0..n {
-            if let Ok(dia) = hier.diamond(self.field.point(i)) {
-                let key = D as u32 * dia.scale() + (D - 1 - dia.class()) as u32;
-                buckets[key as usize].push(i as u32);
-                if keep(&self.data_at(i)) {
-                    bits[i / 64] |= 1 << (i % 64);
-                }
-            }
-        }
-        for bucket in &buckets {
-            for &i in bucket {
-                let i = i as usize;
-                if bits[i / 64] >> (i % 64) & 1 == 1 {
-                    let dia = hier
-                        .diamond(self.field.point(i))
-                        .expect("bucketed points are diamonds");
-                    for p in dia.parents().iter() {
-                        let j = self.field.index(p);
-                        bits[j / 64] |= 1 << (j % 64);
+        let side = hier.side();
+        // Children before parents: scales from the finest, and within a scale the classes
+        // from d − 1 down to 0 (a class-i parent is class i − 1 at the same scale, a class-0
+        // diamond's parents are class d − 1 one scale up).
+        for scale in 0..hier.levels() {
+            let step = 1u32 << scale;
+            for class in (0..D).rev() {
+                let mut p = [0u32; D];
+                loop {
+                    let odd = (0..D).fold(0u32, |m, k| m | ((p[k] >> scale) & 1) << k);
+                    if odd != 0 && D - odd.count_ones() as usize == class {
+                        let i = self.field.index(&p);
+                        let kept = bits[i / 64] >> (i % 64) & 1 == 1 || keep(&self.data_at(i));
+                        if kept {
+                            bits[i / 64] |= 1 << (i % 64);
+                            let dia = hier.diamond_unchecked(p);
+                            for slot in 0..dia.parent_slots() {
+                                if let Some(parent) = dia.parent_in_slot(slot) {
+                                    let j = self.field.index(&parent.center());
+                                    bits[j / 64] |= 1 << (j % 64);
+                                }
+                            }
+                        }
                     }
+                    let mut k = 0;
+                    while k < D && p[k] + step > side {
+                        p[k] = 0;
+                        k += 1;
+                    }
+                    if k == D {
+                        break;
+                    }
+                    p[k] += step;
                 }
             }
         }

@@ -226,9 +226,9 @@ pub fn simplices_stats_exact<const D: usize>(
             // Barycentric coordinates times `total` (Cramer's rule).
             let mut lambdas = [0i128; super::MAX_DIM + 1];
             let mut rest = total;
-            for j in 1..=D {
-                lambdas[j] = det(Some((j, &p)));
-                rest -= lambdas[j];
+            for (j, l) in lambdas.iter_mut().enumerate().take(D + 1).skip(1) {
+                *l = det(Some((j, &p)));
+                rest -= *l;
             }
             lambdas[0] = rest;
             let inside = lambdas[..=D]

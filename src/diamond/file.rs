@@ -10,7 +10,7 @@
 //! FNV-1a 64 of every byte before it: u64
 //! ```
 
-use super::dmv::{flag_words, DiamondData, SupercubeDmv};
+use super::dmv::{flag_words, DiamondData, DmvAccess, SupercubeDmv};
 use super::{DiamondError, DiamondType, Hierarchy, Point, Supercube, MAX_LEVELS};
 use std::collections::BTreeMap;
 
@@ -205,7 +205,35 @@ impl<const D: usize> SupercubeDmv<D> {
         if diamonds != np {
             return Err(r.error(&format!("{diamonds} diamonds, the header says {np}")));
         }
-        Ok(SupercubeDmv::from_cubes(hier, real, corners, cubes))
+        let dmv = SupercubeDmv::from_cubes(hier, real, corners, cubes);
+        // A partial DMV is closed under ancestors (Section 6): every parent of a held diamond
+        // is held.
+        for &(scale, origin) in &dmv.keys {
+            let cube = Supercube { origin, scale };
+            for tau in &types {
+                let Ok(dia) = cube.diamond(&hier, *tau) else {
+                    continue;
+                };
+                if dmv.data(&dia).is_none() {
+                    continue;
+                }
+                for slot in 0..dia.parent_slots() {
+                    if let Some(p) = dia.parent_in_slot(slot) {
+                        if dmv.data(&p).is_none() {
+                            return Err(DiamondError::File {
+                                offset: r.at,
+                                what: format!(
+                                    "diamond {:?} is held but its parent {:?} is not: not closed under ancestors",
+                                    dia.center(),
+                                    p.center()
+                                ),
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        Ok(dmv)
     }
 }
 

@@ -31,6 +31,9 @@ pub(crate) enum Part {
     Solve,
     /// The swept-volume silhouettes of the built-in scenes; writes sweep.md and its pictures.
     Sweep,
+    /// Diamond hierarchies: the proofs at the report's sizes, partial DMVs, selective
+    /// refinement, adaptive isosurfaces against the peers; writes diamond.md.
+    Diamonds,
 }
 
 pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
@@ -38,6 +41,7 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
         Some(Part::McTable) => prove_mc_table(a.json),
         Some(Part::Solve) => prove_solve(a.out, a.json),
         Some(Part::Sweep) => prove_sweep(a.out, a.json),
+        Some(Part::Diamonds) => prove_diamonds(a.out, a.json),
         None => prove(a.out, a.json),
     }
 }
@@ -112,6 +116,8 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     bar.inc(1);
     bar.set_message("swept-volume silhouettes of the built-in scenes");
     let sweep_camp = report::sweep::sweep_campaign(&out);
+    bar.set_message("diamond hierarchies, DMVs and refinement (and OpenVDB, VTK, pymartini)");
+    let diamond_camp = report::diamond::diamond_campaign(&root, DIAMOND_SIDE);
     bar.finish_and_clear();
     let part = |prefix: &str| -> Vec<_> {
         outcomes
@@ -136,7 +142,9 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
         report::decimate::write_decimate_report(&out, &meta, &dec_camp).map_err(io)?,
         report::solve::write_solve_report(&out, &meta, &solve_camp).map_err(io)?,
         report::sweep::write_sweep_report(&out, &meta, &sweep_camp).map_err(io)?,
+        report::diamond::write_diamond_report(&out, &meta, &diamond_camp).map_err(io)?,
     ];
+    let diamond_ok = report::diamond::campaign_ok(&diamond_camp);
     let solve_ok = report::solve::campaign_ok(&solve_camp);
     let sweep_ok = report::sweep::campaign_ok(&sweep_camp);
     let dec_ok = report::decimate::campaign_ok(&dec_camp);
@@ -200,11 +208,21 @@ fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
                     ),
                     ok: sweep_ok,
                 },
+                report::IndexEntry {
+                    file: "diamond.md".into(),
+                    what: format!(
+                        "diamond hierarchies and supercubes ({} proofs, {} cases; {} volumes: partial DMVs, refinement on three encodings and two fronts, peers)",
+                        diamond_camp.proofs.len(),
+                        diamond_camp.proofs.iter().map(|p| p.cases).sum::<usize>(),
+                        diamond_camp.builds.len()
+                    ),
+                    ok: diamond_ok,
+                },
             ],
         )
         .map_err(io)?,
     );
-    let ok = kernel_ok && ffd_ok && mc_ok && dec_ok && solve_ok && sweep_ok;
+    let ok = kernel_ok && ffd_ok && mc_ok && dec_ok && solve_ok && sweep_ok && diamond_ok;
     if json {
         let v = serde_json::json!({"ok": ok, "proofs": outcomes, "campaign": camp, "timing": timing,
             "reports": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>()});
@@ -286,6 +304,43 @@ fn prove_sweep(out: PathBuf, json: bool) -> Result<ExitCode, String> {
                 "{} ({}): {} envelope components, {} t-extreme ({} re-checked), {} clusters, max |F| {:.1e}, max |G| {:.1e}, {:.3} s",
                 r.scene, r.path, r.envelope, r.t_extreme, r.t_extreme_verified, r.clusters, r.max_f, r.max_g, r.median_seconds
             );
+        }
+        println!("wrote {}", written.display());
+    }
+    Ok(status(ok))
+}
+
+/// The built-in volumes' side in the diamond report (the sparse fuel volume is twice as fine).
+const DIAMOND_SIDE: usize = 129;
+
+/// `prove diamonds`: the diamond campaign alone; writes diamond.md.
+fn prove_diamonds(out: PathBuf, json: bool) -> Result<ExitCode, String> {
+    let meta = RunMeta::collect();
+    let root = std::env::current_dir().map_err(|e| e.to_string())?;
+    let c = report::diamond::diamond_campaign(&root, DIAMOND_SIDE);
+    let written = report::diamond::write_diamond_report(&out, &meta, &c)
+        .map_err(|e| format!("writing {}: {e}", out.display()))?;
+    let ok = report::diamond::campaign_ok(&c);
+    if json {
+        println!("{}", pretty(&c)?);
+    } else {
+        for p in &c.proofs {
+            println!("{}", p.summary());
+        }
+        for b in &c.builds {
+            println!(
+                "{}: Δf built in {:.2} s ({} grid points)",
+                b.volume, b.seconds, b.grid_points
+            );
+        }
+        for r in &c.refinement {
+            println!(
+                "{} {} {}: {:.2} M diamonds/s, {} tetrahedra, {:.2} bytes/tet, conforming {}, same mesh {}",
+                r.volume, r.dmv, r.front, r.per_second / 1e6, r.simplices, r.bytes_per_simplex, r.conforming, r.same_mesh
+            );
+        }
+        for n in &c.notes {
+            println!("note: {n}");
         }
         println!("wrote {}", written.display());
     }

@@ -1,0 +1,45 @@
+"""Times pymartini (RTIN: 2-D longest-edge bisection) on a raw little-endian float32 height
+grid of SIZE x SIZE samples (x fastest, SIZE = 2^k + 1): Martini(SIZE).create_tile(grid), then
+tile.get_mesh(max_error) (called by `geocert prove`).
+
+usage: martini_tile.py HEIGHT.raw SIZE MAX_ERROR RUNS
+prints one JSON object: {"version", "median_s", "mesh_median_s", "triangles", "vertices"}.
+"""
+import json
+import statistics
+import sys
+import time
+
+import numpy as np
+from pymartini import Martini
+
+
+def main():
+    path, size, max_error, runs = sys.argv[1:5]
+    size, max_error, runs = int(size), float(max_error), int(runs)
+    data = np.fromfile(path, dtype="<f4")
+    if data.size != size * size:
+        raise SystemExit(f"{path}: {data.size} samples, expected {size * size}")
+    # pymartini indexes terrain[y * size + x] after transposing the (row, column) array.
+    terrain = data.reshape(size, size).T.copy()
+    totals, meshes = [], []
+    vertices = triangles = None
+    for _ in range(runs):
+        start = time.perf_counter()
+        tile = Martini(size).create_tile(terrain)
+        mid = time.perf_counter()
+        vertices, triangles = tile.get_mesh(max_error)
+        end = time.perf_counter()
+        totals.append(end - start)
+        meshes.append(end - mid)
+    print(json.dumps({
+        "version": "pymartini",
+        "median_s": statistics.median(totals),
+        "mesh_median_s": statistics.median(meshes),
+        "triangles": len(triangles) // 3,
+        "vertices": len(vertices) // 2,
+    }))
+
+
+if __name__ == "__main__":
+    main()

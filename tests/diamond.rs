@@ -1,7 +1,8 @@
 //! Diamond hierarchies: the fast error against the exact one, and bad input.
 
 use geocert::diamond::{
-    diamond_stats_exact, diamond_stats_fast, DiamondError, DiamondType, Field, Hierarchy,
+    diamond_stats_exact, diamond_stats_fast, diamond_stats_integer, integer_samples, DiamondError,
+    DiamondType, Field, Hierarchy,
 };
 use geocert::num::rational_to_f64;
 use proptest::prelude::*;
@@ -11,6 +12,7 @@ use proptest::prelude::*;
 fn fast_matches_exact<const D: usize>(dims: [usize; D], values: &[f64]) -> Result<usize, String> {
     let field = Field::<D>::pad(dims, values).map_err(|e| e.to_string())?;
     let hier = field.hierarchy();
+    let ints = integer_samples(&field);
     let mut checked = 0;
     for i in 0..field.values().len() {
         let p = field.point(i);
@@ -18,6 +20,17 @@ fn fast_matches_exact<const D: usize>(dims: [usize; D], values: &[f64]) -> Resul
         let fast = diamond_stats_fast(&field, &dia);
         let exact = diamond_stats_exact(&field, &dia);
         let e = rational_to_f64(&exact.error);
+        if let Some(ints) = &ints {
+            // The integer route is exact: the error is a dyadic rational an f64 holds.
+            let s = diamond_stats_integer(ints, hier.side(), &dia);
+            if geocert::num::rational_from_f64(s.error_hi, "e").unwrap() != exact.error
+                || s.error_lo != s.error_hi
+                || s.min != exact.min
+                || s.max != exact.max
+            {
+                return Err(format!("diamond {p:?}: integer {s:?}, exact {e}"));
+            }
+        }
         if !(fast.error_lo <= e && e <= fast.error_hi)
             || fast.min != exact.min
             || fast.max != exact.max
@@ -45,7 +58,7 @@ proptest! {
         let mut x = seed | 1;
         let values: Vec<f64> = (0..n).map(|_| {
             x ^= x << 13; x ^= x >> 7; x ^= x << 17;
-            if float { (x % 20001) as f64 / 64.0 - 150.0 + 1.0 / 3.0 } else { (x % 256) as f64 }
+            if float { (x % 20001) as f64 / 64.0 - 150.0 + 1.0 / 3.0 } else { (x % 256) as f64 - 100.0 }
         }).collect();
         let checked = fast_matches_exact([dims.0, dims.1, dims.2], &values);
         prop_assert!(checked.is_ok(), "{:?}", checked);
@@ -56,8 +69,10 @@ proptest! {
         let mut x = seed | 1;
         let mut next = || { x ^= x << 13; x ^= x >> 7; x ^= x << 17; (x % 1000) as f64 / 8.0 };
         let v2: Vec<f64> = (0..side * side).map(|_| next()).collect();
+        let v2i: Vec<f64> = v2.iter().map(|v| (v * 8.0).round()).collect();
+        prop_assert!(fast_matches_exact([side, side], &v2i).is_ok());
         prop_assert!(fast_matches_exact([side, side], &v2).is_ok());
-        let v4: Vec<f64> = (0..side4.pow(4)).map(|_| next()).collect();
+        let v4: Vec<f64> = (0..side4.pow(4)).map(|_| next().round()).collect();
         let r = fast_matches_exact([side4; 4], &v4);
         prop_assert!(r.is_ok(), "{:?}", r);
     }

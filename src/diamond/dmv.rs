@@ -3,7 +3,7 @@
 //! diamond-based `Δd` (a hash from central vertex to data) and supercube-based `Δs` (per scale a
 //! hash from supercube origin to a bit-flag internal map and a packed data array, Section 5.2–5.3).
 
-use super::error::diamond_stats_fast;
+use super::error::{diamond_stats_fast, diamond_stats_integer, integer_samples};
 use super::{Diamond, Field, Hierarchy, Point};
 use crate::par::prelude::*;
 use std::collections::HashMap;
@@ -109,11 +109,16 @@ impl<const D: usize> FullDmv<D> {
     pub fn build(field: Field<D>) -> FullDmv<D> {
         let hier = field.hierarchy();
         let n = field.values().len();
+        // Integer samples take the exact integer route, others the certified f64 one.
+        let ints = integer_samples(&field);
         let stats: Vec<(f32, f32, f32)> = (0..n)
             .into_par_iter()
             .map(|i| match hier.diamond(field.point(i)) {
                 Ok(dia) => {
-                    let s = diamond_stats_fast(&field, &dia);
+                    let s = match &ints {
+                        Some(v) => diamond_stats_integer(v, hier.side(), &dia),
+                        None => diamond_stats_fast(&field, &dia),
+                    };
                     (f32_up(s.error_hi), f32_down(s.min), f32_up(s.max))
                 }
                 Err(_) => {
@@ -236,26 +241,58 @@ impl<const D: usize> FullDmv<D> {
         }
     }
 
-    /// The supercube-based encoding `Δs` of a selection.
+    /// The supercube-based encoding `Δs` of a selection: the supercubes of every scale are
+    /// visited in (scale, origin) order and their types looked up in the selection, so no
+    /// sorting or per-supercube allocation is needed.
     pub fn supercube_encoding(&self, sel: &Selection<D>) -> SupercubeDmv<D> {
         let hier = self.field.hierarchy();
-        let mut cubes: std::collections::BTreeMap<(u32, Point<D>), Vec<(usize, DiamondData)>> =
-            std::collections::BTreeMap::new();
-        for i in sel.indices() {
-            let dia = hier
-                .diamond(self.field.point(i))
-                .expect("selected points are diamonds");
-            cubes
-                .entry((dia.scale(), dia.supercube_origin()))
-                .or_default()
-                .push((dia.diamond_type().index(), self.data_at(i)));
+        let side = hier.side();
+        let types: Vec<super::DiamondType<D>> = super::DiamondType::all().collect();
+        let mut out = SupercubeDmv::empty(hier, self.field.real_dims(), corner_values(&self.field));
+        let mut items: Vec<(usize, DiamondData)> = Vec::with_capacity(types.len());
+        for scale in 0..hier.levels() {
+            let step = 4u32 << scale;
+            // Origins in lexicographic order: the last coordinate fastest.
+            let mut origin = [0u32; D];
+            loop {
+                items.clear();
+                for (t, tau) in types.iter().enumerate() {
+                    let off = tau.offset();
+                    let mut c = [0u32; D];
+                    let mut inside = true;
+                    for k in 0..D {
+                        let x = u64::from(origin[k]) + (u64::from(off[k]) << scale);
+                        inside &= x <= u64::from(side);
+                        c[k] = x as u32;
+                    }
+                    if inside && !hier.is_corner(&c) {
+                        let i = self.field.index(&c);
+                        if sel.contains_index(i) {
+                            items.push((t, self.data_at(i)));
+                        }
+                    }
+                }
+                if !items.is_empty() {
+                    out.push_cube(scale, origin, &items);
+                }
+                let mut k = D;
+                let done = loop {
+                    if k == 0 {
+                        break true;
+                    }
+                    k -= 1;
+                    if origin[k] + step <= side {
+                        origin[k] += step;
+                        break false;
+                    }
+                    origin[k] = 0;
+                };
+                if done {
+                    break;
+                }
+            }
         }
-        SupercubeDmv::from_cubes(
-            hier,
-            self.field.real_dims(),
-            corner_values(&self.field),
-            cubes,
-        )
+        out
     }
 }
 
@@ -400,38 +437,43 @@ pub struct SupercubeDmv<const D: usize> {
 }
 
 impl<const D: usize> SupercubeDmv<D> {
-    /// From supercubes in (scale, origin) order, each with its `(type index, data)` pairs.
-    pub(crate) fn from_cubes(
+    /// An empty `Δs`, to be filled by [`SupercubeDmv::push_cube`] in (scale, origin) order.
+    pub(crate) fn empty(
         hier: Hierarchy<D>,
         real: [usize; D],
         corners: Vec<f64>,
-        cubes: std::collections::BTreeMap<(u32, Point<D>), Vec<(usize, DiamondData)>>,
     ) -> SupercubeDmv<D> {
-        let w = flag_words(D);
-        let mut out = SupercubeDmv {
+        SupercubeDmv {
             hier,
             real,
             corners,
             levels: vec![PointMap::default(); hier.levels() as usize],
-            keys: Vec::with_capacity(cubes.len()),
-            flags: Vec::with_capacity(cubes.len() * w),
-            start: Vec::with_capacity(cubes.len()),
+            keys: Vec::new(),
+            flags: Vec::new(),
+            start: Vec::new(),
             data: Vec::new(),
-        };
-        for ((scale, origin), mut items) in cubes {
-            items.sort_by_key(|&(t, _)| t);
-            let n = out.keys.len() as u32;
-            out.levels[scale as usize].insert(origin, n);
-            out.keys.push((scale, origin));
-            out.start.push(out.data.len() as u32);
-            let mut words = vec![0u64; w];
-            for (t, d) in items {
-                words[t / 64] |= 1 << (t % 64);
-                out.data.push(d);
-            }
-            out.flags.extend(words);
         }
-        out
+    }
+
+    /// Appends a supercube after every one already held, with its `(type index, data)` pairs
+    /// in increasing type order.
+    pub(crate) fn push_cube(
+        &mut self,
+        scale: u32,
+        origin: Point<D>,
+        items: &[(usize, DiamondData)],
+    ) {
+        let w = flag_words(D);
+        let n = self.keys.len() as u32;
+        self.levels[scale as usize].insert(origin, n);
+        self.keys.push((scale, origin));
+        self.start.push(self.data.len() as u32);
+        let base = self.flags.len();
+        self.flags.extend(std::iter::repeat_n(0, w));
+        for &(t, d) in items {
+            self.flags[base + t / 64] |= 1 << (t % 64);
+            self.data.push(d);
+        }
     }
 
     /// `n_s`: the number of supercubes.

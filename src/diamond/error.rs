@@ -51,83 +51,145 @@ fn gamma(n: usize) -> f64 {
     nu / (1.0 - nu)
 }
 
+/// A diamond's points in the field's flat array: strides, the centre's and the spine start's
+/// indices, the odd axes (with the spine's direction `s_k`) and the even axes, and the even
+/// offsets' range clipped to the domain.
+struct Layout<const D: usize> {
+    h: i64,
+    stride: [i64; D],
+    c_idx: i64,
+    a_idx: i64,
+    /// `(axis, s_k)` for the `m` odd axes.
+    oa: [(usize, i64); D],
+    m: usize,
+    /// The `ne` even axes.
+    ea: [usize; D],
+    ne: usize,
+    wlo: [i64; D],
+    whi: [i64; D],
+}
+
+impl<const D: usize> Layout<D> {
+    fn new(side: u32, dia: &Diamond<D>) -> Layout<D> {
+        let h = i64::from(dia.half_width());
+        let side = i64::from(side);
+        let mut stride = [0i64; D];
+        let mut st = 1i64;
+        for s in stride.iter_mut() {
+            *s = st;
+            st *= side + 1;
+        }
+        let c = dia.center().map(i64::from);
+        let odd = dia.odd_axes();
+        let [a, _] = dia.spine();
+        let mut oa = [(0usize, 0i64); D];
+        let mut m = 0;
+        let mut ea = [0usize; D];
+        let mut ne = 0;
+        for k in 0..D {
+            if odd >> k & 1 == 1 {
+                oa[m] = (k, if c[k] > i64::from(a[k]) { 1 } else { -1 });
+                m += 1;
+            } else {
+                ea[ne] = k;
+                ne += 1;
+            }
+        }
+        Layout {
+            h,
+            stride,
+            c_idx: (0..D).map(|k| c[k] * stride[k]).sum(),
+            a_idx: (0..D).map(|k| i64::from(a[k]) * stride[k]).sum(),
+            oa,
+            m,
+            ea,
+            ne,
+            wlo: std::array::from_fn(|j| if j < ne { (-h).max(-c[ea[j]]) } else { 0 }),
+            whi: std::array::from_fn(|j| if j < ne { h.min(side - c[ea[j]]) } else { 0 }),
+        }
+    }
+
+    /// `‖w‖∞`, the index offset of `w`, and the even chain's `(2h·weight, index)` pairs:
+    /// `c + h·sign(w)` along the axes by decreasing `|w|`, weights `2(|w|_(t) − |w|_(t+1))`.
+    fn even_chain(&self, w: &[i64; D]) -> (i64, i64, [(i64, i64); D], usize) {
+        let ne = self.ne;
+        let nw = w[..ne].iter().map(|x| x.abs()).max().unwrap_or(0);
+        let w_idx: i64 = (0..ne).map(|j| w[j] * self.stride[self.ea[j]]).sum();
+        let mut order = [(0i64, 0usize); D];
+        for j in 0..ne {
+            order[j] = (w[j].abs(), j);
+        }
+        order[..ne].sort_unstable_by_key(|&(x, _)| std::cmp::Reverse(x));
+        let mut chain = [(0i64, 0i64); D];
+        let mut len = 0;
+        let mut q = self.c_idx;
+        for t in 0..ne {
+            let (wk, j) = order[t];
+            if wk == 0 {
+                break;
+            }
+            q += self.h * w[j].signum() * self.stride[self.ea[j]];
+            let next = if t + 1 < ne { order[t + 1].0 } else { 0 };
+            chain[len] = (2 * (wk - next), q);
+            len += 1;
+        }
+        (nw, w_idx, chain, len)
+    }
+
+    /// Steps `offsets[from..to]` through `[lo, hi]` each, first index fastest; false after the
+    /// last.
+    fn next(
+        offsets: &mut [i64; D],
+        from: usize,
+        to: usize,
+        lo: impl Fn(usize) -> i64,
+        hi: impl Fn(usize) -> i64,
+    ) -> bool {
+        let mut j = from;
+        while j < to && offsets[j] == hi(j) {
+            offsets[j] = lo(j);
+            j += 1;
+        }
+        if j >= to {
+            return false;
+        }
+        offsets[j] += 1;
+        true
+    }
+}
+
 /// The error and range of `dia` on `field` by the join formula, with a certified interval.
 ///
 /// The points are visited without a bounding-box scan: for each offset `w` along the even axes
 /// (clipped to the domain), the odd offsets run over `‖u‖∞ ≤ h − ‖w‖∞`; the even chain's part
 /// of the interpolant depends on `w` only and is summed once per `w`.
 pub fn diamond_stats_fast<const D: usize>(field: &Field<D>, dia: &Diamond<D>) -> DiamondStats {
-    let h = i64::from(dia.half_width());
-    let side = i64::from(field.hierarchy().side());
+    let l = Layout::new(field.hierarchy().side(), dia);
+    let (h, m) = (l.h, l.m);
     let values = field.values();
-    let mut stride = [0i64; D];
-    let mut st = 1i64;
-    for s in stride.iter_mut() {
-        *s = st;
-        st *= side + 1;
-    }
-    let c = dia.center().map(i64::from);
-    let c_idx: i64 = (0..D).map(|k| c[k] * stride[k]).sum();
-    let odd = dia.odd_axes();
-    let [a, _] = dia.spine();
-    let a_idx: i64 = (0..D).map(|k| i64::from(a[k]) * stride[k]).sum();
-    // Odd axes (with the spine's direction) and even axes.
-    let mut oa = [(0usize, 0i64); D];
-    let mut m = 0;
-    let mut ea = [0usize; D];
-    let mut ne = 0;
-    for k in 0..D {
-        if odd >> k & 1 == 1 {
-            oa[m] = (k, if c[k] > i64::from(a[k]) { 1 } else { -1 });
-            m += 1;
-        } else {
-            ea[ne] = k;
-            ne += 1;
-        }
-    }
     let g = gamma(D + 4) * 2.0;
     let two_h = (2 * h) as f64;
     let (mut error_lo, mut error_hi) = (0.0f64, 0.0f64);
     let (mut min, mut max) = (f64::INFINITY, f64::NEG_INFINITY);
-    // Even offsets, clipped to the domain.
-    let wlo: [i64; D] = std::array::from_fn(|j| if j < ne { (-h).max(-c[ea[j]]) } else { 0 });
-    let whi: [i64; D] = std::array::from_fn(|j| if j < ne { h.min(side - c[ea[j]]) } else { 0 });
-    let mut w = wlo;
+    let mut w = l.wlo;
     loop {
-        let nw = w[..ne].iter().map(|x| x.abs()).max().unwrap_or(0);
-        let w_idx: i64 = (0..ne).map(|j| w[j] * stride[ea[j]]).sum();
-        // The even chain: c + h·sign(w) along the axes by decreasing |w|.
-        let mut order = [(0i64, 0usize); D];
-        for j in 0..ne {
-            order[j] = (w[j].abs(), j);
-        }
-        order[..ne].sort_unstable_by_key(|&(x, _)| std::cmp::Reverse(x));
+        let (nw, w_idx, chain, len) = l.even_chain(&w);
         let (mut acc_e, mut abs_e) = (0.0f64, 0.0f64);
-        let mut q = c_idx;
-        for t in 0..ne {
-            let (wk, j) = order[t];
-            if wk == 0 {
-                break;
-            }
-            q += h * w[j].signum() * stride[ea[j]];
-            let next = if t + 1 < ne { order[t + 1].0 } else { 0 };
-            let term = (2 * (wk - next)) as f64 * values[q as usize];
+        for &(weight, q) in &chain[..len] {
+            let term = weight as f64 * values[q as usize];
             acc_e += term;
             abs_e += term.abs();
         }
         let r = h - nw;
         let lambda = 2 * r;
         // Odd offsets u ∈ [−r, r]^m.
-        let mut u = [0i64; D];
-        for x in u[..m].iter_mut() {
-            *x = -r;
-        }
+        let mut u = [-r; D];
         loop {
-            let mut idx = c_idx + w_idx;
+            let mut idx = l.c_idx + w_idx;
             let mut t = [(0i64, 0usize); D];
             for j in 0..m {
-                let (k, s) = oa[j];
-                idx += u[j] * stride[k];
+                let (k, s) = l.oa[j];
+                idx += u[j] * l.stride[k];
                 t[j] = (s * u[j] + r, j);
             }
             let fp = values[idx as usize];
@@ -135,7 +197,7 @@ pub fn diamond_stats_fast<const D: usize>(field: &Field<D>, dia: &Diamond<D>) ->
             max = max.max(fp);
             t[..m].sort_unstable_by_key(|&(x, _)| std::cmp::Reverse(x));
             let (mut acc, mut abs) = (acc_e, abs_e);
-            let mut v = a_idx;
+            let mut v = l.a_idx;
             let mut prev = lambda;
             for &(tk, j) in &t[..m] {
                 if prev != tk {
@@ -143,8 +205,8 @@ pub fn diamond_stats_fast<const D: usize>(field: &Field<D>, dia: &Diamond<D>) ->
                     acc += term;
                     abs += term.abs();
                 }
-                let (k, s) = oa[j];
-                v += 2 * h * s * stride[k];
+                let (k, s) = l.oa[j];
+                v += 2 * h * s * l.stride[k];
                 prev = tk;
             }
             if prev != 0 {
@@ -156,27 +218,13 @@ pub fn diamond_stats_fast<const D: usize>(field: &Field<D>, dia: &Diamond<D>) ->
             let bound = g * (abs / two_h + fp.abs());
             error_lo = error_lo.max(err - bound);
             error_hi = error_hi.max(err + bound);
-            // Next u.
-            let mut j = 0;
-            while j < m && u[j] == r {
-                u[j] = -r;
-                j += 1;
-            }
-            if j == m {
+            if !Layout::<D>::next(&mut u, 0, m, |_| -r, |_| r) {
                 break;
             }
-            u[j] += 1;
         }
-        // Next w.
-        let mut j = 0;
-        while j < ne && w[j] == whi[j] {
-            w[j] = wlo[j];
-            j += 1;
-        }
-        if j == ne {
+        if !Layout::<D>::next(&mut w, 0, l.ne, |j| l.wlo[j], |j| l.whi[j]) {
             break;
         }
-        w[j] += 1;
     }
     DiamondStats {
         error_lo: error_lo.max(0.0),
@@ -267,5 +315,112 @@ pub fn simplices_stats_exact<const D: usize>(
         min,
         max,
         points,
+    }
+}
+
+/// The largest `|v|` of [`diamond_stats_integer`]'s samples: `2h·|F| ≤ 2^54` and the sums of
+/// at most six such terms stay inside `i64`.
+pub const MAX_INTEGER_SAMPLE: i32 = 1 << 24;
+
+/// The samples as integers when every one is an integer of magnitude at most
+/// [`MAX_INTEGER_SAMPLE`] (byte, short and integral float volumes), else `None`.
+pub fn integer_samples<const D: usize>(field: &Field<D>) -> Option<Vec<i32>> {
+    field
+        .values()
+        .iter()
+        .map(|&v| {
+            (v.fract() == 0.0 && v.abs() <= f64::from(MAX_INTEGER_SAMPLE)).then_some(v as i32)
+        })
+        .collect()
+}
+
+/// The error and range of `dia` for integer samples (`values` from [`integer_samples`]),
+/// exactly: `2h·F̂` is an integer, so `2h·|F − F̂|` is computed in `i64` and the error is that
+/// over `2h` (`error_lo == error_hi`).
+///
+/// Rows along the first odd axis `R` are walked without sorting per point: with the other
+/// `T_k` of the row fixed, `2h·F̂_Q = C_p + T_R·G_p` where `p` is `T_R`'s rank among them, and
+/// `C_p`, `G_p` come from one Kuhn-chain walk per rank.
+pub fn diamond_stats_integer<const D: usize>(
+    values: &[i32],
+    side: u32,
+    dia: &Diamond<D>,
+) -> DiamondStats {
+    let l = Layout::new(side, dia);
+    let (h, m) = (l.h, l.m);
+    let at = |i: i64| i64::from(values[i as usize]);
+    let (row_axis, row_sign) = l.oa[0];
+    let mut worst = 0i64;
+    let (mut min, mut max) = (i64::MAX, i64::MIN);
+    let mut w = l.wlo;
+    loop {
+        let (nw, w_idx, chain, len) = l.even_chain(&w);
+        let acc_e: i64 = chain[..len].iter().map(|&(weight, q)| weight * at(q)).sum();
+        let r = h - nw;
+        let lambda = 2 * r;
+        // The other odd offsets u[1..m] ∈ [−r, r]^(m−1); the row runs along oa[0].
+        let mut u = [-r; D];
+        loop {
+            // The other odd axes' T, sorted descending.
+            let mut others = [(0i64, 0usize); D];
+            let mut row_idx = l.c_idx + w_idx;
+            for j in 1..m {
+                let (k, s) = l.oa[j];
+                row_idx += u[j] * l.stride[k];
+                others[j - 1] = (s * u[j] + r, j);
+            }
+            let no = m - 1;
+            others[..no].sort_unstable_by_key(|&(x, _)| std::cmp::Reverse(x));
+            // Per rank p of T_R: C_p and G_p by one walk of the Kuhn chain.
+            let mut cs = [0i64; D];
+            let mut gs = [0i64; D];
+            for p in 0..m {
+                let mut v = l.a_idx;
+                let mut fv = at(v);
+                let mut cp = lambda * fv;
+                let mut gp = 0;
+                for step in 0..m {
+                    let j = match step.cmp(&p) {
+                        std::cmp::Ordering::Less => others[step].1,
+                        std::cmp::Ordering::Equal => 0,
+                        std::cmp::Ordering::Greater => others[step - 1].1,
+                    };
+                    let (k, s) = l.oa[j];
+                    v += 2 * h * s * l.stride[k];
+                    let fnext = at(v);
+                    let df = fnext - fv;
+                    if j == 0 {
+                        gp = df;
+                    } else {
+                        cp += (s * u[j] + r) * df;
+                    }
+                    fv = fnext;
+                }
+                cs[p] = cp;
+                gs[p] = gp;
+            }
+            for ur in -r..=r {
+                let t_r = row_sign * ur + r;
+                let p = others[..no].iter().take_while(|o| o.0 > t_r).count();
+                let fp = at(row_idx + ur * l.stride[row_axis]);
+                min = min.min(fp);
+                max = max.max(fp);
+                let e = (2 * h * fp - cs[p] - t_r * gs[p] - acc_e).abs();
+                worst = worst.max(e);
+            }
+            if !Layout::<D>::next(&mut u, 1, m, |_| -r, |_| r) {
+                break;
+            }
+        }
+        if !Layout::<D>::next(&mut w, 0, l.ne, |j| l.wlo[j], |j| l.whi[j]) {
+            break;
+        }
+    }
+    let error = worst as f64 / (2 * h) as f64;
+    DiamondStats {
+        error_lo: error,
+        error_hi: error,
+        min: min as f64,
+        max: max as f64,
     }
 }

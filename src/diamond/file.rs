@@ -12,7 +12,6 @@
 
 use super::dmv::{flag_words, DiamondData, DmvAccess, SupercubeDmv};
 use super::{DiamondError, DiamondType, Hierarchy, Point, Supercube, MAX_LEVELS};
-use std::collections::BTreeMap;
 
 const MAGIC: &[u8; 8] = b"GEOCDMV1";
 const VERSION: u32 = 1;
@@ -135,7 +134,8 @@ impl<const D: usize> SupercubeDmv<D> {
             )));
         }
         let types: Vec<DiamondType<D>> = DiamondType::all().collect();
-        let mut cubes: BTreeMap<(u32, Point<D>), Vec<(usize, DiamondData)>> = BTreeMap::new();
+        let mut dmv = SupercubeDmv::empty(hier, real, corners);
+        let mut items: Vec<(usize, DiamondData)> = Vec::with_capacity(types.len());
         let mut last: Option<(u32, Point<D>)> = None;
         let mut diamonds = 0u64;
         for _ in 0..ns {
@@ -162,7 +162,7 @@ impl<const D: usize> SupercubeDmv<D> {
                 *f = r.u64()?;
             }
             let cube = Supercube { origin, scale };
-            let mut items = Vec::new();
+            items.clear();
             for t in 0..w * 64 {
                 if flags[t / 64] >> (t % 64) & 1 == 0 {
                     continue;
@@ -200,12 +200,11 @@ impl<const D: usize> SupercubeDmv<D> {
             if items.is_empty() {
                 return Err(r.error("a supercube without diamonds"));
             }
-            cubes.insert((scale, origin), items);
+            dmv.push_cube(scale, origin, &items);
         }
         if diamonds != np {
             return Err(r.error(&format!("{diamonds} diamonds, the header says {np}")));
         }
-        let dmv = SupercubeDmv::from_cubes(hier, real, corners, cubes);
         // A partial DMV is closed under ancestors (Section 6): every parent of a held diamond
         // is held.
         for &(scale, origin) in &dmv.keys {

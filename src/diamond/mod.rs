@@ -48,7 +48,8 @@ pub use dmv::{
     PointHasher, PointMap, Selection, StorageSizes, SupercubeDmv,
 };
 pub use error::{
-    diamond_stats_exact, diamond_stats_fast, simplices_stats_exact, DiamondStats, ExactStats,
+    diamond_stats_exact, diamond_stats_fast, diamond_stats_integer, integer_samples,
+    simplices_stats_exact, DiamondStats, ExactStats, MAX_INTEGER_SAMPLE,
 };
 pub use field::Field;
 pub use file::write_vtk_tets;

@@ -253,6 +253,13 @@ impl<const D: usize> Diamond<D> {
     /// of [`Diamond::parent_in_slot`]; `None` when `parent` is no parent.
     #[inline]
     pub fn slot_of_parent(&self, parent: &Diamond<D>) -> Option<usize> {
+        let slot = self.slot_of_parent_unchecked(parent)?;
+        (self.parent_in_slot(slot).as_ref() == Some(parent)).then_some(slot)
+    }
+
+    /// [`Diamond::slot_of_parent`] for a `parent` known to be a parent (no re-check).
+    #[inline]
+    pub(crate) fn slot_of_parent_unchecked(&self, parent: &Diamond<D>) -> Option<usize> {
         let slot = if self.class() == 0 {
             // The parent (class d−1) has a single odd axis: its slot.
             let odd = parent.odd_axes();
@@ -266,7 +273,7 @@ impl<const D: usize> Diamond<D> {
             let rank = (even & ((1 << k) - 1)).count_ones() as usize;
             2 * rank + usize::from(parent.center[k] > self.center[k])
         };
-        (self.parent_in_slot(slot).as_ref() == Some(parent)).then_some(slot)
+        Some(slot)
     }
 
     /// The flags of the slots whose parent does not exist: every slot of a class-0 diamond at

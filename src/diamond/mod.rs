@@ -165,6 +165,18 @@ impl<const D: usize> Simplex<D> {
         s
     }
 
+    /// [`Simplex::scaled_volume`] when it fits a `u128` and the elimination fits `i128`.
+    pub fn scaled_volume_u128(&self) -> Option<u128> {
+        let v = self.vertices();
+        let mut m = [[0i128; MAX_DIM]; MAX_DIM];
+        for r in 0..D {
+            for c in 0..D {
+                m[r][c] = i128::from(v[r + 1][c]) - i128::from(v[0][c]);
+            }
+        }
+        bareiss_det_checked(&mut m, D).map(i128::unsigned_abs)
+    }
+
     /// `d! · volume`, exactly: `|det(v₁ − v₀, …, v_d − v₀)|`.
     ///
     /// The differences' common power-of-two factor `g` is taken out first (grid simplices'

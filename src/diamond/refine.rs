@@ -122,7 +122,7 @@ impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
             }
             if let Some((orig, data)) = self.refinable(&dia) {
                 if lod.wants(&orig, &data) {
-                    self.force(&dia)?;
+                    self.force(&dia, true)?;
                 }
             }
         }
@@ -130,7 +130,7 @@ impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
     }
 
     /// Refines `dia` after refining, recursively, every parent not yet refined.
-    fn force(&mut self, dia: &Diamond<D>) -> Result<(), RefineError> {
+    fn force(&mut self, dia: &Diamond<D>, held: bool) -> Result<(), RefineError> {
         let mut flags = self.front.flags(dia);
         if flags == 0 {
             flags = absent_parent_flags(dia);
@@ -141,10 +141,10 @@ impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
                     .parent_in_slot(slot)
                     .expect("slots without a parent are always set");
                 self.visited += 1;
-                self.force(&parent)?;
+                self.force(&parent, false)?;
             }
         }
-        if self.refinable(dia).is_none() {
+        if !held && self.refinable(dia).is_none() {
             return Err(RefineError::Missing {
                 center: dia.center().iter().map(|&x| u64::from(x)).collect(),
             });
@@ -239,9 +239,9 @@ impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
 /// The slot of `child` whose parent is `parent`.
 #[inline]
 fn slot_of_parent<const D: usize>(child: &Diamond<D>, parent: &Diamond<D>) -> usize {
-    child
-        .slot_of_parent(parent)
-        .expect("a child names its parent in one slot")
+    let slot = child.slot_of_parent_unchecked(parent);
+    debug_assert_eq!(slot, child.slot_of_parent(parent));
+    slot.expect("a child names its parent in one slot")
 }
 
 /// The simplices of a front's current mesh: each front diamond's simplices whose parent flag
@@ -287,17 +287,28 @@ pub fn check_conforming<const D: usize>(
     simplices: &[Simplex<D>],
 ) -> Conformity {
     let side = hier.side();
-    let mut faces: HashMap<Vec<Point<D>>, u32> = HashMap::new();
+    // Faces as their D sorted vertices (the sorted simplex without one vertex).
+    let mut faces: HashMap<[Point<D>; D], u32, std::hash::BuildHasherDefault<super::PointHasher>> =
+        HashMap::default();
+    faces.reserve(simplices.len() * 2);
     let mut volume = BigUint::from(0u8);
+    let mut small: u128 = 0;
     for s in simplices {
         let v = s.sorted();
         let v = v.vertices();
         for skip in 0..=D {
-            let face: Vec<Point<D>> = (0..=D).filter(|&j| j != skip).map(|j| v[j]).collect();
+            let face: [Point<D>; D] = std::array::from_fn(|j| v[if j < skip { j } else { j + 1 }]);
             *faces.entry(face).or_insert(0) += 1;
         }
-        volume += s.scaled_volume();
+        match s.scaled_volume_u128().and_then(|x| small.checked_add(x)) {
+            Some(sum) => small = sum,
+            None => {
+                volume += BigUint::from(small) + s.scaled_volume();
+                small = 0;
+            }
+        }
     }
+    volume += BigUint::from(small);
     let on_boundary = |f: &[Point<D>]| {
         (0..D).any(|k| {
             let x = f[0][k];

@@ -102,8 +102,9 @@ impl<const D: usize> SupercubeDmv<D> {
             return Err(r.error(&format!("a {d}-D DMV, expected {D}-D")));
         }
         let levels = r.u32()?;
-        if levels == 0 || levels > MAX_LEVELS {
-            return Err(r.error(&format!("N = {levels} out of 1..={MAX_LEVELS}")));
+        // Refinement runs on the doubled grid (N + 1 levels), so N stays below MAX_LEVELS.
+        if levels == 0 || levels >= MAX_LEVELS {
+            return Err(r.error(&format!("N = {levels} out of 1..={}", MAX_LEVELS - 1)));
         }
         let hier = Hierarchy::<D>::new(levels)?;
         let value_bytes = r.u32()?;

@@ -80,6 +80,10 @@ pub struct Refiner<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> {
 
 impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
     /// The front of the base mesh: the root diamond with all its simplices.
+    ///
+    /// # Panics
+    /// When the DMV's `N` is [`crate::diamond::MAX_LEVELS`] (the doubled grid would not fit
+    /// `u32`); fields and `.dmv` files never have such an `N`.
     pub fn new(dmv: &'a A) -> Self {
         let hier =
             Hierarchy::new(dmv.hierarchy().levels() + 1).expect("a DMV's N is below MAX_LEVELS");

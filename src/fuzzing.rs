@@ -323,7 +323,8 @@ pub fn check_mc_table(data: &[u8]) -> Result<(), String> {
 /// (first byte even) or arbitrary triangles over up to 12 integer points (odd), and options
 /// from the next byte. Decimation must succeed or refuse with an error; what succeeds must
 /// pass the independent checker at every step and undecimate to the input bit for bit,
-/// through the history file. The history parser sees the raw bytes too: no panic, and what
+/// through the history file; under the angle and quadric criteria (and every border policy)
+/// the exact engine writes the same history. The history parser sees the raw bytes too: no panic, and what
 /// it accepts re-serialises to the same bytes.
 pub fn check_decimate(data: &[u8]) -> Result<(), String> {
     use crate::decimate::{
@@ -374,12 +375,13 @@ pub fn check_decimate(data: &[u8]) -> Result<(), String> {
         }
     }
     let options = Options {
-        criterion: [Criterion::Angle, Criterion::Error, Criterion::Error][(opts % 3) as usize],
+        criterion: [Criterion::Angle, Criterion::Error, Criterion::Quadric][(opts % 3) as usize],
         target: Target::Keep(0.05 + 0.1 * ((opts / 3) % 8) as f64),
-        border: if opts & 0x80 != 0 {
-            BorderPolicy::Exclude
-        } else {
-            BorderPolicy::Intact
+        border: match (opts & 0x80 != 0, mode & 2 != 0) {
+            (true, false) => BorderPolicy::Exclude,
+            (true, true) => BorderPolicy::Simplify,
+            (false, false) => BorderPolicy::Intact,
+            (false, true) => BorderPolicy::Auto,
         },
         projection: if mode % 2 == 0 {
             ProjectionChoice::Auto
@@ -397,6 +399,15 @@ pub fn check_decimate(data: &[u8]) -> Result<(), String> {
         return Ok(());
     };
     check::verify(&mesh, &out.history, out.stats.projection_xy, 1).map_err(|e| e.to_string())?;
+    // The angle and quadric criteria are the same f64 functions in both engines: the exact
+    // engine must remove the same nodes in the same order.
+    if options.criterion != Criterion::Error {
+        let exact = decimate(&mesh, &options.clone().with_path(crate::Path::Exact))
+            .map_err(|e| format!("the exact engine refused what the fast one took: {e}"))?;
+        if exact.history != out.history {
+            return Err("the exact and fast engines decimated differently".into());
+        }
+    }
     let read = History::from_bytes(&out.history.to_bytes()).map_err(|e| e.to_string())?;
     let mut stage = Stage::decimated(&out.mesh, &read).map_err(|e| e.to_string())?;
     while stage.applied > 0 {

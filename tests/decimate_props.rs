@@ -144,6 +144,117 @@ proptest! {
     }
 }
 
+fn border_policy() -> impl Strategy<Value = BorderPolicy> {
+    prop_oneof![
+        Just(BorderPolicy::Exclude),
+        Just(BorderPolicy::Intact),
+        Just(BorderPolicy::Simplify),
+        Just(BorderPolicy::Auto),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(40))]
+
+    /// The quadric criterion and border simplification: both engines compute the same `f64`
+    /// quadrics and landing points and take the same exact validity decisions, so they write
+    /// the same history; every step verifies, the border loops stay, undo is exact.
+    #[test]
+    fn quadric_criterion_and_border_policies_agree(
+        mesh in height_field_mesh(7, 5),
+        border in border_policy(),
+        per_fan in any::<bool>(),
+        keep in 0.02f64..0.9,
+        k in 1usize..20,
+    ) {
+        let mut opts = options(Criterion::Quadric, false, keep, k).with_border(border);
+        if per_fan {
+            opts.projection = ProjectionChoice::PerFan;
+        }
+        let fast = decimate(&mesh, &opts).unwrap();
+        let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
+        prop_assert_eq!(&exact.history, &fast.history, "same removals, slots and triangles");
+        prop_assert_eq!(&exact.mesh, &fast.mesh);
+        let v = check::verify(&mesh, &fast.history, fast.stats.projection_xy, 1)
+            .map_err(|e| TestCaseError::fail(e.to_string()))?;
+        prop_assert_eq!(v.border_loops, 1);
+        if border == BorderPolicy::Simplify {
+            prop_assert_eq!(fast.stats.border.as_str(), "simplify");
+        }
+        round_trip(&mesh, &fast.mesh, &fast.history, 4);
+    }
+
+    /// Closed surfaces under the quadric criterion (the default there): exact = fast, Euler
+    /// characteristic 2 at every check, exact undo.
+    #[test]
+    fn quadric_criterion_on_closed_surfaces(
+        level in 1u32..3,
+        jitter in proptest::collection::vec(-2i32..=2, 3 * 66),
+        keep in 0.01f64..0.8,
+    ) {
+        let mesh = sphere(level, &jitter);
+        let opts = Options::new().with_target(Target::Keep(keep)).with_k(3);
+        let fast = decimate(&mesh, &opts).unwrap();
+        prop_assert_eq!(fast.stats.criterion.as_str(), "quadric");
+        let v = check::verify(&mesh, &fast.history, false, 1).map_err(|e| TestCaseError::fail(e.to_string()))?;
+        prop_assert_eq!(v.euler, 2);
+        let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
+        prop_assert_eq!(&exact.history, &fast.history);
+        round_trip(&mesh, &fast.mesh, &fast.history, 5);
+    }
+}
+
+/// On a surface with a hole, simplifying the border removes border nodes that the outline
+/// policy keeps, keeps the border loops, and the error it reports is the quadric's measure:
+/// a removed border node's own value is its distance from the new border edge (checked on
+/// the flat annulus, where the face planes contribute nothing).
+#[test]
+fn border_simplification_on_an_annulus() {
+    // A flat annulus in the plane z = 0, not a height field in xy order (tilted 90° to the
+    // xz plane so that the per-fan projection runs): 48 × 4 nodes, radii 10..16.
+    let (m, rings) = (48usize, 4usize);
+    let mut mesh = Mesh::default();
+    for r in 0..rings {
+        for i in 0..m {
+            let a = std::f64::consts::TAU * i as f64 / m as f64;
+            let rad = 10.0 + 2.0 * r as f64;
+            mesh.vertices.push([rad * a.cos(), 0.0, rad * a.sin()]);
+        }
+    }
+    for r in 0..rings - 1 {
+        for i in 0..m {
+            let (a, b) = ((r * m + i) as u32, (r * m + (i + 1) % m) as u32);
+            let (c, d) = (a + m as u32, b + m as u32);
+            mesh.triangles.push([a, c, b]);
+            mesh.triangles.push([b, c, d]);
+        }
+    }
+    assert_eq!(check::border_loops(&mesh), 2);
+    let run = |border| {
+        let opts = Options::new()
+            .with_target(Target::Keep(0.1))
+            .with_border(border)
+            .with_k(2);
+        let out = decimate(&mesh, &opts).unwrap();
+        let v = check::verify(&mesh, &out.history, out.stats.projection_xy, 1).unwrap();
+        assert_eq!(v.border_loops, 2);
+        assert!(!out.stats.projection_xy);
+        let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
+        assert_eq!(exact.history, out.history);
+        out
+    };
+    let outline = run(BorderPolicy::Intact);
+    let simplify = run(BorderPolicy::Simplify);
+    // The outline policy keeps all 96 border nodes (none is collinear on a circle).
+    assert!(outline.stats.nodes_out >= 2 * m, "{}", outline.stats.nodes_out);
+    assert!(simplify.stats.nodes_out < outline.stats.nodes_out);
+    assert!(simplify.stats.nodes_out <= (m * rings) / 10 + 1);
+    // The distance from the original vertices to the result is bounded by the circle's
+    // chord sagitta at the coarsest spacing left, not zero, and small.
+    let e = geocert::decimate::quality::surface_errors(&mesh, &simplify.mesh);
+    assert!(e.max_height > 0.0 && e.max_height < 16.0, "{}", e.max_height);
+}
+
 /// An octahedron subdivided `level` times, pushed to a sphere of radius 64 and rounded to
 /// integers, with integer jitter: a closed genus-0 mesh.
 fn sphere(level: u32, jitter: &[i32]) -> Mesh {

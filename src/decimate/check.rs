@@ -4,7 +4,9 @@
 //! * the step's added triangles tile the removed fan's projection exactly: each has positive
 //!   area in the projection plane, no ring node lies in an added triangle's closed region
 //!   except at its corners, their areas sum to the fan's area, and no new edge existed
-//!   before. With the triangles forming a disc on the ring (the manifold check), positive
+//!   before. At a border node the hole is the ring closed by the new border edge (its inner
+//!   nodes strictly left of it): the fan's area minus the triangle (last, node, first),
+//!   zero when the border stays intact, cut off or filled when it is simplified. With the triangles forming a disc on the ring (the manifold check), positive
 //!   orientation makes every point of the hole covered as often as the ring winds around it
 //!   — once — so nothing flips, overlaps or leaves a T-junction in that projection;
 //! * the mesh is an oriented 2-manifold with the original's Euler characteristic and number
@@ -209,10 +211,27 @@ pub fn verify(
                 }
             }
         }
-        if fan_area != added_area {
+        // At a border node the hole is the ring closed by the new border edge from its last
+        // node to its first: the fan minus the triangle (last, v, first), which is flat when
+        // the border stays intact and is cut off (or filled in) when it is simplified. That
+        // polygon is simple when every inner ring node lies strictly left of the new edge.
+        let mut hole_area = fan_area;
+        if st.border {
+            let (last, first) = (p(st.ring[l - 1]), p(st.ring[0]));
+            hole_area -= det(last, centre, first);
+            for &w in &st.ring[1..l - 1] {
+                if !det(last, first, p(w)).is_positive() {
+                    return Err(step(
+                        s,
+                        format!("ring node {w} is not strictly left of the new border edge"),
+                    ));
+                }
+            }
+        }
+        if hole_area != added_area {
             return Err(step(
                 s,
-                "the added triangles do not tile the removed fan (areas differ)".into(),
+                "the added triangles do not tile the removed fan's hole (areas differ)".into(),
             ));
         }
         // No added edge may already exist outside the fan.

@@ -305,6 +305,8 @@ pub(crate) fn decimate_with<E: Engine>(
             evaluated_ahead: counts.evaluated_ahead,
             remembered: counts.remembered,
             projection_xy,
+            criterion: options.criterion.resolve(projection_xy).name().into(),
+            border: options.border.resolve(projection_xy).name().into(),
             seconds,
             setup_seconds: counts.setup_seconds,
         },

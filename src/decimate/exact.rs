@@ -6,7 +6,7 @@ use super::driver::{self, Engine};
 use super::earcut::{EarCutter, Orient};
 use super::history::History;
 use super::{
-    canonical_start, check_options, edge_angle, fan_normal, global_plane, BorderPolicy, Criterion,
+    canonical_start, check_options, initial_quadrics, landing, Quadric, edge_angle, fan_normal, global_plane, BorderPolicy, Criterion,
     DecimateError, Options, Outcome, Plane,
 };
 use crate::mesh::{Mesh, Scalars};
@@ -57,6 +57,9 @@ pub(crate) struct ExactEngine {
     border_policy: BorderPolicy,
     max_valence: usize,
     cutter: EarCutter,
+    /// Per node, its accumulated quadric ([`Criterion::Quadric`]; empty otherwise), in `f64`
+    /// exactly as the fast path keeps them.
+    quadrics: Vec<Quadric>,
 }
 
 impl ExactEngine {
@@ -80,6 +83,7 @@ impl ExactEngine {
             let p = t.map(|i| xy(&coords[i as usize]));
             orient(&p[0], &p[1], &p[2]) != Ordering::Greater
         })?;
+        let criterion = options.criterion.resolve(global.is_some());
         Ok(ExactEngine {
             float: mesh.vertices.clone(),
             coords,
@@ -91,10 +95,15 @@ impl ExactEngine {
             incident,
             removed: vec![false; mesh.vertices.len()],
             global,
-            criterion: options.criterion,
-            border_policy: options.border,
+            criterion,
+            border_policy: options.border.resolve(global.is_some()),
             max_valence: options.max_valence,
             cutter: EarCutter::default(),
+            quadrics: if criterion == Criterion::Quadric {
+                initial_quadrics(mesh)
+            } else {
+                Vec::new()
+            },
         })
     }
 
@@ -160,6 +169,39 @@ impl ExactEngine {
         [c[a].clone(), c[b].clone()]
     }
 
+    /// Whether the border policy lets `v` (with `fan`) go: always an interior node; a border
+    /// node under [`BorderPolicy::Simplify`], or under [`BorderPolicy::Intact`] when the
+    /// border stays intact without it.
+    fn border_allows(&self, v: u32, fan: &Fan) -> bool {
+        !fan.border
+            || match self.border_policy {
+                BorderPolicy::Simplify => true,
+                BorderPolicy::Intact | BorderPolicy::Auto => self.border_intact(v, fan),
+                BorderPolicy::Exclude => false,
+            }
+    }
+
+    /// Where `v` lands on its hole ([`landing`], from the `f64` input coordinates as the
+    /// fast path computes it).
+    fn landing(&self, v: u32, hole: &Hole) -> ([f64; 3], [u8; 3]) {
+        let ring3: Vec<[f64; 3]> = hole
+            .fan
+            .ring
+            .iter()
+            .map(|&w| self.float[w as usize])
+            .collect();
+        let pts: Vec<[f64; 2]> = ring3.iter().map(|&q| hole.plane.project(q)).collect();
+        let p = self.float[v as usize];
+        landing(
+            p,
+            hole.plane.project(p),
+            &ring3,
+            &pts,
+            &hole.triangles,
+            hole.fan.border,
+        )
+    }
+
     /// The border node `v` lies strictly inside the segment between its border neighbours.
     fn border_intact(&self, v: u32, fan: &Fan) -> bool {
         let flat = |w: u32| -> [Rational; 3] {
@@ -200,9 +242,7 @@ impl ExactEngine {
         if l < 3 {
             return None;
         }
-        if fan.border
-            && (self.border_policy == BorderPolicy::Exclude || !self.border_intact(v, &fan))
-        {
+        if !self.border_allows(v, &fan) {
             return None;
         }
         let plane = self.plane_of(v, &fan);
@@ -335,9 +375,7 @@ impl Engine for ExactEngine {
                     return None;
                 }
                 let fan = self.fan(v)?;
-                if fan.border
-                    && (self.border_policy == BorderPolicy::Exclude || !self.border_intact(v, &fan))
-                {
+                if !self.border_allows(v, &fan) {
                     return None;
                 }
                 let l = fan.ring.len();
@@ -369,6 +407,12 @@ impl Engine for ExactEngine {
                 let hole = self.hole(v)?;
                 Some(rational_to_f64(&self.removal_error(v, &hole)))
             }
+            Criterion::Quadric => {
+                let hole = self.hole(v)?;
+                let (p, _) = self.landing(v, &hole);
+                Some(self.quadrics[v as usize].rms_distance(p))
+            }
+            Criterion::Auto => unreachable!("resolved when the engine is built"),
         }
     }
 
@@ -378,6 +422,14 @@ impl Engine for ExactEngine {
         };
         if !self.topology_ok(&hole) {
             return false;
+        }
+        if !self.quadrics.is_empty() {
+            // The removed node's quadric passes to the corners of the triangle it lands in.
+            let (_, corners) = self.landing(v, &hole);
+            let q = self.quadrics[v as usize];
+            for k in corners {
+                self.quadrics[hole.fan.ring[k as usize] as usize].add(&q);
+            }
         }
         let ring = &hole.fan.ring;
         let l = ring.len();

@@ -23,8 +23,8 @@ use super::earcut::{orient2d, pack_cut, unpack_cut, EarCutter, RobustOrient};
 use super::fans::{CopiedList, Entry, FanLists, Lists, NO_TRIANGLE};
 use super::history::History;
 use super::{
-    check_options, edge_angle, fan_normal, global_plane, BorderPolicy, Criterion, DecimateError,
-    Options, Outcome, Plane,
+    check_options, edge_angle, fan_normal, global_plane, initial_quadrics, landing, BorderPolicy,
+    Criterion, DecimateError, Options, Outcome, Plane, Quadric,
 };
 use crate::memory::{huge_copy, huge_vec};
 use crate::mesh::fans::Fans;
@@ -94,6 +94,13 @@ struct Geometry {
 struct State {
     geo: Arc<Geometry>,
     lists: FanLists,
+    /// Per node, its accumulated quadric ([`Criterion::Quadric`]; empty otherwise).
+    quadrics: Vec<Quadric>,
+}
+
+/// The quadric of `v` in `quadrics` (zero when the criterion keeps none).
+fn quadric_of(quadrics: &[Quadric], v: u32) -> Quadric {
+    quadrics.get(v as usize).copied().unwrap_or_default()
 }
 
 /// Buffers for planning one removal; one per thread when nodes are evaluated in parallel.
@@ -113,6 +120,8 @@ struct Scratch {
     chain: Vec<Entry>,
     /// The node whose plan the buffers hold, while nothing has changed since.
     planned: Option<(u32, Plan)>,
+    /// The last [`landing`]: the point and the ring positions of its triangle.
+    landed: ([f64; 3], [u8; 3]),
 }
 
 pub(crate) struct FastEngine {
@@ -170,12 +179,18 @@ impl FastEngine {
             let p = tri.map(|i| Plane::XY.project(mesh.vertices[i as usize]));
             orient2d(p[0], p[1], p[2]) != Ordering::Greater
         })?;
+        let criterion = options.criterion.resolve(global.is_some());
+        let quadrics = if criterion == Criterion::Quadric {
+            initial_quadrics(mesh)
+        } else {
+            Vec::new()
+        };
         let geo = Geometry {
             pos: huge_copy(&mesh.vertices),
             values: mesh.scalars.as_ref().map(|s| s.values.clone()),
             global,
-            criterion: options.criterion,
-            border_policy: options.border,
+            criterion,
+            border_policy: options.border.resolve(global.is_some()),
             max_valence: options.max_valence,
             embedded: false,
         };
@@ -183,6 +198,7 @@ impl FastEngine {
             st: State {
                 geo: Arc::new(geo),
                 lists,
+                quadrics,
             },
             sc: Scratch::default(),
             ahead: None,
@@ -222,6 +238,7 @@ impl Scratch {
         lists: &FanLists,
         v: u32,
         global: Plane,
+        quadric: &Quadric,
     ) -> (Option<f64>, bool) {
         if lists.is_empty(v) {
             return (None, true);
@@ -238,9 +255,9 @@ impl Scratch {
         let Some((border, plane)) = self.admit(geo, v, border) else {
             return (None, simple);
         };
-        let ev = if geo.criterion == Criterion::Error {
+        let ev = if geo.criterion.plans() {
             self.cut_projected(v, border, plane, simple)
-                .map(|plan| self.removal_error(geo, v, plan.plane))
+                .map(|plan| self.removal_value(geo, v, plan, quadric))
         } else {
             self.mean_value(geo, v, plane)
         };
@@ -299,10 +316,11 @@ impl Scratch {
                 entries: &job.entries[start as usize..(start + len) as usize],
                 border,
             };
-            let ev = self.evaluate(geo, &list, v);
+            let quadric = job.quadrics.get(k).copied().unwrap_or_default();
+            let ev = self.evaluate(geo, &list, v, &quadric);
             let planned = match self.planned {
                 Some((u, plan)) if u == v => Some(plan),
-                _ if geo.criterion != Criterion::Error => self.plan(geo, &list, v),
+                _ if !geo.criterion.plans() => self.plan(geo, &list, v),
                 _ => None,
             };
             let plan = match planned {
@@ -396,8 +414,12 @@ impl Scratch {
     /// The border policy and the projection plane for `v`'s loaded fan
     /// ([`candidate`](Self::candidate) after the load).
     fn admit(&mut self, geo: &Geometry, v: u32, border: bool) -> Option<(bool, Plane)> {
-        if border && (geo.border_policy == BorderPolicy::Exclude || !self.border_intact(geo, v)) {
-            return None;
+        if border {
+            match geo.border_policy {
+                BorderPolicy::Simplify => {}
+                BorderPolicy::Intact | BorderPolicy::Auto if self.border_intact(geo, v) => {}
+                _ => return None,
+            }
         }
         let plane = match geo.global {
             Some(p) => p,
@@ -440,11 +462,18 @@ impl Scratch {
         Some(plan)
     }
 
-    /// The evaluation value of `v` ([`Engine::evaluate`]).
-    fn evaluate(&mut self, geo: &Geometry, lists: &impl Lists, v: u32) -> Option<f64> {
-        if geo.criterion == Criterion::Error {
+    /// The evaluation value of `v` ([`Engine::evaluate`]); `quadric` is `v`'s (read by the
+    /// quadric criterion only).
+    fn evaluate(
+        &mut self,
+        geo: &Geometry,
+        lists: &impl Lists,
+        v: u32,
+        quadric: &Quadric,
+    ) -> Option<f64> {
+        if geo.criterion.plans() {
             let plan = self.plan(geo, lists, v)?;
-            return Some(self.removal_error(geo, v, plan.plane));
+            return Some(self.removal_value(geo, v, plan, quadric));
         }
         let (_, plane) = self.candidate(geo, lists, v)?;
         self.mean_value(geo, v, plane)
@@ -465,6 +494,29 @@ impl Scratch {
             };
         }
         Some(sum / self.ring.len() as f64)
+    }
+
+    /// The value of removing `v` as planned (loaded, projected and cut): the error criterion
+    /// ([`removal_error`](Self::removal_error)) or the quadric one (`v`'s quadric's root
+    /// mean square distance at its [`landing`] point).
+    fn removal_value(&mut self, geo: &Geometry, v: u32, plan: Plan, quadric: &Quadric) -> f64 {
+        if geo.criterion == Criterion::Quadric {
+            self.landing(geo, v, plan);
+            quadric.rms_distance(self.landed.0)
+        } else {
+            self.removal_error(geo, v, plan.plane)
+        }
+    }
+
+    /// Where `v` lands on its planned hole ([`landing`]), into `landed` (reads the loaded
+    /// ring, its projection in `pts` and the cut).
+    fn landing(&mut self, geo: &Geometry, v: u32, plan: Plan) {
+        self.ring3.clear();
+        self.ring3
+            .extend(self.ring.iter().map(|&w| geo.pos[w as usize]));
+        let p = geo.pos[v as usize];
+        let pv = plan.plane.project(p);
+        self.landed = landing(p, pv, &self.ring3, &self.pts, &self.tris, plan.border);
     }
 
     /// The error criterion: `|h(v) − h_interp|` over the planned triangles, `h` the scalar or
@@ -669,7 +721,8 @@ impl Engine for FastEngine {
         if let Some(r) = self.ready.filter(|r| r.node == v) {
             return r.ev;
         }
-        let ev = self.sc.evaluate(&self.st.geo, &self.st.lists, v);
+        let q = quadric_of(&self.st.quadrics, v);
+        let ev = self.sc.evaluate(&self.st.geo, &self.st.lists, v, &q);
         if let Some(m) = self.memo.get_mut(v as usize) {
             *m = self.sc.memo_of(v);
         }
@@ -679,7 +732,7 @@ impl Engine for FastEngine {
     /// In parallel (rayon), each thread with its own scratch buffers. With a global plane
     /// the same pass decides [`Geometry::embedded`]; then the lookahead thread starts.
     fn evaluate_all(&mut self, keep: impl Fn(f64) -> bool + Sync) -> Vec<(u32, f64)> {
-        let (geo, lists) = (&*self.st.geo, &self.st.lists);
+        let (geo, lists, quadrics) = (&*self.st.geo, &self.st.lists, &self.st.quadrics);
         let all_simple = AtomicBool::new(geo.global.is_some());
         let mut memo = huge_vec(NO_MEMO, geo.pos.len());
         let initial = memo
@@ -687,15 +740,16 @@ impl Engine for FastEngine {
             .enumerate()
             .map_init(Scratch::default, |sc, (v, m)| {
                 let v = v as u32;
+                let q = quadric_of(quadrics, v);
                 let ev = match geo.global {
                     Some(global) => {
-                        let (ev, simple) = sc.evaluate_initial(geo, lists, v, global);
+                        let (ev, simple) = sc.evaluate_initial(geo, lists, v, global, &q);
                         if !simple {
                             all_simple.store(false, AtomicOrdering::Relaxed);
                         }
                         ev
                     }
-                    None => sc.evaluate(geo, lists, v),
+                    None => sc.evaluate(geo, lists, v, &q),
                 };
                 *m = sc.memo_of(v);
                 ev.filter(|&ev| keep(ev)).map(|ev| (v, ev))
@@ -704,7 +758,8 @@ impl Engine for FastEngine {
             .collect();
         self.memo = memo;
         if let Some(geo) = Arc::get_mut(&mut self.st.geo) {
-            geo.embedded = all_simple.into_inner();
+            // Border removals change the domain: its fans need not stay simple stars.
+            geo.embedded = all_simple.into_inner() && geo.border_policy != BorderPolicy::Simplify;
         }
         self.start_lookahead();
         initial
@@ -716,7 +771,8 @@ impl Engine for FastEngine {
 
     fn look_ahead(&mut self, v: u32, ticket: u32) {
         if let Some(ahead) = &mut self.ahead {
-            ahead.add(v, ticket, &self.st.lists, self.scale);
+            let q = quadric_of(&self.st.quadrics, v);
+            ahead.add(v, ticket, &self.st.lists, q, self.scale);
         }
     }
 
@@ -811,6 +867,17 @@ impl Engine for FastEngine {
         };
         if !st.geo.embedded && !sc.topology_ok(st, plan.border) {
             return false;
+        }
+        if !st.quadrics.is_empty() {
+            // The removed node's quadric passes to the corners of the triangle it lands in.
+            if !matches!(sc.planned, Some((u, _)) if u == v) {
+                sc.project_fan(&st.geo, v, plan.plane);
+            }
+            sc.landing(&st.geo, v, plan);
+            let q = st.quadrics[v as usize];
+            for k in sc.landed.1 {
+                st.quadrics[sc.ring[k as usize] as usize].add(&q);
+            }
         }
         st.apply(sc, v, plan.border, history);
         true

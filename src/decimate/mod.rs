@@ -79,13 +79,43 @@ pub enum Criterion {
     /// its height above the projection plane) minus the value the re-triangulated hole
     /// interpolates at the node's projection.
     Error,
+    /// Accumulated error (an extension for surfaces in 3-D, after Garland and Heckbert's
+    /// quadrics): every node carries the area-weighted squared-distance quadric of the
+    /// original planes it stands for ([`Quadric`], [`initial_quadrics`]); removing it costs
+    /// that quadric at the point where it lands on the re-triangulated hole ([`landing`]),
+    /// and its quadric passes to the three corners of the triangle it lands on. The value
+    /// is the root mean square distance `√(Q(p)/W)` (a length; `W` the quadric's area).
+    Quadric,
+    /// [`Quadric`](Criterion::Quadric) when holes are cut in per-fan planes (surfaces in
+    /// 3-D), [`Error`](Criterion::Error) when in the global xy plane (height fields, planar
+    /// FEM meshes).
+    Auto,
 }
 
 crate::choice::named_enum!(Criterion {
     Angle => "angle",
     Scalar => "scalar",
     Error => "error",
+    Quadric => "quadric",
+    Auto => "auto",
 });
+
+impl Criterion {
+    /// The criterion that runs: [`Criterion::Auto`] resolved by whether holes are cut in the
+    /// global xy plane.
+    pub fn resolve(self, global_xy: bool) -> Criterion {
+        match (self, global_xy) {
+            (Criterion::Auto, true) => Criterion::Error,
+            (Criterion::Auto, false) => Criterion::Quadric,
+            (c, _) => c,
+        }
+    }
+
+    /// Whether the value comes from the planned re-triangulation (so evaluating plans it).
+    pub(crate) fn plans(self) -> bool {
+        matches!(self, Criterion::Error | Criterion::Quadric)
+    }
+}
 
 /// What happens to nodes on the mesh border.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -95,8 +125,245 @@ pub enum BorderPolicy {
     /// A border node is queued only while removing it leaves the border intact: it lies
     /// exactly on the segment between its two border neighbours — in the xy plane when the
     /// mesh is decimated in the global xy projection (the domain's outline stays; heights
-    /// along it may be simplified), in 3-D otherwise. Checked exactly.
+    /// along it may be simplified), in 3-D otherwise. Checked exactly. (`outline`.)
     Intact,
+    /// Border nodes are removed like interior ones (an extension for meshes with holes): the
+    /// hole of a border node is its ring closed by the new border edge from its last to its
+    /// first neighbour, valid when every inner ring node lies strictly left of that edge in
+    /// the projection (exact signs) and the edge is new (so no border loop closes up). The
+    /// quadric criterion measures the border's error through border-edge planes
+    /// ([`initial_quadrics`]); a border node lands on its new border edge ([`landing`]).
+    Simplify,
+    /// [`Intact`](BorderPolicy::Intact) when holes are cut in the global xy plane (an FE
+    /// domain's outline stays exact), [`Simplify`](BorderPolicy::Simplify) otherwise.
+    Auto,
+}
+
+crate::choice::named_enum!(BorderPolicy {
+    Exclude => "keep",
+    Intact => "outline",
+    Simplify => "simplify",
+    Auto => "auto",
+});
+
+impl BorderPolicy {
+    /// The policy that runs: [`BorderPolicy::Auto`] resolved by whether holes are cut in the
+    /// global xy plane.
+    pub fn resolve(self, global_xy: bool) -> BorderPolicy {
+        match (self, global_xy) {
+            (BorderPolicy::Auto, true) => BorderPolicy::Intact,
+            (BorderPolicy::Auto, false) => BorderPolicy::Simplify,
+            (b, _) => b,
+        }
+    }
+}
+
+/// A symmetric 4×4 quadric `Q(p) = Σ wᵢ (nᵢ·p + dᵢ)²` over weighted planes (Garland and
+/// Heckbert 1997, eq. 2), stored as its ten distinct entries `[aa, ab, ac, ad, bb, bc, bd,
+/// cc, cd, dd]` of `Σ wᵢ (a, b, c, d)ᵢᵀ (a, b, c, d)ᵢ`. With unit normals the weight is
+/// the trace of the 3×3 block ([`weight`](Quadric::weight)).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Quadric(pub [f64; 10]);
+
+impl Quadric {
+    /// The quadric of the plane `n·p + d = 0` (`n` a unit normal) with weight `w`.
+    pub fn plane(n: [f64; 3], d: f64, w: f64) -> Quadric {
+        let [a, b, c] = n;
+        Quadric([
+            w * a * a,
+            w * a * b,
+            w * a * c,
+            w * a * d,
+            w * b * b,
+            w * b * c,
+            w * b * d,
+            w * c * c,
+            w * c * d,
+            w * d * d,
+        ])
+    }
+
+    /// Adds `other` entry by entry.
+    #[inline]
+    pub fn add(&mut self, other: &Quadric) {
+        for k in 0..10 {
+            self.0[k] += other.0[k];
+        }
+    }
+
+    /// `Q(p)`: the weighted sum of squared distances from `p` to the planes.
+    #[inline]
+    pub fn value(&self, p: [f64; 3]) -> f64 {
+        let q = &self.0;
+        let [x, y, z] = p;
+        x * (q[0] * x + 2.0 * (q[1] * y + q[2] * z + q[3]))
+            + y * (q[4] * y + 2.0 * (q[5] * z + q[6]))
+            + z * (q[7] * z + 2.0 * q[8])
+            + q[9]
+    }
+
+    /// The total weight of its planes (for unit normals).
+    pub fn weight(&self) -> f64 {
+        self.0[0] + self.0[4] + self.0[7]
+    }
+
+    /// The root mean square distance `√(Q(p)/W)` from `p` to the planes (0 without weight;
+    /// rounding below zero reads as zero).
+    pub fn rms_distance(&self, p: [f64; 3]) -> f64 {
+        let w = self.weight();
+        if w > 0.0 {
+            (self.value(p).max(0.0) / w).sqrt()
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The initial quadrics of the [`Criterion::Quadric`] (both engines use these): every
+/// triangle's plane weighted by its area goes to its three corners; every border edge
+/// `a → b` (its twin `b → a` absent) adds the plane through it perpendicular to its triangle,
+/// weighted by `|ab|²`, to `a` and `b` (so that a border node's removal is charged its
+/// distance from the original border). Each node sums its incident triangles in increasing
+/// order (face plane, then the border edge leaving it, then the one entering it), in `f64`,
+/// on all cores: the same values however many. Degenerate triangles add nothing. The mesh
+/// must be valid (indices in range).
+pub fn initial_quadrics(mesh: &Mesh) -> Vec<Quadric> {
+    use crate::par::prelude::*;
+    let n = mesh.vertices.len();
+    let (pos, tris) = (&mesh.vertices, &mesh.triangles);
+    // Incident triangles by node, in increasing order (counting sort).
+    let mut start = vec![0u32; n + 1];
+    for t in tris {
+        for &i in t {
+            start[i as usize + 1] += 1;
+        }
+    }
+    for i in 0..n {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut incident = vec![0u32; 3 * tris.len()];
+    for (k, t) in tris.iter().enumerate() {
+        for &i in t {
+            incident[fill[i as usize] as usize] = k as u32;
+            fill[i as usize] += 1;
+        }
+    }
+    drop(fill);
+    let around = |a: u32| &incident[start[a as usize] as usize..start[a as usize + 1] as usize];
+    let unit = |v: [f64; 3]| {
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        (l > 0.0 && l.is_finite()).then(|| ([v[0] / l, v[1] / l, v[2] / l], l))
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    // The plane through the edge p → r perpendicular to the unit normal nn, weight |pr|².
+    let edge_plane = |p: [f64; 3], r: [f64; 3], nn: [f64; 3]| {
+        let d = sub(r, p);
+        unit(crate::mesh::cross(d, nn)).map(|(m, _)| Quadric::plane(m, -dot(m, p), dot(d, d)))
+    };
+    let at = |i: u32| pos[i as usize];
+    (0..n as u32)
+        .into_par_iter()
+        .map_init(Vec::new, |links: &mut Vec<(u32, u32)>, a| {
+            // Around a, each triangle (a, next, prev): the edge a → next is a border edge
+            // when no triangle around a enters a from next, prev → a when none leaves a to
+            // prev.
+            links.clear();
+            links.extend(around(a).iter().map(|&k| {
+                let t = tris[k as usize];
+                let e = t.iter().position(|&x| x == a).unwrap_or(0);
+                (t[(e + 1) % 3], t[(e + 2) % 3])
+            }));
+            let mut q = Quadric::default();
+            for (&k, &(next, prev)) in around(a).iter().zip(links.iter()) {
+                let [pa, pb, pc] = tris[k as usize].map(at);
+                let Some((nn, twice_area)) = unit(crate::mesh::cross(sub(pb, pa), sub(pc, pa)))
+                else {
+                    continue;
+                };
+                q.add(&Quadric::plane(nn, -dot(nn, pa), 0.5 * twice_area));
+                if !links.iter().any(|&(_, p)| p == next) {
+                    if let Some(k) = edge_plane(at(a), at(next), nn) {
+                        q.add(&k);
+                    }
+                }
+                if !links.iter().any(|&(x, _)| x == prev) {
+                    if let Some(k) = edge_plane(at(prev), at(a), nn) {
+                        q.add(&k);
+                    }
+                }
+            }
+            q
+        })
+        .collect()
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// Where a removed node lands on its re-triangulated hole (both engines, in `f64`): for an
+/// interior node, in the new triangle whose smallest barycentric coordinate at the node's
+/// projection `pv` is largest (`pts` the ring's projection, `tris` the cut), the 3-D point
+/// with those coordinates; for a border node, the closest point of the new border edge
+/// (`ring3[l − 1]` to `ring3[0]`) to `p`. Returns the point and the ring positions of the
+/// triangle it lands in (for a border node the new triangle holding that edge).
+pub fn landing(
+    p: [f64; 3],
+    pv: [f64; 2],
+    ring3: &[[f64; 3]],
+    pts: &[[f64; 2]],
+    tris: &[[u8; 3]],
+    border: bool,
+) -> ([f64; 3], [u8; 3]) {
+    let l = ring3.len();
+    if border {
+        let (a, b) = (ring3[l - 1], ring3[0]);
+        let d = sub(b, a);
+        let dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+        let t = if dd > 0.0 {
+            let e = sub(p, a);
+            ((e[0] * d[0] + e[1] * d[1] + e[2] * d[2]) / dd).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let point = [a[0] + t * d[0], a[1] + t * d[1], a[2] + t * d[2]];
+        let last = (l - 1) as u8;
+        let corners = tris
+            .iter()
+            .copied()
+            .find(|t| (0..3).any(|e| t[e] == last && t[(e + 1) % 3] == 0))
+            .unwrap_or([last, 0, 1]);
+        return (point, corners);
+    }
+    let cross2 = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
+        (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    };
+    let mut best: Option<(f64, [f64; 3], [u8; 3])> = None;
+    for &t in tris {
+        let [a, b, c] = t.map(|k| pts[k as usize]);
+        let area = cross2(a, b, c);
+        if area.is_nan() || area <= 0.0 {
+            continue;
+        }
+        let l0 = cross2(pv, b, c) / area;
+        let l1 = cross2(a, pv, c) / area;
+        let l2 = 1.0 - l0 - l1;
+        let min = l0.min(l1).min(l2);
+        if best.is_none_or(|(m, _, _)| min > m) {
+            best = Some((min, [l0, l1, l2], t));
+        }
+    }
+    match best {
+        Some((_, w, t)) => {
+            let [a, b, c] = t.map(|k| ring3[k as usize]);
+            (
+                std::array::from_fn(|k| w[0] * a[k] + w[1] * b[k] + w[2] * c[k]),
+                t,
+            )
+        }
+        None => (p, tris.first().copied().unwrap_or([0, 1, 2])),
+    }
 }
 
 /// Which plane the holes are triangulated in.
@@ -236,11 +503,13 @@ pub enum Target {
 #[derive(Clone, Debug)]
 #[non_exhaustive]
 pub struct Options {
-    /// How nodes are evaluated ([`Criterion::Error`] by default).
+    /// How nodes are evaluated ([`Criterion::Auto`] by default: the error criterion on height
+    /// fields and planar meshes, the quadric one on surfaces in 3-D).
     pub criterion: Criterion,
     /// When to stop (keep 1 % of the nodes by default).
     pub target: Target,
-    /// What may happen to border nodes ([`BorderPolicy::Intact`] by default).
+    /// What may happen to border nodes ([`BorderPolicy::Auto`] by default: the outline stays
+    /// on height fields and planar meshes, borders are simplified on surfaces in 3-D).
     pub border: BorderPolicy,
     /// The plane holes are triangulated in ([`ProjectionChoice::Auto`] by default).
     pub projection: ProjectionChoice,
@@ -280,9 +549,9 @@ crate::choice::setters!(Options {
 impl Default for Options {
     fn default() -> Self {
         Options {
-            criterion: Criterion::Error,
+            criterion: Criterion::Auto,
             target: Target::Keep(0.01),
-            border: BorderPolicy::Intact,
+            border: BorderPolicy::Auto,
             projection: ProjectionChoice::Auto,
             k: 10,
             max_valence: 64,
@@ -352,6 +621,10 @@ pub struct Stats {
     pub remembered: usize,
     /// Whether holes were triangulated in the xy plane (else per fan).
     pub projection_xy: bool,
+    /// The criterion that ran ([`Criterion::Auto`] resolved).
+    pub criterion: String,
+    /// The border policy that ran ([`BorderPolicy::Auto`] resolved).
+    pub border: String,
     /// Seconds of the decimation itself (adjacency, evaluation, queue, removals).
     pub seconds: f64,
     /// Of `seconds`, those before the first removal: the adjacency, the initial evaluation

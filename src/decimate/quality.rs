@@ -191,14 +191,43 @@ pub fn closest_point_on_triangle(p: [f64; 3], a: [f64; 3], b: [f64; 3], c: [f64;
     ]
 }
 
-/// Closest-point queries on a triangle surface: its triangles in a hashed uniform grid
-/// (about one triangle per occupied cell), searched in growing shells around the query.
+/// Closest-point queries on a triangle surface: a bounding-volume hierarchy over its
+/// triangles in flat arrays (median splits along the longest axis, at most [`LEAF`]
+/// triangles per leaf, the leaves' corners stored in leaf order), searched nearest box
+/// first with pruning by the best distance found.
 pub struct ClosestPoints<'a> {
     mesh: &'a Mesh,
+    nodes: Vec<BvhNode>,
+    /// The triangles' corners in leaf order.
+    corners: Vec<[[f64; 3]; 3]>,
+    /// The mesh's triangle index of each entry of `corners`.
+    ids: Vec<u32>,
+}
+
+/// Triangles per leaf at most.
+const LEAF: usize = 4;
+
+/// A box of the hierarchy: a leaf holds `corners[start..start + count]`; an inner node
+/// (`count == 0`) has its first child right after it and its second at `start`.
+#[derive(Clone, Copy)]
+struct BvhNode {
     lo: [f64; 3],
-    h: f64,
-    reach: i64,
-    grid: std::collections::HashMap<[i64; 3], Vec<u32>>,
+    hi: [f64; 3],
+    start: u32,
+    count: u32,
+}
+
+impl BvhNode {
+    /// The squared distance from `p` to the box (0 inside).
+    #[inline]
+    fn distance2(&self, p: [f64; 3]) -> f64 {
+        let mut d2 = 0.0;
+        for k in 0..3 {
+            let d = (self.lo[k] - p[k]).max(p[k] - self.hi[k]).max(0.0);
+            d2 += d * d;
+        }
+        d2
+    }
 }
 
 /// The answer of [`ClosestPoints::query`].
@@ -213,117 +242,170 @@ pub struct Closest {
 }
 
 impl<'a> ClosestPoints<'a> {
-    /// The grid over `mesh`'s triangles, sized to cover `also` (the points to be queried)
-    /// too; `None` when `mesh` has no triangles.
-    pub fn new(mesh: &'a Mesh, also: &[[f64; 3]]) -> Option<ClosestPoints<'a>> {
-        Self::with_cell(mesh, also, None)
-    }
-
-    /// [`ClosestPoints::new`] with the grid's cell size given (for surfaces much larger than
-    /// their bounding box's side squared, such as isosurfaces of oscillating fields, where
-    /// the default puts many triangles in a cell).
-    pub fn with_cell(
-        mesh: &'a Mesh,
-        also: &[[f64; 3]],
-        cell: Option<f64>,
-    ) -> Option<ClosestPoints<'a>> {
+    /// The hierarchy over `mesh`'s triangles; `None` when `mesh` has no triangles.
+    pub fn new(mesh: &'a Mesh) -> Option<ClosestPoints<'a>> {
         let (pv, tris) = (&mesh.vertices, &mesh.triangles);
         if tris.is_empty() {
             return None;
         }
-        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        for p in pv.iter().chain(also) {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        let extent = (0..3).map(|k| hi[k] - lo[k]).fold(0.0f64, f64::max);
-        // About one triangle per occupied cell of a surface: h ~ extent / √(triangles).
-        let h = cell
-            .unwrap_or(extent / (tris.len() as f64).sqrt())
-            .max(extent * 1e-9)
-            .max(f64::MIN_POSITIVE);
+        let mut items: Vec<(u32, [f64; 3])> = tris
+            .iter()
+            .enumerate()
+            .map(|(t, tri)| {
+                let c = tri.map(|i| pv[i as usize]);
+                (t as u32, std::array::from_fn(|k| c[0][k] + c[1][k] + c[2][k]))
+            })
+            .collect();
         let mut cp = ClosestPoints {
             mesh,
-            lo,
-            h,
-            reach: ((extent / h).ceil() as i64) + 1,
-            grid: std::collections::HashMap::new(),
+            nodes: Vec::with_capacity(2 * tris.len() / LEAF + 1),
+            corners: Vec::with_capacity(tris.len()),
+            ids: Vec::with_capacity(tris.len()),
         };
-        for (t, tri) in tris.iter().enumerate() {
-            let ps = tri.map(|i| pv[i as usize]);
-            let a = cp.key(std::array::from_fn(|k| {
-                ps.iter().map(|p| p[k]).fold(f64::INFINITY, f64::min)
-            }));
-            let b = cp.key(std::array::from_fn(|k| {
-                ps.iter().map(|p| p[k]).fold(f64::NEG_INFINITY, f64::max)
-            }));
-            for x in a[0]..=b[0] {
-                for y in a[1]..=b[1] {
-                    for z in a[2]..=b[2] {
-                        cp.grid.entry([x, y, z]).or_default().push(t as u32);
-                    }
-                }
-            }
-        }
+        cp.build(&mut items);
         Some(cp)
     }
 
-    fn key(&self, p: [f64; 3]) -> [i64; 3] {
-        std::array::from_fn(|k| ((p[k] - self.lo[k]) / self.h).floor() as i64)
+    /// Appends the subtree over `items` (triangle, centroid × 3) in depth-first order.
+    fn build(&mut self, items: &mut [(u32, [f64; 3])]) {
+        let (pv, tris) = (&self.mesh.vertices, &self.mesh.triangles);
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        let (mut clo, mut chi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for &(t, c) in items.iter() {
+            for &i in &tris[t as usize] {
+                let p = pv[i as usize];
+                for k in 0..3 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            }
+            for k in 0..3 {
+                clo[k] = clo[k].min(c[k]);
+                chi[k] = chi[k].max(c[k]);
+            }
+        }
+        let at = self.nodes.len();
+        self.nodes.push(BvhNode {
+            lo,
+            hi,
+            start: self.corners.len() as u32,
+            count: items.len() as u32,
+        });
+        if items.len() <= LEAF {
+            for &(t, _) in items.iter() {
+                self.corners.push(tris[t as usize].map(|i| pv[i as usize]));
+                self.ids.push(t);
+            }
+            return;
+        }
+        let mut axis = 0;
+        for k in [1, 2] {
+            if chi[k] - clo[k] > chi[axis] - clo[axis] {
+                axis = k;
+            }
+        }
+        let mid = items.len() / 2;
+        items.select_nth_unstable_by(mid, |a, b| a.1[axis].total_cmp(&b.1[axis]));
+        let (first, second) = items.split_at_mut(mid);
+        self.build(first);
+        let right = self.nodes.len() as u32;
+        self.build(second);
+        self.nodes[at].start = right;
+        self.nodes[at].count = 0;
     }
 
     /// The closest point of the surface to `p` (the first triangle found on ties).
     pub fn query(&self, p: [f64; 3]) -> Closest {
-        let (pv, tris, h) = (&self.mesh.vertices, &self.mesh.triangles, self.h);
-        let c = self.key(p);
-        // Distance from p to its own cell's faces: after shells 0..=r are searched, every
-        // triangle not yet seen is at least r·h + margin away.
-        let margin = (0..3)
-            .map(|k| {
-                let f = (p[k] - self.lo[k]) / h - c[k] as f64;
-                f.min(1.0 - f).max(0.0) * h
-            })
-            .fold(f64::INFINITY, f64::min);
         let mut best = Closest {
             distance: f64::INFINITY,
             triangle: 0,
             point: p,
         };
-        let mut r = 0i64;
-        // Shell r holds every cell at Chebyshev distance r.
-        while r <= self.reach && (r == 0 || best.distance > (r - 1) as f64 * h + margin) {
-            for x in -r..=r {
-                for y in -r..=r {
-                    for z in -r..=r {
-                        if x.abs().max(y.abs()).max(z.abs()) != r {
-                            continue;
-                        }
-                        let Some(list) = self.grid.get(&[c[0] + x, c[1] + y, c[2] + z]) else {
-                            continue;
-                        };
-                        for &t in list {
-                            let [a, b, cc] = tris[t as usize].map(|i| pv[i as usize]);
-                            let q = closest_point_on_triangle(p, a, b, cc);
-                            let d = ((p[0] - q[0]).powi(2)
-                                + (p[1] - q[1]).powi(2)
-                                + (p[2] - q[2]).powi(2))
-                            .sqrt();
-                            if d < best.distance {
-                                best = Closest {
-                                    distance: d,
-                                    triangle: t,
-                                    point: q,
-                                };
-                            }
+        let mut best2 = f64::INFINITY;
+        // Pending subtrees with their boxes' squared distances.
+        let mut stack: [(u32, f64); 128] = [(0, 0.0); 128];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let (mut n, d2) = stack[top];
+            if d2 >= best2 {
+                continue;
+            }
+            loop {
+                let node = self.nodes[n as usize];
+                if node.count > 0 {
+                    let s = node.start as usize;
+                    for j in s..s + node.count as usize {
+                        let [a, b, c] = self.corners[j];
+                        let q = closest_point_on_triangle(p, a, b, c);
+                        let e2 = (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
+                        if e2 < best2 {
+                            best2 = e2;
+                            best.triangle = self.ids[j];
+                            best.point = q;
                         }
                     }
+                    break;
                 }
+                let (l, r) = (n + 1, node.start);
+                let (dl, dr) = (
+                    self.nodes[l as usize].distance2(p),
+                    self.nodes[r as usize].distance2(p),
+                );
+                let (near, dn, far, df) = if dl <= dr { (l, dl, r, dr) } else { (r, dr, l, dl) };
+                if df < best2 && top < stack.len() {
+                    stack[top] = (far, df);
+                    top += 1;
+                } else if df < best2 {
+                    // A hierarchy deeper than the stack (not built by `new`): search the far
+                    // side now, which is correct, only slower.
+                    let sub = self.query_from(p, far, best2);
+                    if let Some(s) = sub {
+                        best2 = s.distance * s.distance;
+                        best = s;
+                    }
+                }
+                if dn >= best2 {
+                    break;
+                }
+                n = near;
             }
-            r += 1;
         }
+        best.distance = best2.sqrt();
         best
+    }
+
+    /// [`query`](Self::query) restricted to the subtree at `n`, only answers closer than
+    /// `bound2` (squared); a slow linear scan of the subtree's triangles.
+    fn query_from(&self, p: [f64; 3], n: u32, bound2: f64) -> Option<Closest> {
+        let mut last = n as usize;
+        // The subtree occupies nodes n..end in depth-first order; its leaves' corners are
+        // contiguous: find their range from the leftmost and rightmost leaves.
+        let mut first = n as usize;
+        while self.nodes[first].count == 0 {
+            first += 1;
+        }
+        while self.nodes[last].count == 0 {
+            last = self.nodes[last].start as usize;
+        }
+        let from = self.nodes[first].start as usize;
+        let to = (self.nodes[last].start + self.nodes[last].count) as usize;
+        let mut found: Option<Closest> = None;
+        let mut best2 = bound2;
+        for j in from..to {
+            let [a, b, c] = self.corners[j];
+            let q = closest_point_on_triangle(p, a, b, c);
+            let e2 = (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
+            if e2 < best2 {
+                best2 = e2;
+                found = Some(Closest {
+                    distance: e2.sqrt(),
+                    triangle: self.ids[j],
+                    point: q,
+                });
+            }
+        }
+        found
     }
 }
 
@@ -333,13 +415,16 @@ pub fn vertex_distance_to_surface(from: &Mesh, to: &Mesh) -> f64 {
     if from.vertices.is_empty() {
         return f64::NAN;
     }
-    let Some(cp) = ClosestPoints::new(to, &from.vertices) else {
+    let Some(cp) = ClosestPoints::new(to) else {
         return f64::NAN;
     };
-    from.vertices
-        .iter()
+    use crate::par::prelude::*;
+    let d: Vec<f64> = from
+        .vertices
+        .par_iter()
         .map(|&p| cp.query(p).distance)
-        .fold(0.0, f64::max)
+        .collect();
+    d.into_iter().fold(0.0, f64::max)
 }
 
 /// The barycentric coordinates of `q` (a point of triangle `abc`) by least squares in 3-D.
@@ -367,23 +452,149 @@ fn barycentric(q: [f64; 3], a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
 /// distance to the decimated surface (in `max_height`/`rms_height`) and the difference
 /// between its scalar and the decimated field interpolated at its closest point.
 pub fn surface_errors(original: &Mesh, decimated: &Mesh) -> Errors {
-    let Some(cp) = ClosestPoints::new(decimated, &original.vertices) else {
+    use crate::par::prelude::*;
+    let Some(cp) = ClosestPoints::new(decimated) else {
         return Errors::default();
     };
     let fields = original.scalars.as_ref().zip(decimated.scalars.as_ref());
+    // On all cores; the tally runs in vertex order (the same sums either way).
+    let per_vertex: Vec<(f64, f64)> = original
+        .vertices
+        .par_iter()
+        .enumerate()
+        .map(|(i, &p)| {
+            let c = cp.query(p);
+            let scalar = fields.map_or(0.0, |(f, g)| {
+                let tri = decimated.triangles[c.triangle as usize];
+                let [a, b, cc] = tri.map(|k| decimated.vertices[k as usize]);
+                let w = barycentric(c.point, a, b, cc);
+                let at: f64 = (0..3).map(|k| w[k] * g.values[tri[k] as usize]).sum();
+                (f.values[i] - at).abs()
+            });
+            (c.distance, scalar)
+        })
+        .collect();
     let mut tally = Tally::default();
-    for (i, &p) in original.vertices.iter().enumerate() {
-        let c = cp.query(p);
-        tally.height(c.distance);
-        if let Some((f, g)) = fields {
-            let tri = decimated.triangles[c.triangle as usize];
-            let [a, b, cc] = tri.map(|k| decimated.vertices[k as usize]);
-            let w = barycentric(c.point, a, b, cc);
-            let at: f64 = (0..3).map(|k| w[k] * g.values[tri[k] as usize]).sum();
-            tally.scalar((f.values[i] - at).abs());
+    for (d, e) in per_vertex {
+        tally.height(d);
+        if fields.is_some() {
+            tally.scalar(e);
         }
     }
     tally.finish(original.vertices.len(), fields.is_some(), 0)
+}
+
+/// How far a simplified surface lies from its original, both ways, and how many of its
+/// triangles face against it ([`deviation`]).
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+pub struct Deviation {
+    /// The original's bounding-box diagonal (the unit of the `_percent` figures).
+    pub diagonal: f64,
+    /// Largest distance from an original vertex to the simplified surface.
+    pub forward_max: f64,
+    /// Root mean square of those distances.
+    pub forward_rms: f64,
+    /// Largest distance from a sample of the simplified surface (every triangle at the
+    /// barycentric points `(i, j, k)/SAMPLE_STEPS`) to the original surface.
+    pub backward_max: f64,
+    /// Root mean square of those distances.
+    pub backward_rms: f64,
+    /// `max(forward_max, backward_max)`: the symmetric Hausdorff distance at the samples.
+    pub hausdorff: f64,
+    /// Simplified triangles whose normal points against the normal of the original triangle
+    /// closest to their centroid (negative dot product); degenerate ones are not counted.
+    pub flipped: usize,
+    /// Points measured: original vertices and simplified-surface samples.
+    pub samples: usize,
+}
+
+impl Deviation {
+    /// `x` in percent of the diagonal.
+    pub fn percent(&self, x: f64) -> f64 {
+        100.0 * x / self.diagonal
+    }
+}
+
+/// Barycentric steps per edge of the simplified triangles' samples in [`deviation`].
+pub const SAMPLE_STEPS: usize = 3;
+
+/// The deviation of `simplified` from `original` both ways ([`Deviation`]): closest points on
+/// triangles through a bounding-volume hierarchy ([`ClosestPoints`]), in `f64`, on all cores.
+/// Meshes without triangles give NaN distances.
+pub fn deviation(original: &Mesh, simplified: &Mesh) -> Deviation {
+    use crate::par::prelude::*;
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in &original.vertices {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let diagonal = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+    let (Some(to_simplified), Some(to_original)) =
+        (ClosestPoints::new(simplified), ClosestPoints::new(original))
+    else {
+        return Deviation {
+            diagonal,
+            forward_max: f64::NAN,
+            forward_rms: f64::NAN,
+            backward_max: f64::NAN,
+            backward_rms: f64::NAN,
+            hausdorff: f64::NAN,
+            ..Deviation::default()
+        };
+    };
+    let forward: Vec<f64> = original
+        .vertices
+        .par_iter()
+        .map(|&p| to_simplified.query(p).distance)
+        .collect();
+    let normal = |m: &Mesh, t: u32| {
+        let [a, b, c] = m.triangles[t as usize].map(|i| m.vertices[i as usize]);
+        crate::mesh::area_vector(a, b, c)
+    };
+    let n = SAMPLE_STEPS;
+    // Per simplified triangle: its samples' largest and summed squared distances, and
+    // whether it is flipped.
+    let backward: Vec<(f64, f64, usize, bool)> = (0..simplified.triangles.len() as u32)
+        .into_par_iter()
+        .map(|t| {
+            let [a, b, c] = simplified.triangles[t as usize].map(|i| simplified.vertices[i as usize]);
+            let (mut max, mut sum, mut count) = (0.0f64, 0.0, 0);
+            for i in 0..=n {
+                for j in 0..=n - i {
+                    let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+                    let w = 1.0 - u - v;
+                    let p = std::array::from_fn(|k| w * a[k] + u * b[k] + v * c[k]);
+                    let d = to_original.query(p).distance;
+                    max = max.max(d);
+                    sum += d * d;
+                    count += 1;
+                }
+            }
+            let centroid = std::array::from_fn(|k| (a[k] + b[k] + c[k]) / 3.0);
+            let own = normal(simplified, t);
+            let near = normal(original, to_original.query(centroid).triangle);
+            let dot = own[0] * near[0] + own[1] * near[1] + own[2] * near[2];
+            (max, sum, count, dot < 0.0)
+        })
+        .collect();
+    let rms = |sum: f64, count: usize| (sum / count.max(1) as f64).sqrt();
+    let forward_max = forward.iter().copied().fold(0.0, f64::max);
+    let forward_rms = rms(forward.iter().map(|d| d * d).sum(), forward.len());
+    let backward_max = backward.iter().map(|b| b.0).fold(0.0, f64::max);
+    let count: usize = backward.iter().map(|b| b.2).sum();
+    let backward_rms = rms(backward.iter().map(|b| b.1).sum(), count);
+    Deviation {
+        diagonal,
+        forward_max,
+        forward_rms,
+        backward_max,
+        backward_rms,
+        hausdorff: forward_max.max(backward_max),
+        flipped: backward.iter().filter(|b| b.3).count(),
+        samples: forward.len() + count,
+    }
 }
 
 /// The symmetric Hausdorff distance between two meshes sampled at their vertices:

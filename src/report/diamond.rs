@@ -156,17 +156,7 @@ const DISTANCE_SAMPLES: usize = 20_000;
 fn sampled_distance(from: &crate::mesh::Mesh, to: &crate::mesh::Mesh) -> f64 {
     let stride = from.vertices.len().div_ceil(DISTANCE_SAMPLES).max(1);
     let sample: Vec<[f64; 3]> = from.vertices.iter().step_by(stride).copied().collect();
-    // Cells of about two mean triangle sides: the isosurfaces fold through the whole box.
-    let side: f64 = to
-        .triangles
-        .iter()
-        .map(|t| {
-            let (a, b) = (to.vertices[t[0] as usize], to.vertices[t[1] as usize]);
-            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-        })
-        .sum::<f64>()
-        / to.triangles.len().max(1) as f64;
-    let Some(cp) = ClosestPoints::with_cell(to, &sample, Some(2.0 * side.max(1e-3))) else {
+    let Some(cp) = ClosestPoints::new(to) else {
         return f64::NAN;
     };
     sample

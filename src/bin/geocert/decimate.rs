@@ -22,7 +22,9 @@ pub(crate) struct Args {
     /// Remove nodes while their evaluation value is at most this.
     #[arg(long)]
     max_error: Option<f64>,
-    #[arg(long, default_value_t = Criterion::Error, value_parser = choice::<Criterion>(Criterion::NAMES))]
+    /// How nodes are evaluated: `auto` is `error` on height fields and planar meshes (holes
+    /// cut in the xy plane) and `quadric` (accumulated error) on surfaces in 3-D.
+    #[arg(long, default_value_t = Criterion::Auto, value_parser = choice::<Criterion>(Criterion::NAMES))]
     criterion: Criterion,
     #[arg(long, default_value_t = Path::Fast, value_parser = choice::<Path>(Path::NAMES))]
     path: Path,
@@ -35,9 +37,18 @@ pub(crate) struct Args {
     /// The nodal scalar field: a PLY vertex property or VTK POINT_DATA array name.
     #[arg(long)]
     scalar: Option<String>,
-    /// Never remove border nodes (default: only while the border stays intact).
-    #[arg(long)]
+    /// Border nodes: `keep` never removes them, `outline` only while the border stays
+    /// exactly the same (collinear nodes; in the xy plane for height fields and planar
+    /// meshes), `simplify` removes them like interior ones (the border's error measured),
+    /// `auto` is `outline` in the xy plane and `simplify` on surfaces in 3-D.
+    #[arg(long, default_value_t = BorderPolicy::Auto, value_parser = choice::<BorderPolicy>(BorderPolicy::NAMES))]
+    border: BorderPolicy,
+    /// The same as `--border keep` (kept for older scripts).
+    #[arg(long, hide = true, conflicts_with = "border")]
     exclude_border: bool,
+    /// Skip measuring the result against the input (the JSON's error fields are then null).
+    #[arg(long)]
+    no_measure: bool,
     #[arg(long, default_value_t = ProjectionChoice::Auto, value_parser = choice::<ProjectionChoice>(ProjectionChoice::NAMES))]
     projection: ProjectionChoice,
     /// The constant k of eq. (1): m = n/k intervals.
@@ -61,6 +72,16 @@ pub(crate) struct Args {
 }
 
 #[derive(clap::Args)]
+pub(crate) struct DeviationArgs {
+    /// The original surface (.ply, .obj, .stl or .vtk).
+    original: PathBuf,
+    /// The simplified surface, by any program.
+    simplified: PathBuf,
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(clap::Args)]
 pub(crate) struct UndoArgs {
     input: PathBuf,
     #[arg(long)]
@@ -72,6 +93,7 @@ pub(crate) struct UndoArgs {
 }
 
 pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
+    let wall = std::time::Instant::now();
     let target = match (a.keep, a.nodes, a.max_error) {
         (_, Some(n), _) => Target::Nodes(n),
         (_, _, Some(e)) => Target::ErrorBound(e),
@@ -83,7 +105,7 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
         .with_border(if a.exclude_border {
             BorderPolicy::Exclude
         } else {
-            BorderPolicy::Intact
+            a.border
         })
         .with_projection(a.projection)
         .with_k(a.k)
@@ -98,11 +120,16 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
         geocert::decimate::decimate(&mesh, &options).map_err(|e| format!("{input}: {e}"))?;
     // Height fields and planar meshes: errors at the same xy position; other surfaces: the
     // distance to the decimated surface and the scalar at the closest point.
-    let errors = if result.stats.projection_xy {
-        geocert::decimate::quality::xy_errors(&mesh, &result.mesh)
-    } else {
-        geocert::decimate::quality::surface_errors(&mesh, &result.mesh)
+    let measure = std::time::Instant::now();
+    let errors = match (a.no_measure, result.stats.projection_xy) {
+        (true, _) => None,
+        (false, true) => Some(geocert::decimate::quality::xy_errors(&mesh, &result.mesh)),
+        (false, false) => Some(geocert::decimate::quality::surface_errors(
+            &mesh,
+            &result.mesh,
+        )),
     };
+    let measure_seconds = measure.elapsed().as_secs_f64();
     // The history goes to a temporary file first so that a failing mesh write leaves nothing.
     let mut tmp = history.as_os_str().to_owned();
     tmp.push(".geocert-history-partial");
@@ -121,9 +148,14 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
             "nodes_out": s.nodes_out,
             "triangles_out": s.triangles_out,
             "seconds": s.seconds,
-            "max_scalar_error": errors.max_scalar,
-            "max_height_error": s.projection_xy.then_some(errors.max_height),
-            "max_distance_error": (!s.projection_xy).then_some(errors.max_height),
+            "measure_seconds": errors.map(|_| measure_seconds),
+            "wall_seconds": wall.elapsed().as_secs_f64(),
+            "criterion": s.criterion,
+            "border": s.border,
+            "max_scalar_error": errors.and_then(|e| e.max_scalar),
+            "max_height_error": errors.filter(|_| s.projection_xy).map(|e| e.max_height),
+            "max_distance_error": errors.filter(|_| !s.projection_xy).map(|e| e.max_height),
+            "rms_distance_error": errors.filter(|_| !s.projection_xy).map(|e| e.rms_height),
             "removed": s.removed,
             "refused": s.refused,
             "intervals": s.intervals,
@@ -152,11 +184,13 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
         } else {
             "distance to the decimated surface"
         };
-        print!("max {what} {:.6e}", errors.max_height);
-        if let Some(m) = errors.max_scalar {
-            print!(", max scalar error {m:.6e}");
+        if let Some(errors) = errors {
+            print!("max {what} {:.6e}", errors.max_height);
+            if let Some(m) = errors.max_scalar {
+                print!(", max scalar error {m:.6e}");
+            }
+            println!(" (measured in {measure_seconds:.3} s)");
         }
-        println!();
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -225,4 +259,32 @@ pub(crate) fn undo(a: UndoArgs) -> Result<ExitCode, String> {
         }
     );
     Ok(status(stage.applied != 0 || exact))
+}
+
+pub(crate) fn deviation(a: DeviationArgs) -> Result<ExitCode, String> {
+    let original = Mesh::read(&a.original, None).map_err(|e| e.to_string())?;
+    let simplified = Mesh::read(&a.simplified, None).map_err(|e| e.to_string())?;
+    let clock = std::time::Instant::now();
+    let d = geocert::decimate::quality::deviation(&original, &simplified);
+    let seconds = clock.elapsed().as_secs_f64();
+    if a.json {
+        let mut v = serde_json::to_value(d).map_err(|e| e.to_string())?;
+        v["triangles"] = simplified.triangles.len().into();
+        v["vertices"] = simplified.vertices.len().into();
+        v["seconds"] = seconds.into();
+        println!("{v}");
+    } else {
+        println!(
+            "{} triangles: Hausdorff {:.4} % of the diagonal (original → simplified max {:.4} %, rms {:.4} %; back max {:.4} %, rms {:.4} %), {} flipped triangles ({} points in {seconds:.3} s)",
+            simplified.triangles.len(),
+            d.percent(d.hausdorff),
+            d.percent(d.forward_max),
+            d.percent(d.forward_rms),
+            d.percent(d.backward_max),
+            d.percent(d.backward_rms),
+            d.flipped,
+            d.samples
+        );
+    }
+    Ok(ExitCode::SUCCESS)
 }

@@ -57,6 +57,10 @@ enum Command {
     Decimate(decimate::Args),
     /// Restore a decimated mesh with its history: undo the last N steps (all by default).
     Undecimate(decimate::UndoArgs),
+    /// How far a simplified surface (from any program) lies from its original: symmetric
+    /// Hausdorff and RMS distances both ways in % of the bounding-box diagonal, and the
+    /// triangles whose normals flipped.
+    Deviation(decimate::DeviationArgs),
     /// Every root of n polynomial equations in n unknowns on a box, each certified (Miranda
     /// existence, diagonally dominant interval Jacobian for uniqueness); what cannot be
     /// certified comes back as clusters. `solve verify-cert CERT.json` re-checks certificates.
@@ -82,6 +86,7 @@ fn main() -> ExitCode {
         Command::Mc(c) => mc::run(c),
         Command::Decimate(a) => decimate::run(a),
         Command::Undecimate(a) => decimate::undo(a),
+        Command::Deviation(a) => decimate::deviation(a),
         Command::Solve(a) => solve::run(a),
         Command::Sweep(c) => sweep::run(c),
         Command::Dmv(c) => dmv::run(c),

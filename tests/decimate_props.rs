@@ -246,13 +246,21 @@ fn border_simplification_on_an_annulus() {
     let outline = run(BorderPolicy::Intact);
     let simplify = run(BorderPolicy::Simplify);
     // The outline policy keeps all 96 border nodes (none is collinear on a circle).
-    assert!(outline.stats.nodes_out >= 2 * m, "{}", outline.stats.nodes_out);
+    assert!(
+        outline.stats.nodes_out >= 2 * m,
+        "{}",
+        outline.stats.nodes_out
+    );
     assert!(simplify.stats.nodes_out < outline.stats.nodes_out);
     assert!(simplify.stats.nodes_out <= (m * rings) / 10 + 1);
     // The distance from the original vertices to the result is bounded by the circle's
     // chord sagitta at the coarsest spacing left, not zero, and small.
     let e = geocert::decimate::quality::surface_errors(&mesh, &simplify.mesh);
-    assert!(e.max_height > 0.0 && e.max_height < 16.0, "{}", e.max_height);
+    assert!(
+        e.max_height > 0.0 && e.max_height < 16.0,
+        "{}",
+        e.max_height
+    );
 }
 
 /// An octahedron subdivided `level` times, pushed to a sphere of radius 64 and rounded to

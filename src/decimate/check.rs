@@ -4,18 +4,22 @@
 //! * the step's added triangles tile the removed fan's projection exactly: each has positive
 //!   area in the projection plane, no ring node lies in an added triangle's closed region
 //!   except at its corners, their areas sum to the fan's area, and no new edge existed
-//!   before. At a border node the hole is the ring closed by the new border edge (its inner
-//!   nodes strictly left of it): the fan's area minus the triangle (last, node, first),
-//!   zero when the border stays intact, cut off or filled when it is simplified. With the triangles forming a disc on the ring (the manifold check), positive
-//!   orientation makes every point of the hole covered as often as the ring winds around it
-//!   — once — so nothing flips, overlaps or leaves a T-junction in that projection;
+//!   before; the hole's ring is a simple counter-clockwise polygon in that projection (at a
+//!   border node closed by the new border edge: the fan's area minus the triangle (last,
+//!   node, first), zero when the border stays intact, cut off or filled when it is
+//!   simplified). The projection is the axis plane most aligned with the fan's normal, else
+//!   the first of the other two in which the step passes (any one proves the tiling). With
+//!   the triangles forming a disc on the ring (the manifold check), positive orientation
+//!   makes every point of the hole covered as often as the simple ring winds around it —
+//!   once — so nothing flips, overlaps or leaves a T-junction in that projection;
 //! * the mesh is an oriented 2-manifold with the original's Euler characteristic and number
 //!   of border loops (full check every `full_every` steps and at the end);
 //! * undoing every step gives the original mesh bit for bit, and redoing them gives the
 //!   decimated mesh the history names.
 
+use super::earcut::simple_ccw;
 use super::history::{fingerprint, History, HistoryError, Stage};
-use super::{fan_normal, Plane};
+use super::{fallback_planes, fan_normal, Plane};
 use crate::mesh::{Mesh, MeshError};
 use crate::num::{rational_from_f64, Rational};
 use num_traits::{Signed, Zero};
@@ -163,77 +167,34 @@ pub fn verify(
             .iter()
             .map(|&w| stage.vertices[w as usize])
             .collect();
-        let plane = if xy {
-            Plane::XY
+        // The projection: the xy plane, or the axis plane most aligned with the fan's
+        // normal, else the other two in order (the engines' rule); the step must tile its
+        // hole exactly in the first in which it does (any one proves it).
+        let planes: Vec<Plane> = if xy {
+            vec![Plane::XY]
         } else {
-            Plane::most_aligned(fan_normal(stage.vertices[v], &ring3, !st.border))
+            let n = fan_normal(stage.vertices[v], &ring3, !st.border);
+            std::iter::once(Plane::most_aligned(n))
+                .chain(fallback_planes(n))
+                .collect()
         };
-        let p = |w: u32| plane.project(stage.vertices[w as usize]);
-        let centre = plane.project(stage.vertices[v]);
-        let mut fan_area = Rational::zero();
-        for i in 0..st.slots.len() {
-            fan_area += det(centre, p(st.ring[i]), p(st.ring[(i + 1) % l]));
-        }
-        let mut added_area = Rational::zero();
-        for i in 0..l - 2 {
-            let [a, b, c] = st.added_triangle(i).map(p);
-            let d = det(a, b, c);
-            if !d.is_positive() {
-                return Err(step(
-                    s,
-                    format!(
-                        "added triangle {:?} has non-positive area in its projection",
-                        st.added_triangle(i)
-                    ),
-                ));
-            }
-            added_area += d;
-            out.triangles_checked += 1;
-        }
-        // No ring vertex lies in an added triangle's closed region except at its corners: no
-        // T-junction on a new edge, no vertex covered.
-        for i in 0..l - 2 {
-            let t = st.added_triangle(i);
-            let [a, b, c] = t.map(p);
-            for &w in st.ring {
-                if t.contains(&w) {
-                    continue;
+        let mut first_error = None;
+        let mut tiled = false;
+        for plane in planes {
+            match tiles_in(&stage.vertices, &st, plane) {
+                Ok(()) => {
+                    tiled = true;
+                    break;
                 }
-                let q = p(w);
-                if !det(a, b, q).is_negative()
-                    && !det(b, c, q).is_negative()
-                    && !det(c, a, q).is_negative()
-                {
-                    return Err(step(
-                        s,
-                        format!("node {w} lies in the closed added triangle {t:?}"),
-                    ));
+                Err(e) => {
+                    first_error.get_or_insert(e);
                 }
             }
         }
-        // At a border node the hole is the ring closed by the new border edge from its last
-        // node to its first: the fan minus the triangle (last, v, first), which is flat when
-        // the border stays intact and is cut off (or filled in) when it is simplified. That
-        // polygon is simple when every inner ring node lies strictly left of the new edge.
-        let mut hole_area = fan_area;
-        if st.border {
-            let (last, first) = (p(st.ring[l - 1]), p(st.ring[0]));
-            hole_area -= det(last, centre, first);
-            for &w in &st.ring[1..l - 1] {
-                if !det(last, first, p(w)).is_positive() {
-                    return Err(step(
-                        s,
-                        format!("ring node {w} is not strictly left of the new border edge"),
-                    ));
-                }
-            }
+        if !tiled {
+            return Err(step(s, first_error.unwrap_or_default()));
         }
-        if hole_area != added_area {
-            return Err(step(
-                s,
-                "the added triangles do not tile the removed fan's hole (areas differ)".into(),
-            ));
-        }
+        out.triangles_checked += l - 2;
         // No added edge may already exist outside the fan.
         for i in 0..l - 2 {
             let t = st.added_triangle(i);
@@ -284,4 +245,94 @@ pub fn verify(
         return Err(CheckError::UndoMismatch);
     }
     Ok(out)
+}
+
+/// Whether step `st` (applied to `vertices`) tiles its hole exactly in the projection
+/// `plane`: every added triangle positive, no ring node in an added triangle's closed region
+/// except at its corners, and the added areas summing to the hole's; else what fails.
+fn tiles_in(
+    vertices: &[[f64; 3]],
+    st: &super::history::StepRef<'_>,
+    plane: Plane,
+) -> Result<(), String> {
+    let l = st.ring.len();
+    let v = st.node as usize;
+    let p = |w: u32| plane.project(vertices[w as usize]);
+    let centre = plane.project(vertices[v]);
+    let mut fan_area = Rational::zero();
+    for i in 0..st.slots.len() {
+        fan_area += det(centre, p(st.ring[i]), p(st.ring[(i + 1) % l]));
+    }
+    let mut added_area = Rational::zero();
+    for i in 0..l - 2 {
+        let [a, b, c] = st.added_triangle(i).map(p);
+        let d = det(a, b, c);
+        if !d.is_positive() {
+            return Err(format!(
+                "added triangle {:?} has non-positive area in its projection",
+                st.added_triangle(i)
+            ));
+        }
+        added_area += d;
+    }
+    // No ring vertex lies in an added triangle's closed region except at its corners: no
+    // T-junction on a new edge, no vertex covered.
+    for i in 0..l - 2 {
+        let t = st.added_triangle(i);
+        let [a, b, c] = t.map(p);
+        for &w in st.ring {
+            if t.contains(&w) {
+                continue;
+            }
+            let q = p(w);
+            if !det(a, b, q).is_negative()
+                && !det(b, c, q).is_negative()
+                && !det(c, a, q).is_negative()
+            {
+                return Err(format!("node {w} lies in the closed added triangle {t:?}"));
+            }
+        }
+    }
+    // The hole is the ring as a closed polygon (at a border node closed by the new border
+    // edge from its last node to its first): it must be simple and counter-clockwise, so that
+    // positive triangles summing to its area tile it once. Its area is the fan's minus, at a
+    // border node, the triangle (last, v, first) (flat when the border stays intact, cut off
+    // or filled in when it is simplified).
+    let ring2: Vec<[f64; 2]> = st
+        .ring
+        .iter()
+        .map(|&w| plane.project(vertices[w as usize]))
+        .collect();
+    let lower = |i: usize, j: usize| {
+        (exact(ring2[i][0]), exact(ring2[i][1])) < (exact(ring2[j][0]), exact(ring2[j][1]))
+    };
+    if !simple_ccw(l, &RingOrient(&ring2), lower) {
+        return Err(
+            "the hole's ring is not a simple counter-clockwise polygon in its projection".into(),
+        );
+    }
+    let mut hole_area = fan_area;
+    if st.border {
+        hole_area -= det(p(st.ring[l - 1]), centre, p(st.ring[0]));
+    }
+    if hole_area != added_area {
+        return Err("the added triangles do not tile the removed fan's hole (areas differ)".into());
+    }
+    Ok(())
+}
+
+/// Exact orientation of projected ring points (rational determinants).
+struct RingOrient<'a>(&'a [[f64; 2]]);
+
+impl super::earcut::Orient for RingOrient<'_> {
+    fn orient(&self, a: usize, b: usize, c: usize) -> std::cmp::Ordering {
+        let d = det(self.0[a], self.0[b], self.0[c]);
+        if d.is_positive() {
+            std::cmp::Ordering::Greater
+        } else if d.is_negative() {
+            std::cmp::Ordering::Less
+        } else {
+            std::cmp::Ordering::Equal
+        }
+    }
 }

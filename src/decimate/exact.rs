@@ -3,11 +3,12 @@
 //! exact arithmetic (rounded once to `f64` to file the node in the queue).
 
 use super::driver::{self, Engine};
-use super::earcut::{EarCutter, Orient};
+use super::earcut::{simple_ccw, EarCutter, Orient};
 use super::history::History;
 use super::{
-    canonical_start, check_options, initial_quadrics, landing, Quadric, edge_angle, fan_normal, global_plane, BorderPolicy, Criterion,
-    DecimateError, Options, Outcome, Plane,
+    canonical_start, check_options, crossing_deviation, edge_angle, fallback_planes, fan_normal,
+    global_plane, initial_quadrics, landing, quadric_value, removal_bound, BorderPolicy, Carried,
+    Criterion, DecimateError, Options, Outcome, Plane, Quadric,
 };
 use crate::mesh::{Mesh, Scalars};
 use crate::num::{rational_from_f64, rational_to_f64, Rational};
@@ -60,6 +61,9 @@ pub(crate) struct ExactEngine {
     /// Per node, its accumulated quadric ([`Criterion::Quadric`]; empty otherwise), in `f64`
     /// exactly as the fast path keeps them.
     quadrics: Vec<Quadric>,
+    /// Per triangle slot, the bound on how far the original points it covers lie from it
+    /// ([`Criterion::Quadric`]; empty otherwise).
+    slot_error: Vec<f64>,
 }
 
 impl ExactEngine {
@@ -101,6 +105,11 @@ impl ExactEngine {
             cutter: EarCutter::default(),
             quadrics: if criterion == Criterion::Quadric {
                 initial_quadrics(mesh)
+            } else {
+                Vec::new()
+            },
+            slot_error: if criterion == Criterion::Quadric {
+                vec![0.0; mesh.triangles.len()]
             } else {
                 Vec::new()
             },
@@ -181,9 +190,11 @@ impl ExactEngine {
             }
     }
 
-    /// Where `v` lands on its hole ([`landing`], from the `f64` input coordinates as the
-    /// fast path computes it).
-    fn landing(&self, v: u32, hole: &Hole) -> ([f64; 3], [u8; 3]) {
+    /// The quadric criterion's value of removing `v` through `hole`, its error bound and the
+    /// ring positions of the triangle it lands in ([`landing`], [`crossing_deviation`],
+    /// [`removal_bound`], [`quadric_value`]), from the `f64` input coordinates as the fast
+    /// path computes them.
+    fn quadric_removal(&self, v: u32, hole: &Hole) -> (f64, f64, [u8; 3]) {
         let ring3: Vec<[f64; 3]> = hole
             .fan
             .ring
@@ -192,14 +203,29 @@ impl ExactEngine {
             .collect();
         let pts: Vec<[f64; 2]> = ring3.iter().map(|&q| hole.plane.project(q)).collect();
         let p = self.float[v as usize];
-        landing(
+        let pv = hole.plane.project(p);
+        let (landed, corners) = landing(p, pv, &ring3, &pts, &hole.triangles, hole.fan.border);
+        let crossing = crossing_deviation(
             p,
-            hole.plane.project(p),
+            pv,
             &ring3,
             &pts,
             &hole.triangles,
+            hole.plane.drop,
             hole.fan.border,
-        )
+        );
+        let fan_error = hole
+            .fan
+            .slots
+            .iter()
+            .map(|&s| self.slot_error[s as usize])
+            .fold(0.0, f64::max);
+        let carried = Carried {
+            quadric: self.quadrics[v as usize],
+            fan_error,
+        };
+        let bound = removal_bound(&carried, p, landed, crossing);
+        (quadric_value(&carried, landed, bound), bound, corners)
     }
 
     /// The border node `v` lies strictly inside the segment between its border neighbours.
@@ -245,13 +271,41 @@ impl ExactEngine {
         if !self.border_allows(v, &fan) {
             return None;
         }
-        let plane = self.plane_of(v, &fan);
-        let projected: Vec<[Rational; 2]> =
-            fan.ring.iter().map(|&w| self.project(plane, w)).collect();
-        let centre = self.project(plane, v);
-        if !simple_star(&centre, &projected, fan.border) {
-            return None;
-        }
+        // The most aligned axis plane, else (per-fan projection) the others in order.
+        let first = self.plane_of(v, &fan);
+        let others: Vec<Plane> = match self.global {
+            Some(_) => Vec::new(),
+            None => {
+                let ring: Vec<[f64; 3]> =
+                    fan.ring.iter().map(|&w| self.float[w as usize]).collect();
+                fallback_planes(fan_normal(self.float[v as usize], &ring, !fan.border)).collect()
+            }
+        };
+        let planes: Vec<Plane> = std::iter::once(first).chain(others).collect();
+        let projected_in = |plane: Plane| -> Vec<[Rational; 2]> {
+            fan.ring.iter().map(|&w| self.project(plane, w)).collect()
+        };
+        let star = planes.iter().find_map(|&plane| {
+            let projected = projected_in(plane);
+            let centre = self.project(plane, v);
+            simple_star(&centre, &projected, fan.border).then_some((plane, projected))
+        });
+        // The quadric criterion also accepts a ring that is a simple counter-clockwise
+        // polygon in some axis plane, in the same order (per-fan projection only).
+        let relaxed = || {
+            if self.criterion != Criterion::Quadric || self.global.is_some() {
+                return None;
+            }
+            planes.iter().find_map(|&plane| {
+                let projected = projected_in(plane);
+                let lower = |i: usize, j: usize| {
+                    (&projected[i][0], &projected[i][1]) < (&projected[j][0], &projected[j][1])
+                };
+                simple_ccw(projected.len(), &ExactOrient(&projected), lower)
+                    .then_some((plane, projected))
+            })
+        };
+        let (plane, projected) = star.or_else(relaxed)?;
         let float: Vec<[f64; 2]> = fan
             .ring
             .iter()
@@ -409,8 +463,7 @@ impl Engine for ExactEngine {
             }
             Criterion::Quadric => {
                 let hole = self.hole(v)?;
-                let (p, _) = self.landing(v, &hole);
-                Some(self.quadrics[v as usize].rms_distance(p))
+                Some(self.quadric_removal(v, &hole).0)
             }
             Criterion::Auto => unreachable!("resolved when the engine is built"),
         }
@@ -424,11 +477,15 @@ impl Engine for ExactEngine {
             return false;
         }
         if !self.quadrics.is_empty() {
-            // The removed node's quadric passes to the corners of the triangle it lands in.
-            let (_, corners) = self.landing(v, &hole);
+            // The removed node's quadric passes to the corners of the triangle it lands in;
+            // the new triangles (in the fan's first slots) take the removal's bound.
+            let (_, bound, corners) = self.quadric_removal(v, &hole);
             let q = self.quadrics[v as usize];
             for k in corners {
                 self.quadrics[hole.fan.ring[k as usize] as usize].add(&q);
+            }
+            for &s in &hole.fan.slots[..hole.triangles.len()] {
+                self.slot_error[s as usize] = bound;
             }
         }
         let ring = &hole.fan.ring;

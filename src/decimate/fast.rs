@@ -19,12 +19,12 @@
 use super::ahead::{self, Evaluated, Job, Lookahead, Planned};
 use super::bucket::Scale;
 use super::driver::{self, Engine};
-use super::earcut::{orient2d, pack_cut, unpack_cut, EarCutter, RobustOrient};
+use super::earcut::{orient2d, pack_cut, simple_ccw, unpack_cut, EarCutter, RobustOrient};
 use super::fans::{CopiedList, Entry, FanLists, Lists, NO_TRIANGLE};
 use super::history::History;
 use super::{
-    check_options, edge_angle, fan_normal, global_plane, initial_quadrics, landing, BorderPolicy,
-    Criterion, DecimateError, Options, Outcome, Plane, Quadric,
+    check_options, edge_angle, fallback_planes, fan_normal, global_plane, initial_quadrics,
+    landing, BorderPolicy, Carried, Criterion, DecimateError, Options, Outcome, Plane, Quadric,
 };
 use crate::memory::{huge_copy, huge_vec};
 use crate::mesh::fans::Fans;
@@ -96,11 +96,25 @@ struct State {
     lists: FanLists,
     /// Per node, its accumulated quadric ([`Criterion::Quadric`]; empty otherwise).
     quadrics: Vec<Quadric>,
+    /// Per triangle slot, the bound on how far the original points it covers lie from it
+    /// ([`Criterion::Quadric`]; empty otherwise).
+    slot_error: Vec<f64>,
 }
 
-/// The quadric of `v` in `quadrics` (zero when the criterion keeps none).
-fn quadric_of(quadrics: &[Quadric], v: u32) -> Quadric {
-    quadrics.get(v as usize).copied().unwrap_or_default()
+impl State {
+    /// What `v` carries into its evaluation (zero when the criterion keeps nothing).
+    fn carried(&self, v: u32) -> Carried {
+        let Some(&quadric) = self.quadrics.get(v as usize) else {
+            return Carried::default();
+        };
+        let mut fan_error = 0.0f64;
+        self.lists.for_each(v, |e| {
+            if e.triangle != NO_TRIANGLE {
+                fan_error = fan_error.max(self.slot_error[(e.triangle >> 2) as usize]);
+            }
+        });
+        Carried { quadric, fan_error }
+    }
 }
 
 /// Buffers for planning one removal; one per thread when nodes are evaluated in parallel.
@@ -122,6 +136,9 @@ struct Scratch {
     planned: Option<(u32, Plan)>,
     /// The last [`landing`]: the point and the ring positions of its triangle.
     landed: ([f64; 3], [u8; 3]),
+    /// The error bound of the last removal evaluated under the quadric criterion
+    /// ([`removal_bound`](super::removal_bound)).
+    bound: f64,
 }
 
 pub(crate) struct FastEngine {
@@ -198,6 +215,11 @@ impl FastEngine {
             st: State {
                 geo: Arc::new(geo),
                 lists,
+                slot_error: if quadrics.is_empty() {
+                    Vec::new()
+                } else {
+                    vec![0.0; t]
+                },
                 quadrics,
             },
             sc: Scratch::default(),
@@ -238,7 +260,7 @@ impl Scratch {
         lists: &FanLists,
         v: u32,
         global: Plane,
-        quadric: &Quadric,
+        carried: &Carried,
     ) -> (Option<f64>, bool) {
         if lists.is_empty(v) {
             return (None, true);
@@ -257,7 +279,7 @@ impl Scratch {
         };
         let ev = if geo.criterion.plans() {
             self.cut_projected(v, border, plane, simple)
-                .map(|plan| self.removal_value(geo, v, plan, quadric))
+                .map(|plan| self.removal_value(geo, v, plan, carried))
         } else {
             self.mean_value(geo, v, plane)
         };
@@ -316,8 +338,8 @@ impl Scratch {
                 entries: &job.entries[start as usize..(start + len) as usize],
                 border,
             };
-            let quadric = job.quadrics.get(k).copied().unwrap_or_default();
-            let ev = self.evaluate(geo, &list, v, &quadric);
+            let carried = job.carried.get(k).copied().unwrap_or_default();
+            let ev = self.evaluate(geo, &list, v, &carried);
             let planned = match self.planned {
                 Some((u, plan)) if u == v => Some(plan),
                 _ if !geo.criterion.plans() => self.plan(geo, &list, v),
@@ -442,6 +464,36 @@ impl Scratch {
         }
         let pv = self.project_fan(geo, v, plane);
         let simple = geo.embedded || star_is_simple(pv, &self.pts, border);
+        if !simple && geo.global.is_none() {
+            // Per-fan projection: the other axis planes, in order ([`fallback_planes`]).
+            self.ring3.clear();
+            self.ring3
+                .extend(self.ring.iter().map(|&w| geo.pos[w as usize]));
+            let n = fan_normal(geo.pos[v as usize], &self.ring3, !border);
+            let planes: Vec<Plane> = std::iter::once(plane).chain(fallback_planes(n)).collect();
+            for &other in &planes[1..] {
+                let pv = self.project_fan(geo, v, other);
+                if star_is_simple(pv, &self.pts, border) {
+                    return self.cut_projected(v, border, other, true);
+                }
+            }
+            // The quadric criterion (an estimate anyway) accepts a ring that is a simple
+            // counter-clockwise polygon in some axis plane, in the same order.
+            if geo.criterion == Criterion::Quadric {
+                for other in planes {
+                    self.project_fan(geo, v, other);
+                    let pts = &self.pts;
+                    let lower = |i: usize, j: usize| {
+                        (pts[i][0], pts[i][1]).partial_cmp(&(pts[j][0], pts[j][1]))
+                            == Some(Ordering::Less)
+                    };
+                    if simple_ccw(pts.len(), &RobustOrient(pts), lower) {
+                        return self.cut_projected(v, border, other, true);
+                    }
+                }
+            }
+            return None;
+        }
         self.cut_projected(v, border, plane, simple)
     }
 
@@ -462,18 +514,18 @@ impl Scratch {
         Some(plan)
     }
 
-    /// The evaluation value of `v` ([`Engine::evaluate`]); `quadric` is `v`'s (read by the
-    /// quadric criterion only).
+    /// The evaluation value of `v` ([`Engine::evaluate`]); `carried` is what `v` carries (read
+    /// by the quadric criterion only).
     fn evaluate(
         &mut self,
         geo: &Geometry,
         lists: &impl Lists,
         v: u32,
-        quadric: &Quadric,
+        carried: &Carried,
     ) -> Option<f64> {
         if geo.criterion.plans() {
             let plan = self.plan(geo, lists, v)?;
-            return Some(self.removal_value(geo, v, plan, quadric));
+            return Some(self.removal_value(geo, v, plan, carried));
         }
         let (_, plane) = self.candidate(geo, lists, v)?;
         self.mean_value(geo, v, plane)
@@ -499,10 +551,22 @@ impl Scratch {
     /// The value of removing `v` as planned (loaded, projected and cut): the error criterion
     /// ([`removal_error`](Self::removal_error)) or the quadric one (`v`'s quadric's root
     /// mean square distance at its [`landing`] point).
-    fn removal_value(&mut self, geo: &Geometry, v: u32, plan: Plan, quadric: &Quadric) -> f64 {
+    fn removal_value(&mut self, geo: &Geometry, v: u32, plan: Plan, carried: &Carried) -> f64 {
         if geo.criterion == Criterion::Quadric {
             self.landing(geo, v, plan);
-            quadric.rms_distance(self.landed.0)
+            let p = geo.pos[v as usize];
+            let pv = plan.plane.project(p);
+            let crossing = super::crossing_deviation(
+                p,
+                pv,
+                &self.ring3,
+                &self.pts,
+                &self.tris,
+                plan.plane.drop,
+                plan.border,
+            );
+            self.bound = super::removal_bound(carried, p, self.landed.0, crossing);
+            super::quadric_value(carried, self.landed.0, self.bound)
         } else {
             self.removal_error(geo, v, plan.plane)
         }
@@ -721,8 +785,8 @@ impl Engine for FastEngine {
         if let Some(r) = self.ready.filter(|r| r.node == v) {
             return r.ev;
         }
-        let q = quadric_of(&self.st.quadrics, v);
-        let ev = self.sc.evaluate(&self.st.geo, &self.st.lists, v, &q);
+        let c = self.st.carried(v);
+        let ev = self.sc.evaluate(&self.st.geo, &self.st.lists, v, &c);
         if let Some(m) = self.memo.get_mut(v as usize) {
             *m = self.sc.memo_of(v);
         }
@@ -732,7 +796,7 @@ impl Engine for FastEngine {
     /// In parallel (rayon), each thread with its own scratch buffers. With a global plane
     /// the same pass decides [`Geometry::embedded`]; then the lookahead thread starts.
     fn evaluate_all(&mut self, keep: impl Fn(f64) -> bool + Sync) -> Vec<(u32, f64)> {
-        let (geo, lists, quadrics) = (&*self.st.geo, &self.st.lists, &self.st.quadrics);
+        let (geo, lists, st) = (&*self.st.geo, &self.st.lists, &self.st);
         let all_simple = AtomicBool::new(geo.global.is_some());
         let mut memo = huge_vec(NO_MEMO, geo.pos.len());
         let initial = memo
@@ -740,16 +804,16 @@ impl Engine for FastEngine {
             .enumerate()
             .map_init(Scratch::default, |sc, (v, m)| {
                 let v = v as u32;
-                let q = quadric_of(quadrics, v);
+                let c = st.carried(v);
                 let ev = match geo.global {
                     Some(global) => {
-                        let (ev, simple) = sc.evaluate_initial(geo, lists, v, global, &q);
+                        let (ev, simple) = sc.evaluate_initial(geo, lists, v, global, &c);
                         if !simple {
                             all_simple.store(false, AtomicOrdering::Relaxed);
                         }
                         ev
                     }
-                    None => sc.evaluate(geo, lists, v, &q),
+                    None => sc.evaluate(geo, lists, v, &c),
                 };
                 *m = sc.memo_of(v);
                 ev.filter(|&ev| keep(ev)).map(|ev| (v, ev))
@@ -771,8 +835,8 @@ impl Engine for FastEngine {
 
     fn look_ahead(&mut self, v: u32, ticket: u32) {
         if let Some(ahead) = &mut self.ahead {
-            let q = quadric_of(&self.st.quadrics, v);
-            ahead.add(v, ticket, &self.st.lists, q, self.scale);
+            let c = self.st.carried(v);
+            ahead.add(v, ticket, &self.st.lists, c, self.scale);
         }
     }
 
@@ -873,10 +937,15 @@ impl Engine for FastEngine {
             if !matches!(sc.planned, Some((u, _)) if u == v) {
                 sc.project_fan(&st.geo, v, plan.plane);
             }
-            sc.landing(&st.geo, v, plan);
+            let carried = st.carried(v);
+            sc.removal_value(&st.geo, v, plan, &carried);
             let q = st.quadrics[v as usize];
             for k in sc.landed.1 {
                 st.quadrics[sc.ring[k as usize] as usize].add(&q);
+            }
+            // The new triangles take the fan's first slots, with the removal's bound.
+            for &t in &sc.fan[..sc.tris.len()] {
+                st.slot_error[(t >> 2) as usize] = sc.bound;
             }
         }
         st.apply(sc, v, plan.border, history);

@@ -219,6 +219,17 @@ impl Quadric {
     }
 }
 
+/// What a node carries into its evaluation under [`Criterion::Quadric`]: its quadric, and the
+/// largest error bound of its fan's triangles (each triangle's bound on how far the original
+/// points it covers lie from it).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Carried {
+    /// The node's accumulated quadric.
+    pub quadric: Quadric,
+    /// The largest error bound among the node's triangles.
+    pub fan_error: f64,
+}
+
 /// The initial quadrics of the [`Criterion::Quadric`] (both engines use these): every
 /// triangle's plane weighted by its area goes to its three corners; every border edge
 /// `a → b` (its twin `b → a` absent) adds the plane through it perpendicular to its triangle,
@@ -300,6 +311,83 @@ pub fn initial_quadrics(mesh: &Mesh) -> Vec<Quadric> {
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// The largest deviation between a node's fan and the triangles that replace it, away from
+/// the node itself (both engines, in `f64`): along the projection axis `drop`, at every point
+/// where a new diagonal `(a, c)` crosses a spoke `(v, w)` in the projection (both surfaces
+/// are linear along those segments, so between the node and these points the difference is
+/// piecewise linear and peaks at one of them or at the node). `p` is the node, `ring3` its
+/// ring, `pts`/`pv` their projections, `tris` the cut.
+pub fn crossing_deviation(
+    p: [f64; 3],
+    pv: [f64; 2],
+    ring3: &[[f64; 3]],
+    pts: &[[f64; 2]],
+    tris: &[[u8; 3]],
+    drop: usize,
+    border: bool,
+) -> f64 {
+    let l = pts.len();
+    let cross2 = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
+        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    };
+    let mut worst = 0.0f64;
+    for t in tris {
+        for e in 0..3 {
+            let (a, c) = (t[e] as usize, t[(e + 1) % 3] as usize);
+            // Each diagonal once (a < c); link edges and a border node's closing edge have
+            // no spoke crossing them inside.
+            if a > c || c == a + 1 || (a == 0 && c == l - 1) {
+                continue;
+            }
+            let (pa, pc) = (pts[a], pts[c]);
+            let (ha, hc) = (ring3[a][drop], ring3[c][drop]);
+            for (i, &q) in pts.iter().enumerate() {
+                if i == a || i == c || (border && (i == 0 || i == l - 1)) {
+                    continue;
+                }
+                // Proper crossing of a–c with v–q: parameters s on a–c, u on v–q.
+                let d1 = cross2(pa, pc, pv);
+                let d2 = cross2(pa, pc, q);
+                if d1 == d2 || (d1 > 0.0) == (d2 > 0.0) {
+                    continue;
+                }
+                let u = d1 / (d1 - d2);
+                let d3 = cross2(pv, q, pa);
+                let d4 = cross2(pv, q, pc);
+                if d3 == d4 || (d3 > 0.0) == (d4 > 0.0) {
+                    continue;
+                }
+                let s = d3 / (d3 - d4);
+                let h_new = ha + s * (hc - ha);
+                let h_fan = p[drop] + u * (ring3[i][drop] - p[drop]);
+                worst = worst.max((h_new - h_fan).abs());
+            }
+        }
+    }
+    worst
+}
+
+/// The bound on how far the original points a removal's new triangles cover lie from them:
+/// the largest bound of the removed fan's triangles plus how far the fan lies from the new
+/// triangles (the node's distance to its landing point `landed`, and the `crossing`
+/// deviation, [`crossing_deviation`]).
+pub fn removal_bound(c: &Carried, p: [f64; 3], landed: [f64; 3], crossing: f64) -> f64 {
+    let d = ((p[0] - landed[0]).powi(2) + (p[1] - landed[1]).powi(2) + (p[2] - landed[2]).powi(2))
+        .sqrt();
+    c.fan_error + d.max(crossing)
+}
+
+/// The evaluation value of the [`Criterion::Quadric`] for a node carrying `c`, landing at
+/// `landed`, with the removal's error bound `bound` ([`removal_bound`]).
+pub fn quadric_value(c: &Carried, landed: [f64; 3], bound: f64) -> f64 {
+    match std::env::var("GQ").as_deref() {
+        Ok("A") => c.quadric.rms_distance(landed),
+        Ok("E") => c.quadric.rms_distance(landed).max(bound),
+        Ok("F") => c.quadric.rms_distance(landed) + bound,
+        _ => bound,
+    }
 }
 
 /// Where a removed node lands on its re-triangulated hole (both engines, in `f64`): for an
@@ -437,6 +525,24 @@ impl Plane {
             flip: normal[drop] < 0.0,
         }
     }
+}
+
+/// The axis planes other than [`Plane::most_aligned`] in which a fan whose area-weighted
+/// normal is `normal` may still be a simple star: the other two axes in decreasing order of
+/// `|normal|` component (the lower axis on ties), each seen from the side its component points
+/// to.
+pub fn fallback_planes(normal: [f64; 3]) -> impl Iterator<Item = Plane> {
+    let first = Plane::most_aligned(normal).drop;
+    let mut rest: Vec<usize> = (0..3).filter(|&k| k != first).collect();
+    if normal[rest[1]].abs() > normal[rest[0]].abs() {
+        rest.swap(0, 1);
+    }
+    rest.into_iter()
+        .filter(move |&k| normal[k] != 0.0)
+        .map(move |drop| Plane {
+            drop,
+            flip: normal[drop] < 0.0,
+        })
 }
 
 /// The area-weighted normal of a fan around `centre` with `ring` in order (`closed` for an

@@ -253,7 +253,10 @@ impl<'a> ClosestPoints<'a> {
             .enumerate()
             .map(|(t, tri)| {
                 let c = tri.map(|i| pv[i as usize]);
-                (t as u32, std::array::from_fn(|k| c[0][k] + c[1][k] + c[2][k]))
+                (
+                    t as u32,
+                    std::array::from_fn(|k| c[0][k] + c[1][k] + c[2][k]),
+                )
             })
             .collect();
         let mut cp = ClosestPoints {
@@ -338,7 +341,8 @@ impl<'a> ClosestPoints<'a> {
                     for j in s..s + node.count as usize {
                         let [a, b, c] = self.corners[j];
                         let q = closest_point_on_triangle(p, a, b, c);
-                        let e2 = (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
+                        let e2 =
+                            (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
                         if e2 < best2 {
                             best2 = e2;
                             best.triangle = self.ids[j];
@@ -352,7 +356,11 @@ impl<'a> ClosestPoints<'a> {
                     self.nodes[l as usize].distance2(p),
                     self.nodes[r as usize].distance2(p),
                 );
-                let (near, dn, far, df) = if dl <= dr { (l, dl, r, dr) } else { (r, dr, l, dl) };
+                let (near, dn, far, df) = if dl <= dr {
+                    (l, dl, r, dr)
+                } else {
+                    (r, dr, l, dl)
+                };
                 if df < best2 && top < stack.len() {
                     stack[top] = (far, df);
                     top += 1;
@@ -559,7 +567,8 @@ pub fn deviation(original: &Mesh, simplified: &Mesh) -> Deviation {
     let backward: Vec<(f64, f64, usize, bool)> = (0..simplified.triangles.len() as u32)
         .into_par_iter()
         .map(|t| {
-            let [a, b, c] = simplified.triangles[t as usize].map(|i| simplified.vertices[i as usize]);
+            let [a, b, c] =
+                simplified.triangles[t as usize].map(|i| simplified.vertices[i as usize]);
             let (mut max, mut sum, mut count) = (0.0f64, 0.0, 0);
             for i in 0..=n {
                 for j in 0..=n - i {

@@ -76,6 +76,8 @@ pub struct DecimateCampaign {
     pub plate_verify_s: f64,
     /// (input, criterion, histories equal, steps).
     pub exact_vs_fast: Vec<(String, String, bool, usize)>,
+    /// Surfaces in 3-D against the quadric simplifiers.
+    pub surfaces: super::decimate_surfaces::SurfaceCampaign,
 }
 
 fn undo_all(mesh: &Mesh, out: &Mesh, history: &History) -> (f64, bool) {
@@ -306,7 +308,12 @@ fn exact_vs_fast() -> Vec<(String, String, bool, usize)> {
         ("Kirsch plate 36×7".to_string(), data::kirsch_plate(36, 7)),
     ];
     for (name, mesh) in &inputs {
-        for criterion in [Criterion::Angle, Criterion::Scalar, Criterion::Error] {
+        for criterion in [
+            Criterion::Angle,
+            Criterion::Scalar,
+            Criterion::Error,
+            Criterion::Quadric,
+        ] {
             if criterion == Criterion::Scalar && mesh.scalars.is_none() {
                 continue;
             }
@@ -431,6 +438,7 @@ pub fn decimate_campaign(root: &FsPath, sides: &[usize]) -> DecimateCampaign {
         plate_verified,
         plate_verify_s,
         exact_vs_fast: exact_vs_fast(),
+        surfaces: super::decimate_surfaces::surface_campaign(root),
     }
 }
 
@@ -441,8 +449,9 @@ pub fn campaign_ok(c: &DecimateCampaign) -> bool {
         && c.plate_verified.is_ok()
         && c.exact_vs_fast
             .iter()
-            .filter(|r| r.1 == "angle")
+            .filter(|r| r.1 == "angle" || r.1 == "quadric")
             .all(|r| r.2)
+        && c.surfaces.cases.iter().all(|k| k.verified.is_ok())
 }
 
 /// The linearity plot: microseconds per removed node against input nodes.
@@ -702,7 +711,8 @@ pub fn write_decimate_report(
         "\n## Exact path against fast path (95 % removed)\n\nThe same removals, slots and \
          added triangles (histories compared byte for byte). Both paths take every validity \
          decision with exact signs; the angle criterion is computed in `f64` by both from the \
-         same differences, so their histories must agree; the scalar and error criteria are \
+         same differences, and the quadric criterion from the same `f64` quadrics and landing \
+         points, so their histories must agree; the scalar and error criteria are \
          exact rationals rounded once on the exact path and `f64` sums on the fast path, so a \
          last-bit difference can file a node into a neighbouring interval.\n\n| input | criterion | steps | same history |\n|---|---|---:|---|"
     );
@@ -713,6 +723,7 @@ pub fn write_decimate_report(
             if *same { "yes" } else { "no" }
         );
     }
+    s.push_str(&super::decimate_surfaces::markdown(&c.surfaces));
     let path = dir.join("decimate.md");
     std::fs::write(&path, s)?;
     Ok(path)

@@ -118,11 +118,9 @@ pub struct DiamondCampaign {
 /// The report's proof sizes: `(d, largest N)`.
 pub const REPORT_GRIDS: [(usize, u32); 4] = [(2, 8), (3, 5), (4, 4), (5, 2)];
 
-/// The real volumes, when installed: the MNI152 T1 template of the nilearn wheel in
-/// `.venv-peers`, and mricron-data's ch2better.
-fn real_volumes(root: &FsPath, notes: &mut Vec<String>) -> Vec<(String, PathBuf)> {
-    let mut out = Vec::new();
-    let mni = std::fs::read_dir(root.join(".venv-peers/lib"))
+/// The MNI152 T1 template inside the nilearn wheel in `.venv-peers`, when installed.
+pub(super) fn mni_template(root: &FsPath) -> Option<PathBuf> {
+    std::fs::read_dir(root.join(".venv-peers/lib"))
         .ok()
         .and_then(|mut d| d.next())
         .and_then(|e| e.ok())
@@ -131,8 +129,14 @@ fn real_volumes(root: &FsPath, notes: &mut Vec<String>) -> Vec<(String, PathBuf)
                 "site-packages/nilearn/datasets/data/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz",
             )
         })
-        .filter(|p| p.exists());
-    match mni {
+        .filter(|p| p.exists())
+}
+
+/// The real volumes, when installed: the MNI152 T1 template of the nilearn wheel in
+/// `.venv-peers`, and mricron-data's ch2better.
+fn real_volumes(root: &FsPath, notes: &mut Vec<String>) -> Vec<(String, PathBuf)> {
+    let mut out = Vec::new();
+    match mni_template(root) {
         Some(p) => out.push(("MNI152 T1 (nilearn)".to_string(), p)),
         None => notes.push(
             "MNI152 T1 template not available (nilearn is installed into .venv-peers by benches/peers/setup.sh)"

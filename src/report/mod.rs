@@ -5,6 +5,7 @@
 
 pub mod campaign;
 pub mod decimate;
+pub mod decimate_surfaces;
 pub mod diamond;
 pub mod ffd;
 pub mod ffd_dmffd;

@@ -34,6 +34,9 @@ pub(crate) enum Part {
     /// Diamond hierarchies: the proofs at the report's sizes, partial DMVs, selective
     /// refinement, adaptive isosurfaces against the peers; writes diamond.md.
     Diamonds,
+    /// Decimation: height grids, the plate, the peers, exact against fast, and surfaces in
+    /// 3-D against the quadric simplifiers; writes decimate.md.
+    Decimate,
 }
 
 pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
@@ -42,6 +45,7 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
         Some(Part::Solve) => prove_solve(a.out, a.json),
         Some(Part::Sweep) => prove_sweep(a.out, a.json),
         Some(Part::Diamonds) => prove_diamonds(a.out, a.json),
+        Some(Part::Decimate) => prove_decimate(a.out, a.json),
         None => prove(a.out, a.json),
     }
 }
@@ -340,6 +344,34 @@ fn prove_diamonds(out: PathBuf, json: bool) -> Result<ExitCode, String> {
             );
         }
         for n in &c.notes {
+            println!("note: {n}");
+        }
+        println!("wrote {}", written.display());
+    }
+    Ok(status(ok))
+}
+
+/// The decimation report alone.
+fn prove_decimate(out: PathBuf, json: bool) -> Result<ExitCode, String> {
+    let meta = RunMeta::collect();
+    let root = std::env::current_dir().map_err(|e| e.to_string())?;
+    let sides: Vec<usize> = (1..=10).map(|k| 100 * k).collect();
+    let c = report::decimate::decimate_campaign(&root, &sides);
+    let written = report::decimate::write_decimate_report(&out, &meta, &c)
+        .map_err(|e| format!("writing {}: {e}", out.display()))?;
+    let ok = report::decimate::campaign_ok(&c);
+    if json {
+        println!("{}", pretty(&c)?);
+    } else {
+        for case in &c.surfaces.cases {
+            let (rms, haus, speed) = report::decimate_surfaces::ratios(case);
+            println!(
+                "{}: RMS {rms:.2?}× / Hausdorff {haus:.2?}× the best quadric peer, {speed:.2?}× fast-simplification's speed; checker {}",
+                case.name,
+                if case.verified.is_ok() { "passed" } else { "FAILED" }
+            );
+        }
+        for n in &c.surfaces.notes {
             println!("note: {n}");
         }
         println!("wrote {}", written.display());

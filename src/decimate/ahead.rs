@@ -85,8 +85,9 @@ pub(crate) struct Job {
     /// `(node, start, len, border)`: the node's list is `entries[start..start + len]`.
     pub nodes: Vec<(u32, u32, u32, bool)>,
     pub entries: Vec<Entry>,
-    /// What the nodes carried when handed over (the quadric criterion; a node's quadric and
-    /// its triangles' bounds change only when a neighbour goes, which changes its list too).
+    /// What the nodes carried when handed over (the quadric criterion, else empty; a node's
+    /// quadric and its triangles' bounds change only when a neighbour goes, which changes its
+    /// list too).
     pub carried: Vec<Carried>,
     /// Filled by the worker, which sends the job back (its buffers are reused).
     pub results: Vec<Evaluated>,
@@ -188,7 +189,7 @@ impl Lookahead {
         v: u32,
         ticket: u32,
         lists: &FanLists,
-        carried: Carried,
+        carried: Option<Carried>,
         scale: Option<(Scale, u32)>,
     ) {
         let job = &self.pending;
@@ -217,7 +218,9 @@ impl Lookahead {
             }
         };
         job.nodes.push((v, start, len, border));
-        job.carried.push(carried);
+        if let Some(c) = carried {
+            job.carried.push(c);
+        }
         if job.nodes.len() >= self.batch {
             self.flush();
         }

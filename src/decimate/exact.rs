@@ -7,8 +7,8 @@ use super::earcut::{simple_ccw, EarCutter, Orient};
 use super::history::History;
 use super::{
     canonical_start, check_options, crossing_deviation, edge_angle, fallback_planes, fan_normal,
-    global_plane, initial_quadrics, landing, quadric_value, removal_bound, BorderPolicy, Carried,
-    Criterion, DecimateError, Options, Outcome, Plane, Quadric,
+    folds, global_plane, initial_quadrics, landing, quadric_value, removal_bound, BorderPolicy,
+    Carried, Criterion, DecimateError, Options, Outcome, Plane, Quadric,
 };
 use crate::mesh::{Mesh, Scalars};
 use crate::num::{rational_from_f64, rational_to_f64, Rational};
@@ -194,7 +194,8 @@ impl ExactEngine {
     /// ring positions of the triangle it lands in ([`landing`], [`crossing_deviation`],
     /// [`removal_bound`], [`quadric_value`]), from the `f64` input coordinates as the fast
     /// path computes them.
-    fn quadric_removal(&self, v: u32, hole: &Hole) -> (f64, f64, [u8; 3]) {
+    /// `None` when the new triangles would fold the surface over ([`folds`]).
+    fn quadric_removal(&self, v: u32, hole: &Hole) -> Option<(f64, f64, [u8; 3])> {
         let ring3: Vec<[f64; 3]> = hole
             .fan
             .ring
@@ -205,6 +206,9 @@ impl ExactEngine {
         let p = self.float[v as usize];
         let pv = hole.plane.project(p);
         let (landed, corners) = landing(p, pv, &ring3, &pts, &hole.triangles, hole.fan.border);
+        if folds(p, &ring3, &hole.triangles, hole.fan.border) {
+            return None;
+        }
         let crossing = crossing_deviation(
             p,
             pv,
@@ -225,7 +229,7 @@ impl ExactEngine {
             fan_error,
         };
         let bound = removal_bound(&carried, p, landed, crossing);
-        (quadric_value(&carried, landed, bound), bound, corners)
+        Some((quadric_value(&carried, landed, bound), bound, corners))
     }
 
     /// The border node `v` lies strictly inside the segment between its border neighbours.
@@ -463,7 +467,7 @@ impl Engine for ExactEngine {
             }
             Criterion::Quadric => {
                 let hole = self.hole(v)?;
-                Some(self.quadric_removal(v, &hole).0)
+                self.quadric_removal(v, &hole).map(|r| r.0)
             }
             Criterion::Auto => unreachable!("resolved when the engine is built"),
         }
@@ -479,7 +483,9 @@ impl Engine for ExactEngine {
         if !self.quadrics.is_empty() {
             // The removed node's quadric passes to the corners of the triangle it lands in;
             // the new triangles (in the fan's first slots) take the removal's bound.
-            let (_, bound, corners) = self.quadric_removal(v, &hole);
+            let Some((_, bound, corners)) = self.quadric_removal(v, &hole) else {
+                return false;
+            };
             let q = self.quadrics[v as usize];
             for k in corners {
                 self.quadrics[hole.fan.ring[k as usize] as usize].add(&q);

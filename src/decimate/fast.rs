@@ -139,6 +139,8 @@ struct Scratch {
     /// The error bound of the last removal evaluated under the quadric criterion
     /// ([`removal_bound`](super::removal_bound)).
     bound: f64,
+    /// The node `landed` and `bound` were computed for, while its plan holds.
+    valued: Option<u32>,
 }
 
 pub(crate) struct FastEngine {
@@ -279,7 +281,7 @@ impl Scratch {
         };
         let ev = if geo.criterion.plans() {
             self.cut_projected(v, border, plane, simple)
-                .map(|plan| self.removal_value(geo, v, plan, carried))
+                .and_then(|plan| self.removal_value(geo, v, plan, carried))
         } else {
             self.mean_value(geo, v, plane)
         };
@@ -375,6 +377,7 @@ impl Scratch {
     /// `limit`. Interior rings start at the lowest id, as in the exact path.
     fn load_fan(&mut self, lists: &impl Lists, v: u32, limit: usize) -> Option<bool> {
         self.planned = None;
+        self.valued = None;
         self.ring.clear();
         self.fan.clear();
         if lists.len(v) > limit {
@@ -525,7 +528,7 @@ impl Scratch {
     ) -> Option<f64> {
         if geo.criterion.plans() {
             let plan = self.plan(geo, lists, v)?;
-            return Some(self.removal_value(geo, v, plan, carried));
+            return self.removal_value(geo, v, plan, carried);
         }
         let (_, plane) = self.candidate(geo, lists, v)?;
         self.mean_value(geo, v, plane)
@@ -551,10 +554,20 @@ impl Scratch {
     /// The value of removing `v` as planned (loaded, projected and cut): the error criterion
     /// ([`removal_error`](Self::removal_error)) or the quadric one (`v`'s quadric's root
     /// mean square distance at its [`landing`] point).
-    fn removal_value(&mut self, geo: &Geometry, v: u32, plan: Plan, carried: &Carried) -> f64 {
+    fn removal_value(
+        &mut self,
+        geo: &Geometry,
+        v: u32,
+        plan: Plan,
+        carried: &Carried,
+    ) -> Option<f64> {
         if geo.criterion == Criterion::Quadric {
             self.landing(geo, v, plan);
             let p = geo.pos[v as usize];
+            if super::folds(p, &self.ring3, &self.tris, plan.border) {
+                self.planned = None;
+                return None;
+            }
             let pv = plan.plane.project(p);
             let crossing = super::crossing_deviation(
                 p,
@@ -566,9 +579,10 @@ impl Scratch {
                 plan.border,
             );
             self.bound = super::removal_bound(carried, p, self.landed.0, crossing);
-            super::quadric_value(carried, self.landed.0, self.bound)
+            self.valued = Some(v);
+            Some(super::quadric_value(carried, self.landed.0, self.bound))
         } else {
-            self.removal_error(geo, v, plan.plane)
+            Some(self.removal_error(geo, v, plan.plane))
         }
     }
 
@@ -835,7 +849,7 @@ impl Engine for FastEngine {
 
     fn look_ahead(&mut self, v: u32, ticket: u32) {
         if let Some(ahead) = &mut self.ahead {
-            let c = self.st.carried(v);
+            let c = (!self.st.quadrics.is_empty()).then(|| self.st.carried(v));
             ahead.add(v, ticket, &self.st.lists, c, self.scale);
         }
     }
@@ -934,11 +948,18 @@ impl Engine for FastEngine {
         }
         if !st.quadrics.is_empty() {
             // The removed node's quadric passes to the corners of the triangle it lands in.
-            if !matches!(sc.planned, Some((u, _)) if u == v) {
-                sc.project_fan(&st.geo, v, plan.plane);
+            // What its evaluation just computed holds; a plan evaluated ahead or remembered
+            // is valued again (the same inputs, the same numbers).
+            let fresh = sc.valued == Some(v) && matches!(sc.planned, Some((u, _)) if u == v);
+            if !fresh {
+                if !matches!(sc.planned, Some((u, _)) if u == v) {
+                    sc.project_fan(&st.geo, v, plan.plane);
+                }
+                let carried = st.carried(v);
+                if sc.removal_value(&st.geo, v, plan, &carried).is_none() {
+                    return false;
+                }
             }
-            let carried = st.carried(v);
-            sc.removal_value(&st.geo, v, plan, &carried);
             let q = st.quadrics[v as usize];
             for k in sc.landed.1 {
                 st.quadrics[sc.ring[k as usize] as usize].add(&q);

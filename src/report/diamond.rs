@@ -120,16 +120,17 @@ pub const REPORT_GRIDS: [(usize, u32); 4] = [(2, 8), (3, 5), (4, 4), (5, 2)];
 
 /// The MNI152 T1 template inside the nilearn wheel in `.venv-peers`, when installed.
 pub(super) fn mni_template(root: &FsPath) -> Option<PathBuf> {
+    // lib/ holds python3.X/ and, with gmsh, other entries: look in every python one.
     std::fs::read_dir(root.join(".venv-peers/lib"))
-        .ok()
-        .and_then(|mut d| d.next())
-        .and_then(|e| e.ok())
+        .ok()?
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().starts_with("python"))
         .map(|e| {
             e.path().join(
                 "site-packages/nilearn/datasets/data/mni_icbm152_t1_tal_nlin_sym_09a_converted.nii.gz",
             )
         })
-        .filter(|p| p.exists())
+        .find(|p| p.exists())
 }
 
 /// The real volumes, when installed: the MNI152 T1 template of the nilearn wheel in

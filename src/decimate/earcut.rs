@@ -582,6 +582,55 @@ fn orient2d_adaptive(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Ordering {
     d.partial_cmp(&0.0).unwrap_or(Ordering::Equal)
 }
 
+/// Whether the closed polygon `0..l` is simple and counter-clockwise, from orientation signs
+/// and the exact lexicographic order `lower(i, j)` of its vertices ((x, y) of `i` before
+/// `j`'s): no two non-adjacent edges meet (closed segments, so no repeated point), no two
+/// adjacent edges fold back onto each other, and the turn at the lexicographically lowest
+/// vertex is counter-clockwise. `O(l²)`; the relaxed validity of a hole whose fan is not a
+/// simple star in any axis plane (the quadric criterion), and the checker's test of a hole.
+pub fn simple_ccw(l: usize, orient: &impl Orient, lower: impl Fn(usize, usize) -> bool) -> bool {
+    if l < 3 {
+        return false;
+    }
+    // Collinear with a–b: c strictly outside the segment on neither side.
+    let on_segment =
+        |a: usize, b: usize, c: usize| !(lower(c, a) && lower(c, b) || lower(a, c) && lower(b, c));
+    let strictly_between =
+        |a: usize, b: usize, c: usize| (lower(a, b) && lower(b, c)) || (lower(c, b) && lower(b, a));
+    for i in 0..l {
+        let (prev, next) = ((i + l - 1) % l, (i + 1) % l);
+        if orient.orient(prev, i, next) == Ordering::Equal && !strictly_between(prev, i, next) {
+            return false;
+        }
+    }
+    for i in 0..l {
+        let (a, b) = (i, (i + 1) % l);
+        for j in i + 2..l {
+            let (c, d) = (j, (j + 1) % l);
+            if d == a {
+                continue;
+            }
+            let (o1, o2) = (orient.orient(a, b, c), orient.orient(a, b, d));
+            let (o3, o4) = (orient.orient(c, d, a), orient.orient(c, d, b));
+            let meet = (o1 != o2
+                && o3 != o4
+                && o1 != Ordering::Equal
+                && o2 != Ordering::Equal
+                && o3 != Ordering::Equal
+                && o4 != Ordering::Equal)
+                || (o1 == Ordering::Equal && on_segment(a, b, c))
+                || (o2 == Ordering::Equal && on_segment(a, b, d))
+                || (o3 == Ordering::Equal && on_segment(c, d, a))
+                || (o4 == Ordering::Equal && on_segment(c, d, b));
+            if meet {
+                return false;
+            }
+        }
+    }
+    let m = (1..l).fold(0, |m, i| if lower(i, m) { i } else { m });
+    orient.orient((m + l - 1) % l, m, (m + 1) % l) == Ordering::Greater
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -797,54 +846,61 @@ mod tests {
         // All collinear: no ear.
         assert!(cut(&[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0]]).is_none());
     }
-}
 
-/// Whether the closed polygon `0..l` is simple and counter-clockwise, from orientation signs
-/// and the exact lexicographic order `lower(i, j)` of its vertices ((x, y) of `i` before
-/// `j`'s): no two non-adjacent edges meet (closed segments, so no repeated point), no two
-/// adjacent edges fold back onto each other, and the turn at the lexicographically lowest
-/// vertex is counter-clockwise. `O(l²)`; the relaxed validity of a hole whose fan is not a
-/// simple star in any axis plane (the quadric criterion), and the checker's test of a hole.
-pub fn simple_ccw(l: usize, orient: &impl Orient, lower: impl Fn(usize, usize) -> bool) -> bool {
-    if l < 3 {
-        return false;
+    #[test]
+    fn simple_ccw_polygons() {
+        let run = |pts: &[[f64; 2]]| {
+            let lower = |i: usize, j: usize| {
+                (pts[i][0], pts[i][1]).partial_cmp(&(pts[j][0], pts[j][1])) == Some(Ordering::Less)
+            };
+            simple_ccw(pts.len(), &RobustOrient(pts), lower)
+        };
+        let square = [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]];
+        assert!(run(&square));
+        let mut cw = square;
+        cw.reverse();
+        assert!(!run(&cw), "clockwise");
+        assert!(
+            !run(&[[0.0, 0.0], [2.0, 2.0], [2.0, 0.0], [0.0, 2.0]]),
+            "bow tie"
+        );
+        // A straight angle is fine, a fold back is not, nor a repeated point.
+        assert!(run(&[
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 2.0],
+            [0.0, 2.0]
+        ]));
+        assert!(!run(&[
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [1.0, 0.0],
+            [2.0, 2.0],
+            [0.0, 2.0]
+        ]));
+        assert!(!run(&[
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 2.0],
+            [0.0, 0.0],
+            [0.0, 2.0]
+        ]));
+        // A non-convex simple polygon, and a vertex touching a non-adjacent edge.
+        assert!(run(&[
+            [0.0, 0.0],
+            [4.0, 0.0],
+            [4.0, 4.0],
+            [2.0, 1.0],
+            [0.0, 4.0]
+        ]));
+        assert!(!run(&[
+            [0.0, 0.0],
+            [4.0, 0.0],
+            [4.0, 4.0],
+            [2.0, 0.0],
+            [0.0, 4.0]
+        ]));
+        assert!(!run(&[[0.0, 0.0], [1.0, 1.0]]));
     }
-    // Collinear with a–b: c strictly outside the segment on neither side.
-    let on_segment = |a: usize, b: usize, c: usize| {
-        !(lower(c, a) && lower(c, b)) && !(lower(a, c) && lower(b, c))
-    };
-    let strictly_between =
-        |a: usize, b: usize, c: usize| (lower(a, b) && lower(b, c)) || (lower(c, b) && lower(b, a));
-    for i in 0..l {
-        let (prev, next) = ((i + l - 1) % l, (i + 1) % l);
-        if orient.orient(prev, i, next) == Ordering::Equal && !strictly_between(prev, i, next) {
-            return false;
-        }
-    }
-    for i in 0..l {
-        let (a, b) = (i, (i + 1) % l);
-        for j in i + 2..l {
-            let (c, d) = (j, (j + 1) % l);
-            if d == a {
-                continue;
-            }
-            let (o1, o2) = (orient.orient(a, b, c), orient.orient(a, b, d));
-            let (o3, o4) = (orient.orient(c, d, a), orient.orient(c, d, b));
-            let meet = (o1 != o2
-                && o3 != o4
-                && o1 != Ordering::Equal
-                && o2 != Ordering::Equal
-                && o3 != Ordering::Equal
-                && o4 != Ordering::Equal)
-                || (o1 == Ordering::Equal && on_segment(a, b, c))
-                || (o2 == Ordering::Equal && on_segment(a, b, d))
-                || (o3 == Ordering::Equal && on_segment(c, d, a))
-                || (o4 == Ordering::Equal && on_segment(c, d, b));
-            if meet {
-                return false;
-            }
-        }
-    }
-    let m = (1..l).fold(0, |m, i| if lower(i, m) { i } else { m });
-    orient.orient((m + l - 1) % l, m, (m + 1) % l) == Ordering::Greater
 }

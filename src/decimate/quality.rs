@@ -192,7 +192,7 @@ pub fn closest_point_on_triangle(p: [f64; 3], a: [f64; 3], b: [f64; 3], c: [f64;
 }
 
 /// Closest-point queries on a triangle surface: a bounding-volume hierarchy over its
-/// triangles in flat arrays (median splits along the longest axis, at most [`LEAF`]
+/// triangles in flat arrays (median splits along the longest axis, at most four
 /// triangles per leaf, the leaves' corners stored in leaf order), searched nearest box
 /// first with pruning by the best distance found.
 pub struct ClosestPoints<'a> {
@@ -222,8 +222,8 @@ impl BvhNode {
     #[inline]
     fn distance2(&self, p: [f64; 3]) -> f64 {
         let mut d2 = 0.0;
-        for k in 0..3 {
-            let d = (self.lo[k] - p[k]).max(p[k] - self.hi[k]).max(0.0);
+        for ((lo, hi), x) in self.lo.iter().zip(&self.hi).zip(p) {
+            let d = (lo - x).max(x - hi).max(0.0);
             d2 += d * d;
         }
         d2

@@ -606,24 +606,14 @@ impl Scratch {
             Some(f) => f[w],
             None => geo.pos[w][plane.drop],
         };
-        let mut best = (f64::NEG_INFINITY, height(self.ring[0] as usize));
-        for t in &self.tris {
-            let [a, b, c] = t.map(|p| self.pts[p as usize]);
-            let area = cross(a, b, c);
-            if area.is_nan() || area <= 0.0 {
-                continue;
-            }
-            let l0 = cross(pv, b, c) / area;
-            let l1 = cross(a, pv, c) / area;
-            let l2 = 1.0 - l0 - l1;
-            let min = l0.min(l1).min(l2);
-            if min > best.0 {
+        let interpolated = match super::quadric::deepest_triangle(pv, &self.pts, &self.tris) {
+            Some((l, t)) => {
                 let [wa, wb, wc] = t.map(|p| self.ring[p as usize] as usize);
-                let h = l0 * height(wa) + l1 * height(wb) + l2 * height(wc);
-                best = (min, h);
+                l[0] * height(wa) + l[1] * height(wb) + l[2] * height(wc)
             }
-        }
-        (height(v as usize) - best.1).abs()
+            None => height(self.ring[0] as usize),
+        };
+        (height(v as usize) - interpolated).abs()
     }
 
     /// The new triangles must not repeat an edge or a triangle the mesh has outside the hole
@@ -972,10 +962,6 @@ impl Engine for FastEngine {
         st.apply(sc, v, plan.border, history);
         true
     }
-}
-
-fn cross(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
-    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
 }
 
 /// Every vertex's fan list, from the mesh's fans ([`Fans`], which checks that the mesh is an

@@ -285,6 +285,28 @@ pub fn landing(
             .unwrap_or([last, 0, 1]);
         return (point, corners);
     }
+    let best = deepest_triangle(pv, pts, tris);
+    match best {
+        Some((w, t)) => {
+            let [a, b, c] = t.map(|k| ring3[k as usize]);
+            (
+                std::array::from_fn(|k| w[0] * a[k] + w[1] * b[k] + w[2] * c[k]),
+                t,
+            )
+        }
+        None => (p, tris.first().copied().unwrap_or([0, 1, 2])),
+    }
+}
+
+/// The new triangle whose smallest barycentric coordinate at `pv` is largest (the first on
+/// ties; triangles without positive area in `f64` are passed over), with the barycentric
+/// coordinates of `pv` in it: where a removed node's projection falls in its hole (both
+/// engines, the error and the quadric criteria).
+pub(crate) fn deepest_triangle(
+    pv: [f64; 2],
+    pts: &[[f64; 2]],
+    tris: &[[u8; 3]],
+) -> Option<([f64; 3], [u8; 3])> {
     let cross2 = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
         (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
     };
@@ -299,18 +321,9 @@ pub fn landing(
         let l1 = cross2(a, pv, c) / area;
         let l2 = 1.0 - l0 - l1;
         let min = l0.min(l1).min(l2);
-        if best.is_none_or(|(m, _, _)| min > m) {
+        if min > best.map_or(f64::NEG_INFINITY, |b| b.0) {
             best = Some((min, [l0, l1, l2], t));
         }
     }
-    match best {
-        Some((_, w, t)) => {
-            let [a, b, c] = t.map(|k| ring3[k as usize]);
-            (
-                std::array::from_fn(|k| w[0] * a[k] + w[1] * b[k] + w[2] * c[k]),
-                t,
-            )
-        }
-        None => (p, tris.first().copied().unwrap_or([0, 1, 2])),
-    }
+    best.map(|(_, w, t)| (w, t))
 }

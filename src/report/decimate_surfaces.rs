@@ -35,6 +35,9 @@ pub struct SurfaceCase {
     /// geocert's default run: every step re-verified by the exact checker and undone to the
     /// original bit for bit (`Err`: what failed).
     pub verified: Result<String, String>,
+    /// VTK's measure of geocert's default result (vtkDistancePolyDataFilter): the largest and
+    /// the RMS distance from the original's vertices, in % of the diagonal; `Err`: why none.
+    pub vtk_check: Result<(f64, f64), String>,
 }
 
 /// The section's data: the cases and what was not available.
@@ -254,6 +257,37 @@ fn peer_rows(
     rows
 }
 
+/// VTK's forward distances for `simplified` against `original` through
+/// `benches/peers/vtk_distance.py` (max %, RMS %).
+fn vtk_check(root: &FsPath, original: &Mesh, simplified: &Mesh) -> Result<(f64, f64), String> {
+    let python = root.join(".venv-peers/bin/python");
+    if !python.exists() {
+        return Err("`.venv-peers` not found".into());
+    }
+    let dir = std::env::temp_dir();
+    let stem = format!("geocert-vtkcheck-{}", std::process::id());
+    let (a, b) = (
+        dir.join(format!("{stem}-a.ply")),
+        dir.join(format!("{stem}-b.ply")),
+    );
+    let written = std::fs::write(&a, crate::mesh::ply::write(original, true))
+        .and_then(|_| std::fs::write(&b, crate::mesh::ply::write(simplified, true)));
+    let out = written.map(|_| {
+        std::process::Command::new(python)
+            .arg(root.join("benches/peers/vtk_distance.py"))
+            .arg(&a)
+            .arg(&b)
+            .output()
+    });
+    let _ = std::fs::remove_file(&a);
+    let _ = std::fs::remove_file(&b);
+    let v = super::peer_json(out.map_err(|e| e.to_string())?)?;
+    match (v["max_percent"].as_f64(), v["rms_percent"].as_f64()) {
+        (Some(m), Some(r)) => Ok((m, r)),
+        _ => Err(format!("unexpected answer {v}")),
+    }
+}
+
 /// Every step of `out` re-verified and undone.
 fn verify(mesh: &Mesh, options: &Options) -> Result<String, String> {
     let out = decimate(mesh, options).map_err(|e| e.to_string())?;
@@ -278,7 +312,11 @@ pub fn surface_campaign(root: &FsPath) -> SurfaceCampaign {
     let mut cases = Vec::new();
     for (name, source, mesh, keep) in surfaces(root, &mut notes) {
         let default = Options::new().with_target(Target::Keep(keep));
-        let (ours, _) = geocert_row(&mesh, &default, "geocert (quadric, border simplified)");
+        let (ours, result) = geocert_row(&mesh, &default, "geocert (quadric, border simplified)");
+        let vtk = match &result {
+            Some(r) => vtk_check(root, &mesh, r),
+            None => Err("geocert gave no result".into()),
+        };
         let earlier = default
             .clone()
             .with_criterion(Criterion::Error)
@@ -296,6 +334,7 @@ pub fn surface_campaign(root: &FsPath) -> SurfaceCampaign {
             keep,
             rows,
             verified: verify(&mesh, &default),
+            vtk_check: vtk,
         });
     }
     SurfaceCampaign { cases, notes }
@@ -393,10 +432,17 @@ pub fn markdown(c: &SurfaceCampaign) -> String {
             "\nAgainst the best of fast-simplification and vtkQuadricDecimation where they reached \
              geocert's triangle count: RMS → {} \
              (goal ≤ 1.0×), Hausdorff {} (goal ≤ 1.2×); speed {} fast-simplification's \
-             (goal ≥ 1.5×).\n\nExact checker on geocert's default run: {}.\n",
+             (goal ≥ 1.5×).\n\nCross-check of the measure: vtkDistancePolyDataFilter on \
+             geocert's result gives {}.\n\nExact checker on geocert's default run: {}.\n",
             show(rms),
             show(haus),
             show(speed),
+            match &case.vtk_check {
+                Ok((m, r)) => format!("max → {m:.4} %, RMS → {r:.4} % (geocert's measure: {:.4} %, {:.4} %)",
+                    case.rows[0].deviation.map_or(f64::NAN, |d| d.percent(d.forward_max)),
+                    case.rows[0].deviation.map_or(f64::NAN, |d| d.percent(d.forward_rms))),
+                Err(e) => format!("nothing ({e})"),
+            },
             match &case.verified {
                 Ok(m) => m.clone(),
                 Err(e) => format!("FAILED: {e}"),

@@ -552,8 +552,10 @@ impl Scratch {
     }
 
     /// The value of removing `v` as planned (loaded, projected and cut): the error criterion
-    /// ([`removal_error`](Self::removal_error)) or the quadric one (`v`'s quadric's root
-    /// mean square distance at its [`landing`] point).
+    /// ([`removal_error`](Self::removal_error)) or the quadric one
+    /// ([`quadric_value`](super::quadric_value), after the [`landing`] point, the crossing
+    /// deviation and the bound, kept in `landed` and `bound`); `None` when the new triangles
+    /// would fold the surface over ([`folds`](super::folds)).
     fn removal_value(
         &mut self,
         geo: &Geometry,

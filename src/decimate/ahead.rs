@@ -75,6 +75,9 @@ pub(crate) struct Evaluated {
     /// `(version, interval)`: the queue interval of `ev` under the job's [`Scale`] of that
     /// version (so that the loop need not compute it while the queue keeps that scale).
     pub interval: Option<(u32, u32)>,
+    /// Under the quadric criterion, the planned removal's error bound and the ring
+    /// positions of the triangle the node lands in (what the removal needs besides the cut).
+    pub landing: Option<(f64, [u8; 3])>,
 }
 
 /// One hand-over: nodes with copies of their lists.
@@ -168,6 +171,7 @@ impl Lookahead {
                     ev: None,
                     plan: Planned::NotKept,
                     interval: None,
+                    landing: None,
                 };
                 KEPT
             ],

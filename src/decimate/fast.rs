@@ -96,24 +96,24 @@ struct State {
     lists: FanLists,
     /// Per node, its accumulated quadric ([`Criterion::Quadric`]; empty otherwise).
     quadrics: Vec<Quadric>,
-    /// Per triangle slot, the bound on how far the original points it covers lie from it
-    /// ([`Criterion::Quadric`]; empty otherwise).
-    slot_error: Vec<f64>,
+    /// Per node, the largest error bound among its triangles ([`Criterion::Quadric`]; empty
+    /// otherwise). Kept without reading the triangles: a removal's new triangles take a bound
+    /// at least the largest of the removed fan's, and every ring node gets one of them, so a
+    /// ring node's largest bound becomes the larger of its old one and the new bound (the
+    /// exact engine keeps the bounds per triangle slot; the histories agree).
+    node_error: Vec<f64>,
 }
 
 impl State {
     /// What `v` carries into its evaluation (zero when the criterion keeps nothing).
     fn carried(&self, v: u32) -> Carried {
-        let Some(&quadric) = self.quadrics.get(v as usize) else {
-            return Carried::default();
-        };
-        let mut fan_error = 0.0f64;
-        self.lists.for_each(v, |e| {
-            if e.triangle != NO_TRIANGLE {
-                fan_error = fan_error.max(self.slot_error[(e.triangle >> 2) as usize]);
-            }
-        });
-        Carried { quadric, fan_error }
+        match self.quadrics.get(v as usize) {
+            Some(&quadric) => Carried {
+                quadric,
+                fan_error: self.node_error[v as usize],
+            },
+            None => Carried::default(),
+        }
     }
 }
 
@@ -217,10 +217,10 @@ impl FastEngine {
             st: State {
                 geo: Arc::new(geo),
                 lists,
-                slot_error: if quadrics.is_empty() {
+                node_error: if quadrics.is_empty() {
                     Vec::new()
                 } else {
-                    vec![0.0; t]
+                    vec![0.0; mesh.vertices.len()]
                 },
                 quadrics,
             },
@@ -362,12 +362,14 @@ impl Scratch {
                 (Some(ev), Some((scale, version))) => Some((version, scale.interval(ev) as u32)),
                 _ => None,
             };
+            let landing = (self.valued == Some(v)).then_some((self.bound, self.landed.1));
             out.push(Evaluated {
                 node: v,
                 ticket,
                 ev,
                 plan,
                 interval,
+                landing,
             });
         }
     }
@@ -917,7 +919,9 @@ impl Engine for FastEngine {
             .take()
             .filter(|&(u, _)| u == v)
             .map(|(_, p)| p);
-        let ready = self.ready.take().filter(|r| r.node == v).map(|r| r.plan);
+        let ready = self.ready.take().filter(|r| r.node == v);
+        let landing = ready.and_then(|r| r.landing);
+        let ready = ready.map(|r| r.plan);
         let from_memo = ready.is_none() && recalled.is_some();
         let plan = match (sc.planned, ready.or(recalled)) {
             (Some((u, plan)), _) if u == v => plan,
@@ -940,10 +944,14 @@ impl Engine for FastEngine {
         }
         if !st.quadrics.is_empty() {
             // The removed node's quadric passes to the corners of the triangle it lands in.
-            // What its evaluation just computed holds; a plan evaluated ahead or remembered
-            // is valued again (the same inputs, the same numbers).
+            // What its evaluation just computed, or what was evaluated ahead with the plan,
+            // holds; a remembered plan is valued again (the same inputs, the same numbers).
             let fresh = sc.valued == Some(v) && matches!(sc.planned, Some((u, _)) if u == v);
-            if !fresh {
+            if let (false, Some((bound, corners))) = (fresh, landing) {
+                // Evaluated ahead from the same list and the same carried values.
+                sc.bound = bound;
+                sc.landed.1 = corners;
+            } else if !fresh {
                 if !matches!(sc.planned, Some((u, _)) if u == v) {
                     sc.project_fan(&st.geo, v, plan.plane);
                 }
@@ -956,9 +964,10 @@ impl Engine for FastEngine {
             for k in sc.landed.1 {
                 st.quadrics[sc.ring[k as usize] as usize].add(&q);
             }
-            // The new triangles take the fan's first slots, with the removal's bound.
-            for &t in &sc.fan[..sc.tris.len()] {
-                st.slot_error[(t >> 2) as usize] = sc.bound;
+            // Every ring node gets new triangles with the removal's bound.
+            for &w in &sc.ring {
+                let e = &mut st.node_error[w as usize];
+                *e = e.max(sc.bound);
             }
         }
         st.apply(sc, v, plan.border, history);
@@ -1134,10 +1143,12 @@ mod tests {
         let grid = height_grid(60);
         let plate = paper_plate();
         let hub = wheel(40);
-        use Criterion::{Angle, Error, Scalar};
+        use Criterion::{Angle, Error, Quadric, Scalar};
         use ProjectionChoice::{Auto, PerFan};
         let cases = [
             ("grid, error", &grid, Error, Auto, true, 0.05),
+            ("grid, quadric per-fan", &grid, Quadric, PerFan, true, 0.05),
+            ("plate, quadric", &plate, Quadric, Auto, true, 0.05),
             ("grid, angle", &grid, Angle, Auto, true, 0.05),
             ("grid, per-fan", &grid, Error, PerFan, true, 0.05),
             ("grid, eager", &grid, Error, Auto, false, 0.05),
@@ -1168,7 +1179,7 @@ mod tests {
             // re-evaluation is eager: every taken node then has its remembered plan.)
             assert!(used + remembered > 0, "{name}: {used} of {removed}");
             // Plans are remembered wherever the evaluation plans (the error criterion).
-            if criterion == Error {
+            if criterion == Error || criterion == Quadric {
                 assert!(remembered > 0, "{name}: {remembered}");
                 assert!(stats.remembered > 0, "{name}: {}", stats.remembered);
             }

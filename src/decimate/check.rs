@@ -303,8 +303,10 @@ fn tiles_in(
         .iter()
         .map(|&w| plane.project(vertices[w as usize]))
         .collect();
+    // Comparisons of finite f64 values are exact.
     let lower = |i: usize, j: usize| {
-        (exact(ring2[i][0]), exact(ring2[i][1])) < (exact(ring2[j][0]), exact(ring2[j][1]))
+        (ring2[i][0], ring2[i][1]).partial_cmp(&(ring2[j][0], ring2[j][1]))
+            == Some(std::cmp::Ordering::Less)
     };
     if !simple_ccw(l, &RingOrient(&ring2), lower) {
         return Err(

@@ -6,9 +6,9 @@ use super::driver::{self, Engine};
 use super::earcut::{simple_ccw, EarCutter, Orient};
 use super::history::History;
 use super::{
-    canonical_start, check_options, crossing_deviation, edge_angle, fallback_planes, fan_normal,
-    folds, global_plane, initial_quadrics, landing, quadric_value, removal_bound, BorderPolicy,
-    Carried, Criterion, DecimateError, Options, Outcome, Plane, Quadric,
+    canonical_start, check_options, edge_angle, fallback_planes, fan_normal, global_plane,
+    initial_quadrics, quadric_removal, BorderPolicy, Carried, Criterion, DecimateError, Options,
+    Outcome, Plane, Quadric, QuadricRemoval,
 };
 use crate::mesh::{Mesh, Scalars};
 use crate::num::{rational_from_f64, rational_to_f64, Rational};
@@ -190,12 +190,10 @@ impl ExactEngine {
             }
     }
 
-    /// The quadric criterion's value of removing `v` through `hole`, its error bound and the
-    /// ring positions of the triangle it lands in ([`landing`], [`crossing_deviation`],
-    /// [`removal_bound`], [`quadric_value`]), from the `f64` input coordinates as the fast
-    /// path computes them.
-    /// `None` when the new triangles would fold the surface over ([`folds`]).
-    fn quadric_removal(&self, v: u32, hole: &Hole) -> Option<(f64, f64, [u8; 3])> {
+    /// The quadric criterion on `v`'s `hole` ([`quadric_removal`]), from the `f64` input
+    /// coordinates as the fast path computes it, with the bounds kept per triangle slot;
+    /// `None` when the new triangles would fold the surface over.
+    fn quadric_cost(&self, v: u32, hole: &Hole) -> Option<QuadricRemoval> {
         let ring3: Vec<[f64; 3]> = hole
             .fan
             .ring
@@ -205,19 +203,6 @@ impl ExactEngine {
         let pts: Vec<[f64; 2]> = ring3.iter().map(|&q| hole.plane.project(q)).collect();
         let p = self.float[v as usize];
         let pv = hole.plane.project(p);
-        let (landed, corners) = landing(p, pv, &ring3, &pts, &hole.triangles, hole.fan.border);
-        if folds(p, &ring3, &hole.triangles, hole.fan.border) {
-            return None;
-        }
-        let crossing = crossing_deviation(
-            p,
-            pv,
-            &ring3,
-            &pts,
-            &hole.triangles,
-            hole.plane.drop,
-            hole.fan.border,
-        );
         let fan_error = hole
             .fan
             .slots
@@ -228,8 +213,16 @@ impl ExactEngine {
             quadric: self.quadrics[v as usize],
             fan_error,
         };
-        let bound = removal_bound(&carried, p, landed, crossing);
-        Some((quadric_value(&carried, landed, bound), bound, corners))
+        quadric_removal(
+            &carried,
+            p,
+            pv,
+            &ring3,
+            &pts,
+            &hole.triangles,
+            hole.plane.drop,
+            hole.fan.border,
+        )
     }
 
     /// The border node `v` lies strictly inside the segment between its border neighbours.
@@ -467,7 +460,7 @@ impl Engine for ExactEngine {
             }
             Criterion::Quadric => {
                 let hole = self.hole(v)?;
-                self.quadric_removal(v, &hole).map(|r| r.0)
+                self.quadric_cost(v, &hole).map(|r| r.value)
             }
             Criterion::Auto => unreachable!("resolved when the engine is built"),
         }
@@ -483,7 +476,7 @@ impl Engine for ExactEngine {
         if !self.quadrics.is_empty() {
             // The removed node's quadric passes to the corners of the triangle it lands in;
             // the new triangles (in the fan's first slots) take the removal's bound.
-            let Some((_, bound, corners)) = self.quadric_removal(v, &hole) else {
+            let Some(QuadricRemoval { bound, corners, .. }) = self.quadric_cost(v, &hole) else {
                 return false;
             };
             let q = self.quadrics[v as usize];

@@ -24,7 +24,7 @@ use super::fans::{CopiedList, Entry, FanLists, Lists, NO_TRIANGLE};
 use super::history::History;
 use super::{
     check_options, edge_angle, fallback_planes, fan_normal, global_plane, initial_quadrics,
-    landing, BorderPolicy, Carried, Criterion, DecimateError, Options, Outcome, Plane, Quadric,
+    BorderPolicy, Carried, Criterion, DecimateError, Options, Outcome, Plane, Quadric,
 };
 use crate::memory::{huge_copy, huge_vec};
 use crate::mesh::fans::Fans;
@@ -134,12 +134,13 @@ struct Scratch {
     chain: Vec<Entry>,
     /// The node whose plan the buffers hold, while nothing has changed since.
     planned: Option<(u32, Plan)>,
-    /// The last [`landing`]: the point and the ring positions of its triangle.
-    landed: ([f64; 3], [u8; 3]),
+    /// The ring positions of the triangle the last node valued under the quadric criterion
+    /// lands in ([`landing`](super::landing)).
+    corners: [u8; 3],
     /// The error bound of the last removal evaluated under the quadric criterion
     /// ([`removal_bound`](super::removal_bound)).
     bound: f64,
-    /// The node `landed` and `bound` were computed for, while its plan holds.
+    /// The node `corners` and `bound` were computed for, while its plan holds.
     valued: Option<u32>,
 }
 
@@ -362,7 +363,7 @@ impl Scratch {
                 (Some(ev), Some((scale, version))) => Some((version, scale.interval(ev) as u32)),
                 _ => None,
             };
-            let landing = (self.valued == Some(v)).then_some((self.bound, self.landed.1));
+            let landing = (self.valued == Some(v)).then_some((self.bound, self.corners));
             out.push(Evaluated {
                 node: v,
                 ticket,
@@ -555,9 +556,8 @@ impl Scratch {
 
     /// The value of removing `v` as planned (loaded, projected and cut): the error criterion
     /// ([`removal_error`](Self::removal_error)) or the quadric one
-    /// ([`quadric_value`](super::quadric_value), after the [`landing`] point, the crossing
-    /// deviation and the bound, kept in `landed` and `bound`); `None` when the new triangles
-    /// would fold the surface over ([`folds`](super::folds)).
+    /// ([`quadric_removal`](super::quadric_removal), its bound and landing corners kept in
+    /// `bound` and `corners`); `None` when the new triangles would fold the surface over.
     fn removal_value(
         &mut self,
         geo: &Geometry,
@@ -566,39 +566,28 @@ impl Scratch {
         carried: &Carried,
     ) -> Option<f64> {
         if geo.criterion == Criterion::Quadric {
-            self.landing(geo, v, plan);
+            self.ring3.clear();
+            self.ring3
+                .extend(self.ring.iter().map(|&w| geo.pos[w as usize]));
             let p = geo.pos[v as usize];
-            if super::folds(p, &self.ring3, &self.tris, plan.border) {
-                self.planned = None;
-                return None;
-            }
-            let pv = plan.plane.project(p);
-            let crossing = super::crossing_deviation(
+            let Some(r) = super::quadric_removal(
+                carried,
                 p,
-                pv,
+                plan.plane.project(p),
                 &self.ring3,
                 &self.pts,
                 &self.tris,
                 plan.plane.drop,
                 plan.border,
-            );
-            self.bound = super::removal_bound(carried, p, self.landed.0, crossing);
-            self.valued = Some(v);
-            Some(super::quadric_value(carried, self.landed.0, self.bound))
+            ) else {
+                self.planned = None;
+                return None;
+            };
+            (self.bound, self.corners, self.valued) = (r.bound, r.corners, Some(v));
+            Some(r.value)
         } else {
             Some(self.removal_error(geo, v, plan.plane))
         }
-    }
-
-    /// Where `v` lands on its planned hole ([`landing`]), into `landed` (reads the loaded
-    /// ring, its projection in `pts` and the cut).
-    fn landing(&mut self, geo: &Geometry, v: u32, plan: Plan) {
-        self.ring3.clear();
-        self.ring3
-            .extend(self.ring.iter().map(|&w| geo.pos[w as usize]));
-        let p = geo.pos[v as usize];
-        let pv = plan.plane.project(p);
-        self.landed = landing(p, pv, &self.ring3, &self.pts, &self.tris, plan.border);
     }
 
     /// The error criterion: `|h(v) − h_interp|` over the planned triangles, `h` the scalar or
@@ -950,7 +939,7 @@ impl Engine for FastEngine {
             if let (false, Some((bound, corners))) = (fresh, landing) {
                 // Evaluated ahead from the same list and the same carried values.
                 sc.bound = bound;
-                sc.landed.1 = corners;
+                sc.corners = corners;
             } else if !fresh {
                 if !matches!(sc.planned, Some((u, _)) if u == v) {
                     sc.project_fan(&st.geo, v, plan.plane);
@@ -961,7 +950,7 @@ impl Engine for FastEngine {
                 }
             }
             let q = st.quadrics[v as usize];
-            for k in sc.landed.1 {
+            for k in sc.corners {
                 st.quadrics[sc.ring[k as usize] as usize].add(&q);
             }
             // Every ring node gets new triangles with the removal's bound.

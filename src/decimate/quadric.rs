@@ -327,3 +327,42 @@ pub(crate) fn deepest_triangle(
     }
     best.map(|(_, w, t)| (w, t))
 }
+
+/// What removing a node costs under the quadric criterion ([`quadric_removal`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct QuadricRemoval {
+    /// The evaluation value ([`quadric_value`]).
+    pub value: f64,
+    /// The new triangles' error bound ([`removal_bound`]).
+    pub bound: f64,
+    /// The ring positions of the triangle the node lands in ([`landing`]).
+    pub corners: [u8; 3],
+}
+
+/// The quadric criterion on one planned hole, as both engines compute it: where the node `p`
+/// (projected `pv`) lands, `None` when the new triangles fold the surface over ([`folds`]),
+/// else the crossing deviation along axis `drop`, the bound and the value for a node
+/// carrying `c`. `ring3`/`pts` are the ring and its projection, `tris` the cut.
+#[allow(clippy::too_many_arguments)]
+pub fn quadric_removal(
+    c: &Carried,
+    p: [f64; 3],
+    pv: [f64; 2],
+    ring3: &[[f64; 3]],
+    pts: &[[f64; 2]],
+    tris: &[[u8; 3]],
+    drop: usize,
+    border: bool,
+) -> Option<QuadricRemoval> {
+    let (landed, corners) = landing(p, pv, ring3, pts, tris, border);
+    if folds(p, ring3, tris, border) {
+        return None;
+    }
+    let crossing = crossing_deviation(p, pv, ring3, pts, tris, drop, border);
+    let bound = removal_bound(c, p, landed, crossing);
+    Some(QuadricRemoval {
+        value: quadric_value(c, landed, bound),
+        bound,
+        corners,
+    })
+}

@@ -1,7 +1,7 @@
 //! Diamond hierarchies: the implicit bit encoding against the explicit Maubach bisection, the
 //! longest-edge equality in 2-D and 3-D, and the supercube's edges and types.
 
-use super::{ProofOutcome, Tally};
+use super::{ProofOutcome, Shard, Tally};
 use crate::diamond::explicit::{self, ExplicitHierarchy};
 use crate::diamond::{supercube_edges, Diamond, DiamondType, Hierarchy, Point, Supercube};
 use std::collections::BTreeSet;
@@ -199,20 +199,26 @@ fn interior_counts_hold<const D: usize>(dia: &Diamond<D>, hier: &Hierarchy<D>) -
 }
 
 /// `diamond.implicit-vs-explicit` on the grids of [`TEST_GRIDS`].
-pub fn implicit_vs_explicit() -> ProofOutcome {
-    implicit_vs_explicit_on(&TEST_GRIDS)
+pub fn implicit_vs_explicit(shard: Shard) -> ProofOutcome {
+    implicit_vs_explicit_on(&TEST_GRIDS, shard)
 }
 
 /// `diamond.implicit-vs-explicit` for `(d, largest N)` pairs (`d` in 2..=5).
-pub fn implicit_vs_explicit_on(grids: &[(usize, u32)]) -> ProofOutcome {
+pub fn implicit_vs_explicit_on(grids: &[(usize, u32)], shard: Shard) -> ProofOutcome {
     let mut t = Tally::new(
         "diamond.implicit-vs-explicit",
         &format!(
             "every grid point of [0,2^N]^d for (d, N ≤) {grids:?}: the bit encoding's spine, class, simplices, vertices, parents, children, parent slots (and the fast slot formulas) equal the explicit Maubach hierarchy's; diamond and simplex totals (2^N+1)^d − 2^d and d!(2^(dN+1) − 1); interior class-i diamonds have (d−i)!i!2^i simplices, d or 2i parents, 2(d−i) or 2^d children"
         ),
+        shard,
     );
     let mut counts = Vec::new();
-    for &(d, n) in grids {
+    // One part per grid: the explicit hierarchy is built once per grid.
+    for (part, &(d, n)) in grids.iter().enumerate() {
+        if !t.owns(part as u64) {
+            continue;
+        }
+        let before = counts.len();
         match d {
             2 => compare_dimension::<2>(n, &mut t, &mut counts),
             3 => compare_dimension::<3>(n, &mut t, &mut counts),
@@ -220,18 +226,24 @@ pub fn implicit_vs_explicit_on(grids: &[(usize, u32)]) -> ProofOutcome {
             5 => compare_dimension::<5>(n, &mut t, &mut counts),
             _ => t.check(false, || format!("dimension {d} is not supported")),
         }
+        if counts.len() > before {
+            t.note(counts[before..].join("; "));
+        }
     }
-    t.note(counts.join("; "));
     t.finish()
 }
 
 /// `diamond.maubach-is-longest-edge`: in 2-D and 3-D every bisected simplex's Maubach edge is
 /// its unique longest edge; for 4-D and 5-D the ties are counted.
-pub fn maubach_is_longest_edge() -> ProofOutcome {
+pub fn maubach_is_longest_edge(shard: Shard) -> ProofOutcome {
     let mut t = Tally::new(
         "diamond.maubach-is-longest-edge",
         "every bisected simplex of the explicit hierarchies for d = 2 (N ≤ 6) and d = 3 (N ≤ 4): Maubach's bisection edge is the simplex's unique longest edge",
+        shard,
     );
+    if !t.owns(0) {
+        return t.finish();
+    }
     let mut remarks = Vec::new();
     fn tally<const D: usize>(levels: u32) -> Option<explicit::LongestEdgeTally> {
         explicit::build::<D>(levels, MAX_SIMPLICES)
@@ -335,11 +347,15 @@ fn supercube_dimension<const D: usize>(t: &mut Tally, remarks: &mut Vec<String>)
 
 /// `diamond.supercube`: the supercube's edges and the half-open rule (Section 4), the types
 /// per class (Section 5.4), and diamond ↔ (scale, origin, type) both ways, for d = 2..5.
-pub fn supercube() -> ProofOutcome {
+pub fn supercube(shard: Shard) -> ProofOutcome {
     let mut t = Tally::new(
         "diamond.supercube",
         "for d = 2..5: the supercube's face-centre edges (5^d − 3^d) and half-open edges (4^d − 2^d), every valid type's dense index, 2^d·C(d,i) types of class i, and for every type in an interior supercube at scales 0 and 1: σ + (τ ≪ γ) is a diamond whose spine is a half-open edge (a bijection) and which maps back to (σ, γ, τ); and every diamond of the 3-D N = 5 grid round-trips through its supercube",
+        shard,
     );
+    if !t.owns(0) {
+        return t.finish();
+    }
     let mut remarks = Vec::new();
     supercube_dimension::<2>(&mut t, &mut remarks);
     supercube_dimension::<3>(&mut t, &mut remarks);

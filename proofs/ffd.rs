@@ -1,7 +1,7 @@
 //! FFD proofs: the two exact Jacobian routes agree coefficient for coefficient, and
 //! undeformed lattices have `det J ≡ 1`.
 
-use super::{Lcg, ProofOutcome, Tally};
+use super::{Lcg, ProofOutcome, Shard, Tally};
 use crate::bernstein::Bernstein;
 use crate::ffd::jacobian::{
     cell_point, jacobian_cell_scaled, jacobian_cells_morken, jacobian_in_cell,
@@ -48,7 +48,7 @@ fn random_lattice(rng: &mut Lcg, basis: Basis, order: [usize; 3], cells: [usize;
 /// Mørken route (eq. 8 then knot insertion) versus per-cell Bernstein products in integers,
 /// on every cell of random lattices; plus `det J` at random points of each cell from the
 /// derivative splines versus the Bézier form's value there.
-pub fn jacobian_routes() -> ProofOutcome {
+pub fn jacobian_routes(shard: Shard) -> ProofOutcome {
     let shapes = shapes();
     let mut t = Tally::new(
         "ffd.jacobian-routes",
@@ -58,10 +58,16 @@ pub fn jacobian_routes() -> ProofOutcome {
              coefficients, and det J at 3 random points per cell = Bézier value",
             shapes.len()
         ),
+        shard,
     );
-    let mut rng = Lcg::new(0xFFD);
-    for (basis, order, cells) in shapes {
-        for _ in 0..2 {
+    for (s, (basis, order, cells)) in shapes.into_iter().enumerate() {
+        for k in 0..2u64 {
+            // One part per lattice, with its own generator.
+            let part = 2 * s as u64 + k;
+            if !t.owns(part) {
+                continue;
+            }
+            let mut rng = Lcg::new(0xFFD + part);
             let l = random_lattice(&mut rng, basis, order, cells);
             let morken = match jacobian_cells_morken(&l) {
                 Ok(m) => m,
@@ -103,12 +109,13 @@ pub fn jacobian_routes() -> ProofOutcome {
 
 /// Undeformed lattices (points at the Greville abscissae) have `det J ≡ 1`: every Bézier
 /// coefficient of every cell is exactly 1, by both routes.
-pub fn identity_unit_jacobian() -> ProofOutcome {
+pub fn identity_unit_jacobian(shard: Shard) -> ProofOutcome {
     let mut t = Tally::new(
         "ffd.identity-unit-jacobian",
         "every shape with orders 2–4 per axis (27 order triples) × cells 1–2 per axis (8) as \
          B-spline, and the 27 Bézier order triples: every Bézier coefficient of det J is 1 \
          by the Mørken route and by per-cell products",
+        shard,
     );
     let one = Rational::one();
     let mut shapes = Vec::new();
@@ -126,7 +133,10 @@ pub fn identity_unit_jacobian() -> ProofOutcome {
             }
         }
     }
-    for (basis, order, cells) in shapes {
+    for (part, (basis, order, cells)) in shapes.into_iter().enumerate() {
+        if !t.owns(part as u64) {
+            continue;
+        }
         let l = Lattice::identity(basis, order, cells).expect("valid shape");
         let nets = l.bezier_nets();
         let morken = jacobian_cells_morken(&l);

@@ -1,6 +1,6 @@
 //! Exhaustive proofs about the numeric, Bernstein and B-spline kernel.
 
-use super::{Lcg, ProofOutcome, Tally};
+use super::{Lcg, ProofOutcome, Shard, Tally};
 use crate::bernstein::positivity::{verify_witness, WitnessValue};
 use crate::bernstein::{
     prove_positive_exact, prove_positive_fast, prove_positive_filtered,
@@ -18,11 +18,15 @@ fn q(n: i64, d: i64) -> Rational {
 /// Every exponent field 0…2046, eight mantissa patterns, both signs: `f64 → Rational → f64` is
 /// the identity, and the midpoint between each value and its successor rounds to the neighbour
 /// with the even significand (ties-to-even, i.e. correct rounding at the hardest points).
-pub fn f64_round_trip() -> ProofOutcome {
+pub fn f64_round_trip(shard: Shard) -> ProofOutcome {
     let mut t = Tally::new(
         "kernel.f64-rational-round-trip",
         "2047 exponent fields × 8 mantissa patterns × 2 signs: round trip, and ties at each successor midpoint",
+        shard,
     );
+    if !t.owns(0) {
+        return t.finish();
+    }
     let mantissas = [
         0u64,
         1,
@@ -97,12 +101,19 @@ fn compare_routes(t: &mut Tally, factors: &[&Spline<Rational>], label: &str) {
 /// Products of two clamped splines of degrees 0…3 with every multiplicity pattern of the
 /// breakpoints 1/3 and 1/2 (0…degree each), of three splines of degrees 0…2 with every
 /// multiplicity of 1/2, and the FFD's uniform (l−2, l−1, l−1) products for orders 2…5.
-pub fn morken_vs_bernstein() -> ProofOutcome {
+pub fn morken_vs_bernstein(shard: Shard) -> ProofOutcome {
     let mut t = Tally::new(
         "kernel.morken-vs-bernstein",
         "900 two-factor products (degrees 0–3, all multiplicities of 1/3 and 1/2), 216 three-factor products (degrees 0–2), 12 uniform FFD products (orders 2–5, 1–3 cells): Mørken route = Bernstein route on every piece",
+        shard,
     );
+    // The factors are drawn in one sequence for every slice; each product is one part.
     let mut rng = Lcg::new(0x6765_6f63);
+    let mut part = 0u64;
+    let mut next_part = |t: &mut Tally| {
+        part += 1;
+        t.owns(part - 1)
+    };
     for d1 in 0..=3 {
         for d2 in 0..=3 {
             for a1 in 0..=d1 {
@@ -111,6 +122,9 @@ pub fn morken_vs_bernstein() -> ProofOutcome {
                         for b2 in 0..=d2 {
                             let f = clamped(d1, a1, b1, &mut rng);
                             let g = clamped(d2, a2, b2, &mut rng);
+                            if !next_part(&mut t) {
+                                continue;
+                            }
                             compare_routes(
                                 &mut t,
                                 &[&f, &g],
@@ -129,6 +143,9 @@ pub fn morken_vs_bernstein() -> ProofOutcome {
             // Eight multiplicity patterns per degree triple (0 or full degree per factor).
             let fs: Vec<Spline<Rational>> =
                 (0..3).map(|i| clamped(ds[i], 0, ms[i], &mut rng)).collect();
+            if !next_part(&mut t) {
+                continue;
+            }
             compare_routes(
                 &mut t,
                 &[&fs[0], &fs[1], &fs[2]],
@@ -148,6 +165,9 @@ pub fn morken_vs_bernstein() -> ProofOutcome {
             let x = Spline::uniform(l - 1, coeffs(&mut rng)).expect("valid");
             let y = Spline::uniform(l - 1, coeffs(&mut rng)).expect("valid");
             let dx = x.derivative();
+            if !next_part(&mut t) {
+                continue;
+            }
             compare_routes(
                 &mut t,
                 &[&dx, &x, &y],
@@ -201,11 +221,15 @@ fn check_positivity(t: &mut Tally, p: &Bernstein<Rational>, limits: Limits) {
 
 /// All cubics with integer coefficients in [−3,3]⁴, all bilinear patches in [−2,2]⁴, all
 /// (2,1) patches in [−1,1]⁶, and all cubics over {−3·2⁻⁵³, 0, 3·2⁻⁵³, 1}⁴ (rounding-hard).
-pub fn subdivision_signs() -> ProofOutcome {
+pub fn subdivision_signs(shard: Shard) -> ProofOutcome {
     let mut t = Tally::new(
         "kernel.subdivision-signs",
         "2401 cubics in [−3,3]⁴, 625 bilinear in [−2,2]⁴, 729 (2,1)-patches in [−1,1]⁶, 256 cubics over {−3·2⁻⁵³,0,3·2⁻⁵³,1}⁴: exact certificate re-verifies, fast never contradicts, filtered = exact",
+        shard,
     );
+    if !t.owns(0) {
+        return t.finish();
+    }
     let limits = Limits {
         max_depth: 10,
         ..Limits::default()
@@ -252,15 +276,21 @@ pub fn subdivision_signs() -> ProofOutcome {
 
 /// Uniform trivariate splines of orders 2…4 per axis with 1–2 cells per axis: each Bézier cell
 /// evaluates to the spline's value at 27 rational points of the cell (incl. its corners).
-pub fn bezier_extraction_routes() -> ProofOutcome {
+pub fn bezier_extraction_routes(shard: Shard) -> ProofOutcome {
     let mut t = Tally::new(
         "kernel.tensor-bezier-cells",
         "27 order triples (2–4) × 8 cell-count triples (1–2): every Bézier cell at 27 points = de Boor value",
+        shard,
     );
-    let mut rng = Lcg::new(7);
     for orders in 0..27usize {
         let l = [2 + orders % 3, 2 + orders / 3 % 3, 2 + orders / 9];
         for cells in 0..8usize {
+            // One part per shape, with its own generator.
+            let part = (orders * 8 + cells) as u64;
+            if !t.owns(part) {
+                continue;
+            }
+            let mut rng = Lcg::new(7 + part);
             let c = [1 + (cells & 1), 1 + (cells >> 1 & 1), 1 + (cells >> 2 & 1)];
             let degrees: Vec<usize> = l.iter().map(|o| o - 1).collect();
             let knots: Vec<Vec<Rational>> = (0..3)

@@ -3,7 +3,7 @@
 //! points, watertightness across every face of every pair of entries that can meet, and
 //! symmetry under the 48 cube symmetries and sign inversion.
 
-use super::{Lcg, ProofOutcome, Tally};
+use super::{Lcg, ProofOutcome, Shard, Tally};
 use crate::mc::table::{
     ambiguous_faces, corner_across, edge_across, face_edges, face_on, face_segments, is_cut, table,
     Entry, CORNERS, EDGES, FACES,
@@ -14,11 +14,15 @@ use std::collections::BTreeSet;
 
 /// (1) One entry per (configuration, subconfiguration); 656 in all; per ambiguous-face count
 /// 136, 72, 30, 16 and 2 configurations.
-pub fn coverage() -> ProofOutcome {
+pub fn coverage(shard: Shard) -> ProofOutcome {
     let mut t = Tally::new(
         "mc.table-coverage",
         "256 configurations × 2^k subconfigurations; total 656; configurations with 0/1/2/3/6 ambiguous faces = 136/72/30/16/2",
+        shard,
     );
+    if !t.owns(0) {
+        return t.finish();
+    }
     let tab = table();
     let mut by_k = [0usize; 7];
     for config in 0..=255u8 {
@@ -42,11 +46,15 @@ pub fn coverage() -> ProofOutcome {
 
 /// (2) Every cut edge is used exactly once, no uncut edge is used, every polygon has ≥ 3
 /// vertices.
-pub fn edges() -> ProofOutcome {
+pub fn edges(shard: Shard) -> ProofOutcome {
     let mut t = Tally::new(
         "mc.table-edges",
         "656 entries: each cut edge in exactly one polygon once, no uncut edge, polygons of ≥ 3 vertices, triangulated for extraction without a chord inside a cube face",
+        shard,
     );
+    if !t.owns(0) {
+        return t.finish();
+    }
     for e in &table().entries {
         let mut count = [0usize; 12];
         for p in &e.polygons {
@@ -114,11 +122,15 @@ fn table_pairs(e: &Entry, face: u8) -> BTreeSet<BTreeSet<u8>> {
 /// points exactly as the bilinear interpolant does, checked by Mackerras' rule on exact
 /// witness values that realise the entry's decision (positive corners `3`, negative `−1`:
 /// joined, since `3·3 > (−1)(−1)`; or `1` and `−3`: separated).
-pub fn faces() -> ProofOutcome {
+pub fn faces(shard: Shard) -> ProofOutcome {
     let mut t = Tally::new(
         "mc.table-faces",
         "656 entries × 6 faces: polygon steps stay on one face; pairing = Mackerras' sort on exact witness values",
+        shard,
     );
+    if !t.owns(0) {
+        return t.finish();
+    }
     for e in &table().entries {
         let steps_on_faces = e.polygons.iter().all(|p| {
             (0..p.len()).all(|i| {
@@ -168,11 +180,15 @@ fn sub3(a: &[Rational; 3], b: &[Rational; 3]) -> [Rational; 3] {
 /// (exact), has the face's positive corners on its right and negative ones on its left as
 /// seen from outside; on an ambiguous face, the single corner a segment cuts off is on its
 /// right exactly when positive. Each polygon is a closed directed cycle (checked by 2).
-pub fn orientation() -> ProofOutcome {
+pub fn orientation(shard: Shard) -> ProofOutcome {
     let mut t = Tally::new(
         "mc.table-orientation",
         "656 entries × every segment × 4 random rational placements of the cut points: exact side tests",
+        shard,
     );
+    if !t.owns(0) {
+        return t.finish();
+    }
     let mut rng = Lcg::new(656);
     for e in &table().entries {
         for round in 0..4 {
@@ -234,11 +250,15 @@ pub fn orientation() -> ProofOutcome {
 /// (5) Watertight: for every axis and every pair of entries that can meet across it (the same
 /// corner signs on the shared face and the same decision there), the segments on the shared
 /// face coincide with opposite orientation.
-pub fn watertight() -> ProofOutcome {
+pub fn watertight(shard: Shard) -> ProofOutcome {
     let mut t = Tally::new(
         "mc.table-watertight",
         "3 axes × every pair of entries with matching signs and decision on the shared face: segments coincide, opposite direction",
+        shard,
     );
+    if !t.owns(0) {
+        return t.finish();
+    }
     let tab = table();
     for axis in 0..3 {
         let (hi, lo) = (face_on(axis, 1), face_on(axis, 0));
@@ -332,11 +352,15 @@ fn canonical(polys: &[Vec<u8>]) -> BTreeSet<Vec<u8>> {
 /// (6) Symmetry: under each of the 48 cube symmetries, and under sign inversion, every entry
 /// maps onto the entry of the image configuration with the image decisions, polygon for
 /// polygon (reversed under orientation-reversing maps and under inversion).
-pub fn symmetry() -> ProofOutcome {
+pub fn symmetry(shard: Shard) -> ProofOutcome {
     let mut t = Tally::new(
         "mc.table-symmetry",
         "656 entries × (48 cube symmetries + sign inversion): image entry = mapped polygons",
+        shard,
     );
+    if !t.owns(0) {
+        return t.finish();
+    }
     let tab = table();
     let face_map = |map: &[u8; 8], f: u8| -> u8 {
         let img: BTreeSet<u8> = FACES[f as usize]
@@ -484,31 +508,41 @@ fn impossible(entry: &Entry) -> bool {
 /// (7) What the table does not guarantee: the entries no trilinear cell produces. Every entry
 /// is either realised by an enumerated trilinear witness or carries the opposite-faces
 /// certificate of impossibility — never both, never neither. Returns the proof and the
-/// number of unrealisable entries.
+/// number of unrealisable entries (also its counter `unrealisable`).
 pub fn trilinear_realisability() -> (ProofOutcome, usize) {
+    let p = trilinear_realisability_slice(Shard::WHOLE);
+    let n = p.detail.counter("unrealisable") as usize;
+    (p, n)
+}
+
+/// [`trilinear_realisability`] on one slice (one part per configuration).
+pub fn trilinear_realisability_slice(shard: Shard) -> ProofOutcome {
     let mut t = Tally::new(
         "mc.table-trilinear-realisability",
         "656 entries: a trilinear witness (corner magnitudes 1…4, 4⁸ per configuration) xor the opposite-faces certificate of impossibility",
+        shard,
     );
     let tab = table();
-    let mut unrealisable = 0;
     for config in 0..=255u8 {
+        if !t.owns(config as u64) {
+            continue;
+        }
         let seen = realised_patterns(config);
         for (sub, &realised) in seen.iter().enumerate() {
             let e = tab.entry(config, sub as u8);
             let cert = impossible(e);
-            unrealisable += usize::from(cert);
+            t.count("unrealisable", u64::from(cert));
             t.check(realised != cert, || {
                 format!("config {config} sub {sub}: realised {realised}, certificate {cert}")
             });
         }
     }
-    (t.finish(), unrealisable)
+    t.finish()
 }
 
 /// The proof of 7 as a plain proof.
-pub fn trilinear() -> ProofOutcome {
-    trilinear_realisability().0
+pub fn trilinear(shard: Shard) -> ProofOutcome {
+    trilinear_realisability_slice(shard)
 }
 
 /// Exact comparison of `p/q` with `r/s` (any signs, `q, s ≠ 0`): the sign of `p/q − r/s`.
@@ -566,16 +600,15 @@ fn asymptotic(a: i128, b: i128, c: i128, d: i128, n: i128) -> Option<bool> {
 /// whose denominator is negative on an ambiguous face, so Mackerras isolates `A, D` exactly
 /// when `ad < bc`; and `ad − bc = (a + d − b − c)(S − c)` with `a + d − b − c` of the sign of
 /// `a`, so `S > c` exactly when the positive diagonal's product is the larger.
-pub fn face_deciders() -> ProofOutcome {
+pub fn face_deciders(shard: Shard) -> ProofOutcome {
     const R: i64 = 40;
     let mut t = Tally::new(
         "mc.face-deciders",
         "all integer faces in [−40, 40]⁴ at isovalues 0 and 1/3 (2 × 81⁴ faces; the ambiguous ones checked): Mackerras = product rule = asymptotic decider, ties alike; exact decider and certified f64 decider consistent",
+        shard,
     );
-    let mut ambiguous = 0u64;
-    let mut ties = 0u64;
-    let mut uncertain = 0u64;
-    for (n, m) in [(0i128, 1i128), (1, 3)] {
+    let (mut ties, mut uncertain) = (0u64, 0u64);
+    for (iso_index, (n, m)) in [(0i128, 1i128), (1, 3)].into_iter().enumerate() {
         let iso = Rational::new((n as i64).into(), (m as i64).into());
         let iso_f64 = n as f64 / m as f64;
         let iso_rounded = crate::num::rational_from_f64(iso_f64, "isovalue").expect("finite");
@@ -585,6 +618,10 @@ pub fn face_deciders() -> ProofOutcome {
             i128::try_from(iso_rounded.denom()).expect("small"),
         );
         for va in -R..=R {
+            // One part per isovalue and first corner value.
+            if !t.owns(iso_index as u64 * (2 * R + 1) as u64 + (va + R) as u64) {
+                continue;
+            }
             for vb in -R..=R {
                 for vc in -R..=R {
                     for vd in -R..=R {
@@ -596,13 +633,14 @@ pub fn face_deciders() -> ProofOutcome {
                         if !amb {
                             continue;
                         }
-                        ambiguous += 1;
+                        t.count("ambiguous", 1);
                         let mk = mackerras(a, b, c, d);
                         let pr = product_rule(a, b, c, d);
                         let asy = asymptotic(a, b, c, d, n);
                         let exact = Some(crate::mc::decider::decide_shifted(&a, &b, &c, &d));
-                        // The rational entry point on every tie and every 64th face.
-                        let sampled = pr.is_none() || ambiguous.is_multiple_of(64);
+                        // The rational entry point on every tie and on a fixed 1/64 of the faces (by a hash
+                        // of the values, so that every slice samples the same faces).
+                        let sampled = pr.is_none() || (a + 7 * b + 13 * c + 29 * d) % 64 == 0;
                         let vals = [va, vb, vc, vd].map(|x| Rational::from_integer(x.into()));
                         let rational_ok = !sampled
                             || crate::mc::decider::decide_exact(
@@ -642,8 +680,8 @@ pub fn face_deciders() -> ProofOutcome {
             }
         }
     }
-    t.note(format!(
-        "{ambiguous} ambiguous faces, {ties} ties (joined by the tie rule), f64 uncertain on {uncertain}"
-    ));
+    t.count("ties", ties);
+    t.count("uncertain", uncertain);
+    t.template("{ambiguous} ambiguous faces, {ties} ties (joined by the tie rule), f64 uncertain on {uncertain}");
     t.finish()
 }

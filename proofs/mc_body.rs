@@ -17,7 +17,7 @@
 //! `q'`. Adjacent slice corners of one sign are joined (the side between them has that sign);
 //! diagonal corners are joined by the saddle rule (positive: `S ≥ 0`, negative: `S < 0`).
 
-use super::{ProofOutcome, Tally};
+use super::{ProofOutcome, Shard, Tally};
 use crate::mc::table::{ambiguous_faces, table, CORNERS, EDGES, FACES};
 use std::cmp::Ordering;
 
@@ -343,16 +343,29 @@ pub fn body_ambiguity(mags: &[i64]) -> (ProofOutcome, usize) {
 
 /// [`body_ambiguity`] with the per-entry witness flags (table order).
 pub fn body_witnesses(mags: &[i64]) -> (ProofOutcome, Vec<bool>) {
+    let p = body_slice(mags, Shard::WHOLE);
+    let mut tunnel = p.detail.flag_set("tunnel").to_vec();
+    tunnel.resize(table().entries.len(), false);
+    (p, tunnel)
+}
+
+/// One slice of the measurement (one part per configuration); the entries with a tunnel
+/// witness are the flag set `tunnel`.
+pub fn body_slice(mags: &[i64], shard: Shard) -> ProofOutcome {
     let mut t = Tally::new(
         "mc.table-body-ambiguity",
         &format!(
             "trilinear cells with corner magnitudes in {mags:?} ({}⁸ per configuration, face ties skipped): interior corner groups from plane sweeps along z and x agree, and coarsen the table entry's groups",
             mags.len()
         ),
+        shard,
     );
     let tab = table();
-    let mut tunnel = vec![false; tab.entries.len()];
+    let entries = tab.entries.len();
     for config in 0..=255u8 {
+        if !t.owns(config as u64) {
+            continue;
+        }
         let mut idx = [0usize; 8];
         loop {
             let v: [i64; 8] = std::array::from_fn(|c| {
@@ -371,7 +384,11 @@ pub fn body_witnesses(mags: &[i64]) -> (ProofOutcome, Vec<bool>) {
                     format!("config {config} sub {sub} values {v:?}: table {tp:?}/{tn:?}, sweep z {zp:?}/{zn:?}, x {xp:?}/{xn:?}")
                 });
                 if zp != tp || zn != tn {
-                    tunnel[tab.offsets[config as usize] as usize + sub as usize] = true;
+                    t.flag(
+                        "tunnel",
+                        entries,
+                        tab.offsets[config as usize] as usize + sub as usize,
+                    );
                 }
             }
             let mut i = 0;
@@ -388,7 +405,7 @@ pub fn body_witnesses(mags: &[i64]) -> (ProofOutcome, Vec<bool>) {
             }
         }
     }
-    (t.finish(), tunnel)
+    t.finish()
 }
 
 /// Entries that could have a tunnel at all: two or more corner groups of one sign in the
@@ -417,13 +434,33 @@ pub const MAGNITUDES: [i64; 4] = [1, 2, 3, 4];
 /// The measurement with [`MAGNITUDES`], computed once per process: the proof and the number
 /// of entries with a tunnel witness.
 pub fn measured() -> &'static (ProofOutcome, usize) {
-    static M: std::sync::OnceLock<(ProofOutcome, usize)> = std::sync::OnceLock::new();
-    M.get_or_init(|| body_ambiguity(&MAGNITUDES))
+    measured_cell().get_or_init(|| body_ambiguity(&MAGNITUDES))
 }
 
-/// The proof alone.
-pub fn body() -> ProofOutcome {
-    measured().0.clone()
+/// Takes the measurement from a merged run of slices ([`super::merge`]) instead of running it
+/// here, when it has not run in this process yet.
+pub fn preset(merged: ProofOutcome) {
+    let tunnels = merged
+        .detail
+        .flag_set("tunnel")
+        .iter()
+        .filter(|&&b| b)
+        .count();
+    let _ = measured_cell().set((merged, tunnels));
+}
+
+fn measured_cell() -> &'static std::sync::OnceLock<(ProofOutcome, usize)> {
+    static M: std::sync::OnceLock<(ProofOutcome, usize)> = std::sync::OnceLock::new();
+    &M
+}
+
+/// The proof alone: the measurement of [`MAGNITUDES`] (computed once per process when whole).
+pub fn body(shard: Shard) -> ProofOutcome {
+    if shard == Shard::WHOLE {
+        measured().0.clone()
+    } else {
+        body_slice(&MAGNITUDES, shard)
+    }
 }
 
 #[cfg(test)]

@@ -7,6 +7,7 @@ use crate::num::{Field, Rational};
 use num_bigint::BigInt;
 use num_integer::Integer;
 use num_traits::{One, Zero};
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// `Σ c_{i₀…} Π_a N^{(a)}_{i_a, p_a}(x_a)`, coefficients with axis 0 fastest.
 #[derive(Clone, Debug, PartialEq)]
@@ -261,50 +262,7 @@ impl<T: Field + PartialOrd> TensorSpline<T> {
             counts[a] = new_len;
             axis_spans.push(spans);
         }
-        // Cut the concatenated Bézier nets into cells.
-        let cell_counts: Vec<usize> = axis_spans.iter().map(|s| s.len()).collect();
-        let total: usize = cell_counts.iter().product();
-        let mut cells = Vec::with_capacity(total);
-        for flat in 0..total {
-            let mut rem = flat;
-            let cell: Vec<usize> = cell_counts
-                .iter()
-                .map(|&c| {
-                    let i = rem % c;
-                    rem /= c;
-                    i
-                })
-                .collect();
-            let degs = self.degrees.clone();
-            let m = coefficient_count(&degs);
-            let mut local = Vec::with_capacity(m);
-            for lf in 0..m {
-                let mut r = lf;
-                let mut g = 0;
-                let mut stride = 1;
-                for a in 0..n {
-                    let i = r % (degs[a] + 1);
-                    r /= degs[a] + 1;
-                    g += (cell[a] * (degs[a] + 1) + i) * stride;
-                    stride *= counts[a];
-                }
-                local.push(coeffs[g].clone());
-            }
-            cells.push(BezierCell {
-                spans: cell
-                    .iter()
-                    .enumerate()
-                    .map(|(a, &k)| axis_spans[a][k].0)
-                    .collect(),
-                bounds: cell
-                    .iter()
-                    .enumerate()
-                    .map(|(a, &k)| (axis_spans[a][k].1.clone(), axis_spans[a][k].2.clone()))
-                    .collect(),
-                poly: Bernstein::new(degs, local).expect("count matches"),
-            });
-        }
-        Ok(cells)
+        Ok(cut_cells(&self.degrees, &counts, &coeffs, &axis_spans))
     }
 
     /// `self + other` (same degrees and knots), coefficient by coefficient.
@@ -426,6 +384,45 @@ impl TensorSpline<Rational> {
         self.product_exact_cached(other, &mut TableCache::default())
     }
 
+    /// [`bezier_cells_by_insertion`](TensorSpline::bezier_cells_by_insertion) in integer
+    /// arithmetic, with the same result exactly. Along each axis the Oslo map (line → its
+    /// Bézier pieces by knot insertion) is linear and depends on the knots only: it is formed
+    /// once, from the unit lines, brought to a common denominator and applied to every line in
+    /// integers; the coefficients stay over one shared denominator until the cells are cut.
+    pub fn bezier_cells_by_insertion_exact(
+        &self,
+    ) -> Result<Vec<BezierCell<Rational>>, BsplineError> {
+        let n = self.dim();
+        let mut counts = self.counts();
+        let (mut nums, mut den) = common_denominator(&self.coeffs);
+        let mut axis_spans: Vec<Vec<(usize, Rational, Rational)>> = Vec::with_capacity(n);
+        for a in 0..n {
+            let map = oslo_map(self.degrees[a], &self.knots[a])?;
+            let (rows, l, spans) = (&map.rows, &map.scale, map.spans.clone());
+            let new_len = rows.len();
+            den *= l;
+            let degs: Vec<usize> = counts.iter().map(|c| c - 1).collect();
+            nums = map_lines(&degs, &nums, a, new_len, &BigInt::zero(), |line, out| {
+                for (o, row) in out.iter_mut().zip(rows) {
+                    let mut acc = BigInt::zero();
+                    for (k, w) in row {
+                        if !line[*k].is_zero() {
+                            acc += &line[*k] * w;
+                        }
+                    }
+                    *o = acc;
+                }
+            });
+            counts[a] = new_len;
+            axis_spans.push(spans);
+        }
+        let coeffs: Vec<Rational> = nums
+            .into_iter()
+            .map(|v| Rational::new(v, den.clone()))
+            .collect();
+        Ok(cut_cells(&self.degrees, &counts, &coeffs, &axis_spans))
+    }
+
     /// [`product_exact`](Self::product_exact) reusing per-axis tables from `cache` (products
     /// of factors with the same degrees and knots share them).
     pub fn product_exact_cached(
@@ -440,79 +437,26 @@ impl TensorSpline<Rational> {
                 found: other.dim(),
             });
         }
-        let mut tables: Vec<std::rc::Rc<BasisProductTable<Rational>>> = Vec::with_capacity(n);
+        let mut tables: Vec<Arc<IntTable>> = Vec::with_capacity(n);
         for x in 0..n {
-            let key = (
+            tables.push(cache.table(
                 self.degrees[x],
-                self.knots[x].clone(),
+                &self.knots[x],
                 other.degrees[x],
-                other.knots[x].clone(),
-            );
-            let t = match cache.0.get(&key) {
-                Some(t) => t.clone(),
-                None => {
-                    let t = std::rc::Rc::new(basis_product_table(
-                        self.degrees[x],
-                        &self.knots[x],
-                        other.degrees[x],
-                        &other.knots[x],
-                    )?);
-                    cache.0.insert(key, t.clone());
-                    t
-                }
-            };
-            tables.push(t);
+                &other.knots[x],
+            )?);
         }
-        let mut den = BigInt::one();
-        let int_tables: Vec<Vec<Vec<(usize, BigInt)>>> = tables
-            .iter()
-            .map(|t| {
-                let l = t
-                    .entries
-                    .iter()
-                    .flatten()
-                    .fold(BigInt::one(), |acc, (_, w)| acc.lcm(w.denom()));
-                let ints = t
-                    .entries
-                    .iter()
-                    .map(|e| {
-                        e.iter()
-                            .map(|(o, w)| (*o, w.numer() * (&l / w.denom())))
-                            .collect()
-                    })
-                    .collect();
-                den *= l;
-                ints
-            })
-            .collect();
         let (na, da) = common_denominator(&self.coeffs);
         let (nb, db) = common_denominator(&other.coeffs);
-        den *= da * db;
+        let den = tables.iter().fold(da * db, |d, t| d * &t.scale);
         let (ca, cb) = (self.counts(), other.counts());
-        let cp: Vec<usize> = tables.iter().map(|t| t.count).collect();
+        let cp: Vec<usize> = tables.iter().map(|t| t.table.count).collect();
         let sp = strides_of(&cp);
-        let mut out = vec![BigInt::zero(); cp.iter().product()];
-        let mut ia = vec![0usize; n];
-        for a in &na {
-            if !a.is_zero() {
-                let mut ib = vec![0usize; n];
-                for b in &nb {
-                    if !b.is_zero() {
-                        let lists: Vec<&[(usize, BigInt)]> = (0..n)
-                            .map(|x| int_tables[x][ia[x] * cb[x] + ib[x]].as_slice())
-                            .collect();
-                        if lists.iter().all(|l| !l.is_empty()) {
-                            distribute_int(&(a * b), &lists, &sp, 0, 0, &mut out);
-                        }
-                    }
-                    step(&mut ib, &cb);
-                }
-            }
-            step(&mut ia, &ca);
-        }
+        let out = contract_small(&na, &nb, &tables, &ca, &cb, &sp)
+            .unwrap_or_else(|| contract_big(&na, &nb, &tables, &ca, &cb, &sp));
         TensorSpline::new(
-            tables.iter().map(|t| t.degree).collect(),
-            tables.iter().map(|t| t.knots.clone()).collect(),
+            tables.iter().map(|t| t.table.degree).collect(),
+            tables.iter().map(|t| t.table.knots.clone()).collect(),
             out.into_iter()
                 .map(|v| Rational::new(v, den.clone()))
                 .collect(),
@@ -520,14 +464,236 @@ impl TensorSpline<Rational> {
     }
 }
 
-/// Per-axis basis product tables keyed by `(p, knots, q, knots)`.
+/// Cuts a net of concatenated Bézier pieces (per axis `spans.len() · (p + 1)` coefficients,
+/// `counts` per axis) into one Bézier cell per combination of spans.
+fn cut_cells<T: Field>(
+    degrees: &[usize],
+    counts: &[usize],
+    coeffs: &[T],
+    axis_spans: &[Vec<(usize, T, T)>],
+) -> Vec<BezierCell<T>> {
+    let n = degrees.len();
+    let cell_counts: Vec<usize> = axis_spans.iter().map(|s| s.len()).collect();
+    let total: usize = cell_counts.iter().product();
+    let mut cells = Vec::with_capacity(total);
+    for flat in 0..total {
+        let mut rem = flat;
+        let cell: Vec<usize> = cell_counts
+            .iter()
+            .map(|&c| {
+                let i = rem % c;
+                rem /= c;
+                i
+            })
+            .collect();
+        let degs = degrees.to_vec();
+        let m = coefficient_count(&degs);
+        let mut local = Vec::with_capacity(m);
+        for lf in 0..m {
+            let mut r = lf;
+            let mut g = 0;
+            let mut stride = 1;
+            for a in 0..n {
+                let i = r % (degs[a] + 1);
+                r /= degs[a] + 1;
+                g += (cell[a] * (degs[a] + 1) + i) * stride;
+                stride *= counts[a];
+            }
+            local.push(coeffs[g].clone());
+        }
+        cells.push(BezierCell {
+            spans: cell
+                .iter()
+                .enumerate()
+                .map(|(a, &k)| axis_spans[a][k].0)
+                .collect(),
+            bounds: cell
+                .iter()
+                .enumerate()
+                .map(|(a, &k)| (axis_spans[a][k].1.clone(), axis_spans[a][k].2.clone()))
+                .collect(),
+            poly: Bernstein::new(degs, local).expect("count matches"),
+        });
+    }
+    cells
+}
+
+/// The Oslo map of one axis in integers: `rows[i]` holds the nonzero `(k, w)` with
+/// `piece_i = Σ_k w · c_k / scale`, the Bézier pieces (concatenated, `p + 1` per span) of a
+/// line `c` by knot insertion; `spans` are `(μ, lo, hi)` of the non-empty spans.
+pub(crate) struct OsloMap {
+    rows: Vec<Vec<(usize, BigInt)>>,
+    scale: BigInt,
+    spans: Vec<(usize, Rational, Rational)>,
+}
+
+/// [`OsloMap`] of degree `p` on `knots`: each column is the insertion route
+/// ([`Spline::bezier_pieces_by_insertion`]) applied to a unit line. Memoised per process
+/// (bounded like the product tables): the map depends on the knots only.
+fn oslo_map(p: usize, knots: &[Rational]) -> Result<Arc<OsloMap>, BsplineError> {
+    type Memo = Mutex<std::collections::HashMap<(usize, Vec<Rational>), Arc<OsloMap>>>;
+    static MEMO: OnceLock<Memo> = OnceLock::new();
+    let memo = MEMO.get_or_init(Default::default);
+    let key = (p, knots.to_vec());
+    if let Some(m) = memo.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
+        return Ok(m.clone());
+    }
+    let m = knots.len().saturating_sub(p + 1);
+    let unit = |k: usize| {
+        let mut c = vec![<Rational as Zero>::zero(); m];
+        c[k] = <Rational as One>::one();
+        Spline::new(p, knots.to_vec(), c)
+    };
+    let mut spans = Vec::new();
+    let mut columns = Vec::with_capacity(m);
+    for k in 0..m {
+        let line = unit(k)?;
+        let pieces = line.bezier_pieces_by_insertion()?;
+        if k == 0 {
+            spans = line
+                .spans()
+                .into_iter()
+                .zip(&pieces)
+                .map(|(mu, (lo, hi, _))| (mu, lo.clone(), hi.clone()))
+                .collect();
+        }
+        columns.push(
+            pieces
+                .into_iter()
+                .flat_map(|(_, _, b)| b)
+                .collect::<Vec<_>>(),
+        );
+    }
+    let new_len = columns.first().map_or(0, Vec::len);
+    let scale = columns
+        .iter()
+        .flatten()
+        .fold(BigInt::one(), |acc, w| acc.lcm(w.denom()));
+    let rows = (0..new_len)
+        .map(|i| {
+            columns
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| !c[i].is_zero())
+                .map(|(k, c)| (k, c[i].numer() * (&scale / c[i].denom())))
+                .collect()
+        })
+        .collect();
+    let map = Arc::new(OsloMap { rows, scale, spans });
+    let mut g = memo.lock().unwrap_or_else(|e| e.into_inner());
+    if g.len() >= TABLE_MEMO_CAPACITY {
+        g.clear();
+    }
+    g.insert(key, map.clone());
+    Ok(map)
+}
+
+/// Per-axis basis product tables keyed by `(p, knots, q, knots)`: a local map in front of a
+/// bounded process-wide memo ([`TABLE_MEMO_CAPACITY`] tables). A table is a pure function of
+/// its key, and computing one (Mørken products of every basis pair by blossoming) costs far
+/// more than the tensor contraction that uses it; callers that check many lattices of the
+/// same shape (certificate checkers, fuzzing, campaigns) compute each table once.
 #[derive(Default)]
-pub struct TableCache(
-    std::collections::HashMap<TableKey, std::rc::Rc<BasisProductTable<Rational>>>,
-);
+pub struct TableCache(std::collections::HashMap<TableKey, Arc<IntTable>>);
+
+/// A basis product table with its weights over one common denominator `scale`: `ints` in
+/// `BigInt`, `small` the same in `i128` when every weight fits.
+pub struct IntTable {
+    /// The rational table.
+    pub table: BasisProductTable<Rational>,
+    /// The common denominator of the weights.
+    pub scale: BigInt,
+    /// `entries` with each weight times `scale`.
+    pub ints: Vec<Vec<(usize, BigInt)>>,
+    /// `ints` in `i128`, when they fit.
+    pub small: Option<Vec<Vec<(usize, i128)>>>,
+}
+
+impl IntTable {
+    fn new(table: BasisProductTable<Rational>) -> IntTable {
+        let scale = table
+            .entries
+            .iter()
+            .flatten()
+            .fold(BigInt::one(), |acc, (_, w)| acc.lcm(w.denom()));
+        let ints: Vec<Vec<(usize, BigInt)>> = table
+            .entries
+            .iter()
+            .map(|e| {
+                e.iter()
+                    .map(|(o, w)| (*o, w.numer() * (&scale / w.denom())))
+                    .collect()
+            })
+            .collect();
+        let small = ints
+            .iter()
+            .map(|e| {
+                e.iter()
+                    .map(|(o, w)| i128::try_from(w).ok().map(|w| (*o, w)))
+                    .collect::<Option<Vec<_>>>()
+            })
+            .collect::<Option<Vec<_>>>();
+        IntTable {
+            table,
+            scale,
+            ints,
+            small,
+        }
+    }
+}
 
 /// `(p, knots of the first factor, q, knots of the second)`.
 type TableKey = (usize, Vec<Rational>, usize, Vec<Rational>);
+
+/// Most tables the process-wide memo holds; it is emptied when full (tables are small, and
+/// the working set of one program is a handful of knot vectors).
+pub(crate) const TABLE_MEMO_CAPACITY: usize = 512;
+
+type TableMemo = Mutex<std::collections::HashMap<TableKey, Arc<IntTable>>>;
+
+fn table_memo() -> &'static TableMemo {
+    static MEMO: OnceLock<TableMemo> = OnceLock::new();
+    MEMO.get_or_init(Default::default)
+}
+
+impl TableCache {
+    /// The table for `N_{i,p}` (knots `s`) times `N_{j,q}` (knots `t`), from this cache, the
+    /// process-wide memo, or [`basis_product_table`].
+    pub fn table(
+        &mut self,
+        p: usize,
+        s: &[Rational],
+        q: usize,
+        t: &[Rational],
+    ) -> Result<Arc<IntTable>, BsplineError> {
+        let key = (p, s.to_vec(), q, t.to_vec());
+        if let Some(t) = self.0.get(&key) {
+            return Ok(t.clone());
+        }
+        // A poisoned lock only means another thread panicked while holding it; the map is
+        // still a valid cache (entries are inserted whole), so keep using it.
+        let memo = table_memo();
+        let hit = memo
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&key)
+            .cloned();
+        let table = match hit {
+            Some(t) => t,
+            None => {
+                let t = Arc::new(IntTable::new(basis_product_table(p, s, q, t)?));
+                let mut m = memo.lock().unwrap_or_else(|e| e.into_inner());
+                if m.len() >= TABLE_MEMO_CAPACITY {
+                    m.clear();
+                }
+                m.insert(key.clone(), t.clone());
+                t
+            }
+        };
+        self.0.insert(key, table.clone());
+        Ok(table)
+    }
+}
 
 /// Integer numerators over the lcm of the denominators.
 fn common_denominator(cs: &[Rational]) -> (Vec<BigInt>, BigInt) {
@@ -536,6 +702,112 @@ fn common_denominator(cs: &[Rational]) -> (Vec<BigInt>, BigInt) {
         cs.iter().map(|c| c.numer() * (&den / c.denom())).collect(),
         den,
     )
+}
+
+/// The Mørken contraction `out_o = Σ_{i,j} a_i b_j Π_x w_x` in `i128`, or `None` when a
+/// factor does not fit or a partial sum would overflow (then [`contract_big`] runs).
+fn contract_small(
+    na: &[BigInt],
+    nb: &[BigInt],
+    tables: &[Arc<IntTable>],
+    ca: &[usize],
+    cb: &[usize],
+    sp: &[usize],
+) -> Option<Vec<BigInt>> {
+    let small: Vec<&Vec<Vec<(usize, i128)>>> = tables
+        .iter()
+        .map(|t| t.small.as_ref())
+        .collect::<Option<_>>()?;
+    let na: Vec<i128> = na
+        .iter()
+        .map(i128::try_from)
+        .collect::<Result<_, _>>()
+        .ok()?;
+    let nb: Vec<i128> = nb
+        .iter()
+        .map(i128::try_from)
+        .collect::<Result<_, _>>()
+        .ok()?;
+    let n = ca.len();
+    let total: usize = tables.iter().map(|t| t.table.count).product();
+    let mut out = vec![0i128; total];
+    let mut ia = vec![0usize; n];
+    for &a in &na {
+        if a != 0 {
+            let mut ib = vec![0usize; n];
+            for &b in &nb {
+                if b != 0 {
+                    let lists: Vec<&[(usize, i128)]> = (0..n)
+                        .map(|x| small[x][ia[x] * cb[x] + ib[x]].as_slice())
+                        .collect();
+                    if lists.iter().all(|l| !l.is_empty()) {
+                        distribute_small(a.checked_mul(b)?, &lists, sp, 0, 0, &mut out)?;
+                    }
+                }
+                step(&mut ib, cb);
+            }
+        }
+        step(&mut ia, ca);
+    }
+    Some(out.into_iter().map(BigInt::from).collect())
+}
+
+fn distribute_small(
+    v: i128,
+    lists: &[&[(usize, i128)]],
+    strides: &[usize],
+    axis: usize,
+    at: usize,
+    out: &mut [i128],
+) -> Option<()> {
+    if axis == lists.len() {
+        out[at] = out[at].checked_add(v)?;
+        return Some(());
+    }
+    for &(o, w) in lists[axis] {
+        distribute_small(
+            v.checked_mul(w)?,
+            lists,
+            strides,
+            axis + 1,
+            at + o * strides[axis],
+            out,
+        )?;
+    }
+    Some(())
+}
+
+/// [`contract_small`] in `BigInt`.
+fn contract_big(
+    na: &[BigInt],
+    nb: &[BigInt],
+    tables: &[Arc<IntTable>],
+    ca: &[usize],
+    cb: &[usize],
+    sp: &[usize],
+) -> Vec<BigInt> {
+    let n = ca.len();
+    let total: usize = tables.iter().map(|t| t.table.count).product();
+    let mut out = vec![BigInt::zero(); total];
+    let mut ia = vec![0usize; n];
+    for a in na {
+        if !a.is_zero() {
+            let mut ib = vec![0usize; n];
+            for b in nb {
+                if !b.is_zero() {
+                    let lists: Vec<&[(usize, BigInt)]> = (0..n)
+                        .map(|x| tables[x].ints[ia[x] * cb[x] + ib[x]].as_slice())
+                        .collect();
+                    if lists.iter().all(|l| !l.is_empty()) {
+                        distribute_int(&(a * b), &lists, sp, 0, 0, &mut out);
+                    }
+                }
+                step(&mut ib, cb);
+            }
+        }
+        step(&mut ia, ca);
+    }
+    out
 }
 
 fn distribute_int(

@@ -64,7 +64,7 @@ pub fn jacobian_spline(l: &Lattice) -> Result<TensorSpline<Rational>, FfdError> 
 /// Mørken route: [`jacobian_spline`], then knot insertion (Section 6, step 3).
 pub fn jacobian_cells_morken(l: &Lattice) -> Result<Vec<Bernstein<Rational>>, FfdError> {
     let det = jacobian_spline(l)?;
-    Ok(kernel(det.bezier_cells_by_insertion())?
+    Ok(kernel(det.bezier_cells_by_insertion_exact())?
         .into_iter()
         .map(|c| c.poly)
         .collect())

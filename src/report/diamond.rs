@@ -565,9 +565,9 @@ fn martini_rows(root: &FsPath, size: usize) -> Vec<MartiniRow> {
 pub fn diamond_campaign(root: &FsPath, side: usize) -> DiamondCampaign {
     let mut notes = Vec::new();
     let proofs = vec![
-        proofs::diamond::implicit_vs_explicit_on(&REPORT_GRIDS),
-        proofs::diamond::maubach_is_longest_edge(),
-        proofs::diamond::supercube(),
+        proofs::diamond::implicit_vs_explicit_on(&REPORT_GRIDS, proofs::Shard::WHOLE),
+        proofs::diamond::maubach_is_longest_edge(proofs::Shard::WHOLE),
+        proofs::diamond::supercube(proofs::Shard::WHOLE),
     ];
     let error_checks = ["sphere", "gyroid", "fuel"]
         .iter()

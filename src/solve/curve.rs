@@ -36,9 +36,10 @@ use num_bigint::BigInt;
 use num_traits::{One, Zero};
 use std::time::Instant;
 
-/// Depth limit (levels per side, relative to the cross-section) of a cross-section solve.
+/// Default depth limit (levels per side, relative to the cross-section) of a cross-section
+/// solve.
 const CROSS_SECTION_DEPTH: u32 = 30;
-/// Box limit of a cross-section solve.
+/// Default box limit of a cross-section solve.
 const CROSS_SECTION_BOXES: usize = 4_000;
 
 /// Box limit of the extreme-point solve.
@@ -61,6 +62,10 @@ pub struct CurveOptions {
     /// Report the points where the curve is extreme along this axis (solved as the square
     /// system of the equations and the Jacobian minor without this column), if any.
     pub extreme_axis: Option<usize>,
+    /// Depth and box limits of each cross-section solve (depth 30, 4,000 boxes by default; the
+    /// time limit is always what remains of [`limits`](Self::limits)'). A cross-section that
+    /// needs more is not certified: the plane is moved, or its clusters become blobs.
+    pub section_limits: Limits,
 }
 
 impl Default for CurveOptions {
@@ -71,6 +76,9 @@ impl Default for CurveOptions {
             resolution: 1.0 / 16.0,
             tolerance: 1e-12,
             extreme_axis: None,
+            section_limits: Limits::new()
+                .with_max_depth(CROSS_SECTION_DEPTH)
+                .with_max_boxes(CROSS_SECTION_BOXES),
         }
     }
 }
@@ -81,6 +89,7 @@ crate::choice::setters!(CurveOptions {
     with_resolution => resolution: f64,
     with_tolerance => tolerance: f64,
     with_extreme_axis => extreme_axis: Option<usize>,
+    with_section_limits => section_limits: Limits,
 });
 
 /// A certified point of the curve on a plane `x_axis = c`: `root` is a certified root of the
@@ -573,10 +582,7 @@ impl Tracer<'_> {
             .with_limits(
                 // A cross-section that needs more than this is not worth certifying: the plane
                 // is moved, or its clusters become blobs the subdivision resolves.
-                Limits::new()
-                    .with_max_depth(CROSS_SECTION_DEPTH)
-                    .with_max_boxes(CROSS_SECTION_BOXES)
-                    .with_time_limit(remaining),
+                self.opts.section_limits.with_time_limit(remaining),
             );
         let sol = solve(&plane, &sopts)?;
         if strict && !sol.clusters.is_empty() {

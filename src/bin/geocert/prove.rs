@@ -19,7 +19,19 @@ pub(crate) struct Args {
     /// Print a JSON summary on stdout.
     #[arg(long)]
     json: bool,
+    /// Run only slice K of N of every exhaustive proof (one-based, e.g. `3/8`) and write its
+    /// outcomes to `OUT/proofs-slice-K-of-N.json` for `--merge`; no report is written.
+    #[arg(long, value_name = "K/N", conflicts_with_all = ["merge", "part"])]
+    shard: Option<String>,
+    /// Write the reports with the proofs' outcomes merged from the slice files in these
+    /// folders (every slice of one N exactly once) instead of running the proofs here; the
+    /// campaigns and measurements run here as usual.
+    #[arg(long, value_name = "DIR", num_args = 1.., conflicts_with = "part")]
+    merge: Vec<PathBuf>,
 }
+
+/// The kind tag of slice files.
+const SLICE_KIND: &str = "geocert/proof-slice";
 
 /// A part of `prove` that runs alone.
 #[derive(Clone, Copy, ValueEnum)]
@@ -46,8 +58,98 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
         Some(Part::Sweep) => prove_sweep(a.out, a.json),
         Some(Part::Diamonds) => prove_diamonds(a.out, a.json),
         Some(Part::Decimate) => prove_decimate(a.out, a.json),
-        None => prove(a.out, a.json),
+        None => match (a.shard, a.merge.is_empty()) {
+            (Some(s), _) => prove_slice(&s, &a.out, a.json),
+            (None, false) => {
+                let merged = merge_slices(&a.merge)?;
+                prove(a.out, a.json, Some(merged))
+            }
+            (None, true) => prove(a.out, a.json, None),
+        },
     }
+}
+
+/// `prove --shard K/N`: one slice of every proof, written as JSON.
+fn prove_slice(shard: &str, out: &std::path::Path, json: bool) -> Result<ExitCode, String> {
+    let shard = proofs::Shard::parse(shard)?;
+    let meta = RunMeta::collect();
+    let outcomes: Vec<ProofOutcome> = proofs::all()
+        .into_iter()
+        .map(|(_, proof)| proof(shard))
+        .collect();
+    let ok = outcomes.iter().all(|p| p.ok());
+    let file = out.join(format!(
+        "proofs-slice-{}-of-{}.json",
+        shard.index + 1,
+        shard.count
+    ));
+    let v = serde_json::json!({"kind": SLICE_KIND, "shard": shard, "commit": meta.commit,
+        "machine": meta.machine, "date_utc": meta.date_utc, "ok": ok, "outcomes": outcomes});
+    std::fs::create_dir_all(out).map_err(|e| format!("creating {}: {e}", out.display()))?;
+    let tmp = file.with_extension("json.tmp");
+    std::fs::write(&tmp, pretty(&v)?).map_err(|e| format!("writing {}: {e}", tmp.display()))?;
+    std::fs::rename(&tmp, &file).map_err(|e| format!("writing {}: {e}", file.display()))?;
+    if json {
+        println!("{}", pretty(&v)?);
+    } else {
+        for o in &outcomes {
+            println!("{}", o.summary());
+        }
+        println!("wrote {}", file.display());
+    }
+    Ok(status(ok))
+}
+
+/// Reads every `proofs-slice-*.json` in `dirs` and merges them proof by proof.
+fn merge_slices(dirs: &[PathBuf]) -> Result<Vec<ProofOutcome>, String> {
+    let mut outcomes = Vec::new();
+    let mut commits = std::collections::BTreeSet::new();
+    let mut files = 0;
+    for dir in dirs {
+        let entries =
+            std::fs::read_dir(dir).map_err(|e| format!("reading {}: {e}", dir.display()))?;
+        let mut paths: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| {
+                p.file_name()
+                    .and_then(|n| n.to_str())
+                    .is_some_and(|n| n.starts_with("proofs-slice-") && n.ends_with(".json"))
+            })
+            .collect();
+        paths.sort();
+        for p in paths {
+            let text =
+                std::fs::read_to_string(&p).map_err(|e| format!("reading {}: {e}", p.display()))?;
+            let v: serde_json::Value = serde_json::from_str(&text)
+                .map_err(|e| format!("{}: not JSON: {e}", p.display()))?;
+            if v["kind"] != SLICE_KIND {
+                return Err(format!(
+                    "{}: not a proof slice (kind {})",
+                    p.display(),
+                    v["kind"]
+                ));
+            }
+            commits.insert(v["commit"].as_str().unwrap_or("unknown").to_string());
+            let os: Vec<ProofOutcome> = serde_json::from_value(v["outcomes"].clone())
+                .map_err(|e| format!("{}: bad outcomes: {e}", p.display()))?;
+            outcomes.extend(os);
+            files += 1;
+        }
+    }
+    if files == 0 {
+        return Err("--merge: no proofs-slice-*.json files in the folders given".into());
+    }
+    if commits.len() > 1 {
+        return Err(format!(
+            "--merge: slices come from different commits {commits:?}; run every slice on one commit"
+        ));
+    }
+    let merged = proofs::merge_runs(outcomes)?;
+    eprintln!(
+        "merged {files} slice files (commit {})",
+        commits.iter().next().map_or("unknown", String::as_str)
+    );
+    Ok(merged)
 }
 
 /// The marching-cubes table proofs alone.
@@ -74,25 +176,38 @@ fn mc_table_proofs() -> (Vec<ProofOutcome>, usize) {
     let outcomes: Vec<_> = proofs::all()
         .into_iter()
         .filter(|(name, _)| name.starts_with("mc."))
-        .map(|(_, proof)| proof())
+        .map(|(_, proof)| proof(proofs::Shard::WHOLE))
         .collect();
     let (_, unrealisable) = proofs::mc::trilinear_realisability();
     (outcomes, unrealisable)
 }
 
-fn prove(out: PathBuf, json: bool) -> Result<ExitCode, String> {
+fn prove(out: PathBuf, json: bool, merged: Option<Vec<ProofOutcome>>) -> Result<ExitCode, String> {
     let meta = RunMeta::collect();
     let proofs = proofs::all();
     let bar = ProgressBar::new(proofs.len() as u64 + 6);
     bar.set_style(
         ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").map_err(|e| e.to_string())?,
     );
-    let mut outcomes = Vec::new();
-    for (name, proof) in proofs {
-        bar.set_message(name);
-        outcomes.push(proof());
-        bar.inc(1);
-    }
+    let outcomes = match merged {
+        Some(m) => {
+            // The reports read the body measurement's tunnel count: take it from the slices.
+            if let Some(body) = m.iter().find(|o| o.name == "mc.table-body-ambiguity") {
+                proofs::mc_body::preset(body.clone());
+            }
+            bar.inc(proofs.len() as u64);
+            m
+        }
+        None => {
+            let mut outcomes = Vec::new();
+            for (name, proof) in proofs {
+                bar.set_message(name);
+                outcomes.push(proof(proofs::Shard::WHOLE));
+                bar.inc(1);
+            }
+            outcomes
+        }
+    };
     bar.set_message("kernel exact-vs-fast campaign");
     let camp = campaign::kernel_campaign(2026, 300, &[3, 3, 3], 8);
     bar.inc(1);

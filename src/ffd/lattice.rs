@@ -89,12 +89,11 @@ impl Lattice {
         }
     }
 
-    /// Checks orders, cells and the point count.
-    fn check_shape(
+    /// Checks the orders (2…[`MAX_ORDER`]) and cell counts (1…[`MAX_CELLS`], one for Bézier).
+    fn check_orders_cells(
         basis: Basis,
         order: [usize; 3],
         cells: [usize; 3],
-        count: usize,
     ) -> Result<(), FfdError> {
         let bad = |field: &str, why: String| FfdError::Input {
             lattice: 0,
@@ -119,6 +118,22 @@ impl Lattice {
                 "a bezier lattice is one cell: cells must be [1,1,1]".into(),
             ));
         }
+        Ok(())
+    }
+
+    /// Checks orders, cells and the point count.
+    fn check_shape(
+        basis: Basis,
+        order: [usize; 3],
+        cells: [usize; 3],
+        count: usize,
+    ) -> Result<(), FfdError> {
+        Self::check_orders_cells(basis, order, cells)?;
+        let bad = |field: &str, why: String| FfdError::Input {
+            lattice: 0,
+            field: field.into(),
+            why,
+        };
         let counts = Self::counts_for(basis, order, cells);
         let expected = counts.iter().product::<usize>();
         if count != expected {
@@ -167,6 +182,7 @@ impl Lattice {
     /// The undeformed lattice: points at the Greville abscissae, so `F(U) = U` (linear
     /// precision, paper Section 3).
     pub fn identity(basis: Basis, order: [usize; 3], cells: [usize; 3]) -> Result<Self, FfdError> {
+        Self::check_orders_cells(basis, order, cells)?;
         let counts = Self::counts_for(basis, order, cells);
         let greville: Vec<Vec<Rational>> = (0..3)
             .map(|a| {

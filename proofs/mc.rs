@@ -607,7 +607,7 @@ pub fn face_deciders(shard: Shard) -> ProofOutcome {
         "all integer faces in [−40, 40]⁴ at isovalues 0 and 1/3 (2 × 81⁴ faces; the ambiguous ones checked): Mackerras = product rule = asymptotic decider, ties alike; exact decider and certified f64 decider consistent",
         shard,
     );
-    let (mut ties, mut uncertain) = (0u64, 0u64);
+    let (mut ambiguous, mut ties, mut uncertain) = (0u64, 0u64, 0u64);
     for (iso_index, (n, m)) in [(0i128, 1i128), (1, 3)].into_iter().enumerate() {
         let iso = Rational::new((n as i64).into(), (m as i64).into());
         let iso_f64 = n as f64 / m as f64;
@@ -633,7 +633,7 @@ pub fn face_deciders(shard: Shard) -> ProofOutcome {
                         if !amb {
                             continue;
                         }
-                        t.count("ambiguous", 1);
+                        ambiguous += 1;
                         let mk = mackerras(a, b, c, d);
                         let pr = product_rule(a, b, c, d);
                         let asy = asymptotic(a, b, c, d, n);
@@ -680,6 +680,7 @@ pub fn face_deciders(shard: Shard) -> ProofOutcome {
             }
         }
     }
+    t.count("ambiguous", ambiguous);
     t.count("ties", ties);
     t.count("uncertain", uncertain);
     t.template("{ambiguous} ambiguous faces, {ties} ties (joined by the tie rule), f64 uncertain on {uncertain}");

@@ -362,6 +362,7 @@ pub fn body_slice(mags: &[i64], shard: Shard) -> ProofOutcome {
     );
     let tab = table();
     let entries = tab.entries.len();
+    let mut tunnel = vec![false; entries];
     for config in 0..=255u8 {
         if !t.owns(config as u64) {
             continue;
@@ -384,11 +385,7 @@ pub fn body_slice(mags: &[i64], shard: Shard) -> ProofOutcome {
                     format!("config {config} sub {sub} values {v:?}: table {tp:?}/{tn:?}, sweep z {zp:?}/{zn:?}, x {xp:?}/{xn:?}")
                 });
                 if zp != tp || zn != tn {
-                    t.flag(
-                        "tunnel",
-                        entries,
-                        tab.offsets[config as usize] as usize + sub as usize,
-                    );
+                    tunnel[tab.offsets[config as usize] as usize + sub as usize] = true;
                 }
             }
             let mut i = 0;
@@ -404,6 +401,9 @@ pub fn body_slice(mags: &[i64], shard: Shard) -> ProofOutcome {
                 break;
             }
         }
+    }
+    for (i, _) in tunnel.iter().enumerate().filter(|(_, &b)| b) {
+        t.flag("tunnel", entries, i);
     }
     t.finish()
 }

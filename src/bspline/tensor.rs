@@ -452,8 +452,9 @@ impl TensorSpline<Rational> {
         let (ca, cb) = (self.counts(), other.counts());
         let cp: Vec<usize> = tables.iter().map(|t| t.table.count).collect();
         let sp = strides_of(&cp);
-        let out = contract_small(&na, &nb, &tables, &ca, &cb, &sp)
-            .unwrap_or_else(|| contract_big(&na, &nb, &tables, &ca, &cb, &sp));
+        let counts = (ca.as_slice(), cb.as_slice());
+        let out = contract_small(&na, &nb, &tables, counts, &sp)
+            .unwrap_or_else(|| contract_big(&na, &nb, &tables, counts, &sp));
         TensorSpline::new(
             tables.iter().map(|t| t.table.degree).collect(),
             tables.iter().map(|t| t.table.knots.clone()).collect(),
@@ -531,13 +532,11 @@ pub(crate) struct OsloMap {
 /// ([`Spline::bezier_pieces_by_insertion`]) applied to a unit line. Memoised per process
 /// (bounded like the product tables): the map depends on the knots only.
 fn oslo_map(p: usize, knots: &[Rational]) -> Result<Arc<OsloMap>, BsplineError> {
-    type Memo = Mutex<std::collections::HashMap<(usize, Vec<Rational>), Arc<OsloMap>>>;
-    static MEMO: OnceLock<Memo> = OnceLock::new();
-    let memo = MEMO.get_or_init(Default::default);
-    let key = (p, knots.to_vec());
-    if let Some(m) = memo.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
-        return Ok(m.clone());
-    }
+    static MEMO: OnceLock<Memo<(usize, Vec<Rational>), OsloMap>> = OnceLock::new();
+    memoised(&MEMO, (p, knots.to_vec()), || compute_oslo_map(p, knots))
+}
+
+fn compute_oslo_map(p: usize, knots: &[Rational]) -> Result<OsloMap, BsplineError> {
     let m = knots.len().saturating_sub(p + 1);
     let unit = |k: usize| {
         let mut c = vec![<Rational as Zero>::zero(); m];
@@ -565,27 +564,43 @@ fn oslo_map(p: usize, knots: &[Rational]) -> Result<Arc<OsloMap>, BsplineError> 
         );
     }
     let new_len = columns.first().map_or(0, Vec::len);
-    let scale = columns
-        .iter()
-        .flatten()
-        .fold(BigInt::one(), |acc, w| acc.lcm(w.denom()));
+    let scale = lcm_of_denominators(columns.iter().flatten());
     let rows = (0..new_len)
         .map(|i| {
             columns
                 .iter()
                 .enumerate()
                 .filter(|(_, c)| !c[i].is_zero())
-                .map(|(k, c)| (k, c[i].numer() * (&scale / c[i].denom())))
+                .map(|(k, c)| (k, scaled_by(&c[i], &scale)))
                 .collect()
         })
         .collect();
-    let map = Arc::new(OsloMap { rows, scale, spans });
-    let mut g = memo.lock().unwrap_or_else(|e| e.into_inner());
-    if g.len() >= TABLE_MEMO_CAPACITY {
-        g.clear();
+    Ok(OsloMap { rows, scale, spans })
+}
+
+/// A process-wide memo of values that are pure functions of their keys.
+type Memo<K, V> = Mutex<std::collections::HashMap<K, Arc<V>>>;
+
+/// The memoised value of `key`, computed (outside the lock) when absent. The memo holds at
+/// most [`TABLE_MEMO_CAPACITY`] values and is emptied when full (the working set of one
+/// program is a handful of knot vectors). A poisoned lock only means another thread panicked
+/// while holding it; the map is still valid (values are inserted whole), so it is used.
+fn memoised<K: std::hash::Hash + Eq, V, E>(
+    memo: &'static OnceLock<Memo<K, V>>,
+    key: K,
+    compute: impl FnOnce() -> Result<V, E>,
+) -> Result<Arc<V>, E> {
+    let memo = memo.get_or_init(Default::default);
+    if let Some(v) = memo.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
+        return Ok(v.clone());
     }
-    g.insert(key, map.clone());
-    Ok(map)
+    let v = Arc::new(compute()?);
+    let mut m = memo.lock().unwrap_or_else(|e| e.into_inner());
+    if m.len() >= TABLE_MEMO_CAPACITY {
+        m.clear();
+    }
+    m.insert(key, v.clone());
+    Ok(v)
 }
 
 /// Per-axis basis product tables keyed by `(p, knots, q, knots)`: a local map in front of a
@@ -611,19 +626,11 @@ pub struct IntTable {
 
 impl IntTable {
     fn new(table: BasisProductTable<Rational>) -> IntTable {
-        let scale = table
-            .entries
-            .iter()
-            .flatten()
-            .fold(BigInt::one(), |acc, (_, w)| acc.lcm(w.denom()));
+        let scale = lcm_of_denominators(table.entries.iter().flatten().map(|(_, w)| w));
         let ints: Vec<Vec<(usize, BigInt)>> = table
             .entries
             .iter()
-            .map(|e| {
-                e.iter()
-                    .map(|(o, w)| (*o, w.numer() * (&scale / w.denom())))
-                    .collect()
-            })
+            .map(|e| e.iter().map(|(o, w)| (*o, scaled_by(w, &scale))).collect())
             .collect();
         let small = ints
             .iter()
@@ -649,13 +656,6 @@ type TableKey = (usize, Vec<Rational>, usize, Vec<Rational>);
 /// the working set of one program is a handful of knot vectors).
 pub(crate) const TABLE_MEMO_CAPACITY: usize = 512;
 
-type TableMemo = Mutex<std::collections::HashMap<TableKey, Arc<IntTable>>>;
-
-fn table_memo() -> &'static TableMemo {
-    static MEMO: OnceLock<TableMemo> = OnceLock::new();
-    MEMO.get_or_init(Default::default)
-}
-
 impl TableCache {
     /// The table for `N_{i,p}` (knots `s`) times `N_{j,q}` (knots `t`), from this cache, the
     /// process-wide memo, or [`basis_product_table`].
@@ -670,38 +670,63 @@ impl TableCache {
         if let Some(t) = self.0.get(&key) {
             return Ok(t.clone());
         }
-        // A poisoned lock only means another thread panicked while holding it; the map is
-        // still a valid cache (entries are inserted whole), so keep using it.
-        let memo = table_memo();
-        let hit = memo
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .get(&key)
-            .cloned();
-        let table = match hit {
-            Some(t) => t,
-            None => {
-                let t = Arc::new(IntTable::new(basis_product_table(p, s, q, t)?));
-                let mut m = memo.lock().unwrap_or_else(|e| e.into_inner());
-                if m.len() >= TABLE_MEMO_CAPACITY {
-                    m.clear();
-                }
-                m.insert(key.clone(), t.clone());
-                t
-            }
-        };
+        static MEMO: OnceLock<Memo<TableKey, IntTable>> = OnceLock::new();
+        let table = memoised(&MEMO, key.clone(), || {
+            basis_product_table(p, s, q, t).map(IntTable::new)
+        })?;
         self.0.insert(key, table.clone());
         Ok(table)
     }
 }
 
+/// The lcm of the denominators.
+fn lcm_of_denominators<'a>(cs: impl IntoIterator<Item = &'a Rational>) -> BigInt {
+    cs.into_iter()
+        .fold(BigInt::one(), |acc, c| acc.lcm(c.denom()))
+}
+
+/// `c · den` as an integer (`den` a multiple of `c`'s denominator).
+fn scaled_by(c: &Rational, den: &BigInt) -> BigInt {
+    c.numer() * (den / c.denom())
+}
+
 /// Integer numerators over the lcm of the denominators.
 fn common_denominator(cs: &[Rational]) -> (Vec<BigInt>, BigInt) {
-    let den = cs.iter().fold(BigInt::one(), |acc, c| acc.lcm(c.denom()));
-    (
-        cs.iter().map(|c| c.numer() * (&den / c.denom())).collect(),
-        den,
-    )
+    let den = lcm_of_denominators(cs);
+    (cs.iter().map(|c| scaled_by(c, &den)).collect(), den)
+}
+
+/// Calls `f(i, j, lists)` for every pair of coefficients `a_i`, `b_j` (both nonzero by
+/// `nonzero`) whose basis functions have a nonzero product on every axis, `lists[x]` being that
+/// product's `(output index, weight)` list on axis `x` (`entries[x]`, indexed `i_x · n_b + j_x`).
+/// Stops at the first `None` from `f`.
+fn for_each_product<'t, W>(
+    nonzero: (&[bool], &[bool]),
+    counts: (&[usize], &[usize]),
+    entries: &[&'t [Vec<(usize, W)>]],
+    mut f: impl FnMut(usize, usize, &[&'t [(usize, W)]]) -> Option<()>,
+) -> Option<()> {
+    let (ca, cb) = counts;
+    let n = ca.len();
+    let mut ia = vec![0usize; n];
+    let mut lists: Vec<&[(usize, W)]> = Vec::with_capacity(n);
+    for (i, &a) in nonzero.0.iter().enumerate() {
+        if a {
+            let mut ib = vec![0usize; n];
+            for (j, &b) in nonzero.1.iter().enumerate() {
+                if b {
+                    lists.clear();
+                    lists.extend((0..n).map(|x| entries[x][ia[x] * cb[x] + ib[x]].as_slice()));
+                    if lists.iter().all(|l| !l.is_empty()) {
+                        f(i, j, &lists)?;
+                    }
+                }
+                step(&mut ib, cb);
+            }
+        }
+        step(&mut ia, ca);
+    }
+    Some(())
 }
 
 /// The Mørken contraction `out_o = Σ_{i,j} a_i b_j Π_x w_x` in `i128`, or `None` when a
@@ -710,45 +735,27 @@ fn contract_small(
     na: &[BigInt],
     nb: &[BigInt],
     tables: &[Arc<IntTable>],
-    ca: &[usize],
-    cb: &[usize],
+    counts: (&[usize], &[usize]),
     sp: &[usize],
 ) -> Option<Vec<BigInt>> {
-    let small: Vec<&Vec<Vec<(usize, i128)>>> = tables
+    let small: Vec<&[Vec<(usize, i128)>]> = tables
         .iter()
-        .map(|t| t.small.as_ref())
+        .map(|t| t.small.as_deref())
         .collect::<Option<_>>()?;
-    let na: Vec<i128> = na
-        .iter()
-        .map(i128::try_from)
-        .collect::<Result<_, _>>()
-        .ok()?;
-    let nb: Vec<i128> = nb
-        .iter()
-        .map(i128::try_from)
-        .collect::<Result<_, _>>()
-        .ok()?;
-    let n = ca.len();
-    let total: usize = tables.iter().map(|t| t.table.count).product();
-    let mut out = vec![0i128; total];
-    let mut ia = vec![0usize; n];
-    for &a in &na {
-        if a != 0 {
-            let mut ib = vec![0usize; n];
-            for &b in &nb {
-                if b != 0 {
-                    let lists: Vec<&[(usize, i128)]> = (0..n)
-                        .map(|x| small[x][ia[x] * cb[x] + ib[x]].as_slice())
-                        .collect();
-                    if lists.iter().all(|l| !l.is_empty()) {
-                        distribute_small(a.checked_mul(b)?, &lists, sp, 0, 0, &mut out)?;
-                    }
-                }
-                step(&mut ib, cb);
-            }
-        }
-        step(&mut ia, ca);
-    }
+    let fit = |v: &[BigInt]| {
+        v.iter()
+            .map(|x| i128::try_from(x).ok())
+            .collect::<Option<Vec<_>>>()
+    };
+    let (na, nb) = (fit(na)?, fit(nb)?);
+    let nonzero = |v: &[i128]| v.iter().map(|&x| x != 0).collect::<Vec<_>>();
+    let mut out = vec![0i128; tables.iter().map(|t| t.table.count).product()];
+    for_each_product(
+        (&nonzero(&na), &nonzero(&nb)),
+        counts,
+        &small,
+        |i, j, lists| distribute_small(na[i].checked_mul(nb[j])?, lists, sp, 0, 0, &mut out),
+    )?;
     Some(out.into_iter().map(BigInt::from).collect())
 }
 
@@ -782,31 +789,21 @@ fn contract_big(
     na: &[BigInt],
     nb: &[BigInt],
     tables: &[Arc<IntTable>],
-    ca: &[usize],
-    cb: &[usize],
+    counts: (&[usize], &[usize]),
     sp: &[usize],
 ) -> Vec<BigInt> {
-    let n = ca.len();
-    let total: usize = tables.iter().map(|t| t.table.count).product();
-    let mut out = vec![BigInt::zero(); total];
-    let mut ia = vec![0usize; n];
-    for a in na {
-        if !a.is_zero() {
-            let mut ib = vec![0usize; n];
-            for b in nb {
-                if !b.is_zero() {
-                    let lists: Vec<&[(usize, BigInt)]> = (0..n)
-                        .map(|x| tables[x].ints[ia[x] * cb[x] + ib[x]].as_slice())
-                        .collect();
-                    if lists.iter().all(|l| !l.is_empty()) {
-                        distribute_int(&(a * b), &lists, sp, 0, 0, &mut out);
-                    }
-                }
-                step(&mut ib, cb);
-            }
-        }
-        step(&mut ia, ca);
-    }
+    let ints: Vec<&[Vec<(usize, BigInt)>]> = tables.iter().map(|t| t.ints.as_slice()).collect();
+    let nonzero = |v: &[BigInt]| v.iter().map(|x| !x.is_zero()).collect::<Vec<_>>();
+    let mut out = vec![BigInt::zero(); tables.iter().map(|t| t.table.count).product()];
+    for_each_product(
+        (&nonzero(na), &nonzero(nb)),
+        counts,
+        &ints,
+        |i, j, lists| {
+            distribute_int(&(&na[i] * &nb[j]), lists, sp, 0, 0, &mut out);
+            Some(())
+        },
+    );
     out
 }
 

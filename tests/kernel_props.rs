@@ -6,7 +6,7 @@ use geocert::bernstein::{
     verify_positive_certificate, Bernstein, FastBernstein, Limits, PositivityVerdict,
     ScaledBernstein,
 };
-use geocert::bernstein::{verify_witness, WitnessValue};
+use geocert::bernstein::{verify_witness, CertificateError, WitnessValue};
 use geocert::bspline::{morken_product, Spline, TensorSpline};
 use geocert::num::{rational_from_f64, rational_to_f64, Field, Interval, Rational, Sign};
 use geocert::strategies::{bernstein_poly, spline};
@@ -370,6 +370,46 @@ proptest! {
                 prop_assert_eq!(&c.spans, &d.spans);
                 prop_assert_eq!(&c.poly, &d.poly);
             }
+        }
+    }
+}
+
+proptest! {
+    /// The certificate checker's tree walk (integer midpoint subdivision) decides every leaf as
+    /// restricting the polynomial to it with the generic rational kernel does: a certificate of
+    /// `p + s` is checked against `p + t` for other shifts `t`, so some leaves fail.
+    #[test]
+    fn certificate_checker_agrees_with_leafwise_restriction(
+        p in bernstein_poly(vec![3, 2], 12),
+        s in 2i64..14,
+        t in -4i64..14,
+    ) {
+        let certified = p.map(|c| c + q(s, 2));
+        let PositivityVerdict::Positive { leaves, .. } =
+            prove_positive_exact(&certified, Limits::new().with_max_depth(7))
+        else {
+            return Ok(());
+        };
+        let other = p.map(|c| c + q(t, 2));
+        let failing: Vec<usize> = leaves
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| {
+                other
+                    .restrict(&l.bounds())
+                    .unwrap()
+                    .coeffs()
+                    .iter()
+                    .any(|c| c.sign() != Sign::Positive)
+            })
+            .map(|(i, _)| i)
+            .collect();
+        match verify_positive_certificate(&other, &leaves) {
+            Ok(n) => prop_assert!(failing.is_empty() && n == leaves.len()),
+            Err(CertificateError::NotPositiveLeaf { index, .. }) => {
+                prop_assert!(failing.contains(&index), "leaf {} reported, failing {:?}", index, failing)
+            }
+            Err(e) => prop_assert!(false, "unexpected refusal {:?}", e),
         }
     }
 }

@@ -12,7 +12,7 @@
 //! generic rational kernel, a code path independent of the integer and `f64` engines.
 
 use super::fast::FastBernstein;
-use super::poly::Bernstein;
+use super::poly::{map_lines, Bernstein};
 use super::scaled::ScaledBernstein;
 use super::BernsteinError;
 use crate::num::{rational_to_f64, Field, Rational, Sign};
@@ -20,7 +20,7 @@ use crate::Path;
 use num_bigint::BigInt;
 use num_traits::{One, Zero};
 use serde::{Deserialize, Serialize};
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::time::{Duration, Instant};
 use thiserror::Error;
 
@@ -581,9 +581,11 @@ pub enum CertificateError {
     },
 }
 
-/// Re-checks a `Positive` certificate with the generic rational kernel: the leaves are valid,
-/// pairwise non-overlapping dyadic boxes whose volumes sum to 1 (so they tile the box), and on
-/// each leaf every Bernstein coefficient of `p` is positive. Returns the number of leaves.
+/// Re-checks a `Positive` certificate: the leaves are valid, pairwise non-overlapping dyadic
+/// boxes whose volumes sum to 1 (so they tile the box), and on each leaf every Bernstein
+/// coefficient of `p` is positive. The coefficients on the leaves come from a walk down the
+/// tree of boxes by integer midpoint subdivision written here (not the provers' splitting
+/// code), so shared ancestors are subdivided once. Returns the number of leaves.
 pub fn verify_positive_certificate(
     p: &Bernstein<Rational>,
     leaves: &[DyadicBox],
@@ -610,27 +612,104 @@ pub fn verify_positive_certificate(
             cur = anc.parent();
         }
     }
-    let mut volume = <Rational as Zero>::zero();
-    for l in leaves {
-        volume += Rational::new(BigInt::one(), BigInt::one() << (l.level as usize * dim));
-    }
-    if !volume.is_one() {
+    // Volumes in units of the finest leaf: Σ 2^{(L − l)·dim} = 2^{L·dim} exactly when they
+    // tile the box (they do not overlap).
+    let finest = leaves.iter().map(|l| l.level).max().unwrap_or(0) as usize;
+    let volume = leaves.iter().fold(BigInt::zero(), |v, l| {
+        v + (BigInt::one() << ((finest - l.level as usize) * dim))
+    });
+    let whole = BigInt::one() << (finest * dim);
+    if volume != whole {
         return Err(CertificateError::NotCovering {
-            covered: crate::num::rational_to_string(&volume),
+            covered: crate::num::rational_to_string(&Rational::new(volume, whole)),
         });
     }
-    for (i, l) in leaves.iter().enumerate() {
-        let sub = p
-            .restrict(&l.bounds())
-            .map_err(|_| CertificateError::BadLeaf { index: i, dim })?;
-        if let Some(c) = sub.coeffs().iter().find(|c| c.sign() != Sign::Positive) {
-            return Err(CertificateError::NotPositiveLeaf {
-                index: i,
-                coeff: crate::num::rational_to_string(c),
-            });
-        }
-    }
+    let index: HashMap<&DyadicBox, usize> =
+        leaves.iter().enumerate().map(|(i, l)| (l, i)).collect();
+    // The coefficients as integers over one positive denominator (signs are what counts).
+    let den = p.coeffs().iter().fold(BigInt::one(), |acc, c| {
+        num_integer::Integer::lcm(&acc, c.denom())
+    });
+    let nums: Vec<BigInt> = p
+        .coeffs()
+        .iter()
+        .map(|c| c.numer() * (&den / c.denom()))
+        .collect();
+    let check = LeafCheck {
+        degrees: p.degrees(),
+        index: &index,
+        den: &den,
+    };
+    check.descend(&DyadicBox::root(dim), nums)?;
     Ok(leaves.len())
+}
+
+/// The tree walk of [`verify_positive_certificate`]: from the root down to the leaves, each
+/// box's coefficients from its parent's by integer midpoint subdivision, so the work is shared
+/// among leaves (no leaf is restricted from the root on its own).
+struct LeafCheck<'a> {
+    degrees: &'a [usize],
+    index: &'a HashMap<&'a DyadicBox, usize>,
+    den: &'a BigInt,
+}
+
+impl LeafCheck<'_> {
+    /// `nums` are the box's Bernstein coefficients times `den · 2^{level · Σ degrees}`.
+    fn descend(&self, b: &DyadicBox, nums: Vec<BigInt>) -> Result<(), CertificateError> {
+        if let Some(&i) = self.index.get(b) {
+            if let Some(c) = nums.iter().find(|c| c.sign() != num_bigint::Sign::Plus) {
+                let scale: usize = b.level as usize * self.degrees.iter().sum::<usize>();
+                return Err(CertificateError::NotPositiveLeaf {
+                    index: i,
+                    coeff: crate::num::rational_to_string(&Rational::new(
+                        c.clone(),
+                        self.den << scale,
+                    )),
+                });
+            }
+            return Ok(());
+        }
+        // The leaves tile the box and none contains another, so a box that is not a leaf is
+        // covered by leaves strictly inside it, at most 62 levels down.
+        for c in 0..1usize << self.degrees.len() {
+            let mut child = nums.clone();
+            for (axis, &d) in self.degrees.iter().enumerate() {
+                let upper = c >> axis & 1 == 1;
+                child = map_lines(
+                    self.degrees,
+                    &child,
+                    axis,
+                    d + 1,
+                    &BigInt::zero(),
+                    |l, out| midpoint_half(l, upper, out),
+                );
+            }
+            self.descend(&b.child(c), child)?;
+        }
+        Ok(())
+    }
+}
+
+/// One half of a line of Bernstein coefficients split at ½ by de Casteljau without division:
+/// level `r` holds `2^r` times the averages, and output `i` of the lower half (the triangle's
+/// left side, `c^{(i)}_0`) is brought to the common scale `2^d` by `2^{d−i}`; the upper half
+/// is the right side `c^{(d−i)}_i`, likewise.
+fn midpoint_half(line: &[BigInt], upper: bool, out: &mut [BigInt]) {
+    let d = line.len() - 1;
+    let mut tri = line.to_vec();
+    // After step r, tri[k] = 2^r · (average at level r starting at k), k = 0..=d−r.
+    let mut lower = vec![BigInt::zero(); d + 1];
+    let mut higher = vec![BigInt::zero(); d + 1];
+    lower[0] = tri[0].clone() << d;
+    higher[d] = tri[d].clone() << d;
+    for r in 1..=d {
+        for k in 0..=d - r {
+            tri[k] = &tri[k] + &tri[k + 1];
+        }
+        lower[r] = tri[0].clone() << (d - r);
+        higher[d - r] = tri[d - r].clone() << (d - r);
+    }
+    out.clone_from_slice(if upper { &higher } else { &lower });
 }
 
 /// Re-checks a `NotPositive` witness: the point lies in the unit box and `p(point) ≤ 0`,

@@ -21,7 +21,9 @@ use super::earcut::simple_ccw;
 use super::history::{fingerprint, History, HistoryError, Stage};
 use super::{fallback_planes, fan_normal, Plane};
 use crate::mesh::{Mesh, MeshError};
-use crate::num::{rational_from_f64, Rational};
+use crate::num::rational::{dyadic_rational, f64_dyadic};
+use crate::num::Rational;
+use num_bigint::BigInt;
 use num_traits::{Signed, Zero};
 use std::collections::{HashMap, HashSet};
 
@@ -74,13 +76,24 @@ fn step(step: usize, why: String) -> CheckError {
     CheckError::Step { step, why }
 }
 
-fn exact(x: f64) -> Rational {
-    rational_from_f64(x, "coordinate").expect("finite")
-}
-
+/// `det[b − a, c − a]` exactly (finite coordinates), in integers: the six coordinates are
+/// dyadic, `m · 2^k`, and are brought over their smallest power of two, so no gcd is taken.
 fn det(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Rational {
-    let [ax, ay, bx, by, cx, cy] = [a[0], a[1], b[0], b[1], c[0], c[1]].map(exact);
-    (&bx - &ax) * (&cy - &ay) - (&by - &ay) * (&cx - &ax)
+    let parts = [a[0], a[1], b[0], b[1], c[0], c[1]].map(f64_dyadic);
+    let e = parts
+        .iter()
+        .filter(|(m, _)| *m != 0)
+        .map(|&(_, k)| k)
+        .min()
+        .unwrap_or(0);
+    let [ax, ay, bx, by, cx, cy] = parts.map(|(m, k)| {
+        if m == 0 {
+            BigInt::zero()
+        } else {
+            BigInt::from(m) << ((k - e) as usize)
+        }
+    });
+    dyadic_rational((&bx - &ax) * (&cy - &ay) - (&by - &ay) * (&cx - &ax), 2 * e)
 }
 
 /// The number of border loops of a manifold mesh.
@@ -335,6 +348,45 @@ impl super::earcut::Orient for RingOrient<'_> {
             std::cmp::Ordering::Less
         } else {
             std::cmp::Ordering::Equal
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::det;
+    use crate::num::{rational_from_f64, Rational};
+
+    /// The integer determinant equals the rational formula on coordinates of every magnitude:
+    /// subnormals, huge values, zeros, exact cancellations.
+    #[test]
+    fn integer_det_equals_the_rational_formula() {
+        let q = |x: f64| rational_from_f64(x, "x").unwrap();
+        let values = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.5,
+            3.0e-310,
+            -5e-324,
+            1.0e300,
+            -7.25e-3,
+            0.1,
+            2.0f64.powi(60),
+            1.0 + f64::EPSILON,
+        ];
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut pick = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            values[(state >> 33) as usize % values.len()]
+        };
+        for _ in 0..5_000 {
+            let (a, b, c) = ([pick(), pick()], [pick(), pick()], [pick(), pick()]);
+            let want: Rational = (q(b[0]) - q(a[0])) * (q(c[1]) - q(a[1]))
+                - (q(b[1]) - q(a[1])) * (q(c[0]) - q(a[0]));
+            assert_eq!(det(a, b, c), want, "{a:?} {b:?} {c:?}");
         }
     }
 }

@@ -23,6 +23,16 @@ pub fn rational_from_f64(x: f64, what: &str) -> Result<Rational, NumError> {
     if x == 0.0 {
         return Ok(Rational::zero());
     }
+    let (m, e) = f64_dyadic(x);
+    Ok(dyadic_rational(BigInt::from(m), e))
+}
+
+/// A finite `x` as `m · 2^e` exactly, with `m` odd (`(0, 0)` for zero). Not meaningful for
+/// infinities and NaN.
+pub(crate) fn f64_dyadic(x: f64) -> (i64, i64) {
+    if x == 0.0 {
+        return (0, 0);
+    }
     let bits = x.to_bits();
     let negative = bits >> 63 == 1;
     let exp_bits = ((bits >> 52) & 0x7ff) as i64;
@@ -33,15 +43,23 @@ pub fn rational_from_f64(x: f64, what: &str) -> Result<Rational, NumError> {
     } else {
         (frac | (1u64 << 52), exp_bits - 1075)
     };
-    let mut m = BigInt::from(mant);
-    if negative {
-        m = -m;
-    }
-    Ok(if exp >= 0 {
-        Rational::from_integer(m << (exp as usize))
+    let tz = mant.trailing_zeros() as i64;
+    let m = (mant >> tz) as i64;
+    (if negative { -m } else { m }, exp + tz)
+}
+
+/// `m · 2^e` as a rational, without a gcd: the powers of two are taken out of `m`, and an odd
+/// numerator over a power of two is in lowest terms.
+pub(crate) fn dyadic_rational(m: BigInt, e: i64) -> Rational {
+    let Some(tz) = m.trailing_zeros() else {
+        return Rational::zero();
+    };
+    let (m, e) = (m >> tz, e + tz as i64);
+    if e >= 0 {
+        Rational::from_integer(m << (e as usize))
     } else {
-        Rational::new(m, BigInt::one() << ((-exp) as usize))
-    })
+        Rational::new_raw(m, BigInt::one() << ((-e) as usize))
+    }
 }
 
 /// Rounds a rational to the nearest `f64` (ties to even); overflows go to ±infinity.

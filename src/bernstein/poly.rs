@@ -189,7 +189,7 @@ impl<T: Field> Bernstein<T> {
             1,
             &T::zero(),
             |line, out| {
-                out[0] = de_casteljau_eval(line, t);
+                out[0] = T::eval_line(line, t);
             },
         );
         let mut degrees = self.degrees.clone();
@@ -225,7 +225,7 @@ impl<T: Field> Bernstein<T> {
             len,
             &T::zero(),
             |line, out| {
-                let (l, r) = de_casteljau_split(line, t);
+                let (l, r) = T::split_line(line, t);
                 out.clone_from_slice(&l);
                 rights.push(r);
             },

@@ -40,6 +40,15 @@ pub trait Field: Clone + std::fmt::Debug + Send + Sync {
     fn mul_int(&self, n: i64) -> Self {
         self.mul(&Self::from_ratio(n, 1))
     }
+    /// De Casteljau subdivision of one line of Bernstein coefficients at `t`: the pieces on
+    /// `[0, t]` and `[t, 1]`. A type may do it faster than the generic recurrence.
+    fn split_line(line: &[Self], t: &Self) -> (Vec<Self>, Vec<Self>) {
+        crate::bernstein::poly::de_casteljau_split(line, t)
+    }
+    /// The value of one line of Bernstein coefficients at `t` (de Casteljau).
+    fn eval_line(line: &[Self], t: &Self) -> Self {
+        crate::bernstein::poly::de_casteljau_eval(line, t)
+    }
 }
 
 impl Field for Rational {
@@ -78,6 +87,16 @@ impl Field for Rational {
     }
     fn mul_int(&self, n: i64) -> Self {
         Rational::new(self.numer() * BigInt::from(n), self.denom().clone())
+    }
+    fn split_line(line: &[Self], t: &Self) -> (Vec<Self>, Vec<Self>) {
+        super::rational::dyadic_split_line(line, t)
+            .unwrap_or_else(|| crate::bernstein::poly::de_casteljau_split(line, t))
+    }
+    fn eval_line(line: &[Self], t: &Self) -> Self {
+        match super::rational::dyadic_split_line(line, t) {
+            Some((mut left, _)) => left.pop().expect("a line has a coefficient"),
+            None => crate::bernstein::poly::de_casteljau_eval(line, t),
+        }
     }
 }
 

@@ -48,6 +48,50 @@ pub(crate) fn f64_dyadic(x: f64) -> (i64, i64) {
     (if negative { -m } else { m }, exp + tz)
 }
 
+/// `2^k` when `d` is that power of two.
+fn power_of_two(d: &BigInt) -> Option<u64> {
+    let k = d.trailing_zeros()?;
+    (d.bits() == k + 1).then_some(k)
+}
+
+/// De Casteljau subdivision of a line of dyadic rationals at a dyadic `t = a / 2^k`, in
+/// integers and without a gcd, or `None` when some value is not dyadic. Every value is brought
+/// over the largest power of two `2^E`; level `r` of the recurrence holds `2^{k·r}` times
+/// `(1 − t) w_i + t w_{i+1}` as the integer `(2^k − a) w_i + a w_{i+1}`, and each output is
+/// read off over `2^{E + k·r}`. Same values as the generic recurrence, exactly.
+pub(crate) fn dyadic_split_line(
+    line: &[Rational],
+    t: &Rational,
+) -> Option<(Vec<Rational>, Vec<Rational>)> {
+    let k = power_of_two(t.denom())?;
+    let e: Vec<u64> = line
+        .iter()
+        .map(|v| power_of_two(v.denom()))
+        .collect::<Option<_>>()?;
+    let top = *e.iter().max()?;
+    let a = t.numer();
+    let b = (BigInt::one() << k) - a;
+    let mut w: Vec<BigInt> = line
+        .iter()
+        .zip(&e)
+        .map(|(v, &ei)| v.numer() << (top - ei))
+        .collect();
+    let n = line.len();
+    let out = |w: &BigInt, r: usize| dyadic_rational(w.clone(), -((top + k * r as u64) as i64));
+    let mut left = Vec::with_capacity(n);
+    let mut right = vec![Rational::zero(); n];
+    left.push(out(&w[0], 0));
+    right[n - 1] = out(&w[n - 1], 0);
+    for r in 1..n {
+        for i in 0..n - r {
+            w[i] = &b * &w[i] + a * &w[i + 1];
+        }
+        left.push(out(&w[0], r));
+        right[n - 1 - r] = out(&w[n - 1 - r], r);
+    }
+    Some((left, right))
+}
+
 /// `m · 2^e` as a rational, without a gcd: the powers of two are taken out of `m`, and an odd
 /// numerator over a power of two is in lowest terms.
 pub(crate) fn dyadic_rational(m: BigInt, e: i64) -> Rational {
@@ -261,6 +305,30 @@ pub(crate) fn rational_sign(r: &Rational) -> super::Sign {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The integer dyadic subdivision gives exactly the generic recurrence's coefficients, at
+    /// split points inside and outside [0, 1], on lines of mixed powers of two and signs; a
+    /// non-dyadic value or split point falls back (`None`).
+    #[test]
+    fn dyadic_split_equals_de_casteljau() {
+        let q = |n: i64, d: i64| Rational::new(n.into(), d.into());
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = |m: i64| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) as i64 % m
+        };
+        for _ in 0..2_000 {
+            let len = 1 + next(5) as usize;
+            let line: Vec<Rational> = (0..len).map(|_| q(next(41) - 20, 1 << next(12))).collect();
+            let t = q(next(40) - 8, 1 << next(6));
+            let fast = dyadic_split_line(&line, &t).expect("dyadic");
+            assert_eq!(fast, crate::bernstein::poly::de_casteljau_split(&line, &t));
+        }
+        assert!(dyadic_split_line(&[q(1, 3), q(1, 2)], &q(1, 2)).is_none());
+        assert!(dyadic_split_line(&[q(1, 4), q(1, 2)], &q(1, 3)).is_none());
+    }
 
     #[test]
     fn f64_round_trip_exact() {

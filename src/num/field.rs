@@ -64,14 +64,16 @@ impl Field for Rational {
     fn from_rational(r: &Rational) -> Self {
         r.clone()
     }
+    // Dyadic values (power-of-two denominators: every f64, every dyadic split) are added,
+    // subtracted and multiplied without a gcd; others through `num-rational`.
     fn add(&self, o: &Self) -> Self {
-        self + o
+        super::rational::dyadic_add(self, o, false).unwrap_or_else(|| self + o)
     }
     fn sub(&self, o: &Self) -> Self {
-        self - o
+        super::rational::dyadic_add(self, o, true).unwrap_or_else(|| self - o)
     }
     fn mul(&self, o: &Self) -> Self {
-        self * o
+        super::rational::dyadic_mul(self, o).unwrap_or_else(|| self * o)
     }
     fn div(&self, o: &Self) -> Self {
         self / o

@@ -92,6 +92,31 @@ pub(crate) fn dyadic_split_line(
     Some((left, right))
 }
 
+/// `a ± b` when both are dyadic (`None` otherwise): over the larger power of two, then the
+/// powers of two are taken out of the numerator, so no gcd is needed.
+pub(crate) fn dyadic_add(a: &Rational, b: &Rational, minus: bool) -> Option<Rational> {
+    let (ka, kb) = (power_of_two(a.denom())?, power_of_two(b.denom())?);
+    let k = ka.max(kb);
+    let (na, nb) = (a.numer() << (k - ka), b.numer() << (k - kb));
+    let n = if minus { na - nb } else { na + nb };
+    Some(dyadic_rational(n, -(k as i64)))
+}
+
+/// `a · b` when both are dyadic (`None` otherwise): odd numerators (of lowest terms) multiply
+/// to an odd one, so the product over the product of the powers of two is in lowest terms.
+pub(crate) fn dyadic_mul(a: &Rational, b: &Rational) -> Option<Rational> {
+    let (ka, kb) = (power_of_two(a.denom())?, power_of_two(b.denom())?);
+    let n = a.numer() * b.numer();
+    if n.is_zero() {
+        return Some(Rational::zero());
+    }
+    // A numerator may be even only over the denominator 1 (an integer): normalise then.
+    if ka == 0 || kb == 0 {
+        return Some(dyadic_rational(n, -((ka + kb) as i64)));
+    }
+    Some(Rational::new_raw(n, BigInt::one() << ((ka + kb) as usize)))
+}
+
 /// `m · 2^e` as a rational, without a gcd: the powers of two are taken out of `m`, and an odd
 /// numerator over a power of two is in lowest terms.
 pub(crate) fn dyadic_rational(m: BigInt, e: i64) -> Rational {
@@ -327,6 +352,23 @@ mod tests {
             assert_eq!(fast, crate::bernstein::poly::de_casteljau_split(&line, &t));
         }
         assert!(dyadic_split_line(&[q(1, 3), q(1, 2)], &q(1, 2)).is_none());
+        // Sums, differences and products of dyadics, integers and zeros: lowest terms, equal
+        // to num-rational's; non-dyadic operands are declined.
+        for _ in 0..5_000 {
+            let a = q(next(61) - 30, 1 << next(62));
+            let b = q(next(61) - 30, 1 << next(62));
+            let (s, d, p) = (
+                dyadic_add(&a, &b, false).expect("dyadic"),
+                dyadic_add(&a, &b, true).expect("dyadic"),
+                dyadic_mul(&a, &b).expect("dyadic"),
+            );
+            for (got, want) in [(s, &a + &b), (d, &a - &b), (p, &a * &b)] {
+                // Field equality and the representation (lowest terms, positive denominator).
+                assert_eq!((got.numer(), got.denom()), (want.numer(), want.denom()));
+            }
+        }
+        assert!(dyadic_add(&q(1, 3), &q(1, 2), false).is_none());
+        assert!(dyadic_mul(&q(1, 2), &q(2, 3)).is_none());
         assert!(dyadic_split_line(&[q(1, 4), q(1, 2)], &q(1, 3)).is_none());
     }
 

@@ -8,8 +8,9 @@
 //! Three routes: [`prove_positive_exact`] (sign-only integers, no `f64` anywhere),
 //! [`prove_positive_fast`] (`f64` with certified bounds; says `Uncertain` when they do not
 //! decide) and [`prove_positive_filtered`] (fast first, exact on the uncertain boxes only).
-//! [`verify_positive_certificate`] and [`verify_witness`] re-check the evidence with the
-//! generic rational kernel, a code path independent of the integer and `f64` engines.
+//! [`verify_positive_certificate`] and [`verify_witness`] re-check the evidence with code of
+//! their own, independent of the engines: the certificate by a division-free integer walk
+//! down the box tree written in the checker, the witness by exact rational evaluation.
 
 use super::fast::FastBernstein;
 use super::poly::{map_lines, Bernstein};

@@ -6,6 +6,7 @@ pub mod ffd;
 pub mod kernel;
 pub mod mc;
 pub mod mc_body;
+pub mod mc_topology;
 
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -385,6 +386,7 @@ pub fn all() -> Vec<(&'static str, Proof)> {
         ("mc.table-trilinear-realisability", mc::trilinear),
         ("mc.table-body-ambiguity", mc_body::body),
         ("mc.face-deciders", mc::face_deciders),
+        ("mc.trilinear-topology", mc_topology::oracle_vs_sweep),
         (
             "diamond.implicit-vs-explicit",
             diamond::implicit_vs_explicit,

@@ -80,7 +80,7 @@ impl<T> Volume<T> {
         }
         Ok(Volume { dims, values })
     }
-    fn at(&self, i: usize, j: usize, k: usize) -> &T {
+    pub(crate) fn at(&self, i: usize, j: usize, k: usize) -> &T {
         &self.values[i + self.dims[0] * (j + self.dims[1] * k)]
     }
 }
@@ -138,7 +138,7 @@ fn face_abcd(f: usize) -> [usize; 4] {
 }
 
 /// The grid edge (axis, lower corner) of a cell's local edge.
-fn grid_edge(cell: [usize; 3], e: usize) -> (usize, [usize; 3]) {
+pub(crate) fn grid_edge(cell: [usize; 3], e: usize) -> (usize, [usize; 3]) {
     let [a, b] = EDGES[e];
     let (pa, pb) = (corner_offset(a as usize), corner_offset(b as usize));
     let axis = (0..3)

@@ -3,7 +3,8 @@
 //! 2003): the generated table of all topologically different cell triangulations
 //! ([`mod@table`]) and the face decider ([`decide_exact`], [`decide_fast`]), regular-grid
 //! extraction ([`grid`]), polygonisation of curvilinear finite elements ([`fe`]) and the
-//! auditor of other programs' tables ([`audit`]).
+//! auditor of other programs' tables ([`audit`]); the exact topology of the trilinear
+//! interpolant's isosurface in a cell and in a volume ([`trilinear`]).
 //!
 //! # Examples
 //!
@@ -47,6 +48,7 @@ pub mod grid;
 #[cfg(feature = "nifti")]
 pub mod nifti;
 pub mod table;
+pub mod trilinear;
 
 pub use decider::{decide_exact, decide_fast, is_ambiguous_face};
 pub use table::{table, Entry, Table};

@@ -1,0 +1,140 @@
+use super::sweep::sweep_groups;
+use super::*;
+use crate::mc::decider::decide_shifted;
+
+fn lcg(state: &mut u64) -> u64 {
+    *state = state
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    *state >> 33
+}
+
+fn q(v: i64) -> Rational {
+    Rational::from_integer(v.into())
+}
+
+#[test]
+fn a_body_diagonal_tube() {
+    // Corners 0 and 6 strongly positive, the rest weakly negative: a tube joins them.
+    let mut v = [-1i64; 8];
+    v[0] = 8;
+    v[6] = 8;
+    let t = topology_of_small(&v).unwrap();
+    assert_eq!(t.config, 0b0100_0001);
+    assert_eq!(
+        t.groups[0][0], t.groups[0][6],
+        "joined through the interior"
+    );
+    assert_eq!(t.components.len(), 1);
+    assert_eq!(t.tunnels(), 1);
+    assert_eq!(t.euler_characteristic(), 0, "an annulus");
+    assert!(!t.matches_table());
+    let values = v.map(q);
+    verify_cell(&values, &q(0), &t).unwrap();
+    // Weakly positive corners stay apart: two discs, as the table draws them.
+    let mut w = [-8i64; 8];
+    w[0] = 1;
+    w[6] = 1;
+    let t = topology_of_small(&w).unwrap();
+    assert_eq!(t.components.len(), 2);
+    assert!(t.matches_table());
+    assert_eq!(t.euler_characteristic(), 2);
+}
+
+#[test]
+fn oracle_agrees_with_the_sweep_and_the_fast_path_on_random_cells() {
+    let mut s = 7u64;
+    let mut checked = 0;
+    for round in 0..20_000 {
+        let m = [3, 9, 40, 1000][round % 4];
+        let v: [i64; 8] = std::array::from_fn(|_| (lcg(&mut s) % (2 * m + 1)) as i64 - m as i64);
+        let t = topology_of_small(&v).unwrap();
+        for axis in 0..3 {
+            assert_eq!(
+                sweep_groups(&v, axis).unwrap(),
+                t.groups,
+                "values {v:?} axis {axis}"
+            );
+        }
+        // The face decisions are the table's tie rule.
+        for (bit, &f) in crate::mc::table::ambiguous_faces(t.config)
+            .iter()
+            .enumerate()
+        {
+            let c = crate::mc::table::FACES[f as usize]
+                .corners
+                .map(|x| v[x as usize]);
+            let joined = decide_shifted(&c[0], &c[1], &c[3], &c[2]);
+            assert_eq!(t.sub >> bit & 1 == 1, joined, "values {v:?} face {f}");
+        }
+        let f = v.map(|x| x as f64);
+        if let Some(fast) = cell_topology_fast(&f, 0.0) {
+            assert_eq!(fast, t, "values {v:?}");
+            checked += 1;
+        }
+        if round % 50 == 0 {
+            verify_cell(&v.map(q), &q(0), &t).unwrap();
+        }
+    }
+    assert!(checked > 10_000, "the fast path decided {checked}");
+}
+
+#[test]
+fn big_values_take_the_bigint_route() {
+    let v: [i64; 8] = [1 << 40, -(1 << 41), 3, -5, -7, 11 << 35, -13, 1 << 45];
+    let g = v.map(BigInt::from);
+    let big = topology_of_integers(&g);
+    let small = topology_of_small(&v.map(|x| x.signum() * (x.abs() >> 30).max(1)));
+    assert!(small.is_some());
+    verify_cell(&v.map(q), &q(0), &big).unwrap();
+}
+
+#[test]
+fn the_checker_rejects_wrong_claims() {
+    let mut v = [-1i64; 8];
+    v[0] = 8;
+    v[6] = 8;
+    let values = v.map(q);
+    let t = topology_of_small(&v).unwrap();
+    let mut wrong = t.clone();
+    wrong.groups[0][6] = 6;
+    assert!(verify_cell(&values, &q(0), &wrong).is_err());
+    let mut wrong = t.clone();
+    wrong
+        .joins
+        .retain(|j| !matches!(j.kind, JoinKind::Diagonal(_)));
+    assert!(matches!(
+        verify_cell(&values, &q(0), &wrong),
+        Err(CellCheckError::Groups { .. })
+    ));
+    let mut wrong = t.clone();
+    if let Some(j) = wrong
+        .joins
+        .iter_mut()
+        .find(|j| matches!(j.kind, JoinKind::Diagonal(_)))
+    {
+        j.witness.at = WitnessPoint::Mark(Mark::Zero);
+        j.witness.lo = Mark::Zero;
+    }
+    assert!(verify_cell(&values, &q(0), &wrong).is_err());
+    let mut wrong = t;
+    wrong.components[0].cycles.pop();
+    assert!(verify_cell(&values, &q(0), &wrong).is_err());
+}
+
+#[test]
+fn ties_follow_the_table() {
+    // f = z at iso 1/2 (shifted by 2: g = 2z − 1): one flat disc; every slice across z in the
+    // middle is level.
+    let g = [-1i64, -1, -1, -1, 1, 1, 1, 1];
+    let t = topology_of_small(&g).unwrap();
+    assert_eq!(t.components.len(), 1);
+    assert_eq!(t.euler_characteristic(), 1);
+    // Corner values equal to the isovalue count positive.
+    let t = topology_of_small(&[0, -1, -1, -1, -1, -1, -1, -1]).unwrap();
+    assert_eq!(t.config, 1);
+    assert_eq!(t.components.len(), 1);
+    // A face saddle on the level joins the positive corners (1·1 = 1·1 on face z = 0).
+    let t = topology_of_small(&[1, -1, 1, -1, 5, 5, 5, 5]).unwrap();
+    assert_eq!(t.sub & 1, 1);
+}

@@ -49,6 +49,7 @@ pub mod grid;
 pub mod nifti;
 pub mod table;
 pub mod trilinear;
+pub mod verify;
 
 pub use decider::{decide_exact, decide_fast, is_ambiguous_face};
 pub use table::{table, Entry, Table};

@@ -51,7 +51,9 @@ use self::ring::{Coeff, Eps, OrderedRing};
 use super::table::{ambiguous_faces, table, Entry, EDGES, FACES};
 use crate::num::{Interval, Rational};
 
-pub use volume::{volume_topology, volume_topology_exact, SurfaceComponent, VolumeTopology};
+pub use volume::{
+    cell_topologies, volume_topology, volume_topology_exact, SurfaceComponent, VolumeTopology,
+};
 
 /// Corner groups of one sign class: `label[c]` is the smallest corner of corner `c`'s group,
 /// `u8::MAX` for corners of the other class.

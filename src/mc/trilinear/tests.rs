@@ -138,3 +138,82 @@ fn ties_follow_the_table() {
     let t = topology_of_small(&[1, -1, 1, -1, 5, 5, 5, 5]).unwrap();
     assert_eq!(t.sub & 1, 1);
 }
+
+fn field(n: usize, f: impl Fn([f64; 3]) -> f64) -> crate::mc::grid::Volume<f64> {
+    let values = (0..n * n * n)
+        .map(|i| f([i % n, i / n % n, i / (n * n)].map(|c| c as f64)))
+        .collect();
+    crate::mc::grid::Volume::new([n, n, n], values).unwrap()
+}
+
+#[test]
+fn volumes_have_the_topology_of_their_shapes() {
+    use crate::mc::grid::{extract, ExtractOptions};
+    let c = 7.5;
+    let sphere = field(16, |p| {
+        p.iter().map(|x| (x - c) * (x - c)).sum::<f64>() - 30.0
+    });
+    let torus = field(20, |[x, y, z]| {
+        let (x, y, z) = (x - 9.5, y - 9.5, z - 9.5);
+        let r = (x * x + y * y).sqrt() - 6.0;
+        r * r + z * z - 4.0
+    });
+    let two = field(18, |[x, y, z]| {
+        let a = (x - 4.5).powi(2) + (y - 8.5).powi(2) + (z - 8.5).powi(2) - 9.0;
+        let b = (x - 12.5).powi(2) + (y - 8.5).powi(2) + (z - 8.5).powi(2) - 9.0;
+        a.min(b)
+    });
+    // A plane through the box: one disc reaching the boundary.
+    let plane = field(8, |[x, y, z]| x + 2.0 * y - z - 3.3);
+    for (vol, chi, comps, closed) in [
+        (&sphere, 2, 1, true),
+        (&torus, 0, 1, true),
+        (&two, 4, 2, true),
+        (&plane, 1, 1, false),
+    ] {
+        let t = volume_topology(vol, 0.0).unwrap();
+        assert_eq!(t.euler_characteristic, chi, "{t:?}");
+        assert_eq!(t.components.len(), comps);
+        assert!(t.components.iter().all(|c| c.closed == closed));
+        assert_eq!(t.tunnel_cells, 0);
+        // The table draws the same surface here: its mesh has the same characteristic.
+        let iso = Rational::from_integer(0.into());
+        let (mesh, _) = extract(vol, &iso, &ExtractOptions::new()).unwrap();
+        assert_eq!(mesh.euler_characteristic(), chi);
+    }
+}
+
+#[test]
+fn fast_and_exact_volume_topologies_agree_on_noise() {
+    let mut s = 3u64;
+    for round in 0..20 {
+        let n = 5 + round % 4;
+        let values: Vec<f64> = (0..n * n * n)
+            .map(|_| (lcg(&mut s) % 9) as f64 - 4.0)
+            .collect();
+        let vol = crate::mc::grid::Volume::new([n, n, n], values.clone()).unwrap();
+        let exact =
+            crate::mc::grid::Volume::new([n, n, n], values.iter().map(|&v| q(v as i64)).collect())
+                .unwrap();
+        let iso = if round % 2 == 0 { 0.0 } else { 0.5 };
+        let iso_q = crate::num::rational_from_f64(iso, "iso").unwrap();
+        let a = volume_topology(&vol, iso).unwrap();
+        let b = volume_topology_exact(&exact, &iso_q);
+        assert_eq!(a.euler_characteristic, b.euler_characteristic);
+        assert_eq!(a.components, b.components);
+        assert_eq!(a.tunnel_cells, b.tunnel_cells);
+        if iso == 0.0 {
+            assert!(
+                a.exact_fallbacks > 0,
+                "corners on the level need the exact path"
+            );
+        }
+        // With no tunnel the table's mesh has the trilinear surface's characteristic.
+        if a.tunnel_cells == 0 {
+            let (mesh, _) =
+                crate::mc::grid::extract(&vol, &iso_q, &crate::mc::grid::ExtractOptions::new())
+                    .unwrap();
+            assert_eq!(mesh.euler_characteristic(), a.euler_characteristic);
+        }
+    }
+}

@@ -47,6 +47,9 @@ pub struct VolumeTopology {
     pub exact_fallbacks: usize,
 }
 
+/// A cell (its lowest grid point) and its topology.
+pub type CellAt = ([usize; 3], CellTopology);
+
 /// The face (index into `FACES`) that two edges of a cube share, if any.
 fn shared_face(a: u8, b: u8) -> Option<usize> {
     FACES.iter().position(|f| {
@@ -56,7 +59,7 @@ fn shared_face(a: u8, b: u8) -> Option<usize> {
 }
 
 /// Assembles cell topologies (`(cell, topology)`, every crossed cell once) into the volume's.
-fn assemble(
+pub(crate) fn assemble(
     dims: [usize; 3],
     cells: impl Iterator<Item = ([usize; 3], CellTopology)>,
     exact_fallbacks: usize,
@@ -170,7 +173,7 @@ fn cells_of(dims: [usize; 3]) -> impl Iterator<Item = [usize; 3]> {
         .flat_map(move |k| (0..ny - 1).flat_map(move |j| (0..nx - 1).map(move |i| [i, j, k])))
 }
 
-fn corners_of<T: Clone>(vol: &Volume<T>, cell: [usize; 3]) -> [T; 8] {
+pub(crate) fn corners_of<T: Clone>(vol: &Volume<T>, cell: [usize; 3]) -> [T; 8] {
     std::array::from_fn(|c| {
         let o = CORNERS[c];
         vol.at(
@@ -182,9 +185,10 @@ fn corners_of<T: Clone>(vol: &Volume<T>, cell: [usize; 3]) -> [T; 8] {
     })
 }
 
-/// The topology of the trilinear isosurface of `vol` at `iso` (at `iso − ε`, the table's tie
-/// rules): each crossed cell on the certified `f64` path, exactly where it is uncertain.
-pub fn volume_topology(vol: &Volume<f64>, iso: f64) -> Result<VolumeTopology, VolumeError> {
+/// The topology of every cell of `vol` the level crosses (at `iso − ε`, the table's tie
+/// rules), each on the certified `f64` path and exactly where it is uncertain; and how many
+/// needed the exact path.
+pub fn cell_topologies(vol: &Volume<f64>, iso: f64) -> Result<(Vec<CellAt>, usize), VolumeError> {
     if !iso.is_finite() {
         return Err(VolumeError::Isovalue);
     }
@@ -193,23 +197,30 @@ pub fn volume_topology(vol: &Volume<f64>, iso: f64) -> Result<VolumeTopology, Vo
     }
     let iso_r = rational_from_f64(iso, "isovalue").map_err(|_| VolumeError::Isovalue)?;
     let mut fallbacks = 0usize;
-    let cells = cells_of(vol.dims).filter_map(|cell| {
-        let v: [f64; 8] = corners_of(vol, cell);
-        let pos = v.iter().filter(|x| is_positive(*x, &iso)).count();
-        if pos == 0 || pos == 8 {
-            return None;
-        }
-        let topo = cell_topology_fast(&v, iso).unwrap_or_else(|| {
-            fallbacks += 1;
-            // Finite f64s convert exactly.
-            let q = v.map(|x| rational_from_f64(x, "value").unwrap_or_else(|_| iso_r.clone()));
-            cell_topology_exact(&q, &iso_r)
-        });
-        Some((cell, topo))
-    });
-    let mut t = assemble(vol.dims, cells.collect::<Vec<_>>().into_iter(), 0);
-    t.exact_fallbacks = fallbacks;
-    Ok(t)
+    let cells = cells_of(vol.dims)
+        .filter_map(|cell| {
+            let v: [f64; 8] = corners_of(vol, cell);
+            let pos = v.iter().filter(|x| is_positive(*x, &iso)).count();
+            if pos == 0 || pos == 8 {
+                return None;
+            }
+            let topo = cell_topology_fast(&v, iso).unwrap_or_else(|| {
+                fallbacks += 1;
+                // Finite f64s convert exactly.
+                let q = v.map(|x| rational_from_f64(x, "value").unwrap_or_else(|_| iso_r.clone()));
+                cell_topology_exact(&q, &iso_r)
+            });
+            Some((cell, topo))
+        })
+        .collect();
+    Ok((cells, fallbacks))
+}
+
+/// The topology of the trilinear isosurface of `vol` at `iso` (at `iso − ε`, the table's tie
+/// rules): each crossed cell on the certified `f64` path, exactly where it is uncertain.
+pub fn volume_topology(vol: &Volume<f64>, iso: f64) -> Result<VolumeTopology, VolumeError> {
+    let (cells, fallbacks) = cell_topologies(vol, iso)?;
+    Ok(assemble(vol.dims, cells.into_iter(), fallbacks))
 }
 
 /// The reference path: every crossed cell decided exactly.

@@ -307,6 +307,131 @@ pub fn check_mc_grid(data: &[u8]) -> Result<(), String> {
     fast.validate().map_err(|e| format!("invalid mesh: {e}"))
 }
 
+/// The trilinear topology oracle on one cell decoded from bytes: the first byte picks small
+/// integers (values −100…100 from the next eight bytes, isovalue a quarter-integer) or
+/// arbitrary finite `f64`s (eight-byte chunks, then the isovalue). The exact topology's
+/// certificate must pass the checker; the certified `f64` path, where it decides, must equal
+/// it; on small integers the event sweep along every axis must give the same corner groups;
+/// and the components must use every table polygon once.
+pub fn check_mc_topology(data: &[u8]) -> Result<(), String> {
+    use crate::mc::trilinear::{
+        cell_topology_exact, cell_topology_fast, shifted_integers, sweep::sweep_groups, verify_cell,
+    };
+    use num_traits::ToPrimitive;
+    let Some((&mode, rest)) = data.split_first() else {
+        return Ok(());
+    };
+    let (values, iso): ([f64; 8], f64) = if mode % 2 == 0 {
+        if rest.len() < 9 {
+            return Ok(());
+        }
+        (
+            std::array::from_fn(|i| (rest[i] as i8 as f64).clamp(-100.0, 100.0)),
+            rest[8] as i8 as f64 / 4.0,
+        )
+    } else {
+        if rest.len() < 72 {
+            return Ok(());
+        }
+        let f = |i: usize| f64::from_le_bytes(rest[8 * i..8 * i + 8].try_into().unwrap_or([0; 8]));
+        let v: [f64; 9] = std::array::from_fn(f);
+        if v.iter().any(|x| !x.is_finite()) {
+            return Ok(());
+        }
+        (std::array::from_fn(|i| v[i]), v[8])
+    };
+    let q = |x: f64| crate::num::rational_from_f64(x, "v").map_err(|e| e.to_string());
+    let qv: [crate::num::Rational; 8] = {
+        let mut out = Vec::with_capacity(8);
+        for v in values {
+            out.push(q(v)?);
+        }
+        out.try_into().map_err(|_| "eight values")?
+    };
+    let qi = q(iso)?;
+    let exact = cell_topology_exact(&qv, &qi);
+    verify_cell(&qv, &qi, &exact)
+        .map_err(|e| format!("checker refuses {values:?} at {iso}: {e}"))?;
+    if let Some(fast) = cell_topology_fast(&values, iso) {
+        if fast != exact {
+            return Err(format!(
+                "fast {fast:?} != exact {exact:?} on {values:?} at {iso}"
+            ));
+        }
+    }
+    let g = shifted_integers(&qv, &qi);
+    let small: Option<Vec<i64>> = g.iter().map(|x| x.to_i64()).collect();
+    if let Some(Ok(small)) = small.map(<[i64; 8]>::try_from) {
+        for axis in 0..3 {
+            if let Some(sw) = sweep_groups(&small, axis) {
+                if sw != exact.groups {
+                    return Err(format!(
+                        "sweep across axis {axis} gives {sw:?}, the oracle {:?}, on {values:?} at {iso}",
+                        exact.groups
+                    ));
+                }
+            }
+        }
+    }
+    let mut used: Vec<Vec<u8>> = exact
+        .components
+        .iter()
+        .flat_map(|c| c.cycles.clone())
+        .collect();
+    used.sort();
+    let mut polys = exact.entry().polygons.clone();
+    polys.sort();
+    if used != polys || exact.components.iter().any(|c| c.cycles.is_empty()) {
+        return Err(format!(
+            "components do not partition the entry's polygons on {values:?}"
+        ));
+    }
+    Ok(())
+}
+
+/// `mc verify` on geocert's own meshes: a small volume decoded from bytes as in
+/// [`check_mc_grid`] (values −8…7, a half-integer isovalue so no sample equals it); the
+/// table's mesh must be watertight and differ from the trilinear truth exactly in the tunnel
+/// cells, by missing tunnels only. The remaining bytes, read as a mesh file (PLY, OBJ or
+/// STL by their first byte), must verify or be refused with an error, never a panic.
+pub fn check_mc_verify(data: &[u8]) -> Result<(), String> {
+    use crate::mc::grid::{extract_fast, Volume};
+    use crate::mc::verify::{verify_mesh, MismatchKind, VerifyOptions};
+    if data.len() < 4 {
+        return Ok(());
+    }
+    let dims = [0, 1, 2].map(|a| 2 + (data[a] % 5) as usize);
+    let iso = (data[3] as i8 as f64).clamp(-16.0, 16.0) / 2.0 + 0.25;
+    let n = dims[0] * dims[1] * dims[2];
+    let body = &data[4..];
+    let values: Vec<f64> = (0..n)
+        .map(|i| body.get(i).map_or(0.0, |b| ((b % 16) as i8 - 8) as f64))
+        .collect();
+    let vol = Volume::new(dims, values).map_err(|e| e.to_string())?;
+    let (mesh, _) = extract_fast(&vol, iso).map_err(|e| e.to_string())?;
+    let opts = VerifyOptions::default();
+    let v = verify_mesh(&vol, iso, &mesh, &opts).map_err(|e| format!("own mesh refused: {e}"))?;
+    let only_tunnels = v
+        .mismatches
+        .iter()
+        .all(|(k, _)| *k == MismatchKind::MissingTunnel);
+    if !(v.watertight && only_tunnels && v.mismatching_cells() == v.tunnel_cells_compared) {
+        return Err(format!("own mesh on {dims:?} at {iso}: {v:?}"));
+    }
+    let rest = body.get(n..).unwrap_or(&[]);
+    if let Some((&kind, text)) = rest.split_first() {
+        let read = match kind % 3 {
+            0 => crate::mesh::ply::read(text, None),
+            1 => crate::mesh::obj::read(text),
+            _ => crate::mesh::stl::read(text),
+        };
+        if let Ok(other) = read {
+            let _ = verify_mesh(&vol, iso, &other, &opts);
+        }
+    }
+    Ok(())
+}
+
 /// The table auditor's reader on arbitrary bytes: no panic; an accepted table audits over 256
 /// configurations.
 pub fn check_mc_table(data: &[u8]) -> Result<(), String> {

@@ -145,3 +145,18 @@ fn dmv_refine_regressions() {
     let n = replay("dmv_refine", geocert::internals::fuzzing::check_dmv_refine);
     assert!(n > 0, "the regression corpus must not be empty");
 }
+
+#[test]
+fn mc_topology_regressions() {
+    let n = replay(
+        "mc_topology",
+        geocert::internals::fuzzing::check_mc_topology,
+    );
+    assert!(n > 0, "the regression corpus must not be empty");
+}
+
+#[test]
+fn mc_verify_regressions() {
+    let n = replay("mc_verify", geocert::internals::fuzzing::check_mc_verify);
+    assert!(n > 0, "the regression corpus must not be empty");
+}

@@ -50,6 +50,7 @@ pub fn write_mc_report(
     unrealisable: usize,
     grid: &super::mc_grid::GridCampaign,
     fe: &super::mc_fe::FeCampaign,
+    topology: &super::mc_topology::TopologyCampaign,
 ) -> std::io::Result<PathBuf> {
     std::fs::create_dir_all(dir)?;
     let mut s = String::new();
@@ -135,12 +136,16 @@ pub fn write_mc_report(
         interior = crate::proofs::mc_body::measured().1,
         candidates = tunnel_candidates_realisable(),
     );
+    super::mc_topology::write_topology(&mut s, topology);
     write_grid(&mut s, grid);
     super::mc_fe::write_fe(&mut s, fe);
     let _ = writeln!(
         s,
         "\nOverall: {}.",
-        if proofs.iter().all(|p| p.ok()) && super::mc_grid::grid_ok(grid) && super::mc_fe::fe_ok(fe)
+        if proofs.iter().all(|p| p.ok())
+            && super::mc_grid::grid_ok(grid)
+            && super::mc_fe::fe_ok(fe)
+            && super::mc_topology::campaign_ok(topology)
         {
             "every proof passed"
         } else {

@@ -13,6 +13,7 @@ pub mod ffd_markdown;
 pub mod mc_fe;
 pub mod mc_grid;
 pub mod mc_markdown;
+pub mod mc_topology;
 pub mod solve;
 pub mod solve_curves;
 pub mod sweep;

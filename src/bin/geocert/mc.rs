@@ -6,6 +6,7 @@ use clap::{Subcommand, ValueEnum};
 use geocert::mc::audit::{audit, export, parse_table, Numbering};
 use geocert::mc::fe::{polygonise, FeModel, FeOptions, NormalSource};
 use geocert::mc::grid::{extract, read_raw, ExtractOptions, RawType};
+use geocert::mc::verify::{verify_mesh, MeshVerdict, VerifyOptions};
 use geocert::mesh::Format;
 use geocert::num::{parse_rational, Rational};
 use geocert::Path;
@@ -61,6 +62,35 @@ pub(crate) enum Command {
         table: PathBuf,
         #[arg(long, value_parser = choice::<Numbering>(Numbering::NAMES))]
         format: Numbering,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Check a marching-cubes mesh made by any program from VOLUME against the trilinear
+    /// interpolant's exact isosurface: vertices on cut edges at the crossings, watertight
+    /// away from the volume's boundary, Euler characteristic and components, and cell by
+    /// cell the face cycles and tunnels. Exit status 1 when the mesh differs.
+    Verify {
+        volume: PathBuf,
+        /// The mesh (.ply, .obj, .stl or .vtk), in grid units unless --origin/--spacing.
+        mesh: PathBuf,
+        /// Raw volumes only: the sample counts along x, y, z.
+        #[arg(long, num_args = 3, value_names = ["X", "Y", "Z"])]
+        dims: Option<Vec<usize>>,
+        /// Raw volumes only: the sample type.
+        #[arg(long = "type", value_parser = choice::<RawType>(RawType::NAMES))]
+        ty: Option<RawType>,
+        /// The isovalue the mesh was made at (an f64).
+        #[arg(long, allow_hyphen_values = true)]
+        iso: String,
+        /// Mesh position of sample (0, 0, 0).
+        #[arg(long, num_args = 3, value_names = ["X", "Y", "Z"], allow_hyphen_values = true)]
+        origin: Option<Vec<f64>>,
+        /// Distance between samples along x, y, z.
+        #[arg(long, num_args = 3, value_names = ["X", "Y", "Z"])]
+        spacing: Option<Vec<f64>>,
+        /// How far (cell units) a vertex may be from a grid line or the crossing.
+        #[arg(long, default_value_t = 1e-3)]
+        tolerance: f64,
         #[arg(long)]
         json: bool,
     },
@@ -162,11 +192,97 @@ pub(crate) fn run(c: Command) -> Result<ExitCode, String> {
             }
             Ok(ExitCode::SUCCESS)
         }
+        Command::Verify {
+            volume,
+            mesh,
+            dims,
+            ty,
+            iso,
+            origin,
+            spacing,
+            tolerance,
+            json,
+        } => {
+            let iso: f64 = iso
+                .parse()
+                .map_err(|_| format!("--iso {iso}: not a number"))?;
+            let three = |v: Option<Vec<f64>>, d: f64, name: &str| -> Result<[f64; 3], String> {
+                v.map_or(Ok([d; 3]), |v| {
+                    v.try_into()
+                        .map_err(|_| format!("--{name} takes three numbers"))
+                })
+            };
+            let opts = VerifyOptions {
+                origin: three(origin, 0.0, "origin")?,
+                spacing: three(spacing, 1.0, "spacing")?,
+                tolerance,
+            };
+            let vol = load_volume(&volume, dims, ty)?;
+            let m = geocert::mesh::Mesh::read(&mesh, None)
+                .map_err(|e| format!("{}: {e}", mesh.display()))?;
+            let v = verify_mesh(&vol, iso, &m, &opts)
+                .map_err(|e| format!("{}: {e}", mesh.display()))?;
+            if json {
+                println!("{}", pretty(&v)?);
+            } else {
+                print_verdict(&mesh, &v);
+            }
+            Ok(if v.agrees() {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::from(1)
+            })
+        }
         Command::Export { format, rule } => {
             print!("{}", export(format, |_| matches!(rule, FaceRule::Join)));
             Ok(ExitCode::SUCCESS)
         }
     }
+}
+
+/// The verdict of `mc verify` as text.
+fn print_verdict(mesh: &std::path::Path, v: &MeshVerdict) {
+    println!(
+        "{}: {} triangles, {} vertices ({} on cut edges, {} off the grid lines, {} ambiguous on grid points)",
+        mesh.display(),
+        v.triangles,
+        v.vertices,
+        v.edge_vertices,
+        v.interior_vertices,
+        v.ambiguous_vertices
+    );
+    println!(
+        "watertight away from the volume boundary: {} ({} open, {} non-manifold edges)",
+        v.watertight, v.open_edges, v.nonmanifold_edges
+    );
+    println!(
+        "Euler characteristic {} (trilinear {}), components {} (trilinear {})",
+        v.euler_characteristic, v.truth_euler_characteristic, v.components, v.truth_components
+    );
+    println!(
+        "cells compared {}, skipped {}; trilinear tunnels in {} cells",
+        v.cells_compared, v.cells_skipped, v.truth_tunnel_cells
+    );
+    if v.mismatches.is_empty() {
+        println!("every compared cell has the trilinear topology");
+    }
+    for (kind, n) in &v.mismatches {
+        println!("  {n} cells: {kind:?}");
+    }
+    for m in &v.examples {
+        println!(
+            "  cell {:?} {:?}: expected {:?}, found {:?}; corner values {:?}",
+            m.cell, m.kind, m.expected, m.found, m.values
+        );
+    }
+    println!(
+        "verdict: {}",
+        if v.agrees() {
+            "the trilinear topology"
+        } else {
+            "differs from the trilinear topology"
+        }
+    );
 }
 
 /// `mc extract`: reads a NIfTI or raw volume and polygonises it.

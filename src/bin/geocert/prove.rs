@@ -38,6 +38,9 @@ const SLICE_KIND: &str = "geocert/proof-slice";
 pub(crate) enum Part {
     /// The marching-cubes table proofs.
     McTable,
+    /// Marching cubes whole: the table proofs, grids and elements (and VTK), the trilinear
+    /// topology and other programs' meshes checked against it; writes mc.md.
+    Mc,
     /// The solver's campaign alone (constructed systems, msolve if installed); writes
     /// solve.md.
     Solve,
@@ -54,6 +57,7 @@ pub(crate) enum Part {
 pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
     match a.part {
         Some(Part::McTable) => prove_mc_table(a.json),
+        Some(Part::Mc) => prove_mc(a.out, a.json),
         Some(Part::Solve) => prove_solve(a.out, a.json),
         Some(Part::Sweep) => prove_sweep(a.out, a.json),
         Some(Part::Diamonds) => prove_diamonds(a.out, a.json),
@@ -172,6 +176,39 @@ fn prove_mc_table(json: bool) -> Result<ExitCode, String> {
     Ok(status(ok))
 }
 
+/// `prove mc`: the marching-cubes report alone.
+fn prove_mc(out: PathBuf, json: bool) -> Result<ExitCode, String> {
+    let meta = RunMeta::collect();
+    let root = std::env::current_dir().map_err(|e| e.to_string())?;
+    let (outcomes, unrealisable) = mc_table_proofs();
+    let grid = report::mc_grid::grid_campaign(&root, 256, 3);
+    let fe = report::mc_fe::fe_campaign(5, 300);
+    let topology = report::mc_topology::topology_campaign(&root);
+    let ok = outcomes.iter().all(|p| p.ok())
+        && report::mc_grid::grid_ok(&grid)
+        && report::mc_fe::fe_ok(&fe)
+        && report::mc_topology::campaign_ok(&topology);
+    let written = report::mc_markdown::write_mc_report(
+        &out,
+        &meta,
+        &outcomes,
+        unrealisable,
+        &grid,
+        &fe,
+        &topology,
+    )
+    .map_err(|e| format!("writing {}: {e}", out.display()))?;
+    if json {
+        println!("{}", pretty(&topology)?);
+    } else {
+        for o in &outcomes {
+            println!("{}", o.summary());
+        }
+        println!("wrote {}", written.display());
+    }
+    Ok(status(ok))
+}
+
 fn mc_table_proofs() -> (Vec<ProofOutcome>, usize) {
     let outcomes: Vec<_> = proofs::all()
         .into_iter()
@@ -222,8 +259,10 @@ fn prove(out: PathBuf, json: bool, merged: Option<Vec<ProofOutcome>>) -> Result<
     );
     bar.set_message("finite-element polygonisation (heart demo, sphere, random models)");
     let fe = report::mc_fe::fe_campaign(5, 300);
-    bar.set_message("FFD campaign (and Gmsh, if installed)");
     let root = std::env::current_dir().map_err(|e| e.to_string())?;
+    bar.set_message("trilinear topology (and other programs' meshes, if installed)");
+    let topology = report::mc_topology::topology_campaign(&root);
+    bar.set_message("FFD campaign (and Gmsh, if installed)");
     let ffd_camp = report::ffd::ffd_campaign(&root, 2026, 600, 60);
     bar.inc(1);
     bar.set_message("decimation grids, plate and peers (VTK if installed, meshoptimizer)");
@@ -249,15 +288,24 @@ fn prove(out: PathBuf, json: bool, merged: Option<Vec<ProofOutcome>>) -> Result<
     let (_, unrealisable) = proofs::mc::trilinear_realisability();
     let mc_ok = mc_proofs.iter().all(|p| p.ok())
         && report::mc_grid::grid_ok(&grid)
-        && report::mc_fe::fe_ok(&fe);
+        && report::mc_fe::fe_ok(&fe)
+        && report::mc_topology::campaign_ok(&topology);
     let io = |e: std::io::Error| format!("writing {}: {e}", out.display());
     let kernel_ok = report::kernel_ok(&kernel_proofs, &camp, &timing);
     let ffd_ok = report::ffd::campaign_ok(&ffd_camp) && ffd_proofs.iter().all(|p| p.ok());
     let mut written = vec![
         report::write_kernel_report(&out, &meta, &kernel_proofs, &camp, &timing).map_err(io)?,
         report::ffd_markdown::write_ffd_report(&out, &meta, &ffd_proofs, &ffd_camp).map_err(io)?,
-        report::mc_markdown::write_mc_report(&out, &meta, &mc_proofs, unrealisable, &grid, &fe)
-            .map_err(io)?,
+        report::mc_markdown::write_mc_report(
+            &out,
+            &meta,
+            &mc_proofs,
+            unrealisable,
+            &grid,
+            &fe,
+            &topology,
+        )
+        .map_err(io)?,
         report::decimate::write_decimate_report(&out, &meta, &dec_camp).map_err(io)?,
         report::solve::write_solve_report(&out, &meta, &solve_camp).map_err(io)?,
         report::sweep::write_sweep_report(&out, &meta, &sweep_camp).map_err(io)?,

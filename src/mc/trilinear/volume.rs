@@ -18,7 +18,7 @@ use crate::mc::table::{face_edges, is_positive, CORNERS, FACES};
 use crate::num::{rational_from_f64, Rational};
 
 /// One connected component of a volume's trilinear isosurface.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct SurfaceComponent {
     /// Its Euler characteristic (2 for a sphere, 0 for a torus, 1 for a disc).
     pub euler_characteristic: i64,
@@ -33,7 +33,7 @@ pub struct SurfaceComponent {
 }
 
 /// The topology of a volume's trilinear isosurface.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct VolumeTopology {
     /// The whole surface's Euler characteristic.
     pub euler_characteristic: i64,

@@ -1,0 +1,9 @@
+//! See `geocert::internals::fuzzing::check_mc_topology`.
+#![no_main]
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| {
+    if let Err(msg) = geocert::internals::fuzzing::check_mc_topology(data) {
+        panic!("{msg}");
+    }
+});

@@ -4,12 +4,14 @@
 
 use super::{Lcg, ProofOutcome, Shard, Tally};
 use crate::mc::table::table;
+use crate::mc::trilinear::polygonise::{cell_mesh, check_cell_mesh};
 use crate::mc::trilinear::sweep::sweep_groups;
 use crate::mc::trilinear::{
     cell_topology_exact, cell_topology_fast, shifted_integers, topology_of_small, verify_cell,
 };
 use crate::num::{rational_to_f64, Rational};
 use num_traits::ToPrimitive;
+use std::collections::HashSet;
 
 /// Random rational cells (values `n/d`, `|n| ≤ 40`, `d ≤ 4`, and a random isovalue of the
 /// same kind): how many, in how many parts, and every how many the certificate checker
@@ -38,6 +40,9 @@ pub fn oracle_vs_sweep(shard: Shard) -> ProofOutcome {
     let entries = tab.entries.len();
     let mut tunnel_entries = vec![false; entries];
     let mut counts = [0u64; 8]; // cells, crossed, tunnel cells, comps k=1, k=2, k≥3, fast, fast ties
+                                // Distinct (configuration, decisions, corner groups): the trilinear cases, each
+                                // triangulated once by `cell_mesh` and checked against its topology.
+    let mut cases: HashSet<(u8, u8, [[u8; 8]; 2])> = HashSet::new();
     for (iso_index, half) in [false, true].into_iter().enumerate() {
         for hi in 0..side * side {
             if !t.owns((iso_index * side * side + hi) as u64) {
@@ -70,6 +75,13 @@ pub fn oracle_vs_sweep(shard: Shard) -> ProofOutcome {
                         )
                     });
                     if let Some(o) = oracle {
+                        if cases.insert((o.config, o.sub, o.groups)) {
+                            let built = cell_mesh(&o).map_err(|e| e.to_string());
+                            let verdict = built.and_then(|m| check_cell_mesh(&o, &m));
+                            t.check(verdict.is_ok(), || {
+                                format!("values {v:?}: trilinear triangulation: {verdict:?}")
+                            });
+                        }
                         if o.tunnels() > 0 {
                             counts[2] += 1;
                             tunnel_entries
@@ -155,6 +167,7 @@ pub fn oracle_vs_sweep(shard: Shard) -> ProofOutcome {
         }
     }
     t.count("certificates", checked);
+    t.count("trilinear_cases", cases.len() as u64);
     for (name, c) in [
         "cells",
         "crossed",
@@ -174,7 +187,7 @@ pub fn oracle_vs_sweep(shard: Shard) -> ProofOutcome {
         t.flag("tunnel_entries", entries, i);
     }
     t.template(
-        "{crossed} cells crossed by the level; {tunnel_cells} with a tube (a tunnel), realising {#tunnel_entries} table entries; components: {discs} discs, {tubes} tubes, {three_holed} with three or more holes; the f64 path decided {fast_decided} (of the undecided, {fast_ties} have a corner on the level); the certificate checker re-verified {certificates} random cells",
+        "{crossed} cells crossed by the level; {tunnel_cells} with a tube (a tunnel), realising {#tunnel_entries} table entries; components: {discs} discs, {tubes} tubes, {three_holed} with three or more holes; the f64 path decided {fast_decided} (of the undecided, {fast_ties} have a corner on the level); the certificate checker re-verified {certificates} random cells; {trilinear_cases} distinct trilinear cases (configuration, face decisions, corner groups) met, each triangulated with its topology (oriented, the table's face segments, no chord in a face, the oracle's components and cycles)",
     );
     t.finish()
 }

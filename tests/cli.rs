@@ -967,3 +967,67 @@ fn dmv_build_and_refine_end_to_end() {
         assert!(!none.exists());
     }
 }
+
+#[test]
+fn mc_verify_against_the_trilinear_truth() {
+    // f32 noise: tunnels and ambiguous faces are common.
+    let n = 10usize;
+    let mut s = 5u64;
+    let values: Vec<f32> = (0..n * n * n)
+        .map(|_| {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((s >> 40) % 2001) as f32 / 1000.0 - 1.0
+        })
+        .collect();
+    let raw = tmp("noise-verify.f32");
+    let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+    std::fs::write(&raw, bytes).unwrap();
+    let dims = ["--dims", "10", "10", "10", "--type", "f32"];
+    let extract = |topology: &str, out: &std::path::Path| {
+        let o = geocert()
+            .args(["mc", "extract"])
+            .arg(&raw)
+            .args(dims)
+            .args(["--iso", "0.0625", "--topology", topology, "--json", "--out"])
+            .arg(out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    let verify = |mesh: &std::path::Path, iso: &str| {
+        geocert()
+            .args(["mc", "verify"])
+            .arg(&raw)
+            .arg(mesh)
+            .args(dims)
+            .args(["--iso", iso, "--json"])
+            .output()
+            .unwrap()
+    };
+    let (table, trilinear) = (tmp("noise-table.ply"), tmp("noise-trilinear.ply"));
+    extract("table", &table);
+    extract("trilinear", &trilinear);
+    // The trilinear mode agrees (exit 0); the table misses exactly the tunnels (exit 1).
+    let o = verify(&trilinear, "0.0625");
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    let o = verify(&table, "0.0625");
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(v["watertight"], true);
+    assert!(v["truth_tunnel_cells"].as_u64().unwrap() > 0);
+    assert_eq!(
+        v["mismatches"][0],
+        serde_json::json!(["missing_tunnel", v["tunnel_cells_compared"]])
+    );
+    // Another isovalue: a clear error naming a vertex, exit 2.
+    let o = verify(&table, "0.5");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("vertex"));
+}

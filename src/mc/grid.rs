@@ -585,7 +585,7 @@ pub fn extract(
 }
 
 /// `iso` as the `f64` it equals, or [`VolumeError::IsovalueNotF64`].
-fn rational_as_f64(iso: &Rational) -> Result<f64, VolumeError> {
+pub(crate) fn rational_as_f64(iso: &Rational) -> Result<f64, VolumeError> {
     let f = crate::num::rational_to_f64(iso);
     match crate::num::rational_from_f64(f, "iso") {
         Ok(back) if &back == iso => Ok(f),

@@ -674,7 +674,7 @@ fn canonical_cycle(c: &[u8]) -> Vec<u8> {
 }
 
 /// Components as sorted lists of canonical cycles, with their Euler characteristics, sorted.
-fn canonical_components(comps: &[(Vec<Vec<u8>>, i64)]) -> Vec<(Vec<Vec<u8>>, i64)> {
+pub(crate) fn canonical_components(comps: &[(Vec<Vec<u8>>, i64)]) -> Vec<(Vec<Vec<u8>>, i64)> {
     let mut out: Vec<(Vec<Vec<u8>>, i64)> = comps
         .iter()
         .map(|(cycles, chi)| {
@@ -716,10 +716,26 @@ fn found_components(
         .iter()
         .map(|t| t.map(|v| local(v, &mut interior)))
         .collect();
-    if lt.iter().flatten().any(|&v| v == u32::MAX) {
+    if lt
+        .iter()
+        .flatten()
+        .any(|&v| v == u32::MAX || v > u8::MAX as u32)
+    {
         return None;
     }
-    let nv = 12 + interior.len();
+    let lt: Vec<[u8; 3]> = lt.iter().map(|t| t.map(|v| v as u8)).collect();
+    local_components(&lt)
+}
+
+/// The components of triangles on a cell's local ids (cut edges 0–11, interior vertices 12
+/// and up): their boundary cycles and Euler characteristics, canonical; `None` when the
+/// boundary does not close into cycles through cut points.
+pub(crate) fn local_components(lt: &[[u8; 3]]) -> Option<Vec<(Vec<Vec<u8>>, i64)>> {
+    if lt.is_empty() {
+        return Some(Vec::new());
+    }
+    let nv = 1 + lt.iter().flatten().copied().max().unwrap_or(0) as usize;
+    let lt: Vec<[u32; 3]> = lt.iter().map(|t| t.map(u32::from)).collect();
     let mut parent: Vec<usize> = (0..nv).collect();
     fn find(p: &mut [usize], mut a: usize) -> usize {
         while p[a] != a {

@@ -6,6 +6,7 @@ use clap::{Subcommand, ValueEnum};
 use geocert::mc::audit::{audit, export, parse_table, Numbering};
 use geocert::mc::fe::{polygonise, FeModel, FeOptions, NormalSource};
 use geocert::mc::grid::{extract, read_raw, ExtractOptions, RawType};
+use geocert::mc::trilinear::polygonise::extract_trilinear_path;
 use geocert::mc::verify::{verify_mesh, MeshVerdict, VerifyOptions};
 use geocert::mesh::Format;
 use geocert::num::{parse_rational, Rational};
@@ -33,6 +34,10 @@ pub(crate) enum Command {
         out: PathBuf,
         #[arg(long, default_value_t = Path::Fast, value_parser = choice::<Path>(Path::NAMES))]
         path: Path,
+        /// `table`: the paper's 656-entry table (a disc in every polygon); `trilinear`: the
+        /// trilinear interpolant's topology in every cell (tubes where it has tunnels).
+        #[arg(long, value_enum, default_value_t = Topology::Table)]
+        topology: Topology,
         #[arg(long)]
         json: bool,
     },
@@ -105,6 +110,15 @@ pub(crate) enum Command {
     },
 }
 
+/// Which topology `mc extract` draws in each cell.
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum Topology {
+    /// The 656-entry table.
+    Table,
+    /// The trilinear interpolant's.
+    Trilinear,
+}
+
 #[derive(clap::Args)]
 pub(crate) struct FeArgs {
     /// Output mesh (.ply, .obj, .stl or .vtk); normals are written where the format has them.
@@ -141,8 +155,9 @@ pub(crate) fn run(c: Command) -> Result<ExitCode, String> {
             iso,
             out,
             path,
+            topology,
             json,
-        } => extract_volume(volume, dims, ty, &iso, out, path, json),
+        } => extract_volume(volume, dims, ty, &iso, out, path, topology, json),
         Command::Fe { model, iso, fe } => {
             let m: FeModel<f64> = serde_json::from_str(&read(&model)?)
                 .map_err(|e| format!("{}: {e}", model.display()))?;
@@ -286,6 +301,7 @@ fn print_verdict(mesh: &std::path::Path, v: &MeshVerdict) {
 }
 
 /// `mc extract`: reads a NIfTI or raw volume and polygonises it.
+#[allow(clippy::too_many_arguments)]
 fn extract_volume(
     volume: PathBuf,
     dims: Option<Vec<usize>>,
@@ -293,14 +309,35 @@ fn extract_volume(
     iso: &str,
     out: PathBuf,
     path: Path,
+    topology: Topology,
     json: bool,
 ) -> Result<ExitCode, String> {
     let format = Format::from_path(&out).map_err(|e| e.to_string())?;
     let iso_q = parse_rational(iso).map_err(|e| format!("--iso: {e}"))?;
     let vol = load_volume(&volume, dims, ty)?;
     let start = std::time::Instant::now();
-    let (mesh, stats) = extract(&vol, &iso_q, &ExtractOptions::new().with_path(path))
-        .map_err(|e| format!("--iso {iso}: {e}"))?;
+    let (mesh, stats) = match topology {
+        Topology::Table => extract(&vol, &iso_q, &ExtractOptions::new().with_path(path))
+            .map_err(|e| format!("--iso {iso}: {e}"))?,
+        Topology::Trilinear => {
+            let (mesh, t) = extract_trilinear_path(&vol, &iso_q, path)
+                .map_err(|e| format!("--iso {iso}: {e}"))?;
+            if !json {
+                println!(
+                    "trilinear topology: {} crossed cells, {} with a tunnel, {} decided exactly",
+                    t.cells, t.tunnel_cells, t.exact_fallbacks
+                );
+            }
+            let cells = vol.dims.iter().map(|d| d - 1).product();
+            (
+                mesh,
+                geocert::mc::grid::ExtractStats {
+                    cells,
+                    ..Default::default()
+                },
+            )
+        }
+    };
     let seconds = start.elapsed().as_secs_f64();
     let closed = mesh.check_manifold().map(|b| b == 0).unwrap_or(false);
     mesh.write(&out, format).map_err(|e| e.to_string())?;

@@ -36,6 +36,7 @@
 //! slices, exact on small integer cells — used by the proofs to cross-check the oracle.
 
 pub(crate) mod closed;
+pub mod polygonise;
 pub(crate) mod ring;
 pub mod sweep;
 pub mod volume;
@@ -236,9 +237,11 @@ fn topology_of<S: OrderedRing>(g: &[S; 8]) -> Option<CellTopology> {
     })
 }
 
-/// The largest scaled magnitude taken in `i128` (every product the oracle forms then stays
-/// below `2¹²⁰`).
-const I128_LIMIT: i64 = 1 << 28;
+/// The largest scaled magnitude taken in `i128`. With `|g| < 2^b`: `δ < 2^(b+1)`, the peak
+/// `−B / 2A` has numerator and denominator below `2^(2b+4)`, a sweep edge's value there
+/// (times the denominator) is below `2^(3b+6)`, and the diagonal product below `2^(6b+13)`;
+/// `b = 19` keeps it under `2¹²⁶`. Larger values take `BigInt`.
+const I128_LIMIT: i64 = 1 << 19;
 
 /// The shifted values `v − c` over their common denominator (integers, same signs).
 pub fn shifted_integers(values: &[Rational; 8], iso: &Rational) -> [BigInt; 8] {
@@ -270,7 +273,7 @@ pub fn topology_of_integers(g: &[BigInt; 8]) -> CellTopology {
     t.expect("exact signs are always known")
 }
 
-/// [`topology_of_integers`] on small integers (`|g| < 2²⁸`), the proofs' fast entry.
+/// [`topology_of_integers`] on small integers (`|g| < 2¹⁹`), the proofs' fast entry.
 pub fn topology_of_small(g: &[i64; 8]) -> Option<CellTopology> {
     if g.iter().any(|v| v.abs() >= I128_LIMIT) {
         return None;

@@ -217,3 +217,59 @@ fn fast_and_exact_volume_topologies_agree_on_noise() {
         }
     }
 }
+
+#[test]
+fn trilinear_extraction_has_the_trilinear_topology() {
+    use super::polygonise::{extract_trilinear, extract_trilinear_exact};
+    use crate::mc::verify::{verify_mesh, VerifyOptions};
+    let mut s = 21u64;
+    let mut tunnels = 0;
+    for round in 0..12 {
+        let n = 5 + round % 5;
+        let values: Vec<f64> = (0..n * n * n)
+            .map(|_| (lcg(&mut s) % 2001) as f64 / 1000.0 - 1.0)
+            .collect();
+        let vol = crate::mc::grid::Volume::new([n, n, n], values.clone()).unwrap();
+        let iso = 0.0625;
+        let (mesh, stats) = extract_trilinear(&vol, iso).unwrap();
+        tunnels += stats.tunnel_cells;
+        mesh.validate().unwrap();
+        let v = verify_mesh(&vol, iso, &mesh, &VerifyOptions::default()).unwrap();
+        assert!(v.agrees(), "{v:?}");
+        assert_eq!(mesh.euler_characteristic(), v.truth_euler_characteristic);
+        // The exact path gives the same triangles and (rounded) the same vertices.
+        let q = |x: f64| crate::num::rational_from_f64(x, "v").unwrap();
+        let exact_vol =
+            crate::mc::grid::Volume::new([n, n, n], values.iter().map(|&x| q(x)).collect())
+                .unwrap();
+        let (ev, et, es) = extract_trilinear_exact(&exact_vol, &q(iso)).unwrap();
+        assert_eq!(
+            (es.cells, es.tunnel_cells),
+            (stats.cells, stats.tunnel_cells)
+        );
+        assert_eq!(et, mesh.triangles);
+        for (a, b) in ev.iter().zip(&mesh.vertices) {
+            for i in 0..3 {
+                assert!((crate::num::rational_to_f64(&a[i]) - b[i]).abs() < 1e-12);
+            }
+        }
+    }
+    assert!(tunnels > 0, "noise has tunnels");
+}
+
+#[test]
+fn values_at_the_i128_limit_match_bigint() {
+    // The largest magnitudes the i128 route takes, with peaks inside the pattern intervals.
+    let mut s = 99u64;
+    let m = (1i64 << 19) - 1;
+    for _ in 0..2000 {
+        let v: [i64; 8] = std::array::from_fn(|_| {
+            let r = (lcg(&mut s) % 2001) as i64 - 1000;
+            r * m / 1000
+        });
+        let small = topology_of_small(&v).unwrap();
+        let big = topology_of(&eps_values(&v.map(BigInt::from))).unwrap();
+        assert_eq!(small, big, "{v:?}");
+    }
+    assert!(topology_of_small(&[1 << 19, 0, 0, 0, 0, 0, 0, 0]).is_none());
+}

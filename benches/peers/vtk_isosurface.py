@@ -1,9 +1,10 @@
 """Times VTK's isosurface filters on a raw little-endian float32 volume (x fastest), one
 thread, side by side with geocert's `mc` fast path (called by `geocert prove`).
 
-usage: vtk_isosurface.py VOLUME.raw NX NY NZ ISO RUNS
+usage: vtk_isosurface.py VOLUME.raw NX NY NZ ISO RUNS [THREADS]
 prints one JSON object: {"version", "flying_edges": {"median_s", "triangles"},
-"marching_cubes": {"median_s", "triangles"}}.
+"marching_cubes": {"median_s", "triangles"}}. With THREADS > 1, flying edges alone on VTK's
+threaded SMP backend (STDThread) with that many threads, and "backend", "threads".
 """
 import json
 import statistics
@@ -18,8 +19,13 @@ from vtk.util import numpy_support
 def main():
     path, nx, ny, nz, iso, runs = sys.argv[1:7]
     nx, ny, nz, runs, iso = int(nx), int(ny), int(nz), int(runs), float(iso)
-    vtk.vtkSMPTools.SetBackend("Sequential")
-    vtk.vtkSMPTools.Initialize(1)
+    threads = int(sys.argv[7]) if len(sys.argv) > 7 else 1
+    if threads > 1:
+        vtk.vtkSMPTools.SetBackend("STDThread")
+        vtk.vtkSMPTools.Initialize(threads)
+    else:
+        vtk.vtkSMPTools.SetBackend("Sequential")
+        vtk.vtkSMPTools.Initialize(1)
     data = np.fromfile(path, dtype="<f4")
     if data.size != nx * ny * nz:
         raise SystemExit(f"{path}: {data.size} samples, expected {nx * ny * nz}")
@@ -29,7 +35,11 @@ def main():
     arr.SetName("f")
     image.GetPointData().SetScalars(arr)
     out = {"version": vtk.vtkVersion.GetVTKVersion()}
-    for name, cls in [("flying_edges", vtk.vtkFlyingEdges3D), ("marching_cubes", vtk.vtkMarchingCubes)]:
+    filters = [("flying_edges", vtk.vtkFlyingEdges3D), ("marching_cubes", vtk.vtkMarchingCubes)]
+    if threads > 1:
+        filters = filters[:1]
+        out["backend"] = vtk.vtkSMPTools.GetBackend()
+        out["threads"] = vtk.vtkSMPTools.GetEstimatedNumberOfThreads()
         times = []
         tris = 0
         for _ in range(runs):

@@ -337,12 +337,21 @@ fn cut_cells(rows: [&[u64]; 4], cells: usize, out: &mut [u64]) {
     }
 }
 
+/// Per local edge: (axis, lower-corner offset) and (lower corner, upper corner).
+type EdgeTables<'t> = (&'t [(usize, [usize; 3]); 12], &'t [(usize, usize); 12]);
+
 /// A cut cell of the fast path, with what its edge vertices need.
 struct CellAt<'a> {
     i: usize,
     j: usize,
     k: usize,
     nx: usize,
+    /// The slab's first layer in the whole volume (vertex positions are global).
+    z0: usize,
+    /// Record the grid edge of each vertex on an x- or y-edge of the slab's first or last
+    /// plane (slabs weld by it); `last_plane` is that plane's local index.
+    record: bool,
+    last_plane: usize,
     v: &'a [f64; 8],
     iso: f64,
     /// Vertex ids below these are left over from older layers (see `extract_fast`).
@@ -356,12 +365,12 @@ impl CellAt<'_> {
     #[inline(always)]
     fn edge_vertex(
         &self,
-        edge_info: &[(usize, [usize; 3]); 12],
-        edge_ends: &[(usize, usize); 12],
+        (edge_info, edge_ends): EdgeTables,
         e: u8,
         lower: &mut Layer,
         upper: &mut Layer,
         mesh: &mut Mesh,
+        keys: &mut Vec<(u32, (usize, [usize; 3]))>,
     ) -> u32 {
         let (axis, off) = edge_info[e as usize];
         let (x, y) = (self.i + off[0], self.j + off[1]);
@@ -374,10 +383,14 @@ impl CellAt<'_> {
         if *id == NONE || *id < oldest {
             let (c0, c1) = edge_ends[e as usize];
             let (v0, v1) = (self.v[c0], self.v[c1]);
-            let mut p = [x as f64, y as f64, (self.k + off[2]) as f64];
+            let mut p = [x as f64, y as f64, (self.z0 + self.k + off[2]) as f64];
             p[axis] += (self.iso - v0) / (v1 - v0);
             mesh.vertices.push(p);
             *id = (mesh.vertices.len() - 1) as u32;
+            let z = self.k + off[2];
+            if self.record && axis < 2 && (z == 0 || z == self.last_plane) {
+                keys.push((*id, (axis, [x, y, self.z0 + z])));
+            }
         }
         *id
     }
@@ -385,18 +398,117 @@ impl CellAt<'_> {
 
 /// Fast extraction. Errors on non-finite values or isovalue.
 pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats), VolumeError> {
+    extract_fast_slab(&vol.values, vol.dims, iso, 0, false).map(|(m, s, _)| (m, s))
+}
+
+/// Edge vertices by grid edge `(axis, lower grid point)`, for welding slabs.
+type EdgeKeys = Vec<(u32, (usize, [usize; 3]))>;
+
+/// Fast extraction in `slabs` slabs of cell layers along z, run in parallel (feature
+/// `parallel`; one after the other without it) and welded where they meet: the vertices on a
+/// shared plane lie on x- and y-edges of that plane; each slab records the grid edge of those
+/// (not their positions: where a sample equals the isovalue, vertices of different edges
+/// coincide), and the upper slab's are replaced by the lower slab's. The mesh equals the
+/// serial one, vertex for vertex and triangle for triangle (the lower slab creates a shared
+/// vertex first, as the serial pass does). The output is copied once into one mesh, so on
+/// few cores and surfaces with many triangles the gain is small (reports/mc.md measures it).
+pub fn extract_fast_parallel(
+    vol: &Volume<f64>,
+    iso: f64,
+    slabs: usize,
+) -> Result<(Mesh, ExtractStats), VolumeError> {
+    use crate::par::prelude::*;
+    let [nx, ny, nz] = vol.dims;
+    let layers = nz - 1;
+    let slabs = slabs.clamp(1, layers);
+    if slabs == 1 {
+        return extract_fast(vol, iso);
+    }
+    if let Some(index) = vol.values.iter().position(|v| !v.is_finite()) {
+        return Err(VolumeError::NonFinite { index });
+    }
+    let plane = nx * ny;
+    let bounds: Vec<(usize, usize)> = (0..slabs)
+        .map(|s| (s * layers / slabs, (s + 1) * layers / slabs))
+        .collect();
+    let parts: Vec<Result<(Mesh, ExtractStats, EdgeKeys), VolumeError>> = bounds
+        .clone()
+        .into_par_iter()
+        .map(|(k0, k1)| {
+            let vals = &vol.values[k0 * plane..(k1 + 1) * plane];
+            extract_fast_slab(vals, [nx, ny, k1 - k0 + 1], iso, k0, true)
+        })
+        .collect();
+    let mut parts = parts.into_iter().collect::<Result<Vec<_>, _>>()?;
+    let total_v: usize = parts.iter().map(|p| p.0.vertices.len()).sum();
+    let total_t: usize = parts.iter().map(|p| p.0.triangles.len()).sum();
+    // The first slab's mesh is the start (moved, not copied).
+    let (first, first_stats, first_keys) = parts.remove(0);
+    let mut mesh = first;
+    mesh.vertices.reserve(total_v - mesh.vertices.len());
+    mesh.triangles.reserve(total_t - mesh.triangles.len());
+    let mut stats = first_stats;
+    let mut top: HashMap<(usize, [usize; 3]), u32> = first_keys
+        .iter()
+        .filter(|(_, key)| key.1[2] == bounds[0].1)
+        .map(|&(id, key)| (key, id))
+        .collect();
+    // Vertices of the previous slab on x- and y-edges of its top plane, by grid edge.
+    for ((m, st, keys), &(k0, k1)) in parts.into_iter().zip(&bounds[1..]) {
+        stats.cells += st.cells;
+        stats.ambiguous_cells += st.ambiguous_cells;
+        stats.ambiguous_faces += st.ambiguous_faces;
+        stats.exact_fallbacks += st.exact_fallbacks;
+        // New ids: in order, skipping the bottom-plane vertices the previous slab made.
+        let mut remap: Vec<u32> = vec![u32::MAX; m.vertices.len()];
+        let mut next_top = HashMap::new();
+        for &(id, key) in &keys {
+            if key.1[2] == k0 {
+                if let Some(&old) = top.get(&key) {
+                    remap[id as usize] = old;
+                }
+            }
+        }
+        let mut next = mesh.vertices.len() as u32;
+        for (slot, p) in remap.iter_mut().zip(&m.vertices) {
+            if *slot == u32::MAX {
+                mesh.vertices.push(*p);
+                *slot = next;
+                next += 1;
+            }
+        }
+        for &(id, key) in &keys {
+            if key.1[2] == k1 {
+                next_top.insert(key, remap[id as usize]);
+            }
+        }
+        mesh.triangles
+            .extend(m.triangles.iter().map(|t| t.map(|v| remap[v as usize])));
+        top = next_top;
+    }
+    Ok((mesh, stats))
+}
+
+/// The fast kernel on a slab: `vals` holds `dims[2]` planes starting at layer `z0`.
+fn extract_fast_slab(
+    vals: &[f64],
+    dims: [usize; 3],
+    iso: f64,
+    z0: usize,
+    record: bool,
+) -> Result<(Mesh, ExtractStats, EdgeKeys), VolumeError> {
     if !iso.is_finite() {
         return Err(VolumeError::Isovalue);
     }
+    let mut keys: EdgeKeys = Vec::new();
     let tab = table();
-    let [nx, ny, nz] = vol.dims;
+    let [nx, ny, nz] = dims;
     let plane = nx * ny;
     // Layers k and k+1 (x/y-edges at their z; z-edges of layer k go from k to k+1).
     let mut lower = Layer::new(plane);
     let mut upper = Layer::new(plane);
     let mut mesh = Mesh::default();
     let mut stats = ExtractStats::default();
-    let vals = &vol.values;
     // Per local edge: its axis and the offset of its lower corner.
     let edge_info: [(usize, [usize; 3]); 12] = std::array::from_fn(|e| grid_edge([0, 0, 0], e));
     // Per local edge: its lower and upper corner (cell corner ids).
@@ -501,20 +613,27 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
                         j,
                         k,
                         nx,
+                        z0,
+                        record,
+                        last_plane: nz - 1,
                         v: &v,
                         iso,
                         previous_start,
                         current_start,
                     };
-                    let edge_vertex =
-                        |e: u8, lower: &mut Layer, upper: &mut Layer, mesh: &mut Mesh| {
-                            cell.edge_vertex(&edge_info, &edge_ends, e, lower, upper, mesh)
-                        };
+                    let edge_vertex = |e: u8,
+                                       lower: &mut Layer,
+                                       upper: &mut Layer,
+                                       mesh: &mut Mesh,
+                                       keys: &mut Vec<_>| {
+                        cell.edge_vertex((&edge_info, &edge_ends), e, lower, upper, mesh, keys)
+                    };
                     for tri in tab.extraction_triangles(entry) {
                         let mut t = [0u32; 3];
                         for (slot, &e) in t.iter_mut().zip(tri) {
                             if e < CENTRE {
-                                *slot = edge_vertex(e, &mut lower, &mut upper, &mut mesh);
+                                *slot =
+                                    edge_vertex(e, &mut lower, &mut upper, &mut mesh, &mut keys);
                                 continue;
                             }
                             let p = (e - CENTRE) as usize;
@@ -522,7 +641,9 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
                                 let poly = &tab.entries[entry].polygons[p];
                                 let mut c = [0.0f64; 3];
                                 for &x in poly {
-                                    let id = edge_vertex(x, &mut lower, &mut upper, &mut mesh);
+                                    let id = edge_vertex(
+                                        x, &mut lower, &mut upper, &mut mesh, &mut keys,
+                                    );
                                     let q = mesh.vertices[id as usize];
                                     for a in 0..3 {
                                         c[a] += q[a];
@@ -541,7 +662,7 @@ pub fn extract_fast(vol: &Volume<f64>, iso: f64) -> Result<(Mesh, ExtractStats),
         stats.cells += (nx - 1) * (ny - 1);
         std::mem::swap(&mut lower, &mut upper);
     }
-    Ok((mesh, stats))
+    Ok((mesh, stats, keys))
 }
 
 /// Options of [`extract`].
@@ -651,6 +772,40 @@ pub fn read_raw(bytes: &[u8], dims: [usize; 3], ty: RawType) -> Result<Volume<f6
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn slabs_give_the_serial_mesh() {
+        let mut s = 17u64;
+        for (dims, slabs) in [
+            ([9, 7, 12], 2),
+            ([5, 6, 20], 3),
+            ([8, 8, 9], 8),
+            ([4, 4, 3], 5),
+        ] {
+            let n = dims[0] * dims[1] * dims[2];
+            let values: Vec<f64> = (0..n)
+                .map(|_| {
+                    s = s
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    ((s >> 33) % 17) as f64 - 8.0
+                })
+                .collect();
+            let vol = Volume::new(dims, values).unwrap();
+            for iso in [0.0, 0.5] {
+                let serial = extract_fast(&vol, iso).unwrap();
+                let parallel = extract_fast_parallel(&vol, iso, slabs).unwrap();
+                assert_eq!(serial, parallel, "{dims:?} in {slabs} slabs at {iso}");
+            }
+        }
+        let mut v = vec![0.5; 4 * 3 * 70];
+        v[201] = f64::NAN;
+        let vol = Volume::new([70, 3, 4], v).unwrap();
+        assert_eq!(
+            extract_fast_parallel(&vol, 0.0, 2).unwrap_err(),
+            VolumeError::NonFinite { index: 201 }
+        );
+    }
 
     #[test]
     fn bad_values_are_refused_with_their_index() {

@@ -4,7 +4,7 @@
 //! volumes in the same run when `.venv-peers` has VTK.
 
 use super::campaign::median;
-use crate::mc::grid::{extract_exact, extract_fast, Volume};
+use crate::mc::grid::{extract_exact, extract_fast, extract_fast_parallel, Volume};
 use crate::num::rational_from_f64;
 use serde::Serialize;
 use std::path::Path;
@@ -28,6 +28,10 @@ pub struct GridRow {
     pub exact_seconds_48: f64,
     /// VTK: (version, flying-edges seconds, triangles, marching-cubes seconds, triangles).
     pub vtk: Result<(String, f64, usize, f64, usize), String>,
+    /// geocert in slabs on all cores: (threads, slabs, median seconds, the serial mesh).
+    pub parallel: (usize, usize, f64, bool),
+    /// vtkFlyingEdges3D on its threaded backend with as many threads: median seconds.
+    pub vtk_threaded: Result<f64, String>,
 }
 
 /// The campaign.
@@ -62,6 +66,37 @@ fn field(name: &str, n: usize) -> (Vec<f32>, f32) {
         0.0
     };
     (v, iso)
+}
+
+/// vtkFlyingEdges3D with `threads` threads (STDThread backend): median seconds.
+fn vtk_threaded_run(
+    root: &Path,
+    data: &[f32],
+    n: usize,
+    iso: f32,
+    runs: usize,
+    threads: usize,
+) -> Result<f64, String> {
+    let python = root.join(".venv-peers/bin/python");
+    if !python.exists() {
+        return Err("`.venv-peers` not found (run benches/peers/setup.sh)".into());
+    }
+    let file = std::env::temp_dir().join(format!("geocert-vtkt-{}-{n}.raw", std::process::id()));
+    let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_le_bytes()).collect();
+    std::fs::write(&file, bytes).map_err(|e| e.to_string())?;
+    let out = std::process::Command::new(python)
+        .arg(root.join("benches/peers/vtk_isosurface.py"))
+        .arg(&file)
+        .args([n, n, n].map(|d| d.to_string()))
+        .arg(iso.to_string())
+        .arg(runs.to_string())
+        .arg(threads.to_string())
+        .output();
+    let _ = std::fs::remove_file(&file);
+    let v = super::peer_json(out)?;
+    v["flying_edges"]["median_s"]
+        .as_f64()
+        .ok_or_else(|| "no flying_edges.median_s".into())
 }
 
 fn vtk_run(
@@ -135,6 +170,25 @@ pub fn grid_campaign(root: &Path, n: usize, runs: usize) -> GridCampaign {
             )
         });
         let (mesh, stats) = last.expect("one run");
+        // Slabs on all cores, interleaved with VTK's threaded flying edges.
+        let threads = std::thread::available_parallelism().map_or(1, |t| t.get());
+        let slabs = 2 * threads;
+        let (mut par_times, mut vtk_t) = (Vec::new(), Vec::new());
+        let mut same = true;
+        let mut vtk_threaded: Result<f64, String> = Err("not run (one core)".into());
+        for _ in 0..runs.max(1) {
+            let t = Instant::now();
+            let r = extract_fast_parallel(&vol, iso as f64, slabs).expect("finite");
+            par_times.push(t.elapsed().as_secs_f64());
+            same &= r.0 == mesh;
+            if threads > 1 {
+                vtk_threaded = vtk_threaded_run(root, &data, n, iso, 1, threads);
+                if let Ok(s) = &vtk_threaded {
+                    vtk_t.push(*s);
+                }
+            }
+        }
+        let vtk_threaded = vtk_threaded.map(|_| median(vtk_t));
         // Both paths on the 48³ version of the field.
         let (small, small_iso) = field(name, 48);
         let small_f: Vec<f64> = small.iter().map(|&x| x as f64).collect();
@@ -165,6 +219,8 @@ pub fn grid_campaign(root: &Path, n: usize, runs: usize) -> GridCampaign {
             exact_agrees: exact.triangles == fast_small.triangles,
             exact_seconds_48,
             vtk,
+            parallel: (threads, slabs, median(par_times), same),
+            vtk_threaded,
         });
     }
     GridCampaign {
@@ -175,5 +231,7 @@ pub fn grid_campaign(root: &Path, n: usize, runs: usize) -> GridCampaign {
 
 /// Whether every check held.
 pub fn grid_ok(c: &GridCampaign) -> bool {
-    c.rows.iter().all(|r| r.exact_agrees && r.manifold.is_ok())
+    c.rows
+        .iter()
+        .all(|r| r.exact_agrees && r.manifold.is_ok() && r.parallel.3)
 }

@@ -5,7 +5,7 @@ use crate::out::{choice, pretty, read, read_bytes, write};
 use clap::{Subcommand, ValueEnum};
 use geocert::mc::audit::{audit, export, parse_table, Numbering};
 use geocert::mc::fe::{polygonise, FeModel, FeOptions, NormalSource};
-use geocert::mc::grid::{extract, read_raw, ExtractOptions, RawType};
+use geocert::mc::grid::{extract, extract_fast_parallel, read_raw, ExtractOptions, RawType};
 use geocert::mc::trilinear::polygonise::extract_trilinear_path;
 use geocert::mc::verify::{verify_mesh, MeshVerdict, VerifyOptions};
 use geocert::mesh::Format;
@@ -38,6 +38,10 @@ pub(crate) enum Command {
         /// trilinear interpolant's topology in every cell (tubes where it has tunnels).
         #[arg(long, value_enum, default_value_t = Topology::Table)]
         topology: Topology,
+        /// Fast path with the table: extract in slabs on this many threads (0: all cores),
+        /// welded into the serial mesh.
+        #[arg(long, default_value_t = 1)]
+        threads: usize,
         #[arg(long)]
         json: bool,
     },
@@ -156,8 +160,9 @@ pub(crate) fn run(c: Command) -> Result<ExitCode, String> {
             out,
             path,
             topology,
+            threads,
             json,
-        } => extract_volume(volume, dims, ty, &iso, out, path, topology, json),
+        } => extract_volume(volume, dims, ty, &iso, out, path, (topology, threads), json),
         Command::Fe { model, iso, fe } => {
             let m: FeModel<f64> = serde_json::from_str(&read(&model)?)
                 .map_err(|e| format!("{}: {e}", model.display()))?;
@@ -309,14 +314,32 @@ fn extract_volume(
     iso: &str,
     out: PathBuf,
     path: Path,
-    topology: Topology,
+    (topology, threads): (Topology, usize),
     json: bool,
 ) -> Result<ExitCode, String> {
     let format = Format::from_path(&out).map_err(|e| e.to_string())?;
     let iso_q = parse_rational(iso).map_err(|e| format!("--iso: {e}"))?;
     let vol = load_volume(&volume, dims, ty)?;
     let start = std::time::Instant::now();
+    let threads = match threads {
+        0 => std::thread::available_parallelism().map_or(1, |t| t.get()),
+        t => t,
+    };
     let (mesh, stats) = match topology {
+        Topology::Table if threads > 1 && path != Path::Exact => {
+            let iso_f = geocert::num::rational_to_f64(&iso_q);
+            if geocert::num::rational_from_f64(iso_f, "iso").ok().as_ref() != Some(&iso_q) {
+                return Err(format!(
+                    "--iso {iso}: not an f64; the fast path takes f64 isovalues"
+                ));
+            }
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .map_err(|e| e.to_string())?;
+            pool.install(|| extract_fast_parallel(&vol, iso_f, 2 * threads))
+                .map_err(|e| format!("--iso {iso}: {e}"))?
+        }
         Topology::Table => extract(&vol, &iso_q, &ExtractOptions::new().with_path(path))
             .map_err(|e| format!("--iso {iso}: {e}"))?,
         Topology::Trilinear => {

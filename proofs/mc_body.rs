@@ -11,32 +11,9 @@
 
 use super::{ProofOutcome, Shard, Tally};
 use crate::mc::table::{ambiguous_faces, table, EDGES, FACES};
-use crate::mc::trilinear::sweep::sweep_groups;
+use crate::mc::trilinear::sweep::{sweep_groups, Dsu};
 use crate::mc::trilinear::Groups;
 use std::cmp::Ordering;
-
-/// Union-find over a few nodes.
-struct Dsu(Vec<usize>);
-
-impl Dsu {
-    fn new(n: usize) -> Dsu {
-        Dsu((0..n).collect())
-    }
-    fn find(&mut self, a: usize) -> usize {
-        let mut a = a;
-        while self.0[a] != a {
-            self.0[a] = self.0[self.0[a]];
-            a = self.0[a];
-        }
-        a
-    }
-    fn union(&mut self, a: usize, b: usize) {
-        let (x, y) = (self.find(a), self.find(b));
-        if x != y {
-            self.0[x.max(y)] = x.min(y);
-        }
-    }
-}
 
 /// The sweep's groups as a pair (magnitudes here are far below the sweep's limit).
 fn trilinear_groups(v: &[i64; 8], axis: usize) -> (Groups, Groups) {

@@ -40,6 +40,7 @@ def main():
         filters = filters[:1]
         out["backend"] = vtk.vtkSMPTools.GetBackend()
         out["threads"] = vtk.vtkSMPTools.GetEstimatedNumberOfThreads()
+    for name, cls in filters:
         times = []
         tris = 0
         for _ in range(runs):

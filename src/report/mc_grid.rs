@@ -68,6 +68,40 @@ fn field(name: &str, n: usize) -> (Vec<f32>, f32) {
     (v, iso)
 }
 
+/// Runs `benches/peers/vtk_isosurface.py` on the volume (`threads > 1`: flying edges alone
+/// on VTK's threaded backend) and returns its JSON.
+fn vtk_script(
+    root: &Path,
+    data: &[f32],
+    n: usize,
+    iso: f32,
+    runs: usize,
+    threads: usize,
+) -> Result<serde_json::Value, String> {
+    let python = root.join(".venv-peers/bin/python");
+    if !python.exists() {
+        return Err("`.venv-peers` not found (run benches/peers/setup.sh)".into());
+    }
+    let file = std::env::temp_dir().join(format!(
+        "geocert-vtk-{}-{n}-{threads}.raw",
+        std::process::id()
+    ));
+    let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_le_bytes()).collect();
+    std::fs::write(&file, bytes).map_err(|e| e.to_string())?;
+    let mut cmd = std::process::Command::new(python);
+    cmd.arg(root.join("benches/peers/vtk_isosurface.py"))
+        .arg(&file)
+        .args([n, n, n].map(|d| d.to_string()))
+        .arg(iso.to_string())
+        .arg(runs.to_string());
+    if threads > 1 {
+        cmd.arg(threads.to_string());
+    }
+    let out = cmd.output();
+    let _ = std::fs::remove_file(&file);
+    super::peer_json(out)
+}
+
 /// vtkFlyingEdges3D with `threads` threads (STDThread backend): median seconds.
 fn vtk_threaded_run(
     root: &Path,
@@ -77,23 +111,7 @@ fn vtk_threaded_run(
     runs: usize,
     threads: usize,
 ) -> Result<f64, String> {
-    let python = root.join(".venv-peers/bin/python");
-    if !python.exists() {
-        return Err("`.venv-peers` not found (run benches/peers/setup.sh)".into());
-    }
-    let file = std::env::temp_dir().join(format!("geocert-vtkt-{}-{n}.raw", std::process::id()));
-    let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_le_bytes()).collect();
-    std::fs::write(&file, bytes).map_err(|e| e.to_string())?;
-    let out = std::process::Command::new(python)
-        .arg(root.join("benches/peers/vtk_isosurface.py"))
-        .arg(&file)
-        .args([n, n, n].map(|d| d.to_string()))
-        .arg(iso.to_string())
-        .arg(runs.to_string())
-        .arg(threads.to_string())
-        .output();
-    let _ = std::fs::remove_file(&file);
-    let v = super::peer_json(out)?;
+    let v = vtk_script(root, data, n, iso, runs, threads)?;
     v["flying_edges"]["median_s"]
         .as_f64()
         .ok_or_else(|| "no flying_edges.median_s".into())
@@ -106,22 +124,7 @@ fn vtk_run(
     iso: f32,
     runs: usize,
 ) -> Result<(String, f64, usize, f64, usize), String> {
-    let python = root.join(".venv-peers/bin/python");
-    if !python.exists() {
-        return Err("`.venv-peers` not found (run benches/peers/setup.sh)".into());
-    }
-    let file = std::env::temp_dir().join(format!("geocert-vtk-{}-{n}.raw", std::process::id()));
-    let bytes: Vec<u8> = data.iter().flat_map(|x| x.to_le_bytes()).collect();
-    std::fs::write(&file, bytes).map_err(|e| e.to_string())?;
-    let out = std::process::Command::new(python)
-        .arg(root.join("benches/peers/vtk_isosurface.py"))
-        .arg(&file)
-        .args([n, n, n].map(|d| d.to_string()))
-        .arg(iso.to_string())
-        .arg(runs.to_string())
-        .output();
-    let _ = std::fs::remove_file(&file);
-    let v = super::peer_json(out)?;
+    let v = vtk_script(root, data, n, iso, runs, 1)?;
     let get = |k: &str, f: &str| v[k][f].as_f64().ok_or_else(|| format!("no {k}.{f}"));
     Ok((
         v["version"].as_str().unwrap_or("?").to_string(),

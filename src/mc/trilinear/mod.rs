@@ -8,14 +8,14 @@
 //! **Degenerate values.** Ties follow the table's rules (a corner equal to the isovalue is
 //! positive; a face saddle equal to it joins the positive corners). These are exactly the
 //! topology at `c − ε` for an infinitesimal `ε > 0`, a regular value, and every decision
-//! here is made at that perturbed level (see [`mod@ring`]), so any input has a manifold
+//! here is made at that perturbed level (the `ring` module's `Eps`), so any input has a manifold
 //! answer that agrees with the table on the faces.
 //!
 //! **From regions to surface components.** The interpolant is harmonic (each of its second
 //! derivatives along an axis vanishes), so the level set has no closed component inside the
 //! cell, and each component of `{g > 0}` or `{g < 0}` (`g = f − c + ε`) reaches a corner. The
 //! *corner groups* — which positive corners are connected inside the cell, likewise the
-//! negative ones — are computed by the closed-form route of [`mod@closed`]. A connected
+//! negative ones — are computed in closed form (below). A connected
 //! two-sided surface in the ball separates it, and two complementary regions of the ball
 //! meet along at most one surface component (a loop crossing one component once would
 //! otherwise exist, but the ball has no such loops). So every surface component is the
@@ -23,6 +23,18 @@
 //! cube are the face polygons whose positive corners lie in the one group and negative
 //! corners in the other. Each component is a sphere with `k` holes (the surface is a graph
 //! over a face, hence planar), Euler characteristic `2 − k`; `k ≥ 2` is a tunnel.
+//!
+//! **The closed form.** Slice the cell by planes `t` across z. A slice is bilinear, so each
+//! component of a slice's region of one sign contains a slice corner, a point of one of the
+//! four vertical *sweep edges*, where the value `e_k(t)` is linear. Two sweep edges are
+//! connected through the region iff at some `t` they are adjacent and both have the sign
+//! (the slice side between them then has it), or they are opposite, both have it, the other
+//! two the other sign, and the slice saddle lies in the region: `P_k(t) = e_k e_{k+2} −
+//! e_{k+1} e_{k+3} > 0` (the asymptotic decider's numerator). The sign pattern holds on an
+//! interval whose ends are `0`, `1` or edge zeros `g_k / (g_k − g_k')`, and the quadratic
+//! `P_k` is positive somewhere on it iff it is at an end or at its vertex `−B / 2A` (when
+//! `A < 0` and the vertex is inside): every decision is a sign at a rational point, and no
+//! square root is ever taken.
 //!
 //! **Certificates.** Each connection carries its witness: the sweep axis, the slice
 //! interval on which the connecting pattern holds, and for a connection through a slice's

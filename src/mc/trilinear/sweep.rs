@@ -15,8 +15,9 @@
 //! The classes are the closed set `{f ≥ 0}` and the open set `{f < 0}`: for a compact
 //! semi-algebraic set these have the components of `{f > −ε}` and `{f < −ε}` for small
 //! `ε > 0`, so the groups are those of the perturbed level the oracle decides at
-//! ([`super::ring`]). The route shares no code with [`super::closed`]: it walks events in
-//! order instead of asking one question per pair of sweep edges.
+//! (the oracle's `ring` module). The route shares only the map of sweep edges with the
+//! oracle's closed form: it walks events in order instead of asking one question per pair of
+//! sweep edges.
 
 use super::closed::sweep_edges;
 use super::Groups;
@@ -140,13 +141,13 @@ fn isqrt(x: i128) -> i128 {
 }
 
 /// Union-find over a few nodes.
-struct Dsu(Vec<usize>);
+pub(crate) struct Dsu(Vec<usize>);
 
 impl Dsu {
-    fn new(n: usize) -> Dsu {
+    pub(crate) fn new(n: usize) -> Dsu {
         Dsu((0..n).collect())
     }
-    fn find(&mut self, a: usize) -> usize {
+    pub(crate) fn find(&mut self, a: usize) -> usize {
         let mut a = a;
         while self.0[a] != a {
             self.0[a] = self.0[self.0[a]];
@@ -154,7 +155,7 @@ impl Dsu {
         }
         a
     }
-    fn union(&mut self, a: usize, b: usize) {
+    pub(crate) fn union(&mut self, a: usize, b: usize) {
         let (x, y) = (self.find(a), self.find(b));
         if x != y {
             self.0[x.max(y)] = x.min(y);

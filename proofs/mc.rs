@@ -303,7 +303,7 @@ pub fn watertight(shard: Shard) -> ProofOutcome {
 
 /// The 48 symmetries of the cube as corner permutations, with whether each preserves
 /// orientation.
-fn cube_symmetries() -> Vec<([u8; 8], bool)> {
+pub(super) fn cube_symmetries() -> Vec<([u8; 8], bool)> {
     let perms = [
         [0, 1, 2],
         [0, 2, 1],

@@ -19,6 +19,7 @@ use std::collections::HashSet;
 pub const RANDOM_CELLS: usize = 200_000;
 const RANDOM_PARTS: usize = 20;
 const CHECK_EVERY: usize = 64;
+const SYMMETRY_EVERY: usize = 16;
 
 /// Corner values run over `[−RANGE, RANGE]⁸`.
 pub const RANGE: i64 = 3;
@@ -139,6 +140,8 @@ pub fn oracle_vs_sweep(shard: Shard) -> ProofOutcome {
     // on the same integers, and the certificate checker on a sample.
     let base = (2 * side * side) as u64;
     let mut checked = 0u64;
+    let mut symmetric = 0u64;
+    let symmetries = super::mc::cube_symmetries();
     for part in 0..RANDOM_PARTS {
         if !t.owns(base + part as u64) {
             continue;
@@ -161,6 +164,31 @@ pub fn oracle_vs_sweep(shard: Shard) -> ProofOutcome {
                     exact.groups
                 )
             });
+            if i % SYMMETRY_EVERY == 0 {
+                // The oracle commutes with the 48 symmetries of the cube: moving corner c to
+                // map[c] moves the groups and keeps the tunnels.
+                for (map, _) in &symmetries {
+                    let mut moved = values.clone();
+                    for c in 0..8 {
+                        moved[map[c] as usize] = values[c].clone();
+                    }
+                    let image = cell_topology_exact(&moved, &iso);
+                    let same = |g: &[u8; 8], a: usize, b: usize| g[a] != u8::MAX && g[a] == g[b];
+                    let ok = (0..2).all(|s| {
+                        (0..8).all(|a| {
+                            (0..8).all(|b| {
+                                same(&exact.groups[s], a, b)
+                                    == same(&image.groups[s], map[a] as usize, map[b] as usize)
+                            })
+                        })
+                    }) && image.tunnels() == exact.tunnels()
+                        && image.components.len() == exact.components.len();
+                    symmetric += 1;
+                    t.check(ok, || {
+                        format!("values {values:?} iso {iso}: not symmetric under {map:?}")
+                    });
+                }
+            }
             if i % CHECK_EVERY == 0 {
                 checked += 1;
                 let verdict = verify_cell(&values, &iso, &exact);
@@ -185,6 +213,7 @@ pub fn oracle_vs_sweep(shard: Shard) -> ProofOutcome {
         }
     }
     t.count("certificates", checked);
+    t.count("symmetric", symmetric);
     for (name, c) in [
         "cells",
         "crossed",
@@ -204,7 +233,7 @@ pub fn oracle_vs_sweep(shard: Shard) -> ProofOutcome {
         t.flag("tunnel_entries", entries, i);
     }
     t.template(
-        "{crossed} cells crossed by the level; {tunnel_cells} with a tube (a tunnel), realising {#tunnel_entries} table entries; components: {discs} discs, {tubes} tubes, {three_holed} with three or more holes; the f64 path decided {fast_decided} (of the undecided, {fast_ties} have a corner on the level); the certificate checker re-verified {certificates} random cells; {#trilinear_cases} distinct trilinear cases (table entry and grouping of its polygons into components) met, each triangulated with its topology (oriented, the table's face segments, no chord in a face, the oracle's components and cycles)",
+        "{crossed} cells crossed by the level; {tunnel_cells} with a tube (a tunnel), realising {#tunnel_entries} table entries; components: {discs} discs, {tubes} tubes, {three_holed} with three or more holes; the f64 path decided {fast_decided} (of the undecided, {fast_ties} have a corner on the level); the certificate checker re-verified {certificates} random cells; {symmetric} images of random cells under the 48 cube symmetries have the moved groups and the same tunnels; {#trilinear_cases} distinct trilinear cases (table entry and grouping of its polygons into components) met, each triangulated with its topology (oriented, the table's face segments, no chord in a face, the oracle's components and cycles)",
     );
     t.finish()
 }

@@ -249,7 +249,7 @@ pub fn verify_mesh(
     }
     let (cells, fallbacks) = cell_topologies(vol, iso)?;
     let truth: VolumeTopology =
-        super::trilinear::volume::assemble(vol.dims, cells.iter().cloned(), fallbacks);
+        super::trilinear::volume::assemble(vol.dims, cells.iter().map(|(c, t)| (*c, t)), fallbacks);
     let dims = vol.dims;
     // Place and weld the vertices.
     let mut key_of: HashMap<Place, u32> = HashMap::new();

@@ -20,12 +20,8 @@ pub(crate) enum Command {
     /// little-endian samples (x fastest) with `--dims` and `--type`.
     Extract {
         volume: PathBuf,
-        /// Raw volumes only: the sample counts along x, y, z.
-        #[arg(long, num_args = 3, value_names = ["X", "Y", "Z"])]
-        dims: Option<Vec<usize>>,
-        /// Raw volumes only: the sample type.
-        #[arg(long = "type", value_parser = choice::<RawType>(RawType::NAMES))]
-        ty: Option<RawType>,
+        #[command(flatten)]
+        raw: RawArgs,
         /// Isovalue: a number (exact as its f64) or "p/q" for the exact path.
         #[arg(long, allow_hyphen_values = true)]
         iso: String,
@@ -82,12 +78,8 @@ pub(crate) enum Command {
         volume: PathBuf,
         /// The mesh (.ply, .obj, .stl or .vtk), in grid units unless --origin/--spacing.
         mesh: PathBuf,
-        /// Raw volumes only: the sample counts along x, y, z.
-        #[arg(long, num_args = 3, value_names = ["X", "Y", "Z"])]
-        dims: Option<Vec<usize>>,
-        /// Raw volumes only: the sample type.
-        #[arg(long = "type", value_parser = choice::<RawType>(RawType::NAMES))]
-        ty: Option<RawType>,
+        #[command(flatten)]
+        raw: RawArgs,
         /// The isovalue the mesh was made at (an f64).
         #[arg(long, allow_hyphen_values = true)]
         iso: String,
@@ -123,6 +115,17 @@ pub(crate) enum Topology {
     Trilinear,
 }
 
+/// How to read a raw volume (ignored, and refused, for NIfTI files).
+#[derive(clap::Args)]
+pub(crate) struct RawArgs {
+    /// Raw volumes only: the sample counts along x, y, z.
+    #[arg(long, num_args = 3, value_names = ["X", "Y", "Z"])]
+    dims: Option<Vec<usize>>,
+    /// Raw volumes only: the sample type.
+    #[arg(long = "type", value_parser = choice::<RawType>(RawType::NAMES))]
+    ty: Option<RawType>,
+}
+
 #[derive(clap::Args)]
 pub(crate) struct FeArgs {
     /// Output mesh (.ply, .obj, .stl or .vtk); normals are written where the format has them.
@@ -154,15 +157,14 @@ pub(crate) fn run(c: Command) -> Result<ExitCode, String> {
     match c {
         Command::Extract {
             volume,
-            dims,
-            ty,
+            raw,
             iso,
             out,
             path,
             topology,
             threads,
             json,
-        } => extract_volume(volume, dims, ty, &iso, out, path, (topology, threads), json),
+        } => extract_volume(volume, raw, &iso, out, path, (topology, threads), json),
         Command::Fe { model, iso, fe } => {
             let m: FeModel<f64> = serde_json::from_str(&read(&model)?)
                 .map_err(|e| format!("{}: {e}", model.display()))?;
@@ -215,8 +217,7 @@ pub(crate) fn run(c: Command) -> Result<ExitCode, String> {
         Command::Verify {
             volume,
             mesh,
-            dims,
-            ty,
+            raw,
             iso,
             origin,
             spacing,
@@ -237,7 +238,7 @@ pub(crate) fn run(c: Command) -> Result<ExitCode, String> {
                 spacing: three(spacing, 1.0, "spacing")?,
                 tolerance,
             };
-            let vol = load_volume(&volume, dims, ty)?;
+            let vol = load_volume(&volume, raw.dims, raw.ty)?;
             let m = geocert::mesh::Mesh::read(&mesh, None)
                 .map_err(|e| format!("{}: {e}", mesh.display()))?;
             let v = verify_mesh(&vol, iso, &m, &opts)
@@ -306,11 +307,9 @@ fn print_verdict(mesh: &std::path::Path, v: &MeshVerdict) {
 }
 
 /// `mc extract`: reads a NIfTI or raw volume and polygonises it.
-#[allow(clippy::too_many_arguments)]
 fn extract_volume(
     volume: PathBuf,
-    dims: Option<Vec<usize>>,
-    ty: Option<RawType>,
+    raw: RawArgs,
     iso: &str,
     out: PathBuf,
     path: Path,
@@ -319,7 +318,7 @@ fn extract_volume(
 ) -> Result<ExitCode, String> {
     let format = Format::from_path(&out).map_err(|e| e.to_string())?;
     let iso_q = parse_rational(iso).map_err(|e| format!("--iso: {e}"))?;
-    let vol = load_volume(&volume, dims, ty)?;
+    let vol = load_volume(&volume, raw.dims, raw.ty)?;
     let start = std::time::Instant::now();
     let threads = match threads {
         0 => std::thread::available_parallelism().map_or(1, |t| t.get()),

@@ -59,9 +59,9 @@ fn shared_face(a: u8, b: u8) -> Option<usize> {
 }
 
 /// Assembles cell topologies (`(cell, topology)`, every crossed cell once) into the volume's.
-pub(crate) fn assemble(
+pub(crate) fn assemble<T: std::borrow::Borrow<CellTopology>>(
     dims: [usize; 3],
-    cells: impl Iterator<Item = ([usize; 3], CellTopology)>,
+    cells: impl Iterator<Item = ([usize; 3], T)>,
     exact_fallbacks: usize,
 ) -> VolumeTopology {
     let mut edge_node: HashMap<(usize, [usize; 3]), usize> = HashMap::new();
@@ -78,6 +78,7 @@ pub(crate) fn assemble(
     let mut crossed = 0usize;
     let mut tunnel_cells = 0usize;
     for (cell, topo) in cells {
+        let topo = topo.borrow();
         crossed += 1;
         if topo.tunnels() > 0 {
             tunnel_cells += 1;

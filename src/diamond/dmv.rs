@@ -4,14 +4,14 @@
 //! hash from supercube origin to a bit-flag internal map and a packed data array, Section 5.2–5.3).
 
 use super::error::{diamond_stats_fast, diamond_stats_integer, integer_samples};
+use super::table::PointMap;
 use super::{Diamond, Field, Hierarchy, Point};
 use crate::par::prelude::*;
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
+use std::hash::Hasher;
 
 /// The data a DMV keeps per diamond (Section 6): `F(v_c)`, the error `ε(δ)` (an upper bound,
 /// rounded up to `f32`) and the range of `F` over δ's domain (rounded outwards to `f32`).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct DiamondData {
     /// `F` at the central vertex.
     pub value: f64,
@@ -51,6 +51,12 @@ pub trait DmvAccess<const D: usize> {
     fn data(&self, dia: &Diamond<D>) -> Option<DiamondData>;
     /// `F` at a grid point that is a held diamond's central vertex or a domain corner.
     fn value(&self, p: &Point<D>) -> Option<f64>;
+    /// Starts loading what [`DmvAccess::data`] of `dia` will read (a hint for the cache; it
+    /// changes nothing else).
+    #[inline]
+    fn prefetch(&self, dia: &Diamond<D>) {
+        let _ = dia;
+    }
 }
 
 /// A fast multiplicative hasher for grid-point keys (the keys are not adversarial: they come
@@ -90,17 +96,14 @@ impl Hasher for PointHasher {
     }
 }
 
-/// A hash map keyed by grid points.
-pub type PointMap<V, const D: usize> = HashMap<Point<D>, V, BuildHasherDefault<PointHasher>>;
-
 /// The full DMV `Δf`: every diamond's data, indexed like the field (row-major, axis 0
 /// fastest), the corners included with zero error.
 #[derive(Clone, Debug)]
 pub struct FullDmv<const D: usize> {
     field: Field<D>,
-    error: Vec<f32>,
-    min: Vec<f32>,
-    max: Vec<f32>,
+    /// Per grid point `[ε, min, max]`, interleaved so that refinement's one look-up per
+    /// diamond touches one cache line.
+    stats: Vec<[f32; 3]>,
 }
 
 impl<const D: usize> FullDmv<D> {
@@ -111,7 +114,10 @@ impl<const D: usize> FullDmv<D> {
         let n = field.values().len();
         // Integer samples take the exact integer route, others the certified f64 one.
         let ints = integer_samples(&field);
-        let stats: Vec<(f32, f32, f32)> = (0..n)
+        let mut stats: Vec<[f32; 3]> = Vec::with_capacity(n);
+        // Refinement reads it at scattered places: huge pages spare most TLB misses.
+        crate::memory::advise_huge_pages(&mut stats);
+        (0..n)
             .into_par_iter()
             .map(|i| match hier.diamond(field.point(i)) {
                 Ok(dia) => {
@@ -119,28 +125,15 @@ impl<const D: usize> FullDmv<D> {
                         Some(v) => diamond_stats_integer(v, hier.side(), &dia),
                         None => diamond_stats_fast(&field, &dia),
                     };
-                    (f32_up(s.error_hi), f32_down(s.min), f32_up(s.max))
+                    [f32_up(s.error_hi), f32_down(s.min), f32_up(s.max)]
                 }
                 Err(_) => {
                     let v = field.values()[i];
-                    (0.0, f32_down(v), f32_up(v))
+                    [0.0, f32_down(v), f32_up(v)]
                 }
             })
-            .collect();
-        let mut error = Vec::with_capacity(n);
-        let mut min = Vec::with_capacity(n);
-        let mut max = Vec::with_capacity(n);
-        for (e, lo, hi) in stats {
-            error.push(e);
-            min.push(lo);
-            max.push(hi);
-        }
-        FullDmv {
-            field,
-            error,
-            min,
-            max,
-        }
+            .collect_into_vec(&mut stats);
+        FullDmv { field, stats }
     }
 
     /// The field.
@@ -160,11 +153,12 @@ impl<const D: usize> FullDmv<D> {
 
     /// The data at array index `i`.
     pub fn data_at(&self, i: usize) -> DiamondData {
+        let [error, min, max] = self.stats[i];
         DiamondData {
             value: self.field.values()[i],
-            error: self.error[i],
-            min: self.min[i],
-            max: self.max[i],
+            error,
+            min,
+            max,
         }
     }
 
@@ -331,6 +325,12 @@ impl<const D: usize> DmvAccess<D> for FullDmv<D> {
         Some(self.data_at(self.field.index(&dia.center())))
     }
     #[inline]
+    fn prefetch(&self, dia: &Diamond<D>) {
+        if let Some(s) = self.stats.get(self.field.index(&dia.center())) {
+            crate::memory::prefetch(s);
+        }
+    }
+    #[inline]
     fn value(&self, p: &Point<D>) -> Option<f64> {
         Some(self.field.at(p))
     }
@@ -402,6 +402,10 @@ impl<const D: usize> DmvAccess<D> for DiamondDmv<D> {
     fn data(&self, dia: &Diamond<D>) -> Option<DiamondData> {
         self.map.get(&dia.center()).copied()
     }
+    #[inline]
+    fn prefetch(&self, dia: &Diamond<D>) {
+        self.map.prefetch(&dia.center());
+    }
     fn value(&self, p: &Point<D>) -> Option<f64> {
         match corner_index(p, self.hier.side()) {
             Some(j) => self.corners.get(j).copied(),
@@ -424,8 +428,8 @@ pub struct SupercubeDmv<const D: usize> {
     /// The original volume's sides (before padding).
     pub(crate) real: [usize; D],
     pub(crate) corners: Vec<f64>,
-    /// Per scale `γ`: origin → supercube number.
-    pub(crate) levels: Vec<PointMap<u32, D>>,
+    /// Per scale `γ`: origin → the supercube's number, first datum and first flag word.
+    pub(crate) levels: Vec<PointMap<CubeRef, D>>,
     /// Per supercube: its scale and origin (in file order).
     pub(crate) keys: Vec<(u32, Point<D>)>,
     /// `flag_words(d)` words per supercube.
@@ -434,6 +438,18 @@ pub struct SupercubeDmv<const D: usize> {
     pub(crate) start: Vec<u32>,
     /// Packed data, supercube after supercube, each in type order.
     pub(crate) data: Vec<DiamondData>,
+}
+
+/// A supercube as its origin's hash entry holds it: one look-up gives the flags of the first 64
+/// types (all of them in 2-D and 3-D) and where its data start.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct CubeRef {
+    /// The internal map's first word.
+    flags0: u64,
+    /// The supercube's number (file order).
+    number: u32,
+    /// The index of its first datum.
+    start: u32,
 }
 
 impl<const D: usize> SupercubeDmv<D> {
@@ -464,16 +480,22 @@ impl<const D: usize> SupercubeDmv<D> {
         items: &[(usize, DiamondData)],
     ) {
         let w = flag_words(D);
-        let n = self.keys.len() as u32;
-        self.levels[scale as usize].insert(origin, n);
+        let number = self.keys.len() as u32;
+        let start = self.data.len() as u32;
         self.keys.push((scale, origin));
-        self.start.push(self.data.len() as u32);
+        self.start.push(start);
         let base = self.flags.len();
         self.flags.extend(std::iter::repeat_n(0, w));
         for &(t, d) in items {
             self.flags[base + t / 64] |= 1 << (t % 64);
             self.data.push(d);
         }
+        let cube = CubeRef {
+            flags0: self.flags[base],
+            number,
+            start,
+        };
+        self.levels[scale as usize].insert(origin, cube);
     }
 
     /// `n_s`: the number of supercubes.
@@ -503,21 +525,30 @@ impl<const D: usize> SupercubeDmv<D> {
 
     /// The position of `dia`'s datum in the packed array, if held: scale → origin → prefix
     /// popcount of the flags below its type (Section 5.3's three steps).
-    #[inline]
+    #[inline(always)]
     fn slot(&self, dia: &Diamond<D>) -> Option<usize> {
         let cube = *self
             .levels
             .get(dia.scale() as usize)?
-            .get(&dia.supercube_origin())? as usize;
+            .get(&dia.supercube_origin())?;
         let t = dia.diamond_type().index();
+        if t < 64 {
+            // The common case, and every case in 2-D and 3-D: the first word is in the entry.
+            if cube.flags0 >> t & 1 == 0 {
+                return None;
+            }
+            let below = (cube.flags0 & ((1u64 << t) - 1)).count_ones();
+            return Some(cube.start as usize + below as usize);
+        }
         let w = flag_words(D);
-        let words = &self.flags[cube * w..(cube + 1) * w];
+        let n = cube.number as usize;
+        let words = &self.flags[n * w..(n + 1) * w];
         if words[t / 64] >> (t % 64) & 1 == 0 {
             return None;
         }
         let below: u32 = words[..t / 64].iter().map(|x| x.count_ones()).sum::<u32>()
             + (words[t / 64] & ((1u64 << (t % 64)) - 1)).count_ones();
-        Some(self.start[cube] as usize + below as usize)
+        Some(cube.start as usize + below as usize)
     }
 }
 
@@ -525,9 +556,15 @@ impl<const D: usize> DmvAccess<D> for SupercubeDmv<D> {
     fn hierarchy(&self) -> Hierarchy<D> {
         self.hier
     }
-    #[inline]
+    #[inline(always)]
     fn data(&self, dia: &Diamond<D>) -> Option<DiamondData> {
         self.slot(dia).map(|i| self.data[i])
+    }
+    #[inline]
+    fn prefetch(&self, dia: &Diamond<D>) {
+        if let Some(level) = self.levels.get(dia.scale() as usize) {
+            level.prefetch(&dia.supercube_origin());
+        }
     }
     fn value(&self, p: &Point<D>) -> Option<f64> {
         match corner_index(p, self.hier.side()) {

@@ -8,7 +8,7 @@
 //! * [`SupercubeFront`] (`Σs`): per scale a hash from supercube origin to one bit per
 //!   (type, parent slot) pair — `Σ_τ slots(τ)` bits, 168 in 3-D (the paper's 336/2).
 
-use super::dmv::PointMap;
+use super::table::PointMap;
 use super::{Diamond, DiamondType, Hierarchy, Point};
 
 /// An active front: parent flags per diamond in `Σ` (a diamond is in `Σ` when it has flags).
@@ -26,6 +26,12 @@ pub trait Front<const D: usize> {
             f = absent();
         }
         self.set_flags(dia, f | bits);
+    }
+    /// Starts loading what [`Front::flags`] of `dia` will read (a hint for the cache; it
+    /// changes nothing else).
+    #[inline]
+    fn prefetch(&self, dia: &Diamond<D>) {
+        let _ = dia;
     }
     /// Every diamond in the front with its flags (in no particular order).
     fn for_each(&self, f: impl FnMut(Diamond<D>, u32));
@@ -49,10 +55,16 @@ pub fn full_flags<const D: usize>(dia: &Diamond<D>) -> u32 {
 }
 
 /// The diamond-based front `Σd`.
+///
+/// A diamond that leaves the front keeps its entry with flags `0` (a removal would shift the
+/// entries after it in the table); such entries are dropped when they outnumber the live
+/// ones.
 #[derive(Clone, Debug)]
 pub struct DiamondFront<const D: usize> {
     hier: Hierarchy<D>,
     map: PointMap<u32, D>,
+    /// Entries with flags.
+    live: usize,
 }
 
 impl<const D: usize> Front<D> for DiamondFront<D> {
@@ -60,6 +72,7 @@ impl<const D: usize> Front<D> for DiamondFront<D> {
         DiamondFront {
             hier,
             map: PointMap::default(),
+            live: 0,
         }
     }
     #[inline]
@@ -69,17 +82,38 @@ impl<const D: usize> Front<D> for DiamondFront<D> {
     #[inline]
     fn set_flags(&mut self, dia: &Diamond<D>, flags: u32) {
         if flags == 0 {
-            self.map.remove(&dia.center());
+            if let Some(f) = self.map.get_mut(&dia.center()) {
+                if *f != 0 {
+                    *f = 0;
+                    self.live -= 1;
+                    if self.map.len() > 2 * self.live + 1024 {
+                        self.map.retain(|_, &f| f != 0);
+                    }
+                }
+            }
         } else {
-            self.map.insert(dia.center(), flags);
+            let f = self.map.get_or_insert_with(dia.center(), || 0);
+            if *f == 0 {
+                self.live += 1;
+            }
+            *f = flags;
         }
     }
     #[inline]
     fn add_flags(&mut self, dia: &Diamond<D>, absent: impl FnOnce() -> u32, bits: u32) {
-        *self.map.entry(dia.center()).or_insert_with(absent) |= bits;
+        let f = self.map.get_or_insert_with(dia.center(), || 0);
+        if *f == 0 {
+            *f = absent();
+            self.live += 1;
+        }
+        *f |= bits;
+    }
+    #[inline]
+    fn prefetch(&self, dia: &Diamond<D>) {
+        self.map.prefetch(&dia.center());
     }
     fn for_each(&self, mut f: impl FnMut(Diamond<D>, u32)) {
-        for (p, &flags) in &self.map {
+        for (p, &flags) in self.map.iter().filter(|(_, &flags)| flags != 0) {
             f(
                 self.hier.diamond(*p).expect("front points are diamonds"),
                 flags,
@@ -87,11 +121,11 @@ impl<const D: usize> Front<D> for DiamondFront<D> {
         }
     }
     fn diamonds(&self) -> usize {
-        self.map.len()
+        self.live
     }
     fn bookkeeping_bytes(&self) -> u64 {
         let (bv, _) = super::index_bytes(D, self.hier.levels());
-        self.map.len() as u64 * (bv + 1)
+        self.live as u64 * (bv + 1)
     }
 }
 
@@ -107,6 +141,30 @@ fn slot_offsets<const D: usize>() -> (Vec<u16>, usize) {
         };
     }
     (offsets, total)
+}
+
+/// The `n ≤ 32` bits of `bits` from bit `start` on (bit `start` lowest).
+#[inline(always)]
+fn get_bits(bits: &[u64], start: usize, n: usize) -> u32 {
+    let (w, o) = (start / 64, start % 64);
+    let mut v = bits[w] >> o;
+    if o + n > 64 {
+        v |= bits[w + 1] << (64 - o);
+    }
+    (v & ((1u64 << n) - 1)) as u32
+}
+
+/// Sets the `n ≤ 32` bits of `bits` from bit `start` on to the low bits of `value`.
+#[inline(always)]
+fn set_bits(bits: &mut [u64], start: usize, n: usize, value: u32) {
+    let (w, o) = (start / 64, start % 64);
+    let mask = (1u64 << n) - 1;
+    let v = u64::from(value) & mask;
+    bits[w] = (bits[w] & !(mask << o)) | (v << o);
+    if o + n > 64 {
+        let spill = 64 - o;
+        bits[w + 1] = (bits[w + 1] & !(mask >> spill)) | (v >> spill);
+    }
 }
 
 /// The supercube-based front `Σs`.
@@ -165,13 +223,7 @@ impl<const D: usize> Front<D> for SupercubeFront<D> {
     fn flags(&self, dia: &Diamond<D>) -> u32 {
         let (cube, off, n) = self.locate(dia);
         let Some(cube) = cube else { return 0 };
-        let base = cube as usize * self.words * 64 + off;
-        let mut f = 0;
-        for s in 0..n {
-            let b = base + s;
-            f |= ((self.bits[b / 64] >> (b % 64)) & 1) as u32 * (1 << s);
-        }
-        f
+        get_bits(&self.bits, cube as usize * self.words * 64 + off, n)
     }
     fn set_flags(&mut self, dia: &Diamond<D>, flags: u32) {
         let (cube, off, n) = self.locate(dia);
@@ -197,16 +249,8 @@ impl<const D: usize> Front<D> for SupercubeFront<D> {
             }
         };
         let base = cube as usize * self.words * 64 + off;
-        let mut had = false;
-        for s in 0..n {
-            let b = base + s;
-            had |= (self.bits[b / 64] >> (b % 64)) & 1 == 1;
-            if flags >> s & 1 == 1 {
-                self.bits[b / 64] |= 1 << (b % 64);
-            } else {
-                self.bits[b / 64] &= !(1 << (b % 64));
-            }
-        }
+        let had = get_bits(&self.bits, base, n) != 0;
+        set_bits(&mut self.bits, base, n, flags);
         let c = cube as usize;
         match (had, flags != 0) {
             (false, true) => {
@@ -226,6 +270,10 @@ impl<const D: usize> Front<D> for SupercubeFront<D> {
             _ => {}
         }
     }
+    #[inline]
+    fn prefetch(&self, dia: &Diamond<D>) {
+        self.levels[dia.scale() as usize].prefetch(&dia.supercube_origin());
+    }
     fn for_each(&self, mut f: impl FnMut(Diamond<D>, u32)) {
         let types: Vec<DiamondType<D>> = DiamondType::all().collect();
         for (c, key) in self.keys.iter().enumerate() {
@@ -239,11 +287,7 @@ impl<const D: usize> Front<D> for SupercubeFront<D> {
                     continue;
                 };
                 let base = c * self.words * 64 + self.offsets[t] as usize;
-                let mut flags = 0;
-                for s in 0..dia.parent_slots() {
-                    let b = base + s;
-                    flags |= ((self.bits[b / 64] >> (b % 64)) & 1) as u32 * (1 << s);
-                }
+                let flags = get_bits(&self.bits, base, dia.parent_slots());
                 if flags != 0 {
                     f(dia, flags);
                 }

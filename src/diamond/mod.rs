@@ -40,12 +40,13 @@ mod file;
 mod front;
 mod refine;
 mod supercube;
+mod table;
 mod volumes;
 
 pub use code::{Diamond, Hierarchy, Points, MAX_LEVELS};
 pub use dmv::{
     flag_words, index_bytes, storage, DiamondData, DiamondDmv, DmvAccess, DmvSummary, FullDmv,
-    PointHasher, PointMap, Selection, StorageSizes, SupercubeDmv,
+    PointHasher, Selection, StorageSizes, SupercubeDmv,
 };
 pub use error::{
     diamond_stats_exact, diamond_stats_fast, diamond_stats_integer, integer_samples,
@@ -59,6 +60,7 @@ pub use refine::{
     TetSurface,
 };
 pub use supercube::{supercube_edges, DiamondType, Supercube};
+pub use table::PointMap;
 pub use volumes::{builtin_volume, BUILTIN_VOLUMES};
 
 use num_bigint::{BigInt, BigUint};

@@ -75,6 +75,7 @@ pub struct Refiner<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> {
     pub front: F,
     /// Diamonds examined (the paper's "diamonds visited").
     pub visited: u64,
+    /// Wanted diamonds waiting to be refined (depth first).
     queue: Vec<Diamond<D>>,
 }
 
@@ -101,41 +102,73 @@ impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
 
     /// The DMV's diamond and data for the doubled-grid diamond `dia`, when `dia` can be
     /// subdivided at all (not a unit cube's, and held by the DMV).
+    #[inline]
     fn refinable(&self, dia: &Diamond<D>) -> Option<(Diamond<D>, DiamondData)> {
         if dia.scale() == 0 {
             return None;
         }
-        let orig = self
-            .dmv
-            .hierarchy()
-            .diamond(dia.center().map(|x| x / 2))
-            .ok()?;
+        let orig = self.original(dia);
         self.dmv.data(&orig).map(|d| (orig, d))
+    }
+
+    /// The DMV's diamond for a doubled-grid diamond of scale at least 1 (centre `2·v_c`).
+    #[inline]
+    fn original(&self, dia: &Diamond<D>) -> Diamond<D> {
+        // A doubled-grid centre of scale ≥ 1 is even and no domain corner, so half of it is
+        // a central vertex of the DMV's grid.
+        self.dmv
+            .hierarchy()
+            .diamond_unchecked(dia.center().map(|x| x / 2))
+    }
+
+    /// Examines `dia` (counted as visited) and queues it when the criterion wants it.
+    #[inline]
+    fn examine(&mut self, dia: Diamond<D>, lod: &Lod<D>) {
+        self.visited += 1;
+        if self
+            .refinable(&dia)
+            .is_some_and(|(orig, data)| lod.wants(&orig, &data))
+        {
+            self.queue.push(dia);
+        }
     }
 
     /// Refines every front diamond the criterion wants, and the ones their refinement needs,
     /// until no front diamond is wanted (top-down when called on a fresh refiner).
+    ///
+    /// Every diamond is examined once when it enters the front (or, for the starting front,
+    /// here): only wanted diamonds are queued. A queued diamond no longer in the front when it
+    /// is taken (subdivided meanwhile, as a parent of another) is skipped. The refined set is
+    /// the same in any order: a diamond is refined exactly when it, or a descendant that
+    /// enters the front, is wanted.
     pub fn refine(&mut self, lod: &Lod<D>) -> Result<(), RefineError> {
         let mut start = Vec::new();
         self.front.for_each(|d, _| start.push(d));
-        self.queue.extend(start);
+        for d in start {
+            self.examine(d, lod);
+        }
         while let Some(dia) = self.queue.pop() {
-            self.visited += 1;
-            if self.front.flags(&dia) == 0 {
-                continue;
+            // The next diamond's slot loads while this one is refined.
+            if let Some(next) = self.queue.last() {
+                self.front.prefetch(next);
             }
-            if let Some((orig, data)) = self.refinable(&dia) {
-                if lod.wants(&orig, &data) {
-                    self.force(&dia, true)?;
-                }
+            let flags = self.front.flags(&dia);
+            if flags != 0 {
+                self.force(&dia, true, flags, lod)?;
             }
         }
         Ok(())
     }
 
-    /// Refines `dia` after refining, recursively, every parent not yet refined.
-    fn force(&mut self, dia: &Diamond<D>, held: bool) -> Result<(), RefineError> {
-        let mut flags = self.front.flags(dia);
+    /// Refines `dia`, whose front flags are `flags` (`0` when it is not in the front), after
+    /// refining, recursively, every parent not yet refined.
+    fn force(
+        &mut self,
+        dia: &Diamond<D>,
+        held: bool,
+        mut flags: u32,
+        lod: &Lod<D>,
+    ) -> Result<(), RefineError> {
         if flags == 0 {
             flags = absent_parent_flags(dia);
         }
@@ -145,7 +178,8 @@ impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
                     .parent_in_slot(slot)
                     .expect("slots without a parent are always set");
                 self.visited += 1;
-                self.force(&parent, false)?;
+                let parent_flags = self.front.flags(&parent);
+                self.force(&parent, false, parent_flags, lod)?;
             }
         }
         if !held && self.refinable(dia).is_none() {
@@ -153,20 +187,32 @@ impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
                 center: dia.center().iter().map(|&x| u64::from(x)).collect(),
             });
         }
-        self.split(dia);
+        self.split(dia, lod);
         Ok(())
     }
 
     /// Subdivides `dia` (all its parents refined): it leaves the front, and each child gains
-    /// the simplices `dia` contributes.
-    fn split(&mut self, dia: &Diamond<D>) {
+    /// the simplices `dia` contributes and is examined.
+    fn split(&mut self, dia: &Diamond<D>, lod: &Lod<D>) {
         self.front.set_flags(dia, 0);
+        // The children's front slots and DMV data are scattered in memory: start loading them
+        // all before the first is needed.
+        let mut children = [*dia; 1 << super::MAX_DIM];
+        let mut n = 0;
         dia.for_each_child(|child| {
+            self.front.prefetch(&child);
+            if child.scale() > 0 {
+                self.dmv.prefetch(&self.original(&child));
+            }
+            children[n] = child;
+            n += 1;
+        });
+        for &child in &children[..n] {
             let slot = slot_of_parent(&child, dia);
             self.front
                 .add_flags(&child, || absent_parent_flags(&child), 1 << slot);
-            self.queue.push(child);
-        });
+            self.examine(child, lod);
+        }
     }
 
     /// Undoes the subdivision of `dia`, whose children are all in the front and unrefined.

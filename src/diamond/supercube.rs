@@ -43,23 +43,13 @@ impl<const D: usize> DiamondType<D> {
 
     /// The position of this type among [`DiamondType::all`] (`0 ≤ index < 4^d − 2^d`): the
     /// slot of a supercube's internal map (Section 5.2).
+    #[inline(always)]
     pub fn index(&self) -> usize {
-        static TABLES: [std::sync::OnceLock<Vec<u16>>; super::MAX_DIM + 1] =
-            [const { std::sync::OnceLock::new() }; super::MAX_DIM + 1];
-        let table = TABLES[D].get_or_init(|| {
-            let mut t = vec![u16::MAX; 1 << (2 * D)];
-            let mut next = 0u16;
-            for (code, slot) in t.iter_mut().enumerate() {
-                let low = (0..D).any(|k| code >> (2 * k) & 1 == 1);
-                if low {
-                    *slot = next;
-                    next += 1;
-                }
-            }
-            t
-        });
-        table[self.code as usize] as usize
+        usize::from(Self::INDEX[self.code as usize])
     }
+
+    /// [`DiamondType::index`] by code (`u16::MAX` for the `2^d` codes that are no type).
+    const INDEX: [u16; 1 << (2 * super::MAX_DIM)] = type_indices(D);
 
     /// The offset of the central vertex from the supercube origin, in units of `h`: `τ_k ∈
     /// {0, 1, 2, 3}` per axis.
@@ -145,4 +135,26 @@ pub fn supercube_edges<const D: usize>(half_open: bool) -> Vec<[[u32; D]; 2]> {
     }
     out.sort_unstable();
     out
+}
+
+/// Per code of `2d` bits, its position among the valid codes (some low bit set) in increasing
+/// order, or `u16::MAX`.
+const fn type_indices(d: usize) -> [u16; 1 << (2 * super::MAX_DIM)] {
+    let mut t = [u16::MAX; 1 << (2 * super::MAX_DIM)];
+    let mut low = 0usize;
+    let mut k = 0;
+    while k < d {
+        low |= 1 << (2 * k);
+        k += 1;
+    }
+    let mut next = 0u16;
+    let mut code = 0usize;
+    while code < 1 << (2 * d) {
+        if code & low != 0 {
+            t[code] = next;
+            next += 1;
+        }
+        code += 1;
+    }
+    t
 }

@@ -7,7 +7,7 @@ use crate::diamond::{supercube_edges, Diamond, DiamondType, Hierarchy, Point, Su
 use std::collections::BTreeSet;
 
 /// The grids enumerated by `cargo test`: `(d, largest N)`.
-pub const TEST_GRIDS: [(usize, u32); 4] = [(2, 6), (3, 4), (4, 3), (5, 2)];
+pub const TEST_GRIDS: [(usize, u32); 4] = [(2, 6), (3, 4), (4, 3), (5, 3)];
 
 /// The explicit builds refuse beyond this many simplices.
 const MAX_SIMPLICES: u64 = 50_000_000;

@@ -958,7 +958,8 @@ pub fn check_dmv_file(data: &[u8]) -> Result<(), String> {
 
 /// A small volume (3 to 9 samples per side, byte-valued) and up to six LOD changes decoded
 /// from bytes: the diamond and the supercube fronts, updated incrementally, give the same
-/// conforming mesh after every change, on the full DMV and on its supercube encoding.
+/// conforming mesh after every change, on the full DMV and on its supercube encoding, and it
+/// is the top-down mesh of that change's criterion.
 pub fn check_dmv_refine(data: &[u8]) -> Result<(), String> {
     use crate::diamond::{
         check_conforming, DiamondFront, Field, FullDmv, Lod, Refiner, Simplex, SupercubeFront,
@@ -1024,6 +1025,13 @@ pub fn check_dmv_refine(data: &[u8]) -> Result<(), String> {
         let c = check_conforming(&full.field().hierarchy(), &md);
         if !c.conforming {
             return Err(format!("not conforming after {lod:?}: {c:?}"));
+        }
+        let mut top: Refiner<'_, 3, _, DiamondFront<3>> = Refiner::new(&full);
+        top.refine(lod).map_err(|e| e.to_string())?;
+        if sorted(top.mesh()) != md {
+            return Err(format!(
+                "the incremental front differs from the top-down one after {lod:?}"
+            ));
         }
     }
     Ok(())

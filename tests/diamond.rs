@@ -209,6 +209,22 @@ mod fronts {
         }
     }
 
+    /// The case proptest found against the earlier greedy coarsening (merge while unwanted
+    /// and childless), which kept refined diamonds whose only reason was a refined
+    /// descendant: everywhere refined (`ε > 0`), then the region of interest.
+    #[test]
+    fn coarsening_drops_diamonds_kept_only_by_descendants() {
+        let dmv = FullDmv::build(field(5, 10990666046957445974, true));
+        let n = dmv.field().hierarchy().side() as f64;
+        let (fine, coarse) = (lod(0, 0.0, n), lod(2, 4.426914138374738, n));
+        let mut inc: Refiner<'_, 3, _, SupercubeFront<3>> = Refiner::new(&dmv);
+        inc.refine(&fine).unwrap();
+        inc.update(&coarse).unwrap();
+        let mut top: Refiner<'_, 3, _, SupercubeFront<3>> = Refiner::new(&dmv);
+        top.refine(&coarse).unwrap();
+        assert_eq!(sorted(inc.mesh()), sorted(top.mesh()));
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(24))]
 
@@ -234,17 +250,40 @@ mod fronts {
                 prop_assert_eq!(&md, &sorted(s.mesh()));
                 let c = check_conforming(&hier, &md);
                 prop_assert!(c.conforming, "{:?}", c);
-                // Refining further from here equals top-down for the stricter criterion.
-                if let Some(e) = l.error {
-                    let finer = Lod { error: Some(e / 2.0), ..l.clone() };
-                    let mut inc: Refiner<'_, 3, _, DiamondFront<3>> = Refiner::new(&dmv);
-                    inc.refine(&l).unwrap();
-                    inc.update(&finer).unwrap();
-                    let mut top: Refiner<'_, 3, _, DiamondFront<3>> = Refiner::new(&dmv);
-                    top.refine(&finer).unwrap();
-                    prop_assert_eq!(sorted(inc.mesh()), sorted(top.mesh()));
-                }
+                // The incremental front (coarsened and refined from the previous criterion's)
+                // is the top-down front of this criterion.
+                let mut top: Refiner<'_, 3, _, SupercubeFront<3>> = Refiner::new(&dmv);
+                top.refine(&l).unwrap();
+                prop_assert_eq!(&md, &sorted(top.mesh()));
             }
+        }
+
+        /// Coarsening after refining: raising the threshold, shrinking or moving the region of
+        /// interest, changing the isovalue — the incremental front equals the top-down one
+        /// (the error alone is not monotone from parents to children, so the coarsening must
+        /// also drop refined diamonds that only refined descendants kept).
+        #[test]
+        fn incremental_coarsening_equals_top_down(
+            side in 3usize..=17,
+            seed in any::<u64>(),
+            smooth in any::<bool>(),
+            fine in (0u8..3, 0.0f64..3.0),
+            coarse in (0u8..3, 3.0f64..12.0),
+        ) {
+            let dmv = FullDmv::build(field(side, seed, smooth));
+            let n = dmv.field().hierarchy().side() as f64;
+            let (fine, coarse) = (lod(fine.0, fine.1, n), lod(coarse.0, coarse.1, n));
+            let mut inc: Refiner<'_, 3, _, DiamondFront<3>> = Refiner::new(&dmv);
+            inc.refine(&fine).unwrap();
+            inc.update(&coarse).unwrap();
+            let mut top: Refiner<'_, 3, _, DiamondFront<3>> = Refiner::new(&dmv);
+            top.refine(&coarse).unwrap();
+            prop_assert_eq!(sorted(inc.mesh()), sorted(top.mesh()));
+            // And back: refining again from the coarse front.
+            inc.update(&fine).unwrap();
+            let mut top: Refiner<'_, 3, _, DiamondFront<3>> = Refiner::new(&dmv);
+            top.refine(&fine).unwrap();
+            prop_assert_eq!(sorted(inc.mesh()), sorted(top.mesh()));
         }
 
         /// Threshold 0: the partial DMV of the diamonds with error > 0 (and their ancestors),

@@ -3,7 +3,7 @@
 //! check, and marching tetrahedra on the current mesh.
 
 use super::front::{absent_parent_flags, full_flags, Front};
-use super::{Diamond, DiamondData, DmvAccess, Hierarchy, Point, Simplex};
+use super::{Diamond, DiamondData, DmvAccess, Hierarchy, Point, PointMap, Simplex};
 use crate::mesh::Mesh;
 use num_bigint::BigUint;
 use std::collections::HashMap;
@@ -231,47 +231,93 @@ impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
         self.front.set_flags(dia, full_flags(dia));
     }
 
-    /// Moves the front to a new criterion incrementally: first merges, repeatedly, every
-    /// subdivided diamond whose children are all unrefined and which the criterion no longer
-    /// wants, then refines. From a front that is a refinement-subset of the new criterion's
-    /// (e.g. a lower error threshold) this gives exactly the top-down front.
+    /// Moves the front to a new criterion incrementally, coarsening and refining; the result is
+    /// exactly the top-down front of `lod`, whatever the criteria (a moving region of interest,
+    /// a raised or lowered threshold, other isovalues).
+    ///
+    /// Top-down refinement yields the least set `R` of refined diamonds with: the root in `R`
+    /// when wanted; a wanted child of a member in `R`; the parents of a member in `R`. The
+    /// refined set `R₀` of the current front is closed under parents, so the same rules run
+    /// on `R₀` alone (top-down from the root, never leaving `R₀`) give the part `S ⊆ R₀` that
+    /// `R` keeps: `S ⊆ R`, and refining from `S` gives `R`. Every diamond of `R₀ ∖ S` is
+    /// merged, children before parents; then the front is refined. The work is proportional
+    /// to `|R₀|` plus the refinement's.
     pub fn update(&mut self, lod: &Lod<D>) -> Result<(), RefineError> {
-        loop {
-            let mut candidates = Vec::new();
-            self.front.for_each(|d, flags| {
-                for slot in 0..d.parent_slots() {
-                    if flags >> slot & 1 == 1 {
-                        if let Some(p) = d.parent_in_slot(slot) {
-                            candidates.push(p);
-                        }
-                    }
-                }
-            });
-            candidates.sort_unstable();
-            candidates.dedup();
-            let mut merged = false;
-            for p in candidates {
-                self.visited += 1;
-                if self.front.flags(&p) != 0 {
-                    continue;
-                }
-                let wanted = self
-                    .refinable(&p)
-                    .is_some_and(|(orig, d)| lod.wants(&orig, &d));
-                let all_unrefined = p.children().iter().all(|c| {
-                    let child = self.hier.diamond(*c).expect("children are diamonds");
-                    self.front.flags(&child) >> slot_of_parent(&child, &p) & 1 == 1
-                });
-                if !wanted && all_unrefined {
-                    self.merge(&p);
-                    merged = true;
+        // R₀: every parent named by a set flag is refined, and so are its parents.
+        let mut refined: PointMap<bool, D> = PointMap::default();
+        let mut stack: Vec<Diamond<D>> = Vec::new();
+        self.front.for_each(|d, flags| {
+            for slot in 0..d.parent_slots() {
+                if flags >> slot & 1 == 1 {
+                    stack.extend(d.parent_in_slot(slot));
                 }
             }
-            if !merged {
-                break;
+        });
+        while let Some(p) = stack.pop() {
+            let seen = refined.len();
+            refined.get_or_insert_with(p.center(), || false);
+            if refined.len() > seen {
+                for slot in 0..p.parent_slots() {
+                    stack.extend(p.parent_in_slot(slot));
+                }
             }
         }
+        // S: top-down inside R₀ (the value `true` marks a member of S).
+        let root = self.hier.root();
+        if refined.get(&root.center()).is_some() && self.wanted(&root, lod) {
+            stack.push(root);
+        }
+        while let Some(x) = stack.pop() {
+            self.keep(x, lod, &mut refined, &mut stack);
+        }
+        // Merge R₀ ∖ S, children first: finer scales first, and within a scale the classes
+        // from d − 1 down (a class-i diamond's parents are class i − 1 at its scale, a class-0
+        // diamond's are class d − 1 one scale up).
+        let mut dropped: Vec<Diamond<D>> = refined
+            .iter()
+            .filter(|(_, &kept)| !kept)
+            .map(|(c, _)| self.hier.diamond_unchecked(*c))
+            .collect();
+        dropped.sort_unstable_by_key(|d| (d.scale(), D - d.class(), d.center()));
+        for d in &dropped {
+            self.merge(d);
+        }
         self.refine(lod)
+    }
+
+    /// True when the criterion wants `dia` (counted as visited).
+    fn wanted(&mut self, dia: &Diamond<D>, lod: &Lod<D>) -> bool {
+        self.visited += 1;
+        self.refinable(dia)
+            .is_some_and(|(orig, data)| lod.wants(&orig, &data))
+    }
+
+    /// Adds `x` (a member of `R₀`) and its parents to `S`, and queues its wanted children in
+    /// `R₀` — [`Refiner::update`]'s top-down pass.
+    fn keep(
+        &mut self,
+        x: Diamond<D>,
+        lod: &Lod<D>,
+        refined: &mut PointMap<bool, D>,
+        queue: &mut Vec<Diamond<D>>,
+    ) {
+        if refined.get(&x.center()) != Some(&false) {
+            return;
+        }
+        for slot in 0..x.parent_slots() {
+            if let Some(p) = x.parent_in_slot(slot) {
+                // R₀ is closed under parents, so `p` is in it.
+                self.keep(p, lod, refined, queue);
+            }
+        }
+        refined.insert(x.center(), true);
+        let mut children = Vec::new();
+        x.for_each_child(|c| children.push(c));
+        for c in children {
+            if refined.get(&c.center()) == Some(&false) && self.wanted(&c, lod) {
+                queue.push(c);
+            }
+        }
     }
 
     /// The simplices of the current mesh, in the DMV's grid coordinates.

@@ -116,7 +116,7 @@ pub struct DiamondCampaign {
 }
 
 /// The report's proof sizes: `(d, largest N)`.
-pub const REPORT_GRIDS: [(usize, u32); 4] = [(2, 8), (3, 5), (4, 4), (5, 2)];
+pub const REPORT_GRIDS: [(usize, u32); 4] = [(2, 8), (3, 5), (4, 4), (5, 3)];
 
 /// The MNI152 T1 template inside the nilearn wheel in `.venv-peers`, when installed.
 pub(super) fn mni_template(root: &FsPath) -> Option<PathBuf> {

@@ -160,8 +160,8 @@ fn padding_replicates_the_last_sample() {
 
 mod fronts {
     use geocert::diamond::{
-        check_conforming, simplices_stats_exact, DiamondFront, Field, FullDmv, Lod, Refiner,
-        Simplex, SupercubeFront,
+        check_conforming, marching_tetrahedra, simplices_stats_exact, DiamondFront, Field, FullDmv,
+        Lod, Refiner, Simplex, SupercubeFront,
     };
     use proptest::prelude::*;
 
@@ -256,6 +256,35 @@ mod fronts {
                 top.refine(&l).unwrap();
                 prop_assert_eq!(&md, &sorted(top.mesh()));
             }
+        }
+
+        /// Marching tetrahedra on the simplices whose diamond's range holds the isovalue gives
+        /// the surface of the whole current mesh.
+        #[test]
+        fn surface_near_the_isovalue_is_the_whole_surface(
+            side in 3usize..=17,
+            seed in any::<u64>(),
+            e in 0.0f64..6.0,
+            iso in 1.0f64..40.0,
+        ) {
+            let dmv = FullDmv::build(field(side, seed, true));
+            let mut r: Refiner<'_, 3, _, DiamondFront<3>> = Refiner::new(&dmv);
+            r.refine(&Lod { error: Some(e), isovalues: vec![iso], roi: None }).unwrap();
+            let all = marching_tetrahedra(&dmv, &r.mesh(), iso).unwrap();
+            let near = r.mesh_near(iso);
+            prop_assert!(near.len() <= r.mesh().len());
+            let some = marching_tetrahedra(&dmv, &near, iso).unwrap();
+            let key = |m: &geocert::mesh::Mesh| {
+                let mut t: Vec<[[u64; 3]; 3]> = m
+                    .triangles
+                    .iter()
+                    .map(|t| t.map(|i| m.vertices[i as usize].map(f64::to_bits)))
+                    .collect();
+                t.sort_unstable();
+                t
+            };
+            prop_assert_eq!(key(&all.mesh), key(&some.mesh));
+            prop_assert_eq!(all.open_edges, some.open_edges);
         }
 
         /// Coarsening after refining: raising the threshold, shrinking or moving the region of

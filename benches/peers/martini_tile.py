@@ -2,8 +2,11 @@
 grid of SIZE x SIZE samples (x fastest, SIZE = 2^k + 1): Martini(SIZE).create_tile(grid), then
 tile.get_mesh(max_error) (called by `geocert prove`).
 
-usage: martini_tile.py HEIGHT.raw SIZE MAX_ERROR RUNS
+usage: martini_tile.py HEIGHT.raw SIZE MAX_ERROR RUNS [MESH.raw]
 prints one JSON object: {"version", "median_s", "mesh_median_s", "triangles", "vertices"}.
+With MESH.raw, also writes the last mesh as little-endian uint32: the vertex count, the
+triangle count, the vertices (x, y in pymartini's order: x indexes the transposed grid's
+rows, i.e. the height grid's y) and the triangles' vertex indices.
 """
 import json
 import statistics
@@ -16,6 +19,7 @@ from pymartini import Martini
 
 def main():
     path, size, max_error, runs = sys.argv[1:5]
+    out = sys.argv[5] if len(sys.argv) > 5 else None
     size, max_error, runs = int(size), float(max_error), int(runs)
     data = np.fromfile(path, dtype="<f4")
     if data.size != size * size:
@@ -32,6 +36,11 @@ def main():
         end = time.perf_counter()
         totals.append(end - start)
         meshes.append(end - mid)
+    if out is not None:
+        v = np.asarray(vertices, dtype="<u4")
+        t = np.asarray(triangles, dtype="<u4")
+        header = np.array([v.size // 2, t.size // 3], dtype="<u4")
+        np.concatenate([header, v, t]).astype("<u4").tofile(out)
     print(json.dumps({
         "version": "pymartini",
         "median_s": statistics.median(totals),

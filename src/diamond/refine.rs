@@ -322,14 +322,44 @@ impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
 
     /// The simplices of the current mesh, in the DMV's grid coordinates.
     pub fn mesh(&self) -> Vec<Simplex<D>> {
-        current_mesh(&self.front)
-            .into_iter()
-            .map(|s| {
-                let v: Vec<Point<D>> = s.vertices().iter().map(|p| p.map(|x| x / 2)).collect();
-                Simplex::new(&v).expect("d + 1 vertices")
-            })
-            .collect()
+        let mut out = Vec::new();
+        self.front
+            .for_each(|d, flags| push_simplices(&d, flags, &mut out));
+        out
     }
+
+    /// The simplices of the current mesh that the isosurface at `iso` can cross, in the DMV's
+    /// grid coordinates: those of the front diamonds whose value range holds `iso` (a simplex's
+    /// vertices are samples of its diamond's domain, so outside the range none of them
+    /// straddles `iso`), and the unit cubes' simplices, which carry no range. Marching
+    /// tetrahedra on these gives the same surface as on [`Refiner::mesh`].
+    pub fn mesh_near(&self, iso: f64) -> Vec<Simplex<D>> {
+        let mut out = Vec::new();
+        self.front.for_each(|d, flags| {
+            let holds = d.scale() == 0
+                || self
+                    .refinable(&d)
+                    .is_none_or(|(_, r)| f64::from(r.min) <= iso && iso <= f64::from(r.max));
+            if holds {
+                push_simplices(&d, flags, &mut out);
+            }
+        });
+        out
+    }
+}
+
+/// The simplices of the doubled-grid front diamond `d` whose parent flag is set, halved to the
+/// DMV's grid.
+fn push_simplices<const D: usize>(d: &Diamond<D>, flags: u32, out: &mut Vec<Simplex<D>>) {
+    d.for_each_simplex(|s, slot| {
+        if flags >> slot & 1 == 1 {
+            let mut v = [[0u32; D]; super::MAX_DIM + 1];
+            for (w, p) in v.iter_mut().zip(s.vertices()) {
+                *w = p.map(|x| x / 2);
+            }
+            out.push(Simplex::new(&v[..=D]).expect("d + 1 vertices"));
+        }
+    })
 }
 
 /// The slot of `child` whose parent is `parent`.
@@ -450,98 +480,132 @@ pub struct TetSurface {
 }
 
 /// Marching tetrahedra at `iso` on `tets` with the DMV's values (`F > iso` is inside). Surface
-/// vertices are keyed by the cut mesh edge, so neighbouring tetrahedra share them exactly.
+/// vertices are keyed by the cut mesh edge — by its midpoint, which in a conforming mesh no
+/// other edge passes through — so neighbouring tetrahedra share them exactly, and each is
+/// interpolated from the edge's lesser end, whichever tetrahedron makes it.
 pub fn marching_tetrahedra<A: DmvAccess<3>>(
     dmv: &A,
     tets: &[Simplex<3>],
     iso: f64,
 ) -> Result<TetSurface, RefineError> {
     let side = dmv.hierarchy().side();
-    let mut ids: HashMap<(Point<3>, Point<3>), u32> = HashMap::new();
+    // Cut edge (by the sum of its ends) → surface vertex.
+    let mut ids: PointMap<u32, 3> = PointMap::default();
     let mut vertices: Vec<[f64; 3]> = Vec::new();
+    // Per surface vertex: its edge's ends.
+    let mut edges: Vec<[Point<3>; 2]> = Vec::new();
     let mut triangles: Vec<[u32; 3]> = Vec::new();
-    let mut tri_edges: Vec<[(Point<3>, Point<3>); 3]> = Vec::new();
     for t in tets {
         let v = t.vertices();
         let mut f = [0.0f64; 4];
+        let mut inside = 0u32;
         for j in 0..4 {
             f[j] = dmv.value(&v[j]).ok_or_else(|| RefineError::Missing {
                 center: v[j].iter().map(|&x| u64::from(x)).collect(),
             })?;
+            if f[j] > iso {
+                inside |= 1 << j;
+            }
         }
-        let inside: Vec<usize> = (0..4).filter(|&j| f[j] > iso).collect();
-        let outside: Vec<usize> = (0..4).filter(|&j| f[j] <= iso).collect();
-        let mut cut = |a: usize, b: usize| -> (u32, (Point<3>, Point<3>)) {
-            let key = if v[a] < v[b] {
-                (v[a], v[b])
-            } else {
-                (v[b], v[a])
-            };
-            let id = *ids.entry(key).or_insert_with(|| {
+        if inside == 0 || inside == 15 {
+            continue;
+        }
+        let mut cut = |a: usize, b: usize| -> u32 {
+            // From the lesser end, so that the vertex does not depend on which tetrahedron
+            // makes it.
+            let (a, b) = if v[a] < v[b] { (a, b) } else { (b, a) };
+            let key: Point<3> = std::array::from_fn(|k| v[a][k] + v[b][k]);
+            *ids.get_or_insert_with(key, || {
                 let s = (iso - f[a]) / (f[b] - f[a]);
                 vertices.push(std::array::from_fn(|k| {
                     f64::from(v[a][k]) + s * (f64::from(v[b][k]) - f64::from(v[a][k]))
                 }));
+                edges.push([v[a], v[b]]);
                 (vertices.len() - 1) as u32
-            });
-            (id, key)
+            })
         };
-        let polygon: Vec<(u32, (Point<3>, Point<3>))> = match (inside.len(), outside.len()) {
-            (1, 3) => outside.iter().map(|&o| cut(inside[0], o)).collect(),
-            (3, 1) => inside.iter().map(|&i| cut(i, outside[0])).collect(),
-            (2, 2) => vec![
-                cut(inside[0], outside[0]),
-                cut(inside[0], outside[1]),
-                cut(inside[1], outside[1]),
-                cut(inside[1], outside[0]),
-            ],
-            _ => continue,
+        let (mut ins, mut outs) = ([0usize; 4], [0usize; 4]);
+        let (mut ni, mut no) = (0, 0);
+        for j in 0..4 {
+            if inside >> j & 1 == 1 {
+                ins[ni] = j;
+                ni += 1;
+            } else {
+                outs[no] = j;
+                no += 1;
+            }
+        }
+        let (ins, outs) = (&ins[..ni], &outs[..no]);
+        let (polygon, n) = match ins.len() {
+            1 => (
+                [
+                    cut(ins[0], outs[0]),
+                    cut(ins[0], outs[1]),
+                    cut(ins[0], outs[2]),
+                    0,
+                ],
+                3,
+            ),
+            3 => (
+                [
+                    cut(ins[0], outs[0]),
+                    cut(ins[1], outs[0]),
+                    cut(ins[2], outs[0]),
+                    0,
+                ],
+                3,
+            ),
+            _ => (
+                [
+                    cut(ins[0], outs[0]),
+                    cut(ins[0], outs[1]),
+                    cut(ins[1], outs[1]),
+                    cut(ins[1], outs[0]),
+                ],
+                4,
+            ),
         };
         // Orient towards decreasing F: the normal points from inside to outside.
-        let gi: [f64; 3] = centroid(v, &inside);
-        let go: [f64; 3] = centroid(v, &outside);
+        let gi: [f64; 3] = centroid(v, ins);
+        let go: [f64; 3] = centroid(v, outs);
         let dir = [go[0] - gi[0], go[1] - gi[1], go[2] - gi[2]];
-        let mut emit = |a: usize, b: usize, c: usize| {
-            let (pa, pb, pc) = (polygon[a], polygon[b], polygon[c]);
+        let mut emit = |a: u32, b: u32, c: u32| {
             let (x, y, z) = (
-                vertices[pa.0 as usize],
-                vertices[pb.0 as usize],
-                vertices[pc.0 as usize],
+                vertices[a as usize],
+                vertices[b as usize],
+                vertices[c as usize],
             );
             let n = cross(sub(y, x), sub(z, x));
-            let tri = if n[0] * dir[0] + n[1] * dir[1] + n[2] * dir[2] >= 0.0 {
-                [pa, pb, pc]
+            triangles.push(if n[0] * dir[0] + n[1] * dir[1] + n[2] * dir[2] >= 0.0 {
+                [a, b, c]
             } else {
-                [pa, pc, pb]
-            };
-            triangles.push([tri[0].0, tri[1].0, tri[2].0]);
-            tri_edges.push([tri[0].1, tri[1].1, tri[2].1]);
+                [a, c, b]
+            });
         };
-        emit(0, 1, 2);
-        if polygon.len() == 4 {
-            emit(0, 2, 3);
+        emit(polygon[0], polygon[1], polygon[2]);
+        if n == 4 {
+            emit(polygon[0], polygon[2], polygon[3]);
         }
     }
     // Closedness: every surface edge in two triangles, unless it lies in a boundary face.
-    let mut edge_use: HashMap<(u32, u32), (u32, bool)> = HashMap::new();
-    for (tri, keys) in triangles.iter().zip(&tri_edges) {
+    let mut edge_use: PointMap<u32, 3> = PointMap::with_capacity(triangles.len() * 3 / 2);
+    for tri in &triangles {
         for j in 0..3 {
             let (a, b) = (tri[j], tri[(j + 1) % 3]);
-            let (ka, kb) = (keys[j], keys[(j + 1) % 3]);
-            let pts = [ka.0, ka.1, kb.0, kb.1];
+            *edge_use.get_or_insert_with([a.min(b), a.max(b), 0], || 0) += 1;
+        }
+    }
+    let open_edges = edge_use
+        .iter()
+        .filter(|&(e, &n)| {
+            let [ka, kb] = [edges[e[0] as usize], edges[e[1] as usize]];
+            let pts = [ka[0], ka[1], kb[0], kb[1]];
             let boundary = (0..3).any(|k| {
                 let x = pts[0][k];
                 (x == 0 || x == side) && pts.iter().all(|p| p[k] == x)
             });
-            let e = edge_use
-                .entry((a.min(b), a.max(b)))
-                .or_insert((0, boundary));
-            e.0 += 1;
-        }
-    }
-    let open_edges = edge_use
-        .values()
-        .filter(|&&(n, boundary)| !(n == 2 || (n == 1 && boundary)))
+            !(n == 2 || (n == 1 && boundary))
+        })
         .count();
     Ok(TetSurface {
         mesh: Mesh {

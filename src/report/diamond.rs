@@ -98,6 +98,11 @@ pub struct MartiniRow {
     pub geocert_triangles: usize,
     pub geocert_max_error: f64,
     pub martini: Option<(f64, f64, usize)>,
+    /// pymartini's mesh's largest interpolation error at the grid points, exactly (measured
+    /// by geocert on the triangles pymartini returned).
+    pub martini_max_error: Option<f64>,
+    /// geocert refined with `ε > pymartini's measured error`: triangles and exact max error.
+    pub geocert_at_martini_error: Option<(usize, f64)>,
     pub note: String,
 }
 
@@ -348,40 +353,43 @@ fn surface_rows(
         closed: None,
         note: String::new(),
     });
-    // Adaptive: refine (error > e, isovalue in range) + marching tetrahedra on Δf.
-    let lod = Lod {
-        error: Some(e),
-        isovalues: vec![iso],
-        roi: None,
-    };
-    let mut times = Vec::new();
-    let mut last = None;
-    for _ in 0..3 {
-        let t = Instant::now();
-        let mut r: Refiner<'_, 3, _, SupercubeFront<3>> = Refiner::new(full);
-        let ok = r.refine(&lod).is_ok();
-        let mesh = r.mesh();
-        let s = marching_tetrahedra(full, &mesh, iso);
-        times.push(t.elapsed().as_secs_f64());
-        if ok {
-            last = s.ok();
+    // Adaptive: refine (error > e, isovalue in range) + marching tetrahedra on Δf, at 1 % of
+    // the value range (the refinement table's query) and at five times that.
+    for e in [e, 5.0 * e] {
+        let lod = Lod {
+            error: Some(e),
+            isovalues: vec![iso],
+            roi: None,
+        };
+        let mut times = Vec::new();
+        let mut last = None;
+        for _ in 0..3 {
+            let t = Instant::now();
+            let mut r: Refiner<'_, 3, _, SupercubeFront<3>> = Refiner::new(full);
+            let ok = r.refine(&lod).is_ok();
+            let mesh = r.mesh_near(iso);
+            let s = marching_tetrahedra(full, &mesh, iso);
+            times.push(t.elapsed().as_secs_f64());
+            if ok {
+                last = s.ok();
+            }
         }
-    }
-    if let Some(s) = last {
-        let d = (
-            sampled_distance(&s.mesh, &reference),
-            sampled_distance(&reference, &s.mesh),
-        );
-        rows.push(SurfaceRow {
-            volume: volume.into(),
-            iso,
-            method: format!("geocert Δf + Σs refine (ε > {e:.3}) + marching tetrahedra"),
-            median_seconds: Some(median(times)),
-            triangles: s.mesh.triangles.len(),
-            distance: Some(d),
-            closed: Some(s.open_edges == 0),
-            note: String::new(),
-        });
+        if let Some(s) = last {
+            let d = (
+                sampled_distance(&s.mesh, &reference),
+                sampled_distance(&reference, &s.mesh),
+            );
+            rows.push(SurfaceRow {
+                volume: volume.into(),
+                iso,
+                method: format!("geocert Δf + Σs refine (ε > {e:.3}) + marching tetrahedra"),
+                median_seconds: Some(median(times)),
+                triangles: s.mesh.triangles.len(),
+                distance: Some(d),
+                closed: Some(s.open_edges == 0),
+                note: String::new(),
+            });
+        }
     }
     let raw = match write_raw(field.values(), "surface") {
         Ok(f) => f,
@@ -520,6 +528,8 @@ fn martini_rows(root: &FsPath, size: usize) -> Vec<MartiniRow> {
             mesh = r.mesh();
         }
         let exact = simplices_stats_exact(full.field(), &mesh);
+        let mesh_file =
+            std::env::temp_dir().join(format!("geocert-martini-{}.raw", std::process::id()));
         let (martini, note) = match &raw {
             Ok(f) => {
                 let run = std::process::Command::new(root.join(".venv-peers/bin/python"))
@@ -528,6 +538,7 @@ fn martini_rows(root: &FsPath, size: usize) -> Vec<MartiniRow> {
                     .arg(size.to_string())
                     .arg(threshold.to_string())
                     .arg(RUNS.to_string())
+                    .arg(&mesh_file)
                     .output();
                 match super::peer_json(run) {
                     Ok(v) => (
@@ -543,6 +554,25 @@ fn martini_rows(root: &FsPath, size: usize) -> Vec<MartiniRow> {
             }
             Err(e) => (None, format!("could not write the grid: {e}")),
         };
+        // pymartini's mesh measured exactly, and geocert refined to that measured error.
+        // Only a conforming triangulation of the whole grid is measured (this also confirms
+        // the vertex order read back).
+        let martini_mesh = martini
+            .and_then(|_| read_martini_mesh(&mesh_file, size))
+            .filter(|m| check_conforming(&full.field().hierarchy(), m).conforming);
+        let _ = std::fs::remove_file(&mesh_file);
+        let martini_max_error =
+            martini_mesh.map(|m| rational_to_f64(&simplices_stats_exact(full.field(), &m).error));
+        let geocert_at_martini_error = martini_max_error.map(|e| {
+            let mut r: Refiner<'_, 2, _, DiamondFront<2>> = Refiner::new(&full);
+            let _ = r.refine(&Lod {
+                error: Some(e),
+                ..Lod::default()
+            });
+            let m = r.mesh();
+            let err = rational_to_f64(&simplices_stats_exact(full.field(), &m).error);
+            (m.len(), err)
+        });
         rows.push(MartiniRow {
             grid: size,
             threshold,
@@ -551,6 +581,8 @@ fn martini_rows(root: &FsPath, size: usize) -> Vec<MartiniRow> {
             geocert_triangles: mesh.len(),
             geocert_max_error: rational_to_f64(&exact.error),
             martini,
+            martini_max_error,
+            geocert_at_martini_error,
             note,
         });
     }
@@ -558,6 +590,38 @@ fn martini_rows(root: &FsPath, size: usize) -> Vec<MartiniRow> {
         let _ = std::fs::remove_file(f);
     }
     rows
+}
+
+/// The triangles pymartini wrote (see `martini_tile.py`) as grid simplices: its vertex
+/// `(a, b)` is the height grid's point `(x, y) = (b, a)` (it reads the transposed grid).
+/// `None` when the file is missing or malformed.
+fn read_martini_mesh(path: &FsPath, size: usize) -> Option<Vec<Simplex<2>>> {
+    let bytes = std::fs::read(path).ok()?;
+    let words: Vec<u32> = bytes
+        .chunks_exact(4)
+        .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    let (nv, nt) = (*words.first()? as usize, *words.get(1)? as usize);
+    if words.len() != 2 + 2 * nv + 3 * nt {
+        return None;
+    }
+    let vertices = &words[2..2 + 2 * nv];
+    let mut out = Vec::with_capacity(nt);
+    for t in words[2 + 2 * nv..].chunks_exact(3) {
+        let mut v = [[0u32; 2]; 3];
+        for (p, &i) in v.iter_mut().zip(t) {
+            let (a, b) = (
+                *vertices.get(2 * i as usize)?,
+                *vertices.get(2 * i as usize + 1)?,
+            );
+            if a as usize >= size || b as usize >= size {
+                return None;
+            }
+            *p = [b, a];
+        }
+        out.push(Simplex::new(&v)?);
+    }
+    Some(out)
 }
 
 /// Runs the campaign: built-in volumes at `side³` (and the sparse fuel at `2·side − 1`), the
@@ -817,7 +881,7 @@ pub fn write_diamond_report(
     }
     let _ = writeln!(
         s,
-        "\n## 2-D: refinement against pymartini\n\nThe same height grid (ridged hills, quantised to 1/16). geocert: Δf build (every diamond's certified error) and top-down refinement with `ε > threshold` (Σd); the mesh's largest interpolation error at the grid points, exactly. pymartini (RTIN, 2-D longest-edge bisection): `create_tile` (its errors) and `get_mesh(threshold)`; its error measure is its own (RTIN's per-triangle midpoint error), so triangle counts at equal thresholds compare the two criteria, not identical meshes.\n\n| grid | threshold | geocert build s | geocert refine s | geocert triangles | geocert max error (exact) | pymartini total s | pymartini get_mesh s | pymartini triangles |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+        "\n## 2-D: refinement against pymartini\n\nThe same height grid (ridged hills, quantised to 1/16). geocert: Δf build (every diamond's certified error) and top-down refinement with `ε > threshold` (Σd); the mesh's largest interpolation error at the grid points, exactly. pymartini (RTIN, 2-D longest-edge bisection): `create_tile` (its errors) and `get_mesh(threshold)`; its error measure is its own (the error at each triangle's split point, carried up to the ancestors), so at equal thresholds the two criteria differ. The last columns compare at equal *measured* error: pymartini's triangles are read back and their largest interpolation error at the grid points is computed exactly by geocert; geocert then refines with `ε >` that error, so its mesh's error is at most pymartini's.\n\n| grid | threshold | geocert build s | geocert refine s | geocert triangles | geocert max error (exact) | pymartini total s | pymartini get_mesh s | pymartini triangles | pymartini max error (exact) | geocert triangles at pymartini's error | its max error (exact) |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     );
     for r in &c.martini {
         let (a, b, t) = r
@@ -825,9 +889,15 @@ pub fn write_diamond_report(
             .map_or(("—".into(), "—".into(), "—".into()), |(a, b, t)| {
                 (format!("{a:.4}"), format!("{b:.4}"), t.to_string())
             });
+        let me = r.martini_max_error.map_or("—".into(), |e| e.to_string());
+        let (gt, ge) = r
+            .geocert_at_martini_error
+            .map_or(("—".into(), "—".into()), |(t, e)| {
+                (t.to_string(), e.to_string())
+            });
         let _ = writeln!(
             s,
-            "| {}² | {} | {:.3} | {:.4} | {} | {} | {a} | {b} | {t} |",
+            "| {}² | {} | {:.3} | {:.4} | {} | {} | {a} | {b} | {t} | {me} | {gt} | {ge} |",
             r.grid,
             r.threshold,
             r.geocert_build_s,

@@ -37,16 +37,17 @@ def main():
         totals.append(end - start)
         meshes.append(end - mid)
     if out is not None:
-        v = np.asarray(vertices, dtype="<u4")
-        t = np.asarray(triangles, dtype="<u4")
+        v = np.asarray(vertices, dtype="<u4").ravel()
+        t = np.asarray(triangles, dtype="<u4").ravel()
         header = np.array([v.size // 2, t.size // 3], dtype="<u4")
         np.concatenate([header, v, t]).astype("<u4").tofile(out)
     print(json.dumps({
         "version": "pymartini",
         "median_s": statistics.median(totals),
         "mesh_median_s": statistics.median(meshes),
-        "triangles": len(triangles) // 3,
-        "vertices": len(vertices) // 2,
+        # get_mesh returns (n, 2) vertices and (m, 3) triangles (not flat arrays).
+        "triangles": np.asarray(triangles).reshape(-1, 3).shape[0],
+        "vertices": np.asarray(vertices).reshape(-1, 2).shape[0],
     }))
 
 

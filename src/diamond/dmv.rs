@@ -117,22 +117,23 @@ impl<const D: usize> FullDmv<D> {
         let mut stats: Vec<[f32; 3]> = Vec::with_capacity(n);
         // Refinement reads it at scattered places: huge pages spare most TLB misses.
         crate::memory::advise_huge_pages(&mut stats);
-        (0..n)
-            .into_par_iter()
-            .map(|i| match hier.diamond(field.point(i)) {
-                Ok(dia) => {
-                    let s = match &ints {
-                        Some(v) => diamond_stats_integer(v, hier.side(), &dia),
-                        None => diamond_stats_fast(&field, &dia),
-                    };
-                    [f32_up(s.error_hi), f32_down(s.min), f32_up(s.max)]
-                }
-                Err(_) => {
-                    let v = field.values()[i];
-                    [0.0, f32_down(v), f32_up(v)]
-                }
-            })
-            .collect_into_vec(&mut stats);
+        stats.par_extend(
+            (0..n)
+                .into_par_iter()
+                .map(|i| match hier.diamond(field.point(i)) {
+                    Ok(dia) => {
+                        let s = match &ints {
+                            Some(v) => diamond_stats_integer(v, hier.side(), &dia),
+                            None => diamond_stats_fast(&field, &dia),
+                        };
+                        [f32_up(s.error_hi), f32_down(s.min), f32_up(s.max)]
+                    }
+                    Err(_) => {
+                        let v = field.values()[i];
+                        [0.0, f32_down(v), f32_up(v)]
+                    }
+                }),
+        );
         FullDmv { field, stats }
     }
 

@@ -175,6 +175,35 @@ fn sampled_distance(from: &crate::mesh::Mesh, to: &crate::mesh::Mesh) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// "quads split in two", and where some of the peer's vertices lie outside the sampled box
+/// `[0, side]³`, how many and the largest distance to the reference over the others.
+fn outside_note(mesh: &crate::mesh::Mesh, reference: &crate::mesh::Mesh, side: f64) -> String {
+    let inside: Vec<[f64; 3]> = mesh
+        .vertices
+        .iter()
+        .filter(|p| p.iter().all(|x| (0.0..=side).contains(x)))
+        .copied()
+        .collect();
+    let outside = mesh.vertices.len() - inside.len();
+    if outside == 0 {
+        return "quads split in two".into();
+    }
+    let inner = crate::mesh::Mesh {
+        vertices: inside,
+        triangles: Vec::new(),
+        scalars: None,
+        normals: None,
+    };
+    format!(
+        "quads split in two; {outside} of {} vertices lie outside the sampled box: OpenVDB \
+         closes the surface against the background value beyond the volume, where the \
+         full-resolution surface ends open; over the other vertices the max distance to full \
+         is {:.3}",
+        mesh.vertices.len(),
+        sampled_distance(&inner, reference)
+    )
+}
+
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
@@ -438,7 +467,7 @@ fn surface_rows(
                     sampled_distance(&reference, &mesh),
                 )),
                 closed: None,
-                note: "quads split in two".into(),
+                note: outside_note(&mesh, &reference, (n - 1) as f64),
             },
             Err(e) => SurfaceRow {
                 volume: volume.into(),
@@ -858,7 +887,7 @@ pub fn write_diamond_report(
     }
     let _ = writeln!(
         s,
-        "\n## Adaptive isosurfaces against OpenVDB and VTK\n\nSame volume and isovalue (half-way between samples so that no sample lies on it). Distances in grid units: the largest distance of a method's vertices from geocert's full-resolution marching-cubes surface, and of that surface's vertices from the method's surface, each over an evenly strided sample of at most {DISTANCE_SAMPLES} vertices (a lower bound of the one-sided Hausdorff distance). OpenVDB runs `FloatGrid.copyFromArray` (background = the volume's minimum) then `convertToPolygons(iso, adaptivity)` (its time includes the copy); VTK one thread. Medians of 3 runs. \"closed\" is checked for the adaptive surface only: every edge in two triangles except in the domain's boundary faces (the full-resolution surfaces end open at the domain boundary). Where a peer's \"max dist. to full\" is several grid units, the peer's surface has parts the full-resolution surface does not (not investigated here). geocert's adaptive surface is marching tetrahedra on the current mesh: it has more triangles per cell than marching cubes, so where the criterion refines the whole isosurface region to the finest level (the MNI template at this error) it is larger than the full-resolution surface.\n\n| volume | iso | method | median s | triangles | max dist. to full | max dist. from full | closed |\n|---|---:|---|---:|---:|---:|---:|---|"
+        "\n## Adaptive isosurfaces against OpenVDB and VTK\n\nSame volume and isovalue (half-way between samples so that no sample lies on it). Distances in grid units: the largest distance of a method's vertices from geocert's full-resolution marching-cubes surface, and of that surface's vertices from the method's surface, each over an evenly strided sample of at most {DISTANCE_SAMPLES} vertices (a lower bound of the one-sided Hausdorff distance). OpenVDB runs `FloatGrid.copyFromArray` (background = the volume's minimum) then `convertToPolygons(iso, adaptivity)` (its time includes the copy); VTK one thread. Medians of 3 runs. \"closed\" is checked for the adaptive surface only: every edge in two triangles except in the domain's boundary faces (the full-resolution surfaces end open at the domain boundary). Where a peer's \"max dist. to full\" is several grid units, the peer's surface has parts the full-resolution surface does not: its note says which. geocert's adaptive surface is marching tetrahedra on the current mesh: it has more triangles per cell than marching cubes, so where the criterion refines the whole isosurface region to the finest level (the MNI template at this error) it is larger than the full-resolution surface.\n\n| volume | iso | method | median s | triangles | max dist. to full | max dist. from full | closed |\n|---|---:|---|---:|---:|---:|---:|---|"
     );
     for r in &c.surfaces {
         let _ = writeln!(
@@ -905,9 +934,16 @@ pub fn write_diamond_report(
             r.geocert_triangles,
             r.geocert_max_error
         );
-        if !r.note.is_empty() {
-            let _ = writeln!(s, "\n{}", r.note);
-        }
+    }
+    let mut martini_notes: Vec<&str> = c
+        .martini
+        .iter()
+        .map(|r| r.note.as_str())
+        .filter(|n| !n.is_empty())
+        .collect();
+    martini_notes.dedup();
+    for n in martini_notes {
+        let _ = writeln!(s, "\n{n}");
     }
     if !c.notes.is_empty() {
         let _ = writeln!(s, "\n## Not available in this run\n");

@@ -60,7 +60,7 @@ pub use refine::{
     TetSurface,
 };
 pub use supercube::{supercube_edges, DiamondType, Supercube};
-pub use table::PointMap;
+pub(crate) use table::PointMap;
 pub use volumes::{builtin_volume, BUILTIN_VOLUMES};
 
 use num_bigint::{BigInt, BigUint};

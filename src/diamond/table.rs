@@ -25,7 +25,7 @@ const MIN_SLOTS: usize = 16;
 /// A hash map from grid points to `V` (open addressing, linear probing, backward-shift
 /// deletion: no tombstones, so look-ups stay short after many removals).
 #[derive(Clone, Debug)]
-pub struct PointMap<V, const D: usize> {
+pub(crate) struct PointMap<V, const D: usize> {
     slots: Vec<(Point<D>, V)>,
     len: usize,
     /// `64 − log2(slots.len())`: the home slot is the hash's top bits.
@@ -54,29 +54,29 @@ fn hash<const D: usize>(p: &Point<D>) -> u64 {
 
 impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
     /// An empty map with room for `n` keys without growing.
-    pub fn with_capacity(n: usize) -> Self {
+    pub(crate) fn with_capacity(n: usize) -> Self {
         let mut m = PointMap::default();
         m.reserve(n);
         m
     }
 
     /// The number of keys.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.len
     }
 
     /// True when no key is held.
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.len == 0
     }
 
     /// The number of slots (the load factor is `len / capacity`).
-    pub fn capacity(&self) -> usize {
+    pub(crate) fn capacity(&self) -> usize {
         self.slots.len()
     }
 
     /// Makes room for `additional` more keys without growing.
-    pub fn reserve(&mut self, additional: usize) {
+    pub(crate) fn reserve(&mut self, additional: usize) {
         let need = self.len + additional;
         if need * LOAD_DEN > self.slots.len() * LOAD_NUM {
             let mut slots = MIN_SLOTS.max(self.slots.len());
@@ -118,7 +118,7 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
 
     /// Starts loading `p`'s home slot into the cache (a hint; it changes nothing else).
     #[inline(always)]
-    pub fn prefetch(&self, p: &Point<D>) {
+    pub(crate) fn prefetch(&self, p: &Point<D>) {
         if !self.slots.is_empty() {
             crate::memory::prefetch(&self.slots[self.home(p)]);
         }
@@ -126,7 +126,7 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
 
     /// The value of `p`.
     #[inline]
-    pub fn get(&self, p: &Point<D>) -> Option<&V> {
+    pub(crate) fn get(&self, p: &Point<D>) -> Option<&V> {
         if self.slots.is_empty() {
             return None;
         }
@@ -138,7 +138,7 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
 
     /// The value of `p`, inserting `make()` first when `p` is absent.
     #[inline]
-    pub fn get_or_insert_with(&mut self, p: Point<D>, make: impl FnOnce() -> V) -> &mut V {
+    pub(crate) fn get_or_insert_with(&mut self, p: Point<D>, make: impl FnOnce() -> V) -> &mut V {
         debug_assert!(p[0] != EMPTY);
         if self.slots.is_empty() {
             self.reserve(1);
@@ -157,7 +157,7 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
 
     /// The value of `p`, mutably.
     #[inline]
-    pub fn get_mut(&mut self, p: &Point<D>) -> Option<&mut V> {
+    pub(crate) fn get_mut(&mut self, p: &Point<D>) -> Option<&mut V> {
         if self.slots.is_empty() {
             return None;
         }
@@ -168,7 +168,7 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
     }
 
     /// Keeps only the entries for which `keep` holds, in a table sized for them.
-    pub fn retain(&mut self, keep: impl Fn(&Point<D>, &V) -> bool) {
+    pub(crate) fn retain(&mut self, keep: impl Fn(&Point<D>, &V) -> bool) {
         let kept: Vec<(Point<D>, V)> = self
             .slots
             .iter()
@@ -183,7 +183,7 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
 
     /// Sets the value of `p`; the old value, if any.
     #[inline]
-    pub fn insert(&mut self, p: Point<D>, v: V) -> Option<V> {
+    pub(crate) fn insert(&mut self, p: Point<D>, v: V) -> Option<V> {
         let mut inserted = false;
         let slot = self.get_or_insert_with(p, || {
             inserted = true;
@@ -198,7 +198,7 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
 
     /// Removes `p`; its value, if it was held.
     #[inline]
-    pub fn remove(&mut self, p: &Point<D>) -> Option<V> {
+    pub(crate) fn remove(&mut self, p: &Point<D>) -> Option<V> {
         if self.slots.is_empty() {
             return None;
         }
@@ -233,7 +233,7 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
     }
 
     /// Every key with its value, in slot order.
-    pub fn iter(&self) -> impl Iterator<Item = (&Point<D>, &V)> + '_ {
+    pub(crate) fn iter(&self) -> impl Iterator<Item = (&Point<D>, &V)> + '_ {
         self.slots
             .iter()
             .filter(|(k, _)| k[0] != EMPTY)

@@ -254,9 +254,7 @@ impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
             }
         });
         while let Some(p) = stack.pop() {
-            let seen = refined.len();
-            refined.get_or_insert_with(p.center(), || false);
-            if refined.len() > seen {
+            if refined.insert(p.center(), false).is_none() {
                 for slot in 0..p.parent_slots() {
                     stack.extend(p.parent_in_slot(slot));
                 }
@@ -311,11 +309,10 @@ impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
             }
         }
         refined.insert(x.center(), true);
-        let mut children = Vec::new();
-        x.for_each_child(|c| children.push(c));
-        for c in children {
-            if refined.get(&c.center()) == Some(&false) && self.wanted(&c, lod) {
-                queue.push(c);
+        for &c in x.children().iter() {
+            let child = self.hier.diamond_unchecked(c);
+            if refined.get(&c) == Some(&false) && self.wanted(&child, lod) {
+                queue.push(child);
             }
         }
     }

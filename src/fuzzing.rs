@@ -635,9 +635,22 @@ pub fn check_mc_fe(data: &[u8]) -> Result<(), String> {
     }
     let opts = FeOptions {
         cells,
+        parts: 1,
         ..FeOptions::default()
     };
     let fast = polygonise_fast(&m, iso, &opts).map_err(|e| e.to_string())?;
+    // One element range per element welds to the one-pass mesh exactly.
+    let split =
+        polygonise_fast(&m, iso, &opts.with_parts(m.elements.len())).map_err(|e| e.to_string())?;
+    if split.mesh.triangles != fast.mesh.triangles
+        || split.mesh.vertices != fast.mesh.vertices
+        || split.stats != fast.stats
+    {
+        return Err(format!(
+            "{} element ranges give another mesh than one pass",
+            m.elements.len()
+        ));
+    }
     let q = |x: f64| crate::num::rational_from_f64(x, "v").expect("finite");
     let exact = polygonise_exact(&m.to_exact().map_err(|e| e.to_string())?, &q(iso), &opts)
         .map_err(|e| e.to_string())?;

@@ -99,6 +99,7 @@ pub mod strategies;
 pub mod sweep;
 
 mod fuzzing;
+mod hashing;
 mod memory;
 mod par;
 #[path = "../proofs/mod.rs"]

@@ -11,6 +11,14 @@ pub(crate) mod prelude {
 #[cfg(feature = "parallel")]
 pub(crate) use rayon::iter::repeat_n;
 
+/// Threads a parallel pass runs on: rayon's pool size, or 1 without the `parallel` feature.
+pub(crate) fn threads() -> usize {
+    #[cfg(feature = "parallel")]
+    return rayon::current_num_threads();
+    #[cfg(not(feature = "parallel"))]
+    return 1;
+}
+
 #[cfg(not(feature = "parallel"))]
 pub(crate) use std::iter::repeat_n;
 

@@ -7,7 +7,6 @@ use super::error::{diamond_stats_fast, diamond_stats_integer, integer_samples};
 use super::table::PointMap;
 use super::{Diamond, Field, Hierarchy, Point};
 use crate::par::prelude::*;
-use std::hash::Hasher;
 
 /// The data a DMV keeps per diamond (Section 6): `F(v_c)`, the error `ε(δ)` (an upper bound,
 /// rounded up to `f32`) and the range of `F` over δ's domain (rounded outwards to `f32`).
@@ -59,42 +58,7 @@ pub trait DmvAccess<const D: usize> {
     }
 }
 
-/// A fast multiplicative hasher for grid-point keys (the keys are not adversarial: they come
-/// from the DMV itself).
-#[derive(Clone, Copy, Default)]
-pub struct PointHasher(u64);
-
-impl Hasher for PointHasher {
-    #[inline]
-    fn write(&mut self, bytes: &[u8]) {
-        let mut chunks = bytes.chunks_exact(8);
-        for c in &mut chunks {
-            self.write_u64(u64::from_le_bytes(c.try_into().expect("8 bytes")));
-        }
-        let rest = chunks.remainder();
-        if !rest.is_empty() {
-            let mut last = [0u8; 8];
-            last[..rest.len()].copy_from_slice(rest);
-            self.write_u64(u64::from_le_bytes(last));
-        }
-    }
-    #[inline]
-    fn write_u32(&mut self, x: u32) {
-        self.write_u64(u64::from(x));
-    }
-    #[inline]
-    fn write_u64(&mut self, x: u64) {
-        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-    #[inline]
-    fn write_usize(&mut self, x: usize) {
-        self.write_u64(x as u64);
-    }
-    #[inline]
-    fn finish(&self) -> u64 {
-        self.0
-    }
-}
+pub use crate::hashing::PointHasher;
 
 /// The full DMV `Δf`: every diamond's data, indexed like the field (row-major, axis 0
 /// fastest), the corners included with zero error.

@@ -308,7 +308,7 @@ impl SignRows {
 
 /// The cut cells of one cell row as a bitset (bit `i`: cell `i` has corners of both signs),
 /// from the sign bitsets of its four grid rows; `cells` cells in the row.
-fn cut_cells(rows: [&[u64]; 4], cells: usize, out: &mut [u64]) {
+pub(crate) fn cut_cells(rows: [&[u64]; 4], cells: usize, out: &mut [u64]) {
     let words = out.len();
     let all = |w: usize| rows[0][w] & rows[1][w] & rows[2][w] & rows[3][w];
     let any = |w: usize| rows[0][w] | rows[1][w] | rows[2][w] | rows[3][w];

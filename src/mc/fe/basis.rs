@@ -112,6 +112,7 @@ pub(crate) fn terms_exact(
     out
 }
 
+#[cfg(test)]
 /// The terms of eq. (1) in `f64` (all `8 · dofs` of them, zero weights included), written
 /// into `out`; returns how many.
 pub(crate) fn terms_f64(

@@ -13,13 +13,15 @@
 //! Cut edges inside an element use per-element arrays; only edges on the element boundary go
 //! through the hash table of edge names (Section 3.2).
 
-use super::basis::{basis_f64, terms_f64};
-use super::exact::{interpolate_field, interpolate_world, jacobian_determinant};
+use super::exact::jacobian_determinant;
+use super::integer::IntegerElement;
 use super::lattice::{edge_key, edge_on_boundary, EdgeKey};
+use super::tensor::ElementTensor;
 use super::{
     cell_corner, cell_edge, classify, face_abcd, prepare, weld, FeError, FeModel, FeOptions,
     FeStats, NormalSource,
 };
+use crate::hashing::FastMap;
 use crate::mc::decider::decide_exact;
 use crate::mc::table::{table, CENTRE};
 use crate::mesh::Mesh;
@@ -65,76 +67,34 @@ struct Sample {
     positive: bool,
 }
 
-/// What one element needs while it is polygonised.
-struct ElementData {
-    dofs_u: Vec<f64>,
-    dofs_x: Vec<[f64; 3]>,
-    /// Bound on `|∂x/∂ξ_d|` (max-norm): `1.5 Σ max|x dof|`.
-    lip: f64,
-    /// Bound on the world evaluation error: `2⁻⁴⁴ Σ max|x dof|`.
-    x_err: f64,
-}
-
-impl ElementData {
-    fn new(m: &FeModel<f64>, nodes: &[u32; 8]) -> ElementData {
-        let ndof = m.kind.dofs_per_node();
-        let mut dofs_u = Vec::with_capacity(8 * ndof);
-        let mut dofs_x = Vec::with_capacity(8 * ndof);
-        for &nd in nodes {
-            for k in 0..ndof {
-                dofs_u.push(m.field[nd as usize * ndof + k]);
-                dofs_x.push(m.coordinates[nd as usize * ndof + k]);
-            }
-        }
-        let sx: f64 = dofs_x
-            .iter()
-            .map(|p| p.iter().fold(0.0f64, |a, x| a.max(x.abs())))
-            .sum();
-        ElementData {
-            dofs_u,
-            dofs_x,
-            lip: 1.5 * sx * (1.0 + 8.0 * EPS),
-            x_err: 2.0 * VALUE_BOUND * sx,
-        }
-    }
-
-    fn world(&self, kind: super::ElementKind, xi: [f64; 3], derivative: Option<usize>) -> [f64; 3] {
-        let mut terms = [(0usize, 0usize, 0.0f64); 64];
-        let count = terms_f64(kind, xi, derivative, &mut terms);
-        let ndof = kind.dofs_per_node();
-        let mut x = [0.0; 3];
-        for &(node, k, w) in &terms[..count] {
-            let c = self.dofs_x[node * ndof + k];
-            for a in 0..3 {
-                x[a] += w * c[a];
-            }
-        }
-        x
-    }
-
-    fn field_gradient(&self, kind: super::ElementKind, xi: [f64; 3]) -> [f64; 3] {
-        let mut terms = [(0usize, 0usize, 0.0f64); 64];
-        let ndof = kind.dofs_per_node();
-        std::array::from_fn(|d| {
-            let count = terms_f64(kind, xi, Some(d), &mut terms);
-            terms[..count]
-                .iter()
-                .map(|&(node, k, w)| w * self.dofs_u[node * ndof + k])
-                .sum()
-        })
-    }
-}
-
 /// Lazily converted exact model and exact lattice values (the fallbacks).
 struct ExactOracle<'a> {
     model: &'a FeModel<f64>,
     exact: Option<FeModel<Rational>>,
     iso: Rational,
     values: HashMap<(usize, [usize; 3]), Rational>,
+    /// Elements met so far, in integer form (exact evaluation without a gcd per product).
+    integer: FastMap<usize, IntegerElement>,
     n: [usize; 3],
 }
 
-impl ExactOracle<'_> {
+impl<'a> ExactOracle<'a> {
+    fn new(model: &'a FeModel<f64>, iso: Rational, n: [usize; 3]) -> ExactOracle<'a> {
+        ExactOracle {
+            model,
+            exact: None,
+            iso,
+            values: HashMap::new(),
+            integer: FastMap::default(),
+            n,
+        }
+    }
+    fn integer(&mut self, element: usize) -> &IntegerElement {
+        let m = self.model;
+        self.integer
+            .entry(element)
+            .or_insert_with(|| IntegerElement::new(m, &m.elements[element]))
+    }
     fn model(&mut self) -> &FeModel<Rational> {
         if self.exact.is_none() {
             self.exact = Some(self.model.to_exact().expect("validated"));
@@ -149,8 +109,7 @@ impl ExactOracle<'_> {
             return v.clone();
         }
         let xi = self.xi(p);
-        let nodes = self.model.elements[element];
-        let v = interpolate_field(self.model(), &nodes, &xi, None);
+        let [v] = self.integer(element).eval([0], &xi);
         self.values.insert((element, p), v.clone());
         v
     }
@@ -168,8 +127,7 @@ impl ExactOracle<'_> {
         let n = self.n;
         let xi: [Rational; 3] =
             std::array::from_fn(|d| &p[d] / Rational::from_integer((n[d] as i64).into()));
-        let nodes = self.model.elements[element];
-        interpolate_world(self.model(), &nodes, &xi, None)
+        self.integer(element).eval([1, 2, 3], &xi)
     }
     fn vertex(&mut self, o: &Origin) -> [Rational; 3] {
         match o {
@@ -198,262 +156,67 @@ impl ExactOracle<'_> {
     }
 }
 
+/// What a range of elements produced: vertices numbered in creation order, and the
+/// boundary-edge names of the vertices it made on element boundaries (to weld ranges).
+#[derive(Default)]
+struct Part {
+    vertices: Vec<[f64; 3]>,
+    normals: Vec<[f64; 3]>,
+    radius: Vec<f64>,
+    origin: Vec<Origin>,
+    triangles: Vec<[u32; 3]>,
+    keys: Vec<(u32, EdgeKey)>,
+    stats: FeStats,
+}
+
 /// Fast polygonisation. Errors on bad models or a non-finite isovalue.
+///
+/// The elements are cut into [`FeOptions::parts`] contiguous ranges, polygonised in parallel
+/// (feature `parallel`) and welded by the names of the cut edges on shared element faces;
+/// a vertex is numbered where the one-pass order would create it, so the mesh is the same
+/// for every number of parts.
 pub fn polygonise_fast(m: &FeModel<f64>, iso: f64, opts: &FeOptions) -> Result<FeSurface, FeError> {
+    use crate::par::prelude::*;
     m.validate()?;
     if !iso.is_finite() {
         return Err(FeError::Isovalue);
     }
     prepare(m, opts)?;
-    let n = opts.cells;
-    let kind = m.kind;
-    let ndof = kind.dofs_per_node();
-    let tab = table();
+    let iso_exact = crate::num::rational_from_f64(iso, "isovalue").expect("finite");
+    let elements = m.elements.len();
+    let parts = opts.parts().clamp(1, elements);
+    let ranges: Vec<(usize, usize)> = (0..parts)
+        .map(|p| (p * elements / parts, (p + 1) * elements / parts))
+        .collect();
+    let lattice = ElementTensor::lattice_bases(m.kind, opts.cells);
+    let pieces: Vec<(Part, FastMap<EdgeKey, u32>)> = ranges
+        .into_par_iter()
+        .map(|range| {
+            let mut k = Kernel::new(m, iso, &iso_exact, opts, &lattice);
+            for e in range.0..range.1 {
+                k.element(e);
+            }
+            (k.out, k.named)
+        })
+        .collect();
     let mut stats = FeStats {
-        elements: m.elements.len(),
+        elements,
         ..FeStats::default()
     };
-    let mut oracle = ExactOracle {
-        model: m,
-        exact: None,
-        iso: crate::num::rational_from_f64(iso, "isovalue").expect("finite"),
-        values: HashMap::new(),
-        n,
-    };
-    // The 1-D bases at the lattice positions, per direction.
-    let lattice_basis: [Vec<[f64; 4]>; 3] = std::array::from_fn(|d| {
-        (0..=n[d])
-            .map(|i| basis_f64(kind.bases[d], i as f64 / n[d] as f64))
-            .collect()
-    });
-    let side_of = |node: usize| [node & 1, node >> 1 & 1, node >> 2 & 1];
-    let dof_der: Vec<[usize; 3]> = (0..ndof)
-        .map(|k| kind.derivative_of_dof(k).map(usize::from))
-        .collect();
-    let stride = [1, n[0] + 1, (n[0] + 1) * (n[1] + 1)];
-    let points = stride[2] * (n[2] + 1);
-    let index = |p: [usize; 3]| p[0] + stride[1] * p[1] + stride[2] * p[2];
-
-    let mut boundary_vertex: HashMap<EdgeKey, u32> = HashMap::new();
-    let mut vertices: Vec<[f64; 3]> = Vec::new();
-    let mut normals: Vec<[f64; 3]> = Vec::new();
-    let mut radius: Vec<f64> = Vec::new();
-    let mut origin: Vec<Origin> = Vec::new();
-    let mut triangles: Vec<[u32; 3]> = Vec::new();
-    let mut samples = vec![
-        Sample {
-            v: 0.0,
-            err: 0.0,
-            positive: false
-        };
-        points
-    ];
-    let mut local_ids: [Vec<u32>; 3] = std::array::from_fn(|_| vec![NONE; points]);
-    let mut gradients: Vec<[f64; 3]> = Vec::new();
-
-    for (e, nodes) in m.elements.iter().enumerate() {
-        let data = ElementData::new(m, nodes);
-        let s_u: f64 = data.dofs_u.iter().map(|x| x.abs()).sum();
-        let err = (VALUE_BOUND * s_u).max(f64::MIN_POSITIVE);
-        // Step 2: sample the lattice.
-        for k in 0..=n[2] {
-            for j in 0..=n[1] {
-                for i in 0..=n[0] {
-                    let mut v = 0.0;
-                    for node in 0..8 {
-                        let s = side_of(node);
-                        for (dof, der) in dof_der.iter().enumerate() {
-                            let w = lattice_basis[0][i][2 * s[0] + der[0]]
-                                * lattice_basis[1][j][2 * s[1] + der[1]]
-                                * lattice_basis[2][k][2 * s[2] + der[2]];
-                            v += w * data.dofs_u[node * ndof + dof];
-                        }
-                    }
-                    let d = v - iso;
-                    let margin = err + EPS * d.abs();
-                    let sample = if d > margin {
-                        Sample {
-                            v,
-                            err,
-                            positive: true,
-                        }
-                    } else if d < -margin {
-                        Sample {
-                            v,
-                            err,
-                            positive: false,
-                        }
-                    } else {
-                        stats.exact_values += 1;
-                        let exact = oracle.value(e, [i, j, k]);
-                        let v = rational_to_f64(&exact);
-                        Sample {
-                            v,
-                            err: (v.abs() * EPS).max(f64::MIN_POSITIVE),
-                            positive: exact >= oracle.iso,
-                        }
-                    };
-                    samples[index([i, j, k])] = sample;
-                }
-            }
-        }
-        if opts.normals == NormalSource::FiniteDifference {
-            gradients = finite_difference_gradients(&samples, n, &index);
-        }
-        let flip = element_flip(&data, kind, &mut oracle, e, &mut stats);
-        for ids in &mut local_ids {
-            ids.fill(NONE);
-        }
-        // The cut point of a lattice edge in lattice units, and its bound.
-        let cut = |lo: [usize; 3], axis: usize, oracle: &mut ExactOracle| -> ([f64; 3], f64) {
-            let mut hi = lo;
-            hi[axis] += 1;
-            let (a, b) = (samples[index(lo)], samples[index(hi)]);
-            let den = (b.v - a.v).abs();
-            let e_sum = a.err + b.err;
-            let (t, dt) = if e_sum <= 0.25 * den {
-                ((iso - a.v) / (b.v - a.v), 3.0 * e_sum / den + 4.0 * EPS)
-            } else {
-                let p = oracle.cut(e, lo, axis);
-                (
-                    rational_to_f64(&(&p[axis] - Rational::from_integer((lo[axis] as i64).into()))),
-                    EPS,
-                )
-            };
-            let mut p = lo.map(|x| x as f64);
-            p[axis] += t.clamp(0.0, 1.0);
-            (p, dt)
-        };
-        for ck in 0..n[2] {
-            for cj in 0..n[1] {
-                for ci in 0..n[0] {
-                    let cell = [ci, cj, ck];
-                    stats.cells += 1;
-                    let corner: [Sample; 8] =
-                        std::array::from_fn(|c| samples[index(cell_corner(cell, c))]);
-                    let Some((config, amb)) = classify(|c| corner[c].positive, &mut stats) else {
-                        continue;
-                    };
-                    let mut sub = 0u8;
-                    for (bit, &f) in amb.iter().enumerate() {
-                        let abcd = face_abcd(f as usize);
-                        let joined = match decide_bounded(abcd.map(|c| corner[c]), iso) {
-                            Some(j) => j,
-                            None => {
-                                stats.exact_faces += 1;
-                                let v = abcd.map(|c| oracle.value(e, cell_corner(cell, c)));
-                                decide_exact([&v[0], &v[1], &v[2], &v[3]], &oracle.iso)
-                                    .unwrap_or(false)
-                            }
-                        };
-                        sub |= u8::from(joined) << bit;
-                    }
-                    let entry = tab.offsets[config as usize] as usize + sub as usize;
-                    let mut centre = [NONE; 4];
-                    for tri in tab.extraction_triangles(entry) {
-                        let mut t = [0u32; 3];
-                        for (slot, &edge) in t.iter_mut().zip(tri) {
-                            let mut edge_vertex = |edge: u8| -> u32 {
-                                let (axis, lo) = cell_edge(cell, edge);
-                                let id = &mut local_ids[axis][index(lo)];
-                                if *id != NONE {
-                                    return *id;
-                                }
-                                let key = edge_on_boundary(n, lo, axis)
-                                    .then(|| edge_key(e, nodes, n, lo, axis).0);
-                                if let Some(v) = key.as_ref().and_then(|k| boundary_vertex.get(k)) {
-                                    *id = *v;
-                                    return *id;
-                                }
-                                let (p, dt) = cut(lo, axis, &mut oracle);
-                                let xi = [0, 1, 2].map(|d| p[d] / n[d] as f64);
-                                vertices.push(data.world(kind, xi, None));
-                                let g = match opts.normals {
-                                    NormalSource::Interpolant => data.field_gradient(kind, xi),
-                                    NormalSource::FiniteDifference => {
-                                        let mut hi = lo;
-                                        hi[axis] += 1;
-                                        let s = p[axis] - lo[axis] as f64;
-                                        let (g0, g1) = (gradients[index(lo)], gradients[index(hi)]);
-                                        [0, 1, 2].map(|d| g0[d] + s * (g1[d] - g0[d]))
-                                    }
-                                };
-                                normals.push(world_normal(&data, kind, xi, g));
-                                radius.push(
-                                    data.lip * (dt / n[axis] as f64 + 4.0 * EPS) + data.x_err,
-                                );
-                                origin.push(Origin::Edge {
-                                    element: e,
-                                    lo,
-                                    axis,
-                                });
-                                *id = (vertices.len() - 1) as u32;
-                                if let Some(k) = key {
-                                    boundary_vertex.insert(k, *id);
-                                }
-                                *id
-                            };
-                            if edge < CENTRE {
-                                *slot = edge_vertex(edge);
-                                continue;
-                            }
-                            let pi = (edge - CENTRE) as usize;
-                            let poly = &tab.entries[entry].polygons[pi];
-                            if centre[pi] == NONE {
-                                // The centre is numbered after its polygon's cut points.
-                                for &x in poly {
-                                    edge_vertex(x);
-                                }
-                                let mut c = [0.0; 3];
-                                let mut dxi = 0.0f64;
-                                let mut g = [0.0; 3];
-                                for &x in poly {
-                                    let (axis, lo) = cell_edge(cell, x);
-                                    let (p, dt) = cut(lo, axis, &mut oracle);
-                                    for d in 0..3 {
-                                        c[d] += p[d];
-                                    }
-                                    dxi = dxi.max(dt / n[axis] as f64);
-                                    if opts.normals == NormalSource::FiniteDifference {
-                                        let mut hi = lo;
-                                        hi[axis] += 1;
-                                        let s = p[axis] - lo[axis] as f64;
-                                        let (g0, g1) = (gradients[index(lo)], gradients[index(hi)]);
-                                        for d in 0..3 {
-                                            g[d] += g0[d] + s * (g1[d] - g0[d]);
-                                        }
-                                    }
-                                }
-                                let xi = [0, 1, 2].map(|d| c[d] / poly.len() as f64 / n[d] as f64);
-                                vertices.push(data.world(kind, xi, None));
-                                if opts.normals == NormalSource::Interpolant {
-                                    g = data.field_gradient(kind, xi);
-                                }
-                                normals.push(world_normal(&data, kind, xi, g));
-                                radius.push(data.lip * (dxi + 8.0 * EPS) + data.x_err);
-                                origin.push(Origin::Centre {
-                                    element: e,
-                                    cell,
-                                    edges: poly.clone(),
-                                });
-                                centre[pi] = (vertices.len() - 1) as u32;
-                            }
-                            *slot = centre[pi];
-                        }
-                        if flip {
-                            t.swap(1, 2);
-                        }
-                        triangles.push(t);
-                    }
-                }
-            }
-        }
+    let mut pieces = pieces.into_iter();
+    // The first range's vertices keep their ids, and its names are the start of the map.
+    let (mut all, mut named) = pieces.next().expect("at least one range");
+    stats.add(&all.stats);
+    for (piece, _) in pieces {
+        stats.add(&piece.stats);
+        append(&mut all, &mut named, piece);
     }
-    let rep = coincident_representatives(&vertices, &radius, &origin, &mut oracle);
-    let (kept, triangles) = weld(&rep, &triangles, &mut stats);
-    let vertices: Vec<[f64; 3]> = kept.iter().map(|&i| vertices[i as usize]).collect();
+    let mut oracle = ExactOracle::new(m, iso_exact, opts.cells);
+    let rep = coincident_representatives(&all.vertices, &all.radius, &all.origin, &mut oracle);
+    let (kept, triangles) = weld(&rep, &all.triangles, &mut stats);
+    let vertices: Vec<[f64; 3]> = kept.iter().map(|&i| all.vertices[i as usize]).collect();
     let normals = finish_normals(
-        kept.iter().map(|&i| normals[i as usize]).collect(),
+        kept.iter().map(|&i| all.normals[i as usize]).collect(),
         &vertices,
         &triangles,
     );
@@ -466,6 +229,391 @@ pub fn polygonise_fast(m: &FeModel<f64>, iso: f64, opts: &FeOptions) -> Result<F
         },
         stats,
     })
+}
+
+/// Appends `piece` to `all`: its vertices on element boundaries that an earlier range
+/// already made (same edge name) take that vertex's id, the others are numbered after
+/// `all`'s in creation order.
+fn append(all: &mut Part, named: &mut FastMap<EdgeKey, u32>, piece: Part) {
+    let mut remap = vec![NONE; piece.vertices.len()];
+    for (id, key) in &piece.keys {
+        if let Some(&old) = named.get(key) {
+            remap[*id as usize] = old;
+        }
+    }
+    let Part {
+        vertices,
+        normals,
+        radius,
+        origin,
+        triangles,
+        keys,
+        ..
+    } = piece;
+    for (((slot, x), (nrm, r)), o) in remap
+        .iter_mut()
+        .zip(vertices)
+        .zip(normals.into_iter().zip(radius))
+        .zip(origin)
+    {
+        if *slot == NONE {
+            *slot = all.vertices.len() as u32;
+            all.vertices.push(x);
+            all.normals.push(nrm);
+            all.radius.push(r);
+            all.origin.push(o);
+        }
+    }
+    for (id, key) in keys {
+        named.entry(key).or_insert(remap[id as usize]);
+    }
+    all.triangles
+        .extend(triangles.iter().map(|t| t.map(|v| remap[v as usize])));
+}
+
+/// The per-range state of the fast path: lattice samples and sign rows of the current
+/// element, cut-edge vertex ids, and the output.
+struct Kernel<'a> {
+    m: &'a FeModel<f64>,
+    iso: f64,
+    normals: NormalSource,
+    n: [usize; 3],
+    lattice: &'a [Vec<[f64; 4]>; 3],
+    oracle: ExactOracle<'a>,
+    /// The current element's samples, `i` fastest.
+    vals: Vec<f64>,
+    scratch: Vec<f64>,
+    /// Certified signs (`v ≥ iso`): one bitset of `words` words per lattice row along `ξ₁`.
+    signs: Vec<u64>,
+    words: usize,
+    cut: Vec<u64>,
+    gradients: Vec<[f64; 3]>,
+    /// Per lattice point, the vertex ids of its edges along `ξ₁, ξ₂, ξ₃`; ids below the
+    /// current element's first vertex are left over from earlier elements.
+    ids: Vec<[u32; 3]>,
+    /// Vertices on element boundaries made in this range, by edge name.
+    named: FastMap<EdgeKey, u32>,
+    out: Part,
+}
+
+/// The current element inside [`Kernel::element`].
+struct Current<'t> {
+    e: usize,
+    nodes: [u32; 8],
+    tensor: &'t ElementTensor,
+    /// The samples' error bound.
+    err: f64,
+    /// Bound on `|∂x/∂ξ_d|` (max-norm): `1.5 Σ max|x dof|`.
+    lip: f64,
+    /// Bound on the world evaluation error: `2⁻⁴⁴ Σ max|x dof|`.
+    x_err: f64,
+    /// Vertex ids from here on were made by this element.
+    start: u32,
+}
+
+impl<'a> Kernel<'a> {
+    fn new(
+        m: &'a FeModel<f64>,
+        iso: f64,
+        iso_exact: &Rational,
+        opts: &FeOptions,
+        lattice: &'a [Vec<[f64; 4]>; 3],
+    ) -> Kernel<'a> {
+        let n = opts.cells;
+        let points = (n[0] + 1) * (n[1] + 1) * (n[2] + 1);
+        let words = (n[0] + 1).div_ceil(64);
+        Kernel {
+            m,
+            iso,
+            normals: opts.normals,
+            n,
+            lattice,
+            oracle: ExactOracle::new(m, iso_exact.clone(), n),
+            vals: Vec::with_capacity(points),
+            scratch: Vec::new(),
+            signs: vec![0; (n[1] + 1) * (n[2] + 1) * words],
+            words,
+            cut: vec![0; n[0].div_ceil(64)],
+            gradients: Vec::new(),
+            ids: vec![[NONE; 3]; points],
+            named: FastMap::default(),
+            out: Part::default(),
+        }
+    }
+
+    fn index(&self, p: [usize; 3]) -> usize {
+        p[0] + (self.n[0] + 1) * (p[1] + (self.n[1] + 1) * p[2])
+    }
+
+    /// Whether lattice point `p`'s sample is at least the isovalue (certified).
+    fn positive(&self, p: [usize; 3]) -> bool {
+        let row = p[1] + (self.n[1] + 1) * p[2];
+        self.signs[row * self.words + p[0] / 64] >> (p[0] % 64) & 1 == 1
+    }
+
+    /// Polygonises element `e` (Section 3.3, steps 2–6).
+    fn element(&mut self, e: usize) {
+        let nodes = self.m.elements[e];
+        let tensor = ElementTensor::new(self.m, &nodes);
+        let ndof = self.m.kind.dofs_per_node();
+        let dofs = nodes
+            .iter()
+            .flat_map(|&nd| (0..ndof).map(move |k| nd as usize * ndof + k));
+        let (mut s_u, mut s_x) = (0.0f64, 0.0f64);
+        for d in dofs {
+            s_u += self.m.field[d].abs();
+            s_x += self.m.coordinates[d]
+                .iter()
+                .fold(0.0f64, |a, x| a.max(x.abs()));
+        }
+        let cur = Current {
+            e,
+            nodes,
+            tensor: &tensor,
+            err: (VALUE_BOUND * s_u).max(f64::MIN_POSITIVE),
+            lip: 1.5 * s_x * (1.0 + 8.0 * EPS),
+            x_err: 2.0 * VALUE_BOUND * s_x,
+            start: self.out.vertices.len() as u32,
+        };
+        // Step 2: sample the lattice, and certify each sign.
+        tensor.sample_field(self.lattice, &mut self.scratch, &mut self.vals);
+        self.classify_samples(&cur);
+        if self.normals == NormalSource::FiniteDifference {
+            self.gradients = finite_difference_gradients(&self.vals, self.n);
+        }
+        let flip = element_flip(&cur, &mut self.oracle, &mut self.out.stats);
+        let n = self.n;
+        self.out.stats.cells += n[0] * n[1] * n[2];
+        let words = self.words;
+        let row = |j: usize, k: usize| (j + (n[1] + 1) * k) * words;
+        let mut cut = std::mem::take(&mut self.cut);
+        for ck in 0..n[2] {
+            for cj in 0..n[1] {
+                let r = [
+                    row(cj, ck),
+                    row(cj + 1, ck),
+                    row(cj, ck + 1),
+                    row(cj + 1, ck + 1),
+                ];
+                let rows = r.map(|r| &self.signs[r..r + words]);
+                crate::mc::grid::cut_cells(rows, n[0], &mut cut);
+                for (w, &word) in cut.iter().enumerate() {
+                    let mut bits = word;
+                    while bits != 0 {
+                        let ci = 64 * w + bits.trailing_zeros() as usize;
+                        bits &= bits - 1;
+                        self.cell(&cur, [ci, cj, ck], flip);
+                    }
+                }
+            }
+        }
+        self.cut = cut;
+    }
+
+    /// Sets the sign rows from the samples: certified in `f64` where the value is farther
+    /// from the isovalue than its bound, exactly otherwise.
+    fn classify_samples(&mut self, cur: &Current) {
+        let (iso, err, words) = (self.iso, cur.err, self.words);
+        let p0 = self.n[0] + 1;
+        for r in 0..self.vals.len() / p0 {
+            for w in 0..words {
+                let (mut word, mut unsure) = (0u64, 0u64);
+                let chunk = &self.vals[r * p0 + 64 * w..(r * p0 + 64 * (w + 1)).min((r + 1) * p0)];
+                for (b, &v) in chunk.iter().enumerate() {
+                    let d = v - iso;
+                    let margin = err + EPS * d.abs();
+                    let (above, below) = (d > margin, d < -margin);
+                    word |= u64::from(above) << b;
+                    // NaN (an overflowed sum) is neither: decided exactly.
+                    unsure |= u64::from(!(above || below)) << b;
+                }
+                while unsure != 0 {
+                    let b = unsure.trailing_zeros() as usize;
+                    unsure &= unsure - 1;
+                    let i = 64 * w + b;
+                    let p = [i, r % (self.n[1] + 1), r / (self.n[1] + 1)];
+                    self.out.stats.exact_values += 1;
+                    let exact = self.oracle.value(cur.e, p);
+                    word |= u64::from(exact >= self.oracle.iso) << b;
+                }
+                self.signs[r * words + w] = word;
+            }
+        }
+    }
+
+    fn sample(&self, cur: &Current, p: [usize; 3]) -> Sample {
+        Sample {
+            v: self.vals[self.index(p)],
+            err: cur.err,
+            positive: self.positive(p),
+        }
+    }
+
+    /// Steps 3–6 for one cut cell.
+    fn cell(&mut self, cur: &Current, cell: [usize; 3], flip: bool) {
+        let tab = table();
+        let corner: [bool; 8] = std::array::from_fn(|c| self.positive(cell_corner(cell, c)));
+        let Some((config, amb)) = classify(|c| corner[c], &mut self.out.stats) else {
+            return;
+        };
+        let mut sub = 0u8;
+        for (bit, &f) in amb.iter().enumerate() {
+            let abcd = face_abcd(f as usize);
+            let s = abcd.map(|c| self.sample(cur, cell_corner(cell, c)));
+            let joined = match decide_bounded(s, self.iso) {
+                Some(j) => j,
+                None => {
+                    self.out.stats.exact_faces += 1;
+                    let v = abcd.map(|c| self.oracle.value(cur.e, cell_corner(cell, c)));
+                    decide_exact([&v[0], &v[1], &v[2], &v[3]], &self.oracle.iso).unwrap_or(false)
+                }
+            };
+            sub |= u8::from(joined) << bit;
+        }
+        let entry = tab.offsets[config as usize] as usize + sub as usize;
+        let mut centre = [NONE; 4];
+        for tri in tab.extraction_triangles(entry) {
+            let mut t = [0u32; 3];
+            for (slot, &edge) in t.iter_mut().zip(tri) {
+                if edge < CENTRE {
+                    *slot = self.edge_vertex(cur, cell, edge);
+                    continue;
+                }
+                let pi = (edge - CENTRE) as usize;
+                if centre[pi] == NONE {
+                    centre[pi] = self.centre_vertex(cur, cell, &tab.entries[entry].polygons[pi]);
+                }
+                *slot = centre[pi];
+            }
+            if flip {
+                t.swap(1, 2);
+            }
+            self.out.triangles.push(t);
+        }
+    }
+
+    /// The cut point of the lattice edge `lo → lo + e_axis` in lattice units, and a bound on
+    /// the error of its coordinate along `axis`.
+    fn cut_point(&mut self, cur: &Current, lo: [usize; 3], axis: usize) -> ([f64; 3], f64) {
+        let mut hi = lo;
+        hi[axis] += 1;
+        let (a, b) = (self.vals[self.index(lo)], self.vals[self.index(hi)]);
+        let den = (b - a).abs();
+        let e_sum = 2.0 * cur.err;
+        let (t, dt) = if e_sum <= 0.25 * den {
+            ((self.iso - a) / (b - a), 3.0 * e_sum / den + 4.0 * EPS)
+        } else {
+            let p = self.oracle.cut(cur.e, lo, axis);
+            (
+                rational_to_f64(&(&p[axis] - Rational::from_integer((lo[axis] as i64).into()))),
+                EPS,
+            )
+        };
+        let mut p = lo.map(|x| x as f64);
+        p[axis] += t.clamp(0.0, 1.0);
+        (p, dt)
+    }
+
+    /// The gradient of the field in `ξ` at lattice point `lo` moved `s` along `axis`, for
+    /// finite-difference normals.
+    fn fd_gradient(&self, lo: [usize; 3], axis: usize, s: f64) -> [f64; 3] {
+        let mut hi = lo;
+        hi[axis] += 1;
+        let (g0, g1) = (
+            self.gradients[self.index(lo)],
+            self.gradients[self.index(hi)],
+        );
+        [0, 1, 2].map(|d| g0[d] + s * (g1[d] - g0[d]))
+    }
+
+    /// Pushes a vertex at `ξ` with its normal (from `g`, or from the interpolant) and bound.
+    fn push_vertex(
+        &mut self,
+        cur: &Current,
+        xi: [f64; 3],
+        g: Option<[f64; 3]>,
+        radius: f64,
+        origin: Origin,
+    ) -> u32 {
+        let jet = cur.tensor.jet(xi);
+        let g = g.unwrap_or([jet.d[0][0], jet.d[1][0], jet.d[2][0]]);
+        let columns = [0, 1, 2].map(|d| [jet.d[d][1], jet.d[d][2], jet.d[d][3]]);
+        self.out
+            .vertices
+            .push([jet.value[1], jet.value[2], jet.value[3]]);
+        self.out.normals.push(world_normal(columns, g));
+        self.out.radius.push(radius);
+        self.out.origin.push(origin);
+        (self.out.vertices.len() - 1) as u32
+    }
+
+    /// The vertex on cell edge `edge`: made on first use, shared within the element through
+    /// the id arrays and across elements through the edge names.
+    fn edge_vertex(&mut self, cur: &Current, cell: [usize; 3], edge: u8) -> u32 {
+        let (axis, lo) = cell_edge(cell, edge);
+        let at = self.index(lo);
+        let id = self.ids[at][axis];
+        if id != NONE && id >= cur.start {
+            return id;
+        }
+        let key = edge_on_boundary(self.n, lo, axis)
+            .then(|| edge_key(cur.e, &cur.nodes, self.n, lo, axis).0);
+        if let Some(&v) = key.as_ref().and_then(|k| self.named.get(k)) {
+            self.ids[at][axis] = v;
+            return v;
+        }
+        let (p, dt) = self.cut_point(cur, lo, axis);
+        let xi = [0, 1, 2].map(|d| p[d] / self.n[d] as f64);
+        let g = (self.normals == NormalSource::FiniteDifference)
+            .then(|| self.fd_gradient(lo, axis, p[axis] - lo[axis] as f64));
+        let radius = cur.lip * (dt / self.n[axis] as f64 + 4.0 * EPS) + cur.x_err;
+        let origin = Origin::Edge {
+            element: cur.e,
+            lo,
+            axis,
+        };
+        let v = self.push_vertex(cur, xi, g, radius, origin);
+        self.ids[at][axis] = v;
+        if let Some(k) = key {
+            self.named.insert(k, v);
+            self.out.keys.push((v, k));
+        }
+        v
+    }
+
+    /// The centre vertex of a polygon (numbered after its polygon's cut points): the mean of
+    /// their lattice positions, mapped by eq. (2).
+    fn centre_vertex(&mut self, cur: &Current, cell: [usize; 3], poly: &[u8]) -> u32 {
+        for &x in poly {
+            self.edge_vertex(cur, cell, x);
+        }
+        let mut c = [0.0; 3];
+        let mut dxi = 0.0f64;
+        let mut g = [0.0; 3];
+        for &x in poly {
+            let (axis, lo) = cell_edge(cell, x);
+            let (p, dt) = self.cut_point(cur, lo, axis);
+            for d in 0..3 {
+                c[d] += p[d];
+            }
+            dxi = dxi.max(dt / self.n[axis] as f64);
+            if self.normals == NormalSource::FiniteDifference {
+                let gx = self.fd_gradient(lo, axis, p[axis] - lo[axis] as f64);
+                for d in 0..3 {
+                    g[d] += gx[d];
+                }
+            }
+        }
+        let xi = [0, 1, 2].map(|d| c[d] / poly.len() as f64 / self.n[d] as f64);
+        let g = (self.normals == NormalSource::FiniteDifference).then_some(g);
+        let radius = cur.lip * (dxi + 8.0 * EPS) + cur.x_err;
+        let origin = Origin::Centre {
+            element: cur.e,
+            cell,
+            edges: poly.to_vec(),
+        };
+        self.push_vertex(cur, xi, g, radius, origin)
+    }
 }
 
 /// The face decision from bounded values, or `None` when the bounds do not settle it. Signs
@@ -497,39 +645,32 @@ fn decide_bounded(s: [Sample; 4], iso: f64) -> Option<bool> {
 
 /// Whether an element's triangles must be flipped: `det J < 0` at its centre, decided in
 /// `f64` when far from zero and exactly otherwise.
-fn element_flip(
-    data: &ElementData,
-    kind: super::ElementKind,
-    oracle: &mut ExactOracle,
-    e: usize,
-    stats: &mut FeStats,
-) -> bool {
-    let c: [[f64; 3]; 3] = std::array::from_fn(|d| data.world(kind, [0.5; 3], Some(d)));
+fn element_flip(cur: &Current, oracle: &mut ExactOracle, stats: &mut FeStats) -> bool {
+    let jet = cur.tensor.jet([0.5; 3]);
+    let c: [[f64; 3]; 3] = std::array::from_fn(|d| [jet.d[d][1], jet.d[d][2], jet.d[d][3]]);
     let det = c[0][0] * (c[1][1] * c[2][2] - c[1][2] * c[2][1])
         + c[0][1] * (c[1][2] * c[2][0] - c[1][0] * c[2][2])
         + c[0][2] * (c[1][0] * c[2][1] - c[1][1] * c[2][0]);
-    let flip = if det.abs() > 1e-8 * data.lip.powi(3) {
+    let flip = if det.abs() > 1e-8 * cur.lip.powi(3) {
         det < 0.0
     } else {
         let half = Rational::new(1.into(), 2.into());
-        let nodes = oracle.model.elements[e];
-        jacobian_determinant(oracle.model(), &nodes, &[half.clone(), half.clone(), half])
-            .is_negative()
+        jacobian_determinant(
+            oracle.model(),
+            &cur.nodes,
+            &[half.clone(), half.clone(), half],
+        )
+        .is_negative()
     };
     stats.flipped_elements += usize::from(flip);
     flip
 }
 
 /// `∇s = J⁻ᵀ ∇_ξ s` (Section 3's normal formula), unit length, or zero where `J` is singular.
-fn world_normal(
-    data: &ElementData,
-    kind: super::ElementKind,
-    xi: [f64; 3],
-    g: [f64; 3],
-) -> [f64; 3] {
+fn world_normal(columns: [[f64; 3]; 3], g: [f64; 3]) -> [f64; 3] {
     // Columns c[d] = ∂x/∂ξ_d. J⁻ᵀ g = (c₁ × c₂ g₀ + c₂ × c₀ g₁ + c₀ × c₁ g₂) / det: the rows of
     // the adjugate, scaled by the sign of det only (the length is normalised away).
-    let j = DMat3::from_cols_array_2d(&std::array::from_fn(|d| data.world(kind, xi, Some(d))));
+    let j = DMat3::from_cols_array_2d(&columns);
     let adjugate_rows = [
         j.y_axis.cross(j.z_axis),
         j.z_axis.cross(j.x_axis),
@@ -550,12 +691,9 @@ fn world_normal(
 }
 
 /// Central differences of the samples in `ξ` (one-sided on the element boundary).
-fn finite_difference_gradients(
-    samples: &[Sample],
-    n: [usize; 3],
-    index: &dyn Fn([usize; 3]) -> usize,
-) -> Vec<[f64; 3]> {
-    let mut out = vec![[0.0; 3]; samples.len()];
+fn finite_difference_gradients(vals: &[f64], n: [usize; 3]) -> Vec<[f64; 3]> {
+    let index = |p: [usize; 3]| p[0] + (n[0] + 1) * (p[1] + (n[1] + 1) * p[2]);
+    let mut out = vec![[0.0; 3]; vals.len()];
     for k in 0..=n[2] {
         for j in 0..=n[1] {
             for i in 0..=n[0] {
@@ -565,7 +703,7 @@ fn finite_difference_gradients(
                     lo[d] = p[d].saturating_sub(1);
                     hi[d] = (p[d] + 1).min(n[d]);
                     let h = (hi[d] - lo[d]) as f64 / n[d] as f64;
-                    (samples[index(hi)].v - samples[index(lo)].v) / h
+                    (vals[index(hi)] - vals[index(lo)]) / h
                 });
             }
         }
@@ -596,9 +734,14 @@ fn coincident_representatives(
         .max(scale * 2f64.powi(-50))
         .max(f64::MIN_POSITIVE);
     let bucket = |p: [f64; 3]| p.map(|v| (v / cell).floor() as i64);
-    let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::with_capacity(x.len());
+    // Buckets as linked lists in two arrays: `head` per occupied cell, `next` per vertex.
+    let mut head: FastMap<[i64; 3], u32> = FastMap::default();
+    head.reserve(x.len());
+    let mut next = vec![NONE; x.len()];
     for (i, p) in x.iter().enumerate() {
-        grid.entry(bucket(*p)).or_default().push(i as u32);
+        let slot = head.entry(bucket(*p)).or_insert(NONE);
+        next[i] = *slot;
+        *slot = i as u32;
     }
     let mut exact: HashMap<u32, [Rational; 3]> = HashMap::new();
     fn find(parent: &mut [u32], mut a: u32) -> u32 {
@@ -621,8 +764,10 @@ fn coincident_representatives(
         for mask in 0..8 {
             let key: [i64; 3] =
                 std::array::from_fn(|a| if mask >> a & 1 == 1 { near[a] } else { b[a] });
-            let Some(list) = grid.get(&key) else { continue };
-            for &j in list {
+            let mut walk = head.get(&key).copied().unwrap_or(NONE);
+            while walk != NONE {
+                let j = walk;
+                walk = next[j as usize];
                 if j as usize >= i {
                     continue;
                 }

@@ -30,12 +30,14 @@
 pub(crate) mod basis;
 pub(crate) mod exact;
 pub(crate) mod fast;
+pub(crate) mod integer;
 
 pub use exact::{polygonise_exact, ExactFeSurface};
 pub use fast::{polygonise_fast, FeSurface};
 pub mod heart;
 pub(crate) mod lattice;
 pub mod models;
+pub(crate) mod tensor;
 
 use crate::num::Rational;
 use crate::Path;
@@ -247,6 +249,10 @@ pub struct FeOptions {
     pub max_cells: u64,
     /// The arithmetic ([`Path::Filtered`] by default; see [`polygonise`]).
     pub path: Path,
+    /// Contiguous element ranges the fast path polygonises independently (in parallel with
+    /// the `parallel` feature) and then welds; `0` (the default) picks two per thread. The
+    /// mesh is the same for every value.
+    pub parts: usize,
 }
 
 crate::choice::setters!(FeOptions {
@@ -254,7 +260,18 @@ crate::choice::setters!(FeOptions {
     with_normals => normals: NormalSource,
     with_max_cells => max_cells: u64,
     with_path => path: Path,
+    with_parts => parts: usize,
 });
+
+impl FeOptions {
+    /// The number of element ranges [`FeOptions::parts`] asks for, `0` resolved.
+    pub fn parts(&self) -> usize {
+        match self.parts {
+            0 => 2 * crate::par::threads(),
+            p => p,
+        }
+    }
+}
 
 impl Default for FeOptions {
     fn default() -> Self {
@@ -263,6 +280,7 @@ impl Default for FeOptions {
             normals: NormalSource::Interpolant,
             max_cells: 1 << 30,
             path: Path::Filtered,
+            parts: 0,
         }
     }
 }
@@ -391,6 +409,20 @@ pub struct FeStats {
     /// Elements whose Jacobian determinant is negative at the centre: their triangles are
     /// flipped so that every normal points into the positive region.
     pub flipped_elements: usize,
+}
+
+impl FeStats {
+    /// Adds the counts of `other` (a polygonisation of other elements) to these, except
+    /// [`FeStats::elements`] and the welding counts, which belong to the whole model.
+    pub(crate) fn add(&mut self, other: &FeStats) {
+        self.cells += other.cells;
+        self.cut_cells += other.cut_cells;
+        self.ambiguous_cells += other.ambiguous_cells;
+        self.ambiguous_faces += other.ambiguous_faces;
+        self.exact_values += other.exact_values;
+        self.exact_faces += other.exact_faces;
+        self.flipped_elements += other.flipped_elements;
+    }
 }
 
 impl<T> FeModel<T> {

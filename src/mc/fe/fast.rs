@@ -44,18 +44,22 @@ const NONE: u32 = u32::MAX;
 const VALUE_BOUND: f64 = 1.0 / 35_184_372_088_832.0;
 const EPS: f64 = f64::EPSILON;
 
-/// Where a vertex came from, to recompute it exactly.
-#[derive(Clone, Debug)]
+/// Where a vertex came from, to recompute it exactly (small and without heap data: one is
+/// kept per vertex).
+#[derive(Clone, Copy, Debug)]
 enum Origin {
+    /// The cut point of the lattice edge from `lo` along `axis`.
     Edge {
-        element: usize,
-        lo: [usize; 3],
-        axis: usize,
+        element: u32,
+        lo: [u32; 3],
+        axis: u8,
     },
+    /// The centre of polygon `polygon` of table entry `entry` in cell `cell`.
     Centre {
-        element: usize,
-        cell: [usize; 3],
-        edges: Vec<u8>,
+        element: u32,
+        cell: [u32; 3],
+        entry: u16,
+        polygon: u8,
     },
 }
 
@@ -130,27 +134,30 @@ impl<'a> ExactOracle<'a> {
         self.integer(element).eval([1, 2, 3], &xi)
     }
     fn vertex(&mut self, o: &Origin) -> [Rational; 3] {
-        match o {
+        let widen = |p: [u32; 3]| p.map(|x| x as usize);
+        match *o {
             Origin::Edge { element, lo, axis } => {
-                let p = self.cut(*element, *lo, *axis);
-                self.world_at_lattice_units(*element, &p)
+                let p = self.cut(element as usize, widen(lo), axis as usize);
+                self.world_at_lattice_units(element as usize, &p)
             }
             Origin::Centre {
                 element,
                 cell,
-                edges,
+                entry,
+                polygon,
             } => {
+                let edges = &table().entries[entry as usize].polygons[polygon as usize];
                 let mut c = [Rational::zero(), Rational::zero(), Rational::zero()];
                 for &e in edges {
-                    let (axis, lo) = cell_edge(*cell, e);
-                    let q = self.cut(*element, lo, axis);
+                    let (axis, lo) = cell_edge(widen(cell), e);
+                    let q = self.cut(element as usize, lo, axis);
                     for d in 0..3 {
                         c[d] += &q[d];
                     }
                 }
                 let len = Rational::from_integer((edges.len() as i64).into());
                 let c = c.map(|s| s / &len);
-                self.world_at_lattice_units(*element, &c)
+                self.world_at_lattice_units(element as usize, &c)
             }
         }
     }
@@ -193,6 +200,7 @@ pub fn polygonise_fast(m: &FeModel<f64>, iso: f64, opts: &FeOptions) -> Result<F
         .into_par_iter()
         .map(|range| {
             let mut k = Kernel::new(m, iso, &iso_exact, opts, &lattice);
+            k.record_keys = range.0 > 0;
             for e in range.0..range.1 {
                 k.element(e);
             }
@@ -211,8 +219,14 @@ pub fn polygonise_fast(m: &FeModel<f64>, iso: f64, opts: &FeOptions) -> Result<F
         stats.add(&piece.stats);
         append(&mut all, &mut named, piece);
     }
-    let mut oracle = ExactOracle::new(m, iso_exact, opts.cells);
-    let rep = coincident_representatives(&all.vertices, &all.radius, &all.origin, &mut oracle);
+    let rep = coincident_representatives(
+        m,
+        &iso_exact,
+        opts.cells,
+        &all.vertices,
+        &all.radius,
+        &all.origin,
+    );
     let (kept, triangles) = weld(&rep, &all.triangles, &mut stats);
     let vertices: Vec<[f64; 3]> = kept.iter().map(|&i| all.vertices[i as usize]).collect();
     let normals = finish_normals(
@@ -293,6 +307,9 @@ struct Kernel<'a> {
     ids: Vec<[u32; 3]>,
     /// Vertices on element boundaries made in this range, by edge name.
     named: FastMap<EdgeKey, u32>,
+    /// Whether to list the boundary vertices' names in the output (every range but the
+    /// first, whose names seed the welding map as they are).
+    record_keys: bool,
     out: Part,
 }
 
@@ -337,6 +354,7 @@ impl<'a> Kernel<'a> {
             gradients: Vec::new(),
             ids: vec![[NONE; 3]; points],
             named: FastMap::default(),
+            record_keys: true,
             out: Part::default(),
         }
     }
@@ -481,7 +499,7 @@ impl<'a> Kernel<'a> {
                 }
                 let pi = (edge - CENTRE) as usize;
                 if centre[pi] == NONE {
-                    centre[pi] = self.centre_vertex(cur, cell, &tab.entries[entry].polygons[pi]);
+                    centre[pi] = self.centre_vertex(cur, cell, entry, pi);
                 }
                 *slot = centre[pi];
             }
@@ -568,22 +586,25 @@ impl<'a> Kernel<'a> {
             .then(|| self.fd_gradient(lo, axis, p[axis] - lo[axis] as f64));
         let radius = cur.lip * (dt / self.n[axis] as f64 + 4.0 * EPS) + cur.x_err;
         let origin = Origin::Edge {
-            element: cur.e,
-            lo,
-            axis,
+            element: cur.e as u32,
+            lo: lo.map(|x| x as u32),
+            axis: axis as u8,
         };
         let v = self.push_vertex(cur, xi, g, radius, origin);
         self.ids[at][axis] = v;
         if let Some(k) = key {
             self.named.insert(k, v);
-            self.out.keys.push((v, k));
+            if self.record_keys {
+                self.out.keys.push((v, k));
+            }
         }
         v
     }
 
     /// The centre vertex of a polygon (numbered after its polygon's cut points): the mean of
     /// their lattice positions, mapped by eq. (2).
-    fn centre_vertex(&mut self, cur: &Current, cell: [usize; 3], poly: &[u8]) -> u32 {
+    fn centre_vertex(&mut self, cur: &Current, cell: [usize; 3], entry: usize, pi: usize) -> u32 {
+        let poly = &table().entries[entry].polygons[pi];
         for &x in poly {
             self.edge_vertex(cur, cell, x);
         }
@@ -608,9 +629,10 @@ impl<'a> Kernel<'a> {
         let g = (self.normals == NormalSource::FiniteDifference).then_some(g);
         let radius = cur.lip * (dxi + 8.0 * EPS) + cur.x_err;
         let origin = Origin::Centre {
-            element: cur.e,
-            cell,
-            edges: poly.to_vec(),
+            element: cur.e as u32,
+            cell: cell.map(|x| x as u32),
+            entry: entry as u16,
+            polygon: pi as u8,
         };
         self.push_vertex(cur, xi, g, radius, origin)
     }
@@ -713,12 +735,18 @@ fn finite_difference_gradients(vals: &[f64], n: [usize; 3]) -> Vec<[f64; 3]> {
 
 /// For every vertex the smallest id at the same exact world point. Candidates are pairs whose
 /// `f64` positions lie within the sum of their certified radii; each is confirmed exactly.
+/// Candidates are found and the candidates' exact positions computed in parallel (one exact
+/// oracle per thread); exact equality is transitive, so the classes do not depend on the
+/// order in which confirmed pairs are joined.
 fn coincident_representatives(
+    m: &FeModel<f64>,
+    iso: &Rational,
+    n: [usize; 3],
     x: &[[f64; 3]],
     radius: &[f64],
     origin: &[Origin],
-    oracle: &mut ExactOracle,
 ) -> Vec<u32> {
+    use crate::par::prelude::*;
     let mut parent: Vec<u32> = (0..x.len() as u32).collect();
     if x.is_empty() {
         return parent;
@@ -728,10 +756,13 @@ fn coincident_representatives(
         .iter()
         .flat_map(|p| p.iter())
         .fold(0.0f64, |a, v| a.max(v.abs()));
-    // Cells at least twice (with margin) the largest pair distance 2·r_max, and coarse enough
-    // that cell coordinates fit an i64.
-    let cell = (4.1 * r_max)
-        .max(scale * 2f64.powi(-50))
+    // Cells of 32 r_max: two vertices within r_i + r_j ≤ 2 r_max of each other lie in the
+    // same cell or, along an axis, in the neighbouring cell on the side where the first is
+    // within 1/16 of a cell of the face. Neighbours are visited from 1/8 on (margin for the
+    // rounding of p / cell, below 2⁻¹² of a cell as cells are at least 2⁻⁴⁰ of the largest
+    // coordinate): about two look-ups per vertex instead of eight.
+    let cell = (32.0 * r_max)
+        .max(scale * 2f64.powi(-40))
         .max(f64::MIN_POSITIVE);
     let bucket = |p: [f64; 3]| p.map(|v| (v / cell).floor() as i64);
     // Buckets as linked lists in two arrays: `head` per occupied cell, `next` per vertex.
@@ -743,27 +774,30 @@ fn coincident_representatives(
         next[i] = *slot;
         *slot = i as u32;
     }
-    let mut exact: HashMap<u32, [Rational; 3]> = HashMap::new();
-    fn find(parent: &mut [u32], mut a: u32) -> u32 {
-        while parent[a as usize] != a {
-            parent[a as usize] = parent[parent[a as usize] as usize];
-            a = parent[a as usize];
-        }
-        a
-    }
-    for (i, p) in x.iter().enumerate() {
-        let b = bucket(*p);
-        let near: [i64; 3] = std::array::from_fn(|a| {
+    let candidates = |i: usize| -> Vec<(u32, u32)> {
+        let p = x[i];
+        let b = bucket(p);
+        // Per axis: the cells to visit, as offsets (0, and −1 or +1 near a face).
+        let mut span = [[0i64; 2]; 3];
+        let mut count = [1usize; 3];
+        for a in 0..3 {
             let f = p[a] / cell - b[a] as f64;
-            if f < 0.5 {
-                b[a] - 1
-            } else {
-                b[a] + 1
+            if f < 0.125 {
+                span[a][1] = -1;
+                count[a] = 2;
+            } else if f > 0.875 {
+                span[a][1] = 1;
+                count[a] = 2;
             }
-        });
-        for mask in 0..8 {
-            let key: [i64; 3] =
-                std::array::from_fn(|a| if mask >> a & 1 == 1 { near[a] } else { b[a] });
+        }
+        let mut out = Vec::new();
+        for o in 0..count[0] * count[1] * count[2] {
+            let pick = [
+                o % count[0],
+                o / count[0] % count[1],
+                o / (count[0] * count[1]),
+            ];
+            let key: [i64; 3] = std::array::from_fn(|a| b[a] + span[a][pick[a]]);
             let mut walk = head.get(&key).copied().unwrap_or(NONE);
             while walk != NONE {
                 let j = walk;
@@ -773,23 +807,43 @@ fn coincident_representatives(
                 }
                 let q = x[j as usize];
                 let dist = (0..3).fold(0.0f64, |m, a| m.max((p[a] - q[a]).abs()));
-                if dist > radius[i] + radius[j as usize] {
-                    continue;
-                }
-                let (ri, rj) = (find(&mut parent, i as u32), find(&mut parent, j));
-                if ri == rj {
-                    continue;
-                }
-                for v in [i as u32, j] {
-                    exact
-                        .entry(v)
-                        .or_insert_with(|| oracle.vertex(&origin[v as usize]));
-                }
-                if exact[&(i as u32)] == exact[&j] {
-                    let (lo, hi) = (ri.min(rj), ri.max(rj));
-                    parent[hi as usize] = lo;
+                if dist <= radius[i] + radius[j as usize] {
+                    out.push((j, i as u32));
                 }
             }
+        }
+        out
+    };
+    let pairs: Vec<(u32, u32)> = (0..x.len())
+        .into_par_iter()
+        .flat_map_iter(candidates)
+        .collect();
+    if pairs.is_empty() {
+        return parent;
+    }
+    let mut ids: Vec<u32> = pairs.iter().flat_map(|&(a, b)| [a, b]).collect();
+    ids.sort_unstable();
+    ids.dedup();
+    let positions: Vec<[Rational; 3]> = ids
+        .par_iter()
+        .map_init(
+            || ExactOracle::new(m, iso.clone(), n),
+            |oracle, &v| oracle.vertex(&origin[v as usize]),
+        )
+        .collect();
+    let exact = |v: u32| &positions[ids.binary_search(&v).expect("a candidate")];
+    fn find(parent: &mut [u32], mut a: u32) -> u32 {
+        while parent[a as usize] != a {
+            parent[a as usize] = parent[parent[a as usize] as usize];
+            a = parent[a as usize];
+        }
+        a
+    }
+    for (j, i) in pairs {
+        if exact(i) == exact(j) {
+            let (ri, rj) = (find(&mut parent, i), find(&mut parent, j));
+            let (lo, hi) = (ri.min(rj), ri.max(rj));
+            parent[hi as usize] = lo;
         }
     }
     (0..x.len() as u32).map(|i| find(&mut parent, i)).collect()

@@ -46,8 +46,9 @@ pub(crate) struct ElementTensor {
     bases: [Basis; 3],
     /// `m_d`: active 1-D functions per direction.
     m: [usize; 3],
-    /// `coeffs[channel][(c · m₁ + b) · m₀ + a]`; channel 0 is the field, 1–3 the coordinates.
-    coeffs: [[f64; 64]; CHANNELS],
+    /// `coeffs[(c · m₁ + b) · m₀ + a][channel]`; channel 0 is the field, 1–3 the coordinates
+    /// (interleaved, so that one pass over the slots serves all four channels).
+    coeffs: [[f64; CHANNELS]; 64],
 }
 
 /// Value and first derivatives of the four channels at one point.
@@ -65,7 +66,7 @@ impl ElementTensor {
         let kind = m.kind;
         let ndof = kind.dofs_per_node();
         let md = kind.bases.map(active);
-        let mut coeffs = [[0.0; 64]; CHANNELS];
+        let mut coeffs = [[0.0; CHANNELS]; 64];
         for (local, &node) in nodes.iter().enumerate() {
             let side = [local & 1, local >> 1 & 1, local >> 2 & 1];
             for k in 0..ndof {
@@ -76,9 +77,9 @@ impl ElementTensor {
                 });
                 let slot = (a[2] * md[1] + a[1]) * md[0] + a[0];
                 let dof = node as usize * ndof + k;
-                coeffs[0][slot] = m.field[dof];
+                coeffs[slot][0] = m.field[dof];
                 for c in 0..3 {
-                    coeffs[1 + c][slot] = m.coordinates[dof][c];
+                    coeffs[slot][1 + c] = m.coordinates[dof][c];
                 }
             }
         }
@@ -124,7 +125,7 @@ impl ElementTensor {
     ) {
         let [m0, m1, m2] = self.m;
         let (p0, p1, p2) = (lattice[0].len(), lattice[1].len(), lattice[2].len());
-        let c = &self.coeffs[0];
+        let c: [f64; 64] = std::array::from_fn(|slot| self.coeffs[slot][0]);
         // t1[(c·m₁ + b)·p₀ + i] = Σ_a B₀[i][a] C[c][b][a]; then t2[(c·p₁ + j)·p₀ + i].
         let t1_len = m2 * m1 * p0;
         scratch.clear();
@@ -165,40 +166,44 @@ impl ElementTensor {
         }
     }
 
-    /// Values and first `ξ`-derivatives of the field and the world map at `ξ`.
+    /// Values and first `ξ`-derivatives of the field and the world map at `ξ`. Each channel
+    /// is summed in the same order as a channel-by-channel contraction would; the four run
+    /// side by side.
     pub(crate) fn jet(&self, xi: [f64; 3]) -> Jet {
         let bv = [0, 1, 2].map(|d| self.basis(d, xi[d]));
         let bd = [0, 1, 2].map(|d| self.basis_derivative(d, xi[d]));
         let [m0, m1, m2] = self.m;
-        let mut jet = Jet::default();
-        for ch in 0..CHANNELS {
-            let c = &self.coeffs[ch];
-            // Per c: Σ over (b, a) with value/derivative weights (vv, dv, vd).
-            let (mut val, mut d0, mut d1, mut d2) = (0.0, 0.0, 0.0, 0.0);
-            for cc in 0..m2 {
-                let (mut vv, mut dv, mut vd) = (0.0, 0.0, 0.0);
-                for bb in 0..m1 {
-                    let base = (cc * m1 + bb) * m0;
-                    let (mut v, mut d) = (0.0, 0.0);
-                    for a in 0..m0 {
-                        v += bv[0][a] * c[base + a];
-                        d += bd[0][a] * c[base + a];
+        let zero = [0.0; CHANNELS];
+        let (mut val, mut d0, mut d1, mut d2) = (zero, zero, zero, zero);
+        for cc in 0..m2 {
+            let (mut vv, mut dv, mut vd) = (zero, zero, zero);
+            for bb in 0..m1 {
+                let base = (cc * m1 + bb) * m0;
+                let (mut v, mut d) = (zero, zero);
+                for a in 0..m0 {
+                    let c = &self.coeffs[base + a];
+                    for ch in 0..CHANNELS {
+                        v[ch] += bv[0][a] * c[ch];
+                        d[ch] += bd[0][a] * c[ch];
                     }
-                    vv += bv[1][bb] * v;
-                    dv += bv[1][bb] * d;
-                    vd += bd[1][bb] * v;
                 }
-                val += bv[2][cc] * vv;
-                d0 += bv[2][cc] * dv;
-                d1 += bv[2][cc] * vd;
-                d2 += bd[2][cc] * vv;
+                for ch in 0..CHANNELS {
+                    vv[ch] += bv[1][bb] * v[ch];
+                    dv[ch] += bv[1][bb] * d[ch];
+                    vd[ch] += bd[1][bb] * v[ch];
+                }
             }
-            jet.value[ch] = val;
-            jet.d[0][ch] = d0;
-            jet.d[1][ch] = d1;
-            jet.d[2][ch] = d2;
+            for ch in 0..CHANNELS {
+                val[ch] += bv[2][cc] * vv[ch];
+                d0[ch] += bv[2][cc] * dv[ch];
+                d1[ch] += bv[2][cc] * vd[ch];
+                d2[ch] += bd[2][cc] * vv[ch];
+            }
         }
-        jet
+        Jet {
+            value: val,
+            d: [d0, d1, d2],
+        }
     }
 }
 

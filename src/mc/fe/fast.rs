@@ -765,12 +765,25 @@ fn coincident_representatives(
         .max(scale * 2f64.powi(-40))
         .max(f64::MIN_POSITIVE);
     let bucket = |p: [f64; 3]| p.map(|v| (v / cell).floor() as i64);
-    // Buckets as linked lists in two arrays: `head` per occupied cell, `next` per vertex.
-    let mut head: FastMap<[i64; 3], u32> = FastMap::default();
-    head.reserve(x.len());
+    // A hash grid without keys: cell coordinates hash to one of 2^k ≥ 2N slots, each the head
+    // of a linked list through `next`. Cells that share a slot share a list, which only adds
+    // candidates (every one is checked by distance), and the slot array stays small enough
+    // for the cache.
+    let bits = (2 * x.len()).next_power_of_two().trailing_zeros();
+    let slot_of = |b: [i64; 3]| {
+        let h = (b[0] as u64)
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            .rotate_left(21)
+            ^ (b[1] as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F)
+            ^ (b[2] as u64)
+                .wrapping_mul(0x1656_67B1_9E37_79F9)
+                .rotate_left(42);
+        (h.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> (64 - bits)) as usize
+    };
+    let mut head = vec![NONE; 1 << bits];
     let mut next = vec![NONE; x.len()];
     for (i, p) in x.iter().enumerate() {
-        let slot = head.entry(bucket(*p)).or_insert(NONE);
+        let slot = &mut head[slot_of(bucket(*p))];
         next[i] = *slot;
         *slot = i as u32;
     }
@@ -798,7 +811,7 @@ fn coincident_representatives(
                 o / (count[0] * count[1]),
             ];
             let key: [i64; 3] = std::array::from_fn(|a| b[a] + span[a][pick[a]]);
-            let mut walk = head.get(&key).copied().unwrap_or(NONE);
+            let mut walk = head[slot_of(key)];
             while walk != NONE {
                 let j = walk;
                 walk = next[j as usize];

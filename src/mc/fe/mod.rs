@@ -513,23 +513,71 @@ pub(crate) fn classify(
 }
 
 /// The lattice point of cell `cell` at its table corner `c` (Bourke numbering).
+#[inline]
 pub(crate) fn cell_corner(cell: [usize; 3], c: usize) -> [usize; 3] {
     let o = super::table::CORNERS[c];
-    [0, 1, 2].map(|a| cell[a] + o[a] as usize)
+    [
+        cell[0] + o[0] as usize,
+        cell[1] + o[1] as usize,
+        cell[2] + o[2] as usize,
+    ]
 }
 
+/// Per table edge: the axis it runs along and its lower corner's offset in the cell.
+const EDGE_AXIS_LOW: [(usize, [usize; 3]); 12] = {
+    let mut out = [(0, [0; 3]); 12];
+    let mut e = 0;
+    while e < 12 {
+        let [a, b] = super::table::EDGES[e];
+        let (pa, pb) = (
+            super::table::CORNERS[a as usize],
+            super::table::CORNERS[b as usize],
+        );
+        let mut axis = 0;
+        let mut low = [0usize; 3];
+        let mut x = 0;
+        while x < 3 {
+            if pa[x] != pb[x] {
+                axis = x;
+            }
+            low[x] = if pa[x] < pb[x] { pa[x] } else { pb[x] } as usize;
+            x += 1;
+        }
+        out[e] = (axis, low);
+        e += 1;
+    }
+    out
+};
+
 /// A cell edge `e` as (axis, lower lattice point).
+#[inline]
 pub(crate) fn cell_edge(cell: [usize; 3], e: u8) -> (usize, [usize; 3]) {
-    let [a, b] = super::table::EDGES[e as usize];
-    let (pa, pb) = (cell_corner(cell, a as usize), cell_corner(cell, b as usize));
-    let axis = (0..3)
-        .find(|&x| pa[x] != pb[x])
-        .expect("an edge spans one axis");
-    (axis, [0, 1, 2].map(|x| pa[x].min(pb[x])))
+    let (axis, o) = EDGE_AXIS_LOW[e as usize];
+    (axis, [cell[0] + o[0], cell[1] + o[1], cell[2] + o[2]])
 }
 
 /// The decider's `A, B, C, D` corners of table face `f` (see [`decider`](super::decider)).
 pub(crate) fn face_abcd(f: usize) -> [usize; 4] {
     let c = super::table::FACES[f].corners;
     [c[0] as usize, c[1] as usize, c[3] as usize, c[2] as usize]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cell_edges_join_their_table_corners() {
+        let cell = [3, 5, 7];
+        for (e, [a, b]) in crate::mc::table::EDGES.iter().enumerate() {
+            let (axis, lo) = cell_edge(cell, e as u8);
+            let (pa, pb) = (
+                cell_corner(cell, *a as usize),
+                cell_corner(cell, *b as usize),
+            );
+            let mut hi = lo;
+            hi[axis] += 1;
+            assert!((pa, pb) == (lo, hi) || (pa, pb) == (hi, lo), "edge {e}");
+        }
+    }
 }

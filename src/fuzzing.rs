@@ -660,6 +660,24 @@ pub fn check_mc_fe(data: &[u8]) -> Result<(), String> {
             m.elements.len()
         ));
     }
+    if kind == ElementKind::TRILINEAR_LAGRANGE {
+        // The trilinear topology: both paths draw the same tubes.
+        let tri = opts.with_topology(crate::mc::fe::CellRule::Trilinear);
+        let fast_t = polygonise_fast(&m, iso, &tri).map_err(|e| e.to_string())?;
+        let exact_t = polygonise_exact(&m.to_exact().map_err(|e| e.to_string())?, &q(iso), &tri)
+            .map_err(|e| e.to_string())?;
+        if fast_t.mesh.triangles != exact_t.triangles
+            || fast_t.stats.tunnel_cells != exact_t.stats.tunnel_cells
+        {
+            return Err(format!(
+                "trilinear topology: exact and fast differ ({cells:?} cells, iso {iso})"
+            ));
+        }
+        fast_t
+            .mesh
+            .validate()
+            .map_err(|e| format!("invalid trilinear-topology mesh: {e}"))?;
+    }
     fast.mesh
         .validate()
         .map_err(|e| format!("invalid mesh: {e}"))

@@ -481,6 +481,68 @@ fn mc_extract_nifti_and_fe_demo() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!((v["triangles"].clone(), v["vertices"].clone()), counts[0]);
+    // `--topology trilinear` is refused on Hermite elements, with nothing written.
+    let refused = tmp("lv-trilinear.ply");
+    let o = geocert()
+        .args(["mc", "fe"])
+        .arg(&model)
+        .args(["--iso", "0", "--topology", "trilinear", "--out"])
+        .arg(&refused)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("trilinear Lagrange"));
+    assert!(!refused.exists());
+    // One trilinear element whose interpolant has a tunnel at 1/2 (found by searching
+    // integer cells with `cell_topology_exact`; local node (a, b, c) at a + 2b + 4c): one
+    // component, a tube, where the table draws two discs.
+    let cell = tmp("tunnel.json");
+    let coords: Vec<[f64; 3]> = (0..8)
+        .map(|l| [(l & 1) as f64, (l >> 1 & 1) as f64, (l >> 2 & 1) as f64])
+        .collect();
+    let field = [-1.0, 2.0, 1.0, 0.0, -3.0, 1.0, 0.0, 1.0];
+    let model_json = serde_json::json!({
+        "kind": {"bases": ["linear-lagrange", "linear-lagrange", "linear-lagrange"]},
+        "coordinates": coords,
+        "field": field,
+        "elements": [[0, 1, 2, 3, 4, 5, 6, 7]],
+    });
+    std::fs::write(&cell, model_json.to_string()).unwrap();
+    let mut stats = Vec::new();
+    for topology in ["table", "trilinear"] {
+        let o = geocert()
+            .args(["mc", "fe"])
+            .arg(&cell)
+            .args([
+                "--iso",
+                "0.5",
+                "--cells",
+                "1",
+                "1",
+                "1",
+                "--json",
+                "--topology",
+                topology,
+            ])
+            .arg("--out")
+            .arg(tmp(&format!("tunnel-{topology}.ply")))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        stats.push((
+            v["stats"]["tunnel_cells"].clone(),
+            v["euler_characteristic"].clone(),
+        ));
+    }
+    assert_eq!(stats[0].0, 0);
+    assert_eq!(stats[1].0, 1, "{stats:?}");
+    // A tube (annulus, χ = 0) where the table draws discs.
+    assert_eq!(
+        stats[1].1.as_i64().unwrap(),
+        stats[0].1.as_i64().unwrap() - 2,
+        "{stats:?}"
+    );
 }
 
 #[test]

@@ -125,6 +125,17 @@ proptest! {
         prop_assert_eq!(triangle_set(&fe.vertices, &fe.triangles), triangle_set(&scaled, &grid.triangles));
     }
 
+    /// `CellRule::Trilinear` on warped trilinear blocks: both paths draw the same tubes and
+    /// the same triangles (integer values: ambiguous faces and tunnels are common).
+    #[test]
+    fn trilinear_topology_paths_agree((e, vals) in small_values(), n in 1usize..=2) {
+        let idx = |p: [f64; 3]| p[0] as usize + (e[0] + 1) * (p[1] as usize + (e[1] + 1) * p[2] as usize);
+        let value = |p: [f64; 3]| vals[idx(p)] as f64;
+        let warp = |p: [f64; 3]| [p[0] + 0.1 * p[1] * p[2], p[1] - 0.05 * p[0] * p[0], p[2] + 0.1 * p[0] * p[1]];
+        let m = block(ElementKind::TRILINEAR_LAGRANGE, e, &value, &no_derivative, &warp);
+        assert_paths_agree(&m, 0.5, &opts(n).with_topology(geocert::mc::fe::CellRule::Trilinear));
+    }
+
     /// Random Hermite and warped Lagrange models (the exported strategy): the fast path's
     /// structure is the exact one.
     #[test]
@@ -367,4 +378,138 @@ fn element_ranges_weld_to_the_one_pass_mesh() {
             m.elements.len()
         );
     }
+}
+
+/// Corner values (in `[−3, 3]`, table numbering) of cells whose trilinear surface has a tube
+/// at the isovalue 1/2, found by a deterministic search.
+fn tunnel_cells(count: usize) -> Vec<[i8; 8]> {
+    let mut out = Vec::new();
+    let mut s = 0x2545_F491_4F6C_DD1Du64;
+    while out.len() < count {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        let v: [i8; 8] = std::array::from_fn(|i| ((s >> (8 * i)) % 7) as i8 - 3);
+        let q = v.map(|x| Rational::from_integer(x.into()));
+        if geocert::mc::trilinear::cell_topology_exact(&q, &Rational::new(1.into(), 2.into()))
+            .tunnels()
+            > 0
+        {
+            out.push(v);
+        }
+    }
+    out
+}
+
+/// `--topology trilinear` on trilinear elements: one element per tunnel cell draws the
+/// tube (an annulus: χ = 0 where the table draws two discs), both paths alike, and a block
+/// of such cells gives the grid's trilinear extraction as triangle sets.
+#[test]
+fn trilinear_topology_draws_the_tubes() {
+    use geocert::mc::fe::CellRule;
+    use geocert::mc::trilinear::polygonise::extract_trilinear_exact;
+    let half = Rational::new(1.into(), 2.into());
+    let corners = geocert::mc::table::CORNERS;
+    let cells = tunnel_cells(12);
+    for v in &cells {
+        // Local node a + 2b + 4c at (a, b, c); the table numbers corners differently.
+        let value = |p: [f64; 3]| {
+            let c = corners
+                .iter()
+                .position(|q| q.map(f64::from) == p)
+                .expect("a corner");
+            v[c] as f64
+        };
+        let m = block(
+            ElementKind::TRILINEAR_LAGRANGE,
+            [1, 1, 1],
+            &value,
+            &no_derivative,
+            &identity,
+        );
+        let o = opts(1).with_topology(CellRule::Trilinear);
+        let exact = polygonise_exact(&m.to_exact().unwrap(), &half, &o).unwrap();
+        let fast = polygonise_fast(&m, 0.5, &o).unwrap();
+        assert_eq!(fast.mesh.triangles, exact.triangles);
+        assert_eq!(exact.stats.tunnel_cells, 1);
+        assert_eq!(fast.stats.tunnel_cells, 1);
+        let mesh = fast.mesh;
+        mesh.validate().unwrap();
+        let table = polygonise_fast(&m, 0.5, &opts(1)).unwrap().mesh;
+        assert_eq!(
+            mesh.euler_characteristic(),
+            table.euler_characteristic() - 2,
+            "a tube where the table has two discs"
+        );
+        assert!(mesh.check_manifold().is_ok());
+    }
+    // Warped two-element blocks with tunnel cells inside: exact = fast, and on the unwarped
+    // block the grid's trilinear extraction (triangle sets).
+    for pair in cells.chunks(2) {
+        let vals: Vec<i8> = (0..12)
+            .map(|i| {
+                let (x, y, z) = (i % 3, i / 3 % 2, i / 6);
+                let c = |v: &[i8; 8], x: usize| {
+                    let p = [x as u8, y as u8, z as u8];
+                    v[corners.iter().position(|q| *q == p).unwrap()]
+                };
+                if x < 2 {
+                    c(&pair[0], x)
+                } else {
+                    c(&pair[1], 1)
+                }
+            })
+            .collect();
+        let idx = |p: [f64; 3]| p[0] as usize + 3 * (p[1] as usize + 2 * p[2] as usize);
+        let value = |p: [f64; 3]| vals[idx(p)] as f64;
+        let m = block(
+            ElementKind::TRILINEAR_LAGRANGE,
+            [2, 1, 1],
+            &value,
+            &no_derivative,
+            &identity,
+        );
+        let o = opts(1).with_topology(CellRule::Trilinear);
+        let fe = polygonise_exact(&m.to_exact().unwrap(), &half, &o).unwrap();
+        let vol = Volume::new(
+            [3, 2, 2],
+            vals.iter()
+                .map(|&v| Rational::from_integer(v.into()))
+                .collect(),
+        )
+        .unwrap();
+        let (gv, gt, _) = extract_trilinear_exact(&vol, &half).unwrap();
+        assert_eq!(
+            triangle_set(&fe.vertices, &fe.triangles),
+            triangle_set(&gv, &gt)
+        );
+        let warped = block(
+            ElementKind::TRILINEAR_LAGRANGE,
+            [2, 1, 1],
+            &value,
+            &no_derivative,
+            &|p| {
+                [
+                    p[0] + 0.1 * p[1] * p[2],
+                    p[1] - 0.05 * p[0],
+                    p[2] + 0.1 * p[0] * p[1],
+                ]
+            },
+        );
+        for n in [1, 2] {
+            let o = opts(n).with_topology(CellRule::Trilinear);
+            assert_paths_agree(&warped, 0.5, &o);
+        }
+    }
+    println!(
+        "{} tunnel cells: tubes drawn on both paths, equal to the grid's",
+        cells.len()
+    );
+}
+
+#[test]
+fn trilinear_topology_refuses_hermite_elements() {
+    let o = opts(2).with_topology(geocert::mc::fe::CellRule::Trilinear);
+    let err = polygonise_fast(&left_ventricle(), 0.0, &o).unwrap_err();
+    assert!(matches!(err, FeError::TopologyNeedsTrilinear(_)), "{err}");
 }

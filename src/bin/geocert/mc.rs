@@ -4,7 +4,7 @@
 use crate::out::{choice, pretty, read, read_bytes, write};
 use clap::{Subcommand, ValueEnum};
 use geocert::mc::audit::{audit, export, parse_table, Numbering};
-use geocert::mc::fe::{polygonise, FeModel, FeOptions, NormalSource};
+use geocert::mc::fe::{polygonise, CellRule, FeModel, FeOptions, NormalSource};
 use geocert::mc::grid::{extract, extract_fast_parallel, read_raw, ExtractOptions, RawType};
 use geocert::mc::trilinear::polygonise::extract_trilinear_path;
 use geocert::mc::verify::{verify_mesh, MeshVerdict, VerifyOptions};
@@ -140,6 +140,11 @@ pub(crate) struct FeArgs {
     /// Vertex normals from the interpolant's gradient or from finite differences (fast path).
     #[arg(long, default_value_t = NormalSource::Interpolant, value_parser = choice::<NormalSource>(NormalSource::NAMES))]
     normals: NormalSource,
+    /// `table`: the 656-entry table in every cell; `trilinear` (trilinear Lagrange elements
+    /// only): the interpolant's topology, with a tube through every cell where it has a
+    /// tunnel.
+    #[arg(long, default_value_t = CellRule::Table, value_parser = choice::<CellRule>(CellRule::NAMES))]
+    topology: CellRule,
     #[arg(long)]
     json: bool,
 }
@@ -432,7 +437,8 @@ fn polygonise_model(
     let opts = FeOptions::new()
         .with_cells(cells)
         .with_normals(a.normals)
-        .with_path(a.path);
+        .with_path(a.path)
+        .with_topology(a.topology);
     let start = std::time::Instant::now();
     let surface = polygonise(m, iso, &opts).map_err(|e| e.to_string())?;
     let (mesh, stats) = (surface.mesh, surface.stats);
@@ -454,13 +460,14 @@ fn polygonise_model(
         println!("{v}");
     } else {
         println!(
-            "{} triangles, {} vertices; {} elements, {} cells ({} cut, {} with an ambiguous face); {} vertices welded and {} collapsed triangles removed (Figure 7); manifold: {}, boundary edges: {}, Euler characteristic {}; {:.2} Mcells/s",
+            "{} triangles, {} vertices; {} elements, {} cells ({} cut, {} with an ambiguous face, {} drawn with a tube); {} vertices welded and {} collapsed triangles removed (Figure 7); manifold: {}, boundary edges: {}, Euler characteristic {}; {:.2} Mcells/s",
             mesh.triangles.len(),
             mesh.vertices.len(),
             stats.elements,
             stats.cells,
             stats.cut_cells,
             stats.ambiguous_cells,
+            stats.tunnel_cells,
             stats.welded_vertices,
             stats.degenerate_triangles,
             manifold.is_ok(),

@@ -9,10 +9,11 @@
 use super::basis::terms_exact;
 use super::lattice::{edge_key, point_key, EdgeKey, PointKey};
 use super::{
-    cell_corner, cell_edge, classify, face_abcd, prepare, weld, FeError, FeModel, FeOptions,
-    FeStats,
+    cell_corner, cell_edge, classify, face_abcd, prepare, tube_mesh, weld, CellRule, FeError,
+    FeModel, FeOptions, FeStats,
 };
 use crate::mc::table::{is_positive, table, CENTRE};
+use crate::mc::trilinear::polygonise::interior_position;
 use crate::num::Rational;
 use num_traits::{Signed, Zero};
 use std::collections::HashMap;
@@ -169,6 +170,57 @@ pub fn polygonise_exact(
                     for (bit, &f) in amb.iter().enumerate() {
                         let joined = mackerras(cell, f as usize, &corner, iso, &cut_xi);
                         sub |= u8::from(joined) << bit;
+                    }
+                    // The trilinear topology's tube, where it has one.
+                    let tube = match opts.topology {
+                        CellRule::Table => None,
+                        CellRule::Trilinear => {
+                            tube_mesh(config, sub, &corner.map(|v| v.clone()), iso)
+                        }
+                    };
+                    if let Some(mesh) = tube {
+                        let mesh = mesh.map_err(|why| FeError::Construction {
+                            element: e,
+                            cell,
+                            why,
+                        })?;
+                        stats.tunnel_cells += 1;
+                        let mut inner = vec![u32::MAX; mesh.interior.len()];
+                        for tri in &mesh.triangles {
+                            let mut t = [0u32; 3];
+                            for (slot, &x) in t.iter_mut().zip(tri) {
+                                if x < 12 {
+                                    let (axis, lo) = cell_edge(cell, x);
+                                    let (key, _) = edge_key(e, nodes, n, lo, axis);
+                                    *slot = *vertex_of.entry(key).or_insert_with(|| {
+                                        let xi = to_xi(&cut_xi(cell, x));
+                                        vertices.push(interpolate_world(m, nodes, &xi, None));
+                                        (vertices.len() - 1) as u32
+                                    });
+                                    continue;
+                                }
+                                let k = (x - 12) as usize;
+                                if inner[k] == u32::MAX {
+                                    let p = interior_position(
+                                        &mesh.interior[k],
+                                        |x| cut_xi(cell, x),
+                                        |a, b| [0, 1, 2].map(|d| &a[d] + &b[d]),
+                                        |a, k| {
+                                            let k = Rational::from_integer((k as i64).into());
+                                            [0, 1, 2].map(|d| &a[d] / &k)
+                                        },
+                                    );
+                                    vertices.push(interpolate_world(m, nodes, &to_xi(&p), None));
+                                    inner[k] = (vertices.len() - 1) as u32;
+                                }
+                                *slot = inner[k];
+                            }
+                            if flip {
+                                t.swap(1, 2);
+                            }
+                            triangles.push(t);
+                        }
+                        continue;
                     }
                     // Steps 5–6: the entry's triangles, vertices by linear interpolation.
                     let entry = tab.entry(config, sub);

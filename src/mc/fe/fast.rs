@@ -18,12 +18,16 @@ use super::integer::IntegerElement;
 use super::lattice::{edge_key, edge_on_boundary, EdgeKey};
 use super::tensor::ElementTensor;
 use super::{
-    cell_corner, cell_edge, classify, face_abcd, prepare, weld, FeError, FeModel, FeOptions,
-    FeStats, NormalSource,
+    cell_corner, cell_edge, classify, face_abcd, prepare, tube_mesh, weld, CellRule, FeError,
+    FeModel, FeOptions, FeStats, NormalSource,
 };
 use crate::hashing::FastMap;
 use crate::mc::decider::decide_exact;
 use crate::mc::table::{table, CENTRE};
+use crate::mc::trilinear::cell_topology_exact;
+use crate::mc::trilinear::polygonise::{
+    cell_mesh, interior_position, tunnel_possible, CellMesh, InteriorVertex,
+};
 use crate::mesh::Mesh;
 use crate::num::{rational_to_f64, Interval, Rational, Sign};
 use glam::DMat3;
@@ -60,6 +64,12 @@ enum Origin {
         cell: [u32; 3],
         entry: u16,
         polygon: u8,
+    },
+    /// Interior vertex `index` of the tube in cell `cell` ([`CellRule::Trilinear`]).
+    Interior {
+        element: u32,
+        cell: [u32; 3],
+        index: u8,
     },
 }
 
@@ -159,6 +169,41 @@ impl<'a> ExactOracle<'a> {
                 let c = c.map(|s| s / &len);
                 self.world_at_lattice_units(element as usize, &c)
             }
+            Origin::Interior {
+                element,
+                cell,
+                index,
+            } => {
+                let (e, cell) = (element as usize, widen(cell));
+                let corners = std::array::from_fn(|c| self.value(e, cell_corner(cell, c)));
+                let topo = cell_topology_exact(&corners, &self.iso);
+                let mesh = cell_mesh(&topo).expect("the fast path drew this tube");
+                let v = &mesh.interior[index as usize];
+                let cuts: Vec<(u8, [Rational; 3])> =
+                    v.of.iter()
+                        .chain(&v.toward)
+                        .map(|&x| {
+                            let (axis, lo) = cell_edge(cell, x);
+                            (x, self.cut(e, lo, axis))
+                        })
+                        .collect();
+                let point = |x: u8| {
+                    cuts.iter()
+                        .find(|c| c.0 == x)
+                        .map(|c| c.1.clone())
+                        .expect("a cut point of the vertex")
+                };
+                let p = interior_position(
+                    v,
+                    point,
+                    |a, b| [0, 1, 2].map(|d| &a[d] + &b[d]),
+                    |a, k| {
+                        let k = Rational::from_integer((k as i64).into());
+                        [0, 1, 2].map(|d| &a[d] / &k)
+                    },
+                );
+                self.world_at_lattice_units(e, &p)
+            }
         }
     }
 }
@@ -202,11 +247,19 @@ pub fn polygonise_fast(m: &FeModel<f64>, iso: f64, opts: &FeOptions) -> Result<F
             let mut k = Kernel::new(m, iso, &iso_exact, opts, &lattice);
             k.record_keys = range.0 > 0;
             for e in range.0..range.1 {
+                if k.error.is_some() {
+                    break;
+                }
                 k.element(e);
             }
-            (k.out, k.named)
+            match k.error {
+                Some(err) => Err(err),
+                None => Ok((k.out, k.named)),
+            }
         })
-        .collect();
+        .collect::<Vec<_>>()
+        .into_iter()
+        .collect::<Result<_, _>>()?;
     let mut stats = FeStats {
         elements,
         ..FeStats::default()
@@ -291,6 +344,9 @@ struct Kernel<'a> {
     m: &'a FeModel<f64>,
     iso: f64,
     normals: NormalSource,
+    topology: CellRule,
+    /// The first error met (a construction the trilinear topology does not have).
+    error: Option<FeError>,
     n: [usize; 3],
     lattice: &'a [Vec<[f64; 4]>; 3],
     oracle: ExactOracle<'a>,
@@ -343,6 +399,8 @@ impl<'a> Kernel<'a> {
             m,
             iso,
             normals: opts.normals,
+            topology: opts.topology,
+            error: None,
             n,
             lattice,
             oracle: ExactOracle::new(m, iso_exact.clone(), n),
@@ -488,6 +546,21 @@ impl<'a> Kernel<'a> {
             };
             sub |= u8::from(joined) << bit;
         }
+        if self.topology == CellRule::Trilinear && tunnel_possible(config, sub) {
+            let corners = std::array::from_fn(|c| self.oracle.value(cur.e, cell_corner(cell, c)));
+            match tube_mesh(config, sub, &corners, &self.oracle.iso) {
+                Some(Ok(mesh)) => return self.tube(cur, cell, &mesh, flip),
+                Some(Err(why)) => {
+                    self.error.get_or_insert(FeError::Construction {
+                        element: cur.e,
+                        cell,
+                        why,
+                    });
+                    return;
+                }
+                None => {}
+            }
+        }
         let entry = tab.offsets[config as usize] as usize + sub as usize;
         let mut centre = [NONE; 4];
         for tri in tab.extraction_triangles(entry) {
@@ -508,6 +581,74 @@ impl<'a> Kernel<'a> {
             }
             self.out.triangles.push(t);
         }
+    }
+
+    /// A cell drawn with its trilinear tube: cut points shared as everywhere, interior
+    /// vertices made on first use (the exact path's order).
+    fn tube(&mut self, cur: &Current, cell: [usize; 3], mesh: &CellMesh, flip: bool) {
+        self.out.stats.tunnel_cells += 1;
+        let mut inner = vec![NONE; mesh.interior.len()];
+        for tri in &mesh.triangles {
+            let mut t = [0u32; 3];
+            for (slot, &x) in t.iter_mut().zip(tri) {
+                if x < 12 {
+                    *slot = self.edge_vertex(cur, cell, x);
+                    continue;
+                }
+                let k = (x - 12) as usize;
+                if inner[k] == NONE {
+                    inner[k] = self.interior_vertex(cur, cell, &mesh.interior[k], k);
+                }
+                *slot = inner[k];
+            }
+            if flip {
+                t.swap(1, 2);
+            }
+            self.out.triangles.push(t);
+        }
+    }
+
+    /// An interior vertex of a tube: [`interior_position`] of the cut points in lattice
+    /// units, mapped by eq. (2).
+    fn interior_vertex(
+        &mut self,
+        cur: &Current,
+        cell: [usize; 3],
+        v: &InteriorVertex,
+        index: usize,
+    ) -> u32 {
+        let mut dxi = 0.0f64;
+        let mut cuts: Vec<(u8, [f64; 3])> = Vec::with_capacity(v.of.len() + 1);
+        for &x in v.of.iter().chain(&v.toward) {
+            let (axis, lo) = cell_edge(cell, x);
+            let (p, dt) = self.cut_point(cur, lo, axis);
+            dxi = dxi.max(dt / self.n[axis] as f64);
+            cuts.push((x, p));
+        }
+        let point = |x: u8| {
+            cuts.iter()
+                .find(|c| c.0 == x)
+                .map(|c| c.1)
+                .unwrap_or([0.0; 3])
+        };
+        let p = interior_position(
+            v,
+            point,
+            |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2]],
+            |a, k| a.map(|x| x / k as f64),
+        );
+        let xi = [0, 1, 2].map(|d| p[d] / self.n[d] as f64);
+        let g = (self.normals == NormalSource::FiniteDifference).then(|| {
+            let (axis, lo) = cell_edge(cell, v.of[0]);
+            self.fd_gradient(lo, axis, point(v.of[0])[axis] - lo[axis] as f64)
+        });
+        let radius = cur.lip * (dxi + 8.0 * EPS) + cur.x_err;
+        let origin = Origin::Interior {
+            element: cur.e as u32,
+            cell: cell.map(|x| x as u32),
+            index: index as u8,
+        };
+        self.push_vertex(cur, xi, g, radius, origin)
     }
 
     /// The cut point of the lattice edge `lo → lo + e_axis` in lattice units, and a bound on

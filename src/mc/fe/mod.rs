@@ -39,6 +39,7 @@ pub(crate) mod lattice;
 pub mod models;
 pub(crate) mod tensor;
 
+use crate::mc::trilinear::polygonise::{CellMesh, TooManyCycles};
 use crate::num::Rational;
 use crate::Path;
 use serde::{Deserialize, Serialize};
@@ -237,6 +238,25 @@ crate::choice::named_enum!(NormalSource {
     FiniteDifference => "finite-difference",
 });
 
+/// The surface drawn in each cell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CellRule {
+    /// The 656-entry table: one disc per polygon.
+    Table,
+    /// The trilinear interpolant's topology (trilinear Lagrange elements only: inside a cell
+    /// their field is exactly the trilinear interpolant of the cell's corner values). Cells
+    /// where it has a tube get the tube of
+    /// [`cell_mesh`](crate::mc::trilinear::polygonise::cell_mesh); every other cell is drawn
+    /// as by the table.
+    Trilinear,
+}
+
+crate::choice::named_enum!(CellRule {
+    Table => "table",
+    Trilinear => "trilinear",
+});
+
 /// Options of a polygonisation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
@@ -253,6 +273,8 @@ pub struct FeOptions {
     /// the `parallel` feature) and then welds; `0` (the default) picks two per thread. The
     /// mesh is the same for every value.
     pub parts: usize,
+    /// The surface drawn in each cell ([`CellRule::Table`] by default).
+    pub topology: CellRule,
 }
 
 crate::choice::setters!(FeOptions {
@@ -261,6 +283,7 @@ crate::choice::setters!(FeOptions {
     with_max_cells => max_cells: u64,
     with_path => path: Path,
     with_parts => parts: usize,
+    with_topology => topology: CellRule,
 });
 
 impl FeOptions {
@@ -281,6 +304,7 @@ impl Default for FeOptions {
             max_cells: 1 << 30,
             path: Path::Filtered,
             parts: 0,
+            topology: CellRule::Table,
         }
     }
 }
@@ -358,6 +382,19 @@ pub enum FeError {
     #[error("the isovalue {0} is not an f64: the fast path takes f64 isovalues (use the exact path for rational ones)")]
     /// The fast path was given an isovalue that is not an `f64`.
     IsovalueNotF64(String),
+    #[error("the trilinear topology needs trilinear Lagrange elements; {0} elements are not trilinear inside a cell (use the table topology)")]
+    /// [`CellRule::Trilinear`] was asked for elements that are not trilinear Lagrange.
+    TopologyNeedsTrilinear(String),
+    #[error("element {element}, cell {cell:?}: {why}")]
+    /// A cell's trilinear topology has no construction (never met in a trilinear cell).
+    Construction {
+        /// The element.
+        element: usize,
+        /// The cell in the element's lattice.
+        cell: [usize; 3],
+        /// What.
+        why: crate::mc::trilinear::polygonise::TooManyCycles,
+    },
     #[error("cells per element must be at least 1 in every direction, found {0:?}")]
     /// A cell count per element is 0.
     Cells([usize; 3]),
@@ -409,6 +446,8 @@ pub struct FeStats {
     /// Elements whose Jacobian determinant is negative at the centre: their triangles are
     /// flipped so that every normal points into the positive region.
     pub flipped_elements: usize,
+    /// Cells drawn with a tube ([`CellRule::Trilinear`]: the interpolant has a tunnel there).
+    pub tunnel_cells: usize,
 }
 
 impl FeStats {
@@ -422,6 +461,7 @@ impl FeStats {
         self.exact_values += other.exact_values;
         self.exact_faces += other.exact_faces;
         self.flipped_elements += other.flipped_elements;
+        self.tunnel_cells += other.tunnel_cells;
     }
 }
 
@@ -436,6 +476,9 @@ impl<T> FeModel<T> {
 /// keys' context.
 pub(crate) fn prepare<T>(m: &FeModel<T>, opts: &FeOptions) -> Result<(), FeError> {
     check_layout(m)?;
+    if opts.topology == CellRule::Trilinear && m.kind != ElementKind::TRILINEAR_LAGRANGE {
+        return Err(FeError::TopologyNeedsTrilinear(m.kind.name()));
+    }
     if opts.cells.contains(&0) {
         return Err(FeError::Cells(opts.cells));
     }
@@ -560,6 +603,28 @@ pub(crate) fn cell_edge(cell: [usize; 3], e: u8) -> (usize, [usize; 3]) {
 pub(crate) fn face_abcd(f: usize) -> [usize; 4] {
     let c = super::table::FACES[f].corners;
     [c[0] as usize, c[1] as usize, c[3] as usize, c[2] as usize]
+}
+
+/// The trilinear cell surface for [`CellRule::Trilinear`]: `Some` when the table entry can
+/// hold a tube (two or more polygons) and the interpolant has one there, computed exactly
+/// from the cell's corner values (table numbering).
+pub(crate) fn tube_mesh(
+    config: u8,
+    sub: u8,
+    corners: &[Rational; 8],
+    iso: &Rational,
+) -> Option<Result<CellMesh, TooManyCycles>> {
+    use crate::mc::trilinear::polygonise::{cell_mesh, tunnel_possible};
+    if !tunnel_possible(config, sub) {
+        return None;
+    }
+    let topo = crate::mc::trilinear::cell_topology_exact(corners, iso);
+    debug_assert_eq!(
+        (topo.config, topo.sub),
+        (config, sub),
+        "Mackerras = asymptotic decider"
+    );
+    (topo.tunnels() > 0).then(|| cell_mesh(&topo))
 }
 
 #[cfg(test)]

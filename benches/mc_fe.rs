@@ -5,30 +5,8 @@
 #![allow(missing_docs)] // criterion's group and main macros generate undocumented items
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use geocert::mc::fe::{heart, models, polygonise_fast, ElementKind, FeModel, FeOptions};
+use geocert::mc::fe::{heart, models, polygonise_fast, FeModel, FeOptions};
 use std::hint::black_box;
-
-fn gyroid_block(e: usize) -> FeModel<f64> {
-    let k = std::f64::consts::TAU / e as f64;
-    let f = move |p: [f64; 3]| {
-        (k * p[0]).sin() * (k * p[1]).cos()
-            + (k * p[1]).sin() * (k * p[2]).cos()
-            + (k * p[2]).sin() * (k * p[0]).cos()
-    };
-    models::block(
-        ElementKind::TRILINEAR_LAGRANGE,
-        [e; 3],
-        &f,
-        &|_, _| 0.0,
-        &|p| {
-            [
-                p[0] + 0.1 * (0.3 * p[1]).sin(),
-                p[1] + 0.1 * (0.3 * p[2]).sin(),
-                p[2],
-            ]
-        },
-    )
-}
 
 fn fe(c: &mut Criterion) {
     let cases: Vec<(&str, FeModel<f64>, f64, [usize; 3])> = vec![
@@ -41,7 +19,7 @@ fn fe(c: &mut Criterion) {
         ),
         (
             "trilinear_gyroid_4096_elements_8x8x8",
-            gyroid_block(16),
+            models::gyroid_block(16),
             0.1,
             [8; 3],
         ),

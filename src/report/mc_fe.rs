@@ -144,31 +144,6 @@ fn sphere_errors(m: &FeModel<f64>, iso: f64, cells: [usize; 3]) -> (f64, (f64, f
     (radius, (angles[0], angles[1]))
 }
 
-/// One period of the gyroid `sin x cos y + sin y cos z + sin z cos x` across a block of `e³`
-/// trilinear Lagrange elements, sampled at nodes that a smooth warp moves off the grid (the
-/// same surface at every `e`).
-fn gyroid_block(e: usize) -> FeModel<f64> {
-    let k = std::f64::consts::TAU / 32.0 * (32.0 / e as f64);
-    let f = move |p: [f64; 3]| {
-        (k * p[0]).sin() * (k * p[1]).cos()
-            + (k * p[1]).sin() * (k * p[2]).cos()
-            + (k * p[2]).sin() * (k * p[0]).cos()
-    };
-    models::block(
-        crate::mc::fe::ElementKind::TRILINEAR_LAGRANGE,
-        [e; 3],
-        &f,
-        &|_, _| 0.0,
-        &|p| {
-            [
-                p[0] + 0.1 * (0.3 * p[1]).sin(),
-                p[1] + 0.1 * (0.3 * p[2]).sin(),
-                p[2],
-            ]
-        },
-    )
-}
-
 /// Runs the campaign: `runs` timed repetitions, `random` random models.
 pub fn fe_campaign(runs: usize, random: usize) -> FeCampaign {
     let mut rows = Vec::new();
@@ -215,7 +190,7 @@ pub fn fe_campaign(runs: usize, random: usize) -> FeCampaign {
     for (e, n, exact) in [(4, 4, true), (32, 4, false), (16, 8, false), (8, 16, false)] {
         rows.push(run(
             &format!("gyroid, {e}³ trilinear elements"),
-            &gyroid_block(e),
+            &models::gyroid_block(e),
             0.1,
             [n; 3],
             runs,

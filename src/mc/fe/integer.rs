@@ -10,6 +10,7 @@
 //! summed by the same three contractions, and one gcd at the end instead of one per
 //! product (the reference path, [`exact`](super::exact), normalises every rational it makes).
 
+use super::tensor::{active, dof_slots};
 use super::{Basis, FeModel};
 use crate::num::rational::f64_dyadic;
 use crate::num::Rational;
@@ -24,13 +25,6 @@ pub(crate) struct IntegerElement {
     /// `coeffs[channel][(c · m₁ + b) · m₀ + a]`, each `C = M · 2^exps[channel]`.
     coeffs: [Vec<BigInt>; 4],
     exps: [i64; 4],
-}
-
-fn active(b: Basis) -> usize {
-    match b {
-        Basis::LinearLagrange => 2,
-        Basis::CubicHermite => 4,
-    }
 }
 
 /// `q^k · [active 1-D functions](p / q)` as integers, and `k`.
@@ -51,7 +45,6 @@ impl IntegerElement {
     /// Element `nodes` of `m` (finite dofs, as validated).
     pub(crate) fn new(m: &FeModel<f64>, nodes: &[u32; 8]) -> IntegerElement {
         let kind = m.kind;
-        let ndof = kind.dofs_per_node();
         let md = kind.bases.map(active);
         let size = md[0] * md[1] * md[2];
         let mut raw = [
@@ -60,20 +53,10 @@ impl IntegerElement {
             vec![(0, 0); size],
             vec![(0, 0); size],
         ];
-        for (local, &node) in nodes.iter().enumerate() {
-            let side = [local & 1, local >> 1 & 1, local >> 2 & 1];
-            for k in 0..ndof {
-                let der = kind.derivative_of_dof(k);
-                let a: [usize; 3] = std::array::from_fn(|d| match kind.bases[d] {
-                    Basis::LinearLagrange => side[d],
-                    Basis::CubicHermite => 2 * side[d] + usize::from(der[d]),
-                });
-                let slot = (a[2] * md[1] + a[1]) * md[0] + a[0];
-                let dof = node as usize * ndof + k;
-                raw[0][slot] = f64_dyadic(m.field[dof]);
-                for c in 0..3 {
-                    raw[1 + c][slot] = f64_dyadic(m.coordinates[dof][c]);
-                }
+        for (slot, dof) in dof_slots(kind, nodes) {
+            raw[0][slot] = f64_dyadic(m.field[dof]);
+            for c in 0..3 {
+                raw[1 + c][slot] = f64_dyadic(m.coordinates[dof][c]);
             }
         }
         let mut exps = [0i64; 4];

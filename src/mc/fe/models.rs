@@ -31,6 +31,32 @@ pub fn hermite_ball(e: usize) -> FeModel<f64> {
     m
 }
 
+/// One period of the gyroid `sin x cos y + sin y cos z + sin z cos x` across a block of `e³`
+/// trilinear Lagrange elements, sampled at nodes that a smooth warp moves off the grid (the
+/// same surface at every `e`; its level sets cross many element faces). The report's and the
+/// benchmark's trilinear model.
+pub fn gyroid_block(e: usize) -> FeModel<f64> {
+    let k = std::f64::consts::TAU / e as f64;
+    let f = move |p: [f64; 3]| {
+        (k * p[0]).sin() * (k * p[1]).cos()
+            + (k * p[1]).sin() * (k * p[2]).cos()
+            + (k * p[2]).sin() * (k * p[0]).cos()
+    };
+    block(
+        ElementKind::TRILINEAR_LAGRANGE,
+        [e; 3],
+        &f,
+        &|_, _| 0.0,
+        &|p| {
+            [
+                p[0] + 0.1 * (0.3 * p[1]).sin(),
+                p[1] + 0.1 * (0.3 * p[2]).sin(),
+                p[2],
+            ]
+        },
+    )
+}
+
 /// A block of `e[0] × e[1] × e[2]` elements of `kind` over unit cells: node `(i, j, k)` at
 /// `warp((i, j, k))` with field value `value((i, j, k))`; a single ξ-derivative of the
 /// coordinates is the unit vector along its direction, mixed ones are zero (straight

@@ -22,7 +22,7 @@ use super::basis::{basis_derivative_f64, basis_f64};
 use super::{Basis, ElementKind, FeModel};
 
 /// Active 1-D functions per direction: 2 (linear Lagrange) or 4 (cubic Hermite).
-fn active(b: Basis) -> usize {
+pub(crate) fn active(b: Basis) -> usize {
     match b {
         Basis::LinearLagrange => 2,
         Basis::CubicHermite => 4,
@@ -35,6 +35,30 @@ fn select(b: Basis, full: [f64; 4]) -> [f64; 4] {
         Basis::LinearLagrange => [full[0], full[2], 0.0, 0.0],
         Basis::CubicHermite => full,
     }
+}
+
+/// Element `nodes`' dofs in tensor order: per dof, its slot `(c · m₁ + b) · m₀ + a` (the
+/// module docs' `a_d`) and its index in the model's node-major arrays.
+pub(crate) fn dof_slots(
+    kind: ElementKind,
+    nodes: &[u32; 8],
+) -> impl Iterator<Item = (usize, usize)> + '_ {
+    let ndof = kind.dofs_per_node();
+    let md = kind.bases.map(active);
+    nodes.iter().enumerate().flat_map(move |(local, &node)| {
+        let side = [local & 1, local >> 1 & 1, local >> 2 & 1];
+        (0..ndof).map(move |k| {
+            let der = kind.derivative_of_dof(k);
+            let a: [usize; 3] = std::array::from_fn(|d| match kind.bases[d] {
+                Basis::LinearLagrange => side[d],
+                Basis::CubicHermite => 2 * side[d] + usize::from(der[d]),
+            });
+            (
+                (a[2] * md[1] + a[1]) * md[0] + a[0],
+                node as usize * ndof + k,
+            )
+        })
+    })
 }
 
 /// The four interpolated channels: the field `u` and the world coordinates `x, y, z`.
@@ -64,23 +88,12 @@ impl ElementTensor {
     /// Gathers element `nodes`' dofs of `m` into the tensor.
     pub(crate) fn new(m: &FeModel<f64>, nodes: &[u32; 8]) -> ElementTensor {
         let kind = m.kind;
-        let ndof = kind.dofs_per_node();
         let md = kind.bases.map(active);
         let mut coeffs = [[0.0; CHANNELS]; 64];
-        for (local, &node) in nodes.iter().enumerate() {
-            let side = [local & 1, local >> 1 & 1, local >> 2 & 1];
-            for k in 0..ndof {
-                let der = kind.derivative_of_dof(k);
-                let a: [usize; 3] = std::array::from_fn(|d| match kind.bases[d] {
-                    Basis::LinearLagrange => side[d],
-                    Basis::CubicHermite => 2 * side[d] + usize::from(der[d]),
-                });
-                let slot = (a[2] * md[1] + a[1]) * md[0] + a[0];
-                let dof = node as usize * ndof + k;
-                coeffs[slot][0] = m.field[dof];
-                for c in 0..3 {
-                    coeffs[slot][1 + c] = m.coordinates[dof][c];
-                }
+        for (slot, dof) in dof_slots(kind, nodes) {
+            coeffs[slot][0] = m.field[dof];
+            for c in 0..3 {
+                coeffs[slot][1 + c] = m.coordinates[dof][c];
             }
         }
         ElementTensor {

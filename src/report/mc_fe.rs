@@ -34,6 +34,24 @@ pub struct FeRow {
     pub normal_error_deg: Option<(f64, f64)>,
 }
 
+/// The FE path beside grid extractors on the same samples: the trilinear gyroid block's
+/// lattice gathered into one regular grid.
+#[derive(Clone, Debug)]
+pub struct SameSamples {
+    /// Elements per direction and cells per element per direction.
+    pub elements: usize,
+    pub cells: usize,
+    /// Median seconds: geocert's FE path and grid path, one thread each.
+    pub fe_one: f64,
+    pub grid_one: f64,
+    /// Median seconds on all cores: geocert's FE path.
+    pub fe_all: f64,
+    /// VTK's version and vtkFlyingEdges3D's median seconds, one thread; and on the threaded
+    /// backend with as many threads as geocert.
+    pub vtk: Result<(String, f64), String>,
+    pub vtk_threaded: Result<f64, String>,
+}
+
 /// The campaign.
 #[derive(Clone, Debug)]
 pub struct FeCampaign {
@@ -45,6 +63,8 @@ pub struct FeCampaign {
     /// models where exact = fast and the mesh is a valid oriented manifold, cells drawn
     /// with a tube, cut cells).
     pub trilinear: (usize, usize, usize, usize),
+    /// The FE path beside grid extractors on the same samples.
+    pub same_samples: SameSamples,
     pub random_failures: Vec<String>,
 }
 
@@ -144,8 +164,100 @@ fn sphere_errors(m: &FeModel<f64>, iso: f64, cells: [usize; 3]) -> (f64, (f64, f
     (radius, (angles[0], angles[1]))
 }
 
-/// Runs the campaign: `runs` timed repetitions, `random` random models.
-pub fn fe_campaign(runs: usize, random: usize) -> FeCampaign {
+/// The samples of `gyroid_block(e)` at `n` cells per element as one `(e n + 1)³` grid (the
+/// block's elements are unit cubes in ξ, `i` fastest).
+fn gathered_samples(e: usize, n: usize) -> Vec<f64> {
+    use crate::mc::fe::tensor::ElementTensor;
+    let m = models::gyroid_block(e);
+    let side = e * n + 1;
+    let lattice = ElementTensor::lattice_bases(m.kind, [n; 3]);
+    let (mut scratch, mut vals) = (Vec::new(), Vec::new());
+    let mut grid = vec![0.0; side * side * side];
+    for (idx, nodes) in m.elements.iter().enumerate() {
+        let o = [idx % e, idx / e % e, idx / (e * e)].map(|x| x * n);
+        ElementTensor::new(&m, nodes).sample_field(&lattice, &mut scratch, &mut vals);
+        for k in 0..=n {
+            for j in 0..=n {
+                for i in 0..=n {
+                    let g = (o[0] + i) + side * ((o[1] + j) + side * (o[2] + k));
+                    grid[g] = vals[i + (n + 1) * (j + (n + 1) * k)];
+                }
+            }
+        }
+    }
+    grid
+}
+
+/// The FE path on the trilinear gyroid block (`8³` elements, `16³` cells each) beside
+/// geocert's grid path and vtkFlyingEdges3D on the same `129³` samples, interleaved.
+fn same_samples(root: &std::path::Path, runs: usize) -> SameSamples {
+    let (e, n) = (8, 16);
+    let m = models::gyroid_block(e);
+    let grid = gathered_samples(e, n);
+    let side = e * n + 1;
+    let vol = crate::mc::grid::Volume::new([side; 3], grid.clone()).expect("finite");
+    let data: Vec<f32> = grid.iter().map(|&v| v as f32).collect();
+    let one = FeOptions::new().with_cells([n; 3]).with_parts(1);
+    let single = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("a one-thread pool");
+    let threads = crate::par::threads();
+    let (mut fe_one, mut grid_one, mut fe_all) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut vtk_one, mut vtk_all) = (Vec::new(), Vec::new());
+    let mut vtk: Result<(String, f64), String> = Err(String::new());
+    let mut vtk_threaded: Result<f64, String> = Err("not run (one core)".into());
+    for _ in 0..runs.max(1) {
+        let t = Instant::now();
+        single
+            .install(|| polygonise_fast(&m, 0.1, &one))
+            .expect("built-in model");
+        fe_one.push(t.elapsed().as_secs_f64());
+        let t = Instant::now();
+        single
+            .install(|| crate::mc::grid::extract_fast(&vol, 0.1))
+            .expect("finite");
+        grid_one.push(t.elapsed().as_secs_f64());
+        let t = Instant::now();
+        polygonise_fast(&m, 0.1, &one.with_parts(0)).expect("built-in model");
+        fe_all.push(t.elapsed().as_secs_f64());
+        if vtk.as_ref().is_err_and(|e| !e.is_empty()) {
+            continue; // VTK is not available: do not retry every round
+        }
+        let v = super::mc_grid::vtk_script(root, &data, side, 0.1, 1, 1);
+        vtk = v.and_then(|v| {
+            let s = v["flying_edges"]["median_s"]
+                .as_f64()
+                .ok_or("no flying_edges.median_s")?;
+            vtk_one.push(s);
+            Ok((v["version"].as_str().unwrap_or("?").to_string(), s))
+        });
+        if threads > 1 && vtk.is_ok() {
+            vtk_threaded =
+                super::mc_grid::vtk_script(root, &data, side, 0.1, 1, threads).and_then(|v| {
+                    let s = v["flying_edges"]["median_s"]
+                        .as_f64()
+                        .ok_or("no flying_edges.median_s")?;
+                    vtk_all.push(s);
+                    Ok(s)
+                });
+        }
+    }
+    let med = super::campaign::median;
+    SameSamples {
+        elements: e,
+        cells: n,
+        fe_one: med(fe_one),
+        grid_one: med(grid_one),
+        fe_all: med(fe_all),
+        vtk: vtk.map(|(version, _)| (version, med(vtk_one))),
+        vtk_threaded: vtk_threaded.map(|_| med(vtk_all)),
+    }
+}
+
+/// Runs the campaign: `runs` timed repetitions, `random` random models; peers from `root`'s
+/// `.venv-peers` when installed.
+pub fn fe_campaign(root: &std::path::Path, runs: usize, random: usize) -> FeCampaign {
     let mut rows = Vec::new();
     let lv = heart::left_ventricle();
     for (cells, exact) in [
@@ -216,7 +328,9 @@ pub fn fe_campaign(runs: usize, random: usize) -> FeCampaign {
         }
     }
     let trilinear = trilinear_topology_campaign(random);
+    let same_samples = same_samples(root, runs);
     FeCampaign {
+        same_samples,
         runs: runs.max(1),
         rows,
         random: (random, passed),
@@ -389,6 +503,36 @@ pub fn write_fe(s: &mut String, c: &FeCampaign) {
     for f in c.random_failures.iter().take(5) {
         let _ = writeln!(s, "- failure: {f}");
     }
+    let g = &c.same_samples;
+    let side = g.elements * g.cells + 1;
+    let cells = ((side - 1) as f64).powi(3);
+    let rate = |t: f64| format!("{:.1}", cells / t / 1e6);
+    let vtk = match &g.vtk {
+        Ok((version, t)) => format!("{} (VTK {version})", rate(*t)),
+        Err(e) => format!("not run: {e}"),
+    };
+    let vtk_all = match &g.vtk_threaded {
+        Ok(t) => rate(*t),
+        Err(e) => format!("not run: {e}"),
+    };
+    let _ = writeln!(
+        s,
+        "\n**The same samples on a grid.** The trilinear gyroid block of {e}³ elements at {n}³ \
+         cells each samples a {side}³ lattice in ξ; gathered into one regular grid, the same \
+         samples go through geocert's grid path and vtkFlyingEdges3D (medians of {runs} \
+         interleaved rounds, Mcells/s). The FE path also names shared cut edges, maps every \
+         vertex by eq. 2, computes `J⁻ᵀ` normals and tests world coincidences; the grid paths \
+         do none of that.\n\n\
+         | FE path, one thread | grid path, one thread | vtkFlyingEdges3D, one thread | FE path, {t} threads | vtkFlyingEdges3D, {t} threads |\n|---:|---:|---:|---:|---:|\n\
+         | {} | {} | {vtk} | {} | {vtk_all} |",
+        rate(g.fe_one),
+        rate(g.grid_one),
+        rate(g.fe_all),
+        e = g.elements,
+        n = g.cells,
+        runs = c.runs,
+        t = crate::par::threads(),
+    );
     let (models, ok, tubes, cut) = c.trilinear;
     let _ = writeln!(
         s,

@@ -70,7 +70,7 @@ fn field(name: &str, n: usize) -> (Vec<f32>, f32) {
 
 /// Runs `benches/peers/vtk_isosurface.py` on the volume (`threads > 1`: flying edges alone
 /// on VTK's threaded backend) and returns its JSON.
-fn vtk_script(
+pub(super) fn vtk_script(
     root: &Path,
     data: &[f32],
     n: usize,
@@ -78,6 +78,7 @@ fn vtk_script(
     runs: usize,
     threads: usize,
 ) -> Result<serde_json::Value, String> {
+    debug_assert_eq!(data.len(), n * n * n, "a cube of samples");
     let python = root.join(".venv-peers/bin/python");
     if !python.exists() {
         return Err("`.venv-peers` not found (run benches/peers/setup.sh)".into());

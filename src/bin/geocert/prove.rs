@@ -182,7 +182,7 @@ fn prove_mc(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     let root = std::env::current_dir().map_err(|e| e.to_string())?;
     let (outcomes, unrealisable) = mc_table_proofs();
     let grid = report::mc_grid::grid_campaign(&root, 256, 3);
-    let fe = report::mc_fe::fe_campaign(5, 300);
+    let fe = report::mc_fe::fe_campaign(&root, 5, 300);
     let topology = report::mc_topology::topology_campaign(&root);
     let ok = outcomes.iter().all(|p| p.ok())
         && report::mc_grid::grid_ok(&grid)
@@ -258,8 +258,8 @@ fn prove(out: PathBuf, json: bool, merged: Option<Vec<ProofOutcome>>) -> Result<
         3,
     );
     bar.set_message("finite-element polygonisation (heart demo, sphere, random models)");
-    let fe = report::mc_fe::fe_campaign(5, 300);
     let root = std::env::current_dir().map_err(|e| e.to_string())?;
+    let fe = report::mc_fe::fe_campaign(&root, 5, 300);
     bar.set_message("trilinear topology (and other programs' meshes, if installed)");
     let topology = report::mc_topology::topology_campaign(&root);
     bar.set_message("FFD campaign (and Gmsh, if installed)");

@@ -83,6 +83,41 @@ fn smooth(name: &str, n: usize) -> Vec<f32> {
     v
 }
 
+/// The `mcubes` crate's version (pinned in Cargo.toml).
+const MCUBES_VERSION: &str = "0.1.7";
+
+/// The `mcubes` crate's mesh of the volume (x fastest, as geocert's; voxel units, no
+/// offset), one side: its triangles come as separate vertex triples, which `mc verify`
+/// joins by grid edge like any unwelded mesh.
+fn mcubes_mesh(data: &[f32], dims: [usize; 3], iso: f64) -> Result<Mesh, String> {
+    let mc = mcubes::MarchingCubes::new(
+        (dims[0], dims[1], dims[2]),
+        (1.0, 1.0, 1.0),
+        (1.0, 1.0, 1.0),
+        lin_alg::f32::Vec3::new_zero(),
+        data.to_vec(),
+        iso as f32,
+    )
+    .map_err(|e| e.to_string())?;
+    let out = mc.generate(mcubes::MeshSide::OutsideOnly);
+    let vertices: Vec<[f64; 3]> = out
+        .vertices
+        .iter()
+        .map(|v| [v.posit.x as f64, v.posit.y as f64, v.posit.z as f64])
+        .collect();
+    let triangles = out
+        .indices
+        .chunks_exact(3)
+        .map(|t| [t[0] as u32, t[1] as u32, t[2] as u32])
+        .collect();
+    Ok(Mesh {
+        vertices,
+        triangles,
+        scalars: None,
+        normals: None,
+    })
+}
+
 /// A peer's mesh: (program, version, mesh path or why there is none).
 type PeerMesh = (String, String, Result<std::path::PathBuf, String>);
 
@@ -167,6 +202,12 @@ pub fn topology_campaign(root: &Path) -> TopologyCampaign {
             program: "geocert --topology trilinear".into(),
             version: env!("CARGO_PKG_VERSION").into(),
             verdict: tri,
+        });
+        programs.push(ProgramRow {
+            program: "mcubes (Rust crate)".into(),
+            version: MCUBES_VERSION.into(),
+            verdict: mcubes_mesh(&data, dims, iso)
+                .and_then(|mesh| verify_mesh(&vol, iso, &mesh, &opts).map_err(|e| e.to_string())),
         });
         match peer_meshes(
             root,
@@ -287,7 +328,9 @@ pub fn write_topology(s: &mut String, c: &TopologyCampaign) {
          the mesh's boundary cycles in the cell differ (an ambiguous face decided unlike the \
          interpolant); *missing* / *extra tunnel* — the same cycles, grouped into a tube where \
          the interpolant has none or not where it has one. χ and components of the whole mesh \
-         beside the truth's.\n"
+         beside the truth's. The Python programs run through `benches/peers`; the `mcubes` \
+         crate (Rust) runs in-process (a dependency of the `reports` feature), its triangles \
+         unwelded as it writes them (`mc verify` joins vertices by grid edge).\n"
     );
     if let Some(why) = &c.peers_missing {
         let _ = writeln!(s, "The other programs did not run: {why}.\n");

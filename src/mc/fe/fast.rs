@@ -208,8 +208,8 @@ impl<'a> ExactOracle<'a> {
     }
 }
 
-/// What a range of elements produced: vertices numbered in creation order, and the
-/// boundary-edge names of the vertices it made on element boundaries (to weld ranges).
+/// What a range of elements produced: vertices numbered in creation order, and the names of
+/// the vertices it made on element boundaries (to weld it to the ranges before it).
 #[derive(Default)]
 struct Part {
     vertices: Vec<[f64; 3]>,
@@ -264,13 +264,34 @@ pub fn polygonise_fast(m: &FeModel<f64>, iso: f64, opts: &FeOptions) -> Result<F
         elements,
         ..FeStats::default()
     };
-    let mut pieces = pieces.into_iter();
-    // The first range's vertices keep their ids, and its names are the start of the map.
-    let (mut all, mut named) = pieces.next().expect("at least one range");
+    // Each later range's boundary vertices, looked up (in parallel) in the names of the
+    // ranges before it: the first range that has the name, and its vertex there.
+    let (parts, maps): (Vec<Part>, Vec<FastMap<EdgeKey, u32>>) = pieces.into_iter().unzip();
+    let found: Vec<Vec<(u32, usize, u32)>> = parts
+        .par_iter()
+        .enumerate()
+        .map(|(p, part)| {
+            part.keys
+                .iter()
+                .filter_map(|(id, key)| {
+                    maps[..p]
+                        .iter()
+                        .enumerate()
+                        .find_map(|(q, map)| map.get(key).map(|&old| (*id, q, old)))
+                })
+                .collect()
+        })
+        .collect();
+    drop(maps);
+    let mut parts = parts.into_iter();
+    // The first range's vertices keep their ids; the others are appended in order.
+    let mut all = parts.next().expect("at least one range");
     stats.add(&all.stats);
-    for (piece, _) in pieces {
+    let mut remaps: Vec<Vec<u32>> = vec![(0..all.vertices.len() as u32).collect()];
+    for (piece, found) in parts.zip(&found[1..]) {
         stats.add(&piece.stats);
-        append(&mut all, &mut named, piece);
+        let remap = append(&mut all, piece, found, &remaps);
+        remaps.push(remap);
     }
     let rep = coincident_representatives(
         m,
@@ -298,15 +319,19 @@ pub fn polygonise_fast(m: &FeModel<f64>, iso: f64, opts: &FeOptions) -> Result<F
     })
 }
 
-/// Appends `piece` to `all`: its vertices on element boundaries that an earlier range
-/// already made (same edge name) take that vertex's id, the others are numbered after
-/// `all`'s in creation order.
-fn append(all: &mut Part, named: &mut FastMap<EdgeKey, u32>, piece: Part) {
+/// Appends `piece` to `all`: its vertices that an earlier range made (`found`: local id,
+/// that range, its local id there; `remaps` turn those into ids of `all`) take that
+/// vertex's id, the others are numbered after `all`'s in creation order. Returns the
+/// piece's remap.
+fn append(
+    all: &mut Part,
+    piece: Part,
+    found: &[(u32, usize, u32)],
+    remaps: &[Vec<u32>],
+) -> Vec<u32> {
     let mut remap = vec![NONE; piece.vertices.len()];
-    for (id, key) in &piece.keys {
-        if let Some(&old) = named.get(key) {
-            remap[*id as usize] = old;
-        }
+    for &(id, q, old) in found {
+        remap[id as usize] = remaps[q][old as usize];
     }
     let Part {
         vertices,
@@ -314,7 +339,6 @@ fn append(all: &mut Part, named: &mut FastMap<EdgeKey, u32>, piece: Part) {
         radius,
         origin,
         triangles,
-        keys,
         ..
     } = piece;
     for (((slot, x), (nrm, r)), o) in remap
@@ -331,11 +355,9 @@ fn append(all: &mut Part, named: &mut FastMap<EdgeKey, u32>, piece: Part) {
             all.origin.push(o);
         }
     }
-    for (id, key) in keys {
-        named.entry(key).or_insert(remap[id as usize]);
-    }
     all.triangles
         .extend(triangles.iter().map(|t| t.map(|v| remap[v as usize])));
+    remap
 }
 
 /// The per-range state of the fast path: lattice samples and sign rows of the current
@@ -363,8 +385,8 @@ struct Kernel<'a> {
     ids: Vec<[u32; 3]>,
     /// Vertices on element boundaries made in this range, by edge name.
     named: FastMap<EdgeKey, u32>,
-    /// Whether to list the boundary vertices' names in the output (every range but the
-    /// first, whose names seed the welding map as they are).
+    /// Whether to list the boundary vertices' names in the output, for looking them up in
+    /// the earlier ranges' maps (every range but the first).
     record_keys: bool,
     out: Part,
 }

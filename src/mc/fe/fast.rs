@@ -1,17 +1,19 @@
 //! The fast path: Section 3.3's algorithm in `f64`, certified where it decides.
 //!
-//! Every sampled value carries a rounding bound. From the Section 2 basis in `f64` at a
-//! rounded `ξ`, each 1-D basis value is within `12u` of the true one (`|φ'| ≤ 1.5`, a few
-//! roundings), so each tensor weight is within `40u`; summing at most 64 weighted dofs adds
-//! `γ₆₅`. Hence `|fl(u(ξ)) − u(ξ)| ≤ 2⁻⁴⁵ · Σ|uᵢᵏ|` over the element's dofs (a factor 2 to
-//! spare). A sign within that bound of the isovalue is recomputed exactly; face decisions
-//! use interval arithmetic on the bounded values and fall back to the exact decider; and two
-//! vertices are merged as Figure 7 asks only after their exact world positions compare equal
-//! (candidates come from a spatial hash whose cells exceed twice the largest certified
-//! position error). So the triangle index structure equals the exact path's.
+//! Every sampled value carries a rounding bound: the lattice is sampled by sum factorisation
+//! ([`tensor`](super::tensor), which derives `|fl(u(ξ)) − u(ξ)| ≤ 2⁻⁴⁵ · Σ|uᵢᵏ|` over the
+//! element's dofs), and world points by the same contractions within `2⁻⁴⁴ Σ max|x dof|`. A
+//! sign within the bound of the isovalue is recomputed exactly; face decisions use interval
+//! arithmetic on the bounded values and fall back to the exact decider; and two vertices are
+//! merged as Figure 7 asks only after their exact world positions compare equal (candidates
+//! come from a hash grid whose cells are 32 times the largest certified position error).
+//! Exact values come from [`integer`](super::integer) (integers over a shared denominator).
+//! So the triangle index structure equals the exact path's.
 //!
-//! Cut edges inside an element use per-element arrays; only edges on the element boundary go
-//! through the hash table of edge names (Section 3.2).
+//! Signs are kept as one bitset per lattice row and cut cells found 64 at a time, as on
+//! grids. Cut edges inside an element use per-element arrays; only edges on the element
+//! boundary go through the hash table of edge names (Section 3.2). Element ranges run in
+//! parallel and are welded by those names ([`polygonise_fast`]).
 
 use super::exact::jacobian_determinant;
 use super::integer::IntegerElement;

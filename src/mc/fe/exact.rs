@@ -153,6 +153,20 @@ pub fn polygonise_exact(
         let to_xi = |p: &[Rational; 3]| -> [Rational; 3] {
             std::array::from_fn(|d| &p[d] / Rational::from_integer((n[d] as i64).into()))
         };
+        // The vertex on a cell edge: made once per edge name (Section 3.2).
+        let edge_vertex = |cell: [usize; 3],
+                           edge: u8,
+                           vertex_of: &mut HashMap<EdgeKey, u32>,
+                           vertices: &mut Vec<[Rational; 3]>|
+         -> u32 {
+            let (axis, lo) = cell_edge(cell, edge);
+            let (key, _) = edge_key(e, nodes, n, lo, axis);
+            *vertex_of.entry(key).or_insert_with(|| {
+                let xi = to_xi(&cut_xi(cell, edge));
+                vertices.push(interpolate_world(m, nodes, &xi, None));
+                (vertices.len() - 1) as u32
+            })
+        };
         for ck in 0..n[2] {
             for cj in 0..n[1] {
                 for ci in 0..n[0] {
@@ -190,13 +204,7 @@ pub fn polygonise_exact(
                             let mut t = [0u32; 3];
                             for (slot, &x) in t.iter_mut().zip(tri) {
                                 if x < 12 {
-                                    let (axis, lo) = cell_edge(cell, x);
-                                    let (key, _) = edge_key(e, nodes, n, lo, axis);
-                                    *slot = *vertex_of.entry(key).or_insert_with(|| {
-                                        let xi = to_xi(&cut_xi(cell, x));
-                                        vertices.push(interpolate_world(m, nodes, &xi, None));
-                                        (vertices.len() - 1) as u32
-                                    });
+                                    *slot = edge_vertex(cell, x, &mut vertex_of, &mut vertices);
                                     continue;
                                 }
                                 let k = (x - 12) as usize;
@@ -228,17 +236,8 @@ pub fn polygonise_exact(
                     for tri in entry.triangles_with_centres() {
                         let mut t = [0u32; 3];
                         for (slot, edge) in t.iter_mut().zip(tri) {
-                            let mut edge_vertex = |edge: u8| -> u32 {
-                                let (axis, lo) = cell_edge(cell, edge);
-                                let (key, _) = edge_key(e, nodes, n, lo, axis);
-                                *vertex_of.entry(key).or_insert_with(|| {
-                                    let xi = to_xi(&cut_xi(cell, edge));
-                                    vertices.push(interpolate_world(m, nodes, &xi, None));
-                                    (vertices.len() - 1) as u32
-                                })
-                            };
                             if edge < CENTRE {
-                                *slot = edge_vertex(edge);
+                                *slot = edge_vertex(cell, edge, &mut vertex_of, &mut vertices);
                                 continue;
                             }
                             let p = (edge - CENTRE) as usize;
@@ -248,7 +247,7 @@ pub fn polygonise_exact(
                                 let poly = &entry.polygons[p];
                                 let mut c = [Rational::zero(), Rational::zero(), Rational::zero()];
                                 for &x in poly {
-                                    edge_vertex(x);
+                                    edge_vertex(cell, x, &mut vertex_of, &mut vertices);
                                     let q = cut_xi(cell, x);
                                     for d in 0..3 {
                                         c[d] += &q[d];

@@ -17,7 +17,7 @@
 
 use super::exact::jacobian_determinant;
 use super::integer::IntegerElement;
-use super::lattice::{edge_key, edge_on_boundary, EdgeKey};
+use super::slots::{BoundaryName, BoundarySlots};
 use super::tensor::ElementTensor;
 use super::{
     cell_corner, cell_edge, classify, face_abcd, prepare, tube_mesh, weld, CellRule, FeError,
@@ -219,7 +219,7 @@ struct Part {
     radius: Vec<f64>,
     origin: Vec<Origin>,
     triangles: Vec<[u32; 3]>,
-    keys: Vec<(u32, EdgeKey)>,
+    keys: Vec<(u32, BoundaryName)>,
     stats: FeStats,
 }
 
@@ -243,7 +243,7 @@ pub fn polygonise_fast(m: &FeModel<f64>, iso: f64, opts: &FeOptions) -> Result<F
         .map(|p| (p * elements / parts, (p + 1) * elements / parts))
         .collect();
     let lattice = ElementTensor::lattice_bases(m.kind, opts.cells);
-    let pieces: Vec<(Part, FastMap<EdgeKey, u32>)> = ranges
+    let pieces: Vec<(Part, BoundarySlots)> = ranges
         .into_par_iter()
         .map(|range| {
             let mut k = Kernel::new(m, iso, &iso_exact, opts, &lattice);
@@ -256,7 +256,7 @@ pub fn polygonise_fast(m: &FeModel<f64>, iso: f64, opts: &FeOptions) -> Result<F
             }
             match k.error {
                 Some(err) => Err(err),
-                None => Ok((k.out, k.named)),
+                None => Ok((k.out, k.slots)),
             }
         })
         .collect::<Vec<_>>()
@@ -268,7 +268,7 @@ pub fn polygonise_fast(m: &FeModel<f64>, iso: f64, opts: &FeOptions) -> Result<F
     };
     // Each later range's boundary vertices, looked up (in parallel) in the names of the
     // ranges before it: the first range that has the name, and its vertex there.
-    let (parts, maps): (Vec<Part>, Vec<FastMap<EdgeKey, u32>>) = pieces.into_iter().unzip();
+    let (parts, maps): (Vec<Part>, Vec<BoundarySlots>) = pieces.into_iter().unzip();
     let found: Vec<Vec<(u32, usize, u32)>> = parts
         .par_iter()
         .enumerate()
@@ -279,7 +279,7 @@ pub fn polygonise_fast(m: &FeModel<f64>, iso: f64, opts: &FeOptions) -> Result<F
                     maps[..p]
                         .iter()
                         .enumerate()
-                        .find_map(|(q, map)| map.get(key).map(|&old| (*id, q, old)))
+                        .find_map(|(q, map)| map.find(key).map(|old| (*id, q, old)))
                 })
                 .collect()
         })
@@ -385,8 +385,8 @@ struct Kernel<'a> {
     /// Per lattice point, the vertex ids of its edges along `ξ₁, ξ₂, ξ₃`; ids below the
     /// current element's first vertex are left over from earlier elements.
     ids: Vec<[u32; 3]>,
-    /// Vertices on element boundaries made in this range, by edge name.
-    named: FastMap<EdgeKey, u32>,
+    /// Vertices on element boundaries made in this range, by the entity they lie in.
+    slots: BoundarySlots,
     /// Whether to list the boundary vertices' names in the output, for looking them up in
     /// the earlier ranges' maps (every range but the first).
     record_keys: bool,
@@ -435,7 +435,7 @@ impl<'a> Kernel<'a> {
             cut: vec![0; n[0].div_ceil(64)],
             gradients: Vec::new(),
             ids: vec![[NONE; 3]; points],
-            named: FastMap::default(),
+            slots: BoundarySlots::new(n),
             record_keys: true,
             out: Part::default(),
         }
@@ -454,6 +454,7 @@ impl<'a> Kernel<'a> {
     /// Polygonises element `e` (Section 3.3, steps 2–6).
     fn element(&mut self, e: usize) {
         let nodes = self.m.elements[e];
+        self.slots.begin(e, nodes);
         let tensor = ElementTensor::new(self.m, &nodes);
         let ndof = self.m.kind.dofs_per_node();
         let dofs = nodes
@@ -495,8 +496,19 @@ impl<'a> Kernel<'a> {
                     row(cj, ck + 1),
                     row(cj + 1, ck + 1),
                 ];
-                let rows = r.map(|r| &self.signs[r..r + words]);
-                crate::mc::grid::cut_cells(rows, n[0], &mut cut);
+                if words == 1 {
+                    // One word per row (up to 63 cells along ξ₁): the grid's rule inline.
+                    let s = &self.signs;
+                    let (a, o) = (
+                        s[r[0]] & s[r[1]] & s[r[2]] & s[r[3]],
+                        s[r[0]] | s[r[1]] | s[r[2]] | s[r[3]],
+                    );
+                    let uniform = (a & (a >> 1)) | !(o | (o >> 1));
+                    cut[0] = !uniform & ((1u64 << n[0]) - 1);
+                } else {
+                    let rows = [0, 1, 2, 3].map(|q| &self.signs[r[q]..r[q] + words]);
+                    crate::mc::grid::cut_cells(rows, n[0], &mut cut);
+                }
                 for (w, &word) in cut.iter().enumerate() {
                     let mut bits = word;
                     while bits != 0 {
@@ -739,9 +751,8 @@ impl<'a> Kernel<'a> {
         if id != NONE && id >= cur.start {
             return id;
         }
-        let key = edge_on_boundary(self.n, lo, axis)
-            .then(|| edge_key(cur.e, &cur.nodes, self.n, lo, axis).0);
-        if let Some(&v) = key.as_ref().and_then(|k| self.named.get(k)) {
+        let slot = self.slots.locate(lo, axis);
+        if let Some(v) = slot.as_ref().and_then(|s| self.slots.get(s)) {
             self.ids[at][axis] = v;
             return v;
         }
@@ -757,11 +768,11 @@ impl<'a> Kernel<'a> {
         };
         let v = self.push_vertex(cur, xi, g, radius, origin);
         self.ids[at][axis] = v;
-        if let Some(k) = key {
-            self.named.insert(k, v);
+        if let Some(s) = slot {
             if self.record_keys {
-                self.out.keys.push((v, k));
+                self.out.keys.push((v, self.slots.name(&s)));
             }
+            self.slots.set(s, v);
         }
         v
     }

@@ -55,13 +55,7 @@ pub(crate) fn edge_key(
     }
 }
 
-/// Whether the lattice edge from `p` along `axis` lies on the element's boundary (so other
-/// elements may share it).
-pub(crate) fn edge_on_boundary(n: [usize; 3], p: [usize; 3], axis: usize) -> bool {
-    (0..3).any(|d| d != axis && (p[d] == 0 || p[d] == n[d]))
-}
-
-fn node_at(nodes: &[u32; 8], side: [usize; 3]) -> u32 {
+pub(super) fn node_at(nodes: &[u32; 8], side: [usize; 3]) -> u32 {
     nodes[side[0] + 2 * side[1] + 4 * side[2]]
 }
 
@@ -119,7 +113,7 @@ pub(crate) fn point_key(
 }
 
 /// The two directions spanning the face normal to `d`, in increasing order.
-fn free_axes(d: usize) -> (usize, usize) {
+pub(super) fn free_axes(d: usize) -> (usize, usize) {
     match d {
         0 => (1, 2),
         1 => (0, 2),
@@ -129,7 +123,7 @@ fn free_axes(d: usize) -> (usize, usize) {
 
 /// The corners of the face normal to `d` at `side`, cyclic: `(0,0), (1,0), (1,1), (0,1)` in
 /// the face's `(u, v)`.
-fn face_corners(nodes: &[u32; 8], d: usize, side: usize) -> [u32; 4] {
+pub(super) fn face_corners(nodes: &[u32; 8], d: usize, side: usize) -> [u32; 4] {
     let (u, v) = free_axes(d);
     [(0, 0), (1, 0), (1, 1), (0, 1)].map(|(a, b)| {
         let mut s = [0; 3];
@@ -142,7 +136,7 @@ fn face_corners(nodes: &[u32; 8], d: usize, side: usize) -> [u32; 4] {
 
 /// The canonical cyclic order of four distinct corner ids: start at the smallest, go towards
 /// its smaller neighbour. `None` when an id repeats.
-fn canonical_face(ids: [u32; 4]) -> Option<([u32; 4], usize, bool)> {
+pub(super) fn canonical_face(ids: [u32; 4]) -> Option<([u32; 4], usize, bool)> {
     for i in 0..4 {
         for j in i + 1..4 {
             if ids[i] == ids[j] {
@@ -164,7 +158,12 @@ fn canonical_face(ids: [u32; 4]) -> Option<([u32; 4], usize, bool)> {
 
 /// The position `(i, j)` of a face lattice point (face counts `(nu, nv)`) in the frame that
 /// starts at cyclic corner `start` and runs towards its next (`forward`) or previous corner.
-fn face_position(at: [usize; 2], n: [usize; 2], start: usize, forward: bool) -> [usize; 2] {
+pub(super) fn face_position(
+    at: [usize; 2],
+    n: [usize; 2],
+    start: usize,
+    forward: bool,
+) -> [usize; 2] {
     let corner = |c: usize| match c % 4 {
         0 => [0, 0],
         1 => [n[0], 0],
@@ -182,7 +181,7 @@ fn face_position(at: [usize; 2], n: [usize; 2], start: usize, forward: bool) -> 
 }
 
 /// The cell counts a face's canonical frame sees along its two axes.
-fn face_counts(n: [usize; 2], start: usize, forward: bool) -> [usize; 2] {
+pub(super) fn face_counts(n: [usize; 2], start: usize, forward: bool) -> [usize; 2] {
     let along_u_first = if forward {
         start.is_multiple_of(2)
     } else {

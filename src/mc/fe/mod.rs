@@ -37,6 +37,7 @@ pub use fast::{polygonise_fast, FeSurface};
 pub mod heart;
 pub(crate) mod lattice;
 pub mod models;
+pub(crate) mod slots;
 pub(crate) mod tensor;
 
 use crate::mc::trilinear::polygonise::{CellMesh, TooManyCycles};

@@ -276,7 +276,7 @@ pub fn polygonise_exact(
         .enumerate()
         .map(|(i, x)| *first_at.entry(x).or_insert(i as u32))
         .collect();
-    let (kept, triangles) = weld(&rep, &triangles, &mut stats);
+    let kept = weld(&rep, &mut triangles, &mut stats);
     let vertices = kept.iter().map(|&i| vertices[i as usize].clone()).collect();
     Ok(ExactFeSurface {
         vertices,

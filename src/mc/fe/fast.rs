@@ -303,13 +303,18 @@ pub fn polygonise_fast(m: &FeModel<f64>, iso: f64, opts: &FeOptions) -> Result<F
         &all.radius,
         &all.origin,
     );
-    let (kept, triangles) = weld(&rep, &all.triangles, &mut stats);
-    let vertices: Vec<[f64; 3]> = kept.iter().map(|&i| all.vertices[i as usize]).collect();
-    let normals = finish_normals(
-        kept.iter().map(|&i| all.normals[i as usize]).collect(),
-        &vertices,
-        &triangles,
-    );
+    let mut triangles = std::mem::take(&mut all.triangles);
+    let kept = weld(&rep, &mut triangles, &mut stats);
+    // `kept` is increasing: as long as the vertices, it keeps them all.
+    let (vertices, normals) = if kept.len() == all.vertices.len() {
+        (all.vertices, all.normals)
+    } else {
+        (
+            kept.iter().map(|&i| all.vertices[i as usize]).collect(),
+            kept.iter().map(|&i| all.normals[i as usize]).collect(),
+        )
+    };
+    let normals = finish_normals(normals, &vertices, &triangles);
     Ok(FeSurface {
         mesh: Mesh {
             vertices,
@@ -956,15 +961,18 @@ fn coincident_representatives(
                 .rotate_left(42);
         (h.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> (64 - bits)) as usize
     };
+    // One pass in creation order: each vertex meets the earlier ones in its cells, then joins
+    // its own cell's list. The slots are scattered over the array: each vertex's own slot is
+    // prefetched `AHEAD` vertices early.
+    const AHEAD: usize = 16;
+    let home: Vec<u32> = x.iter().map(|p| slot_of(bucket(*p)) as u32).collect();
     let mut head = vec![NONE; 1 << bits];
     let mut next = vec![NONE; x.len()];
-    for (i, p) in x.iter().enumerate() {
-        let slot = &mut head[slot_of(bucket(*p))];
-        next[i] = *slot;
-        *slot = i as u32;
-    }
-    let candidates = |i: usize| -> Vec<(u32, u32)> {
-        let p = x[i];
+    let mut pairs: Vec<(u32, u32)> = Vec::new();
+    for (i, &p) in x.iter().enumerate() {
+        if let Some(&s) = home.get(i + AHEAD) {
+            crate::memory::prefetch(&head[s as usize]);
+        }
         let b = bucket(p);
         // Per axis: the cells to visit, as offsets (0, and −1 or +1 near a face).
         let mut span = [[0i64; 2]; 3];
@@ -979,34 +987,32 @@ fn coincident_representatives(
                 count[a] = 2;
             }
         }
-        let mut out = Vec::new();
         for o in 0..count[0] * count[1] * count[2] {
-            let pick = [
-                o % count[0],
-                o / count[0] % count[1],
-                o / (count[0] * count[1]),
-            ];
-            let key: [i64; 3] = std::array::from_fn(|a| b[a] + span[a][pick[a]]);
-            let mut walk = head[slot_of(key)];
+            let slot = if o == 0 {
+                home[i] as usize
+            } else {
+                let pick = [
+                    o % count[0],
+                    o / count[0] % count[1],
+                    o / (count[0] * count[1]),
+                ];
+                slot_of(std::array::from_fn(|a| b[a] + span[a][pick[a]]))
+            };
+            let mut walk = head[slot];
             while walk != NONE {
-                let j = walk;
-                walk = next[j as usize];
-                if j as usize >= i {
-                    continue;
-                }
-                let q = x[j as usize];
+                let j = walk as usize;
+                walk = next[j];
+                let q = x[j];
                 let dist = (0..3).fold(0.0f64, |m, a| m.max((p[a] - q[a]).abs()));
-                if dist <= radius[i] + radius[j as usize] {
-                    out.push((j, i as u32));
+                if dist <= radius[i] + radius[j] {
+                    pairs.push((j as u32, i as u32));
                 }
             }
         }
-        out
-    };
-    let pairs: Vec<(u32, u32)> = (0..x.len())
-        .into_par_iter()
-        .flat_map_iter(candidates)
-        .collect();
+        let own = &mut head[home[i] as usize];
+        next[i] = *own;
+        *own = i as u32;
+    }
     if pairs.is_empty() {
         return parent;
     }

@@ -496,44 +496,44 @@ pub(crate) fn prepare<T>(m: &FeModel<T>, opts: &FeOptions) -> Result<(), FeError
 
 /// The triangles of a polygonisation after welding: `rep[v]` is the smallest vertex id at
 /// the same world point as `v`. Drops triangles that repeat a representative (Figure 7),
-/// keeps the representatives some triangle uses in increasing id order, and renumbers.
-/// Returns the kept old ids and the renumbered triangles; counts the merged vertices and
-/// the dropped triangles in `stats`.
-pub(crate) fn weld(
-    rep: &[u32],
-    triangles: &[[u32; 3]],
-    stats: &mut FeStats,
-) -> (Vec<u32>, Vec<[u32; 3]>) {
+/// keeps the representatives some triangle uses in increasing id order, and renumbers the
+/// triangles in place. Returns the kept old ids (all of them, in order, when nothing
+/// merged and every vertex is used); counts the merged vertices and the dropped triangles
+/// in `stats`.
+pub(crate) fn weld(rep: &[u32], triangles: &mut Vec<[u32; 3]>, stats: &mut FeStats) -> Vec<u32> {
     stats.welded_vertices = rep
         .iter()
         .enumerate()
         .filter(|(i, r)| **r != *i as u32)
         .count();
-    let mut kept_tris = Vec::with_capacity(triangles.len());
+    let before = triangles.len();
     let mut used = vec![false; rep.len()];
-    for t in triangles {
+    triangles.retain_mut(|t| {
         let r = t.map(|v| rep[v as usize]);
         if r[0] == r[1] || r[1] == r[2] || r[0] == r[2] {
-            continue;
+            return false;
         }
         for v in r {
             used[v as usize] = true;
         }
-        kept_tris.push(r);
-    }
-    stats.degenerate_triangles = triangles.len() - kept_tris.len();
+        *t = r;
+        true
+    });
+    stats.degenerate_triangles = before - triangles.len();
     let mut new_id = vec![u32::MAX; rep.len()];
-    let mut kept = Vec::new();
+    let mut kept = Vec::with_capacity(rep.len());
     for (v, u) in used.iter().enumerate() {
         if *u {
             new_id[v] = kept.len() as u32;
             kept.push(v as u32);
         }
     }
-    for t in &mut kept_tris {
-        *t = t.map(|v| new_id[v as usize]);
+    if kept.len() < rep.len() {
+        for t in triangles.iter_mut() {
+            *t = t.map(|v| new_id[v as usize]);
+        }
     }
-    (kept, kept_tris)
+    kept
 }
 
 /// Step 3 of Section 3.3: the cell's 8-bit configuration from its corner signs, or `None`

@@ -18,7 +18,7 @@
 use super::exact::jacobian_determinant;
 use super::integer::IntegerElement;
 use super::slots::{BoundaryName, BoundarySlots};
-use super::tensor::ElementTensor;
+use super::tensor::{slot_table, ElementTensor};
 use super::{
     cell_corner, cell_edge, classify, face_abcd, prepare, tube_mesh, weld, CellRule, FeError,
     FeModel, FeOptions, FeStats, NormalSource,
@@ -379,6 +379,10 @@ struct Kernel<'a> {
     n: [usize; 3],
     lattice: &'a [Vec<[f64; 4]>; 3],
     oracle: ExactOracle<'a>,
+    /// The element tensor, reloaded for each element (taken out while one is polygonised).
+    tensor: Option<Box<ElementTensor>>,
+    /// [`slot_table`] of the model's kind.
+    slot_table: Vec<(u8, u8, u8)>,
     /// The current element's samples, `i` fastest.
     vals: Vec<f64>,
     scratch: Vec<f64>,
@@ -433,6 +437,8 @@ impl<'a> Kernel<'a> {
             n,
             lattice,
             oracle: ExactOracle::new(m, iso_exact.clone(), n),
+            tensor: Some(Box::new(ElementTensor::empty(m.kind))),
+            slot_table: slot_table(m.kind),
             vals: Vec::with_capacity(points),
             scratch: Vec::new(),
             signs: vec![0; (n[1] + 1) * (n[2] + 1) * words],
@@ -460,18 +466,8 @@ impl<'a> Kernel<'a> {
     fn element(&mut self, e: usize) {
         let nodes = self.m.elements[e];
         self.slots.begin(e, nodes);
-        let tensor = ElementTensor::new(self.m, &nodes);
-        let ndof = self.m.kind.dofs_per_node();
-        let dofs = nodes
-            .iter()
-            .flat_map(|&nd| (0..ndof).map(move |k| nd as usize * ndof + k));
-        let (mut s_u, mut s_x) = (0.0f64, 0.0f64);
-        for d in dofs {
-            s_u += self.m.field[d].abs();
-            s_x += self.m.coordinates[d]
-                .iter()
-                .fold(0.0f64, |a, x| a.max(x.abs()));
-        }
+        let mut tensor = std::mem::take(&mut self.tensor).expect("a tensor between elements");
+        let (s_u, s_x) = tensor.load(self.m, &nodes, &self.slot_table);
         let cur = Current {
             e,
             nodes,
@@ -525,6 +521,7 @@ impl<'a> Kernel<'a> {
             }
         }
         self.cut = cut;
+        self.tensor = Some(tensor);
     }
 
     /// Sets the sign rows from the samples: certified in `f64` where the value is farther

@@ -61,6 +61,16 @@ pub(crate) fn dof_slots(
     })
 }
 
+/// [`dof_slots`] as a table of (slot, local node, dof of the node), one row per dof of an
+/// element of kind `kind`.
+pub(crate) fn slot_table(kind: ElementKind) -> Vec<(u8, u8, u8)> {
+    let ndof = kind.dofs_per_node();
+    let local: [u32; 8] = std::array::from_fn(|l| l as u32);
+    dof_slots(kind, &local)
+        .map(|(slot, dof)| (slot as u8, (dof / ndof) as u8, (dof % ndof) as u8))
+        .collect()
+}
+
 /// The four interpolated channels: the field `u` and the world coordinates `x, y, z`.
 pub(crate) const CHANNELS: usize = 4;
 
@@ -87,20 +97,39 @@ pub(crate) struct Jet {
 impl ElementTensor {
     /// Gathers element `nodes`' dofs of `m` into the tensor.
     pub(crate) fn new(m: &FeModel<f64>, nodes: &[u32; 8]) -> ElementTensor {
-        let kind = m.kind;
-        let md = kind.bases.map(active);
-        let mut coeffs = [[0.0; CHANNELS]; 64];
-        for (slot, dof) in dof_slots(kind, nodes) {
-            coeffs[slot][0] = m.field[dof];
-            for c in 0..3 {
-                coeffs[slot][1 + c] = m.coordinates[dof][c];
-            }
-        }
+        let mut t = ElementTensor::empty(m.kind);
+        t.load(m, nodes, &slot_table(m.kind));
+        t
+    }
+
+    /// A tensor of kind `kind` with no element loaded (all coefficients zero).
+    pub(crate) fn empty(kind: ElementKind) -> ElementTensor {
         ElementTensor {
             bases: kind.bases,
-            m: md,
-            coeffs,
+            m: kind.bases.map(active),
+            coeffs: [[0.0; CHANNELS]; 64],
         }
+    }
+
+    /// Overwrites the coefficients with element `nodes`' dofs of `m` (of the tensor's kind),
+    /// by `table` (from [`slot_table`]): every active slot holds one dof, so nothing of the
+    /// previous element remains. Returns `Σ |u dof|` and `Σ max |x dof|` (for the bounds).
+    pub(crate) fn load(
+        &mut self,
+        m: &FeModel<f64>,
+        nodes: &[u32; 8],
+        table: &[(u8, u8, u8)],
+    ) -> (f64, f64) {
+        let ndof = m.kind.dofs_per_node();
+        let (mut s_u, mut s_x) = (0.0f64, 0.0f64);
+        for &(slot, local, k) in table {
+            let dof = nodes[local as usize] as usize * ndof + k as usize;
+            let (u, x) = (m.field[dof], m.coordinates[dof]);
+            s_u += u.abs();
+            s_x += x.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            self.coeffs[slot as usize] = [u, x[0], x[1], x[2]];
+        }
+        (s_u, s_x)
     }
 
     /// The element kind's active 1-D values at `t` along direction `d`.

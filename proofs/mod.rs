@@ -206,8 +206,9 @@ pub fn merge(mut slices: Vec<ProofOutcome>) -> Result<ProofOutcome, String> {
     })
 }
 
-/// [`merge`] for whole runs of [`all`]: groups the outcomes by proof (in the order of
-/// [`all`]) and merges each; fails when a proof is missing or unknown.
+/// [`merge`] for whole runs of [`all`] (and of [`long`], when present): groups the outcomes
+/// by proof (in the order of [`everything`]) and merges each; fails when a proof of [`all`]
+/// is missing or a proof is unknown.
 pub fn merge_runs(outcomes: Vec<ProofOutcome>) -> Result<Vec<ProofOutcome>, String> {
     let mut by_name: BTreeMap<String, Vec<ProofOutcome>> = BTreeMap::new();
     for o in outcomes {
@@ -219,6 +220,13 @@ pub fn merge_runs(outcomes: Vec<ProofOutcome>) -> Result<Vec<ProofOutcome>, Stri
             .remove(name)
             .ok_or_else(|| format!("no slices of proof '{name}'"))?;
         merged.push(merge(slices)?);
+    }
+    // The long proofs are merged when their slices are there (`geocert prove --shard` runs
+    // them), and may be absent as a whole.
+    for (name, _) in long() {
+        if let Some(slices) = by_name.remove(name) {
+            merged.push(merge(slices)?);
+        }
     }
     if let Some(name) = by_name.keys().next() {
         return Err(format!("unknown proof '{name}' among the slices"));
@@ -362,7 +370,22 @@ impl Lcg {
 /// A proof: runs its enumeration (the parts of one slice) and reports.
 pub type Proof = fn(Shard) -> ProofOutcome;
 
-/// Every proof that exists so far, in order.
+/// Proofs too long for `cargo test` (minutes each), run by `geocert prove` after [`all`].
+pub fn long() -> Vec<(&'static str, Proof)> {
+    vec![(
+        "mc.trilinear-topology-wide",
+        mc_topology::oracle_vs_sweep_wide as Proof,
+    )]
+}
+
+/// [`all`], then [`long`]: what `geocert prove` runs and publishes.
+pub fn everything() -> Vec<(&'static str, Proof)> {
+    let mut v = all();
+    v.extend(long());
+    v
+}
+
+/// Every proof `cargo test` runs, in order.
 pub fn all() -> Vec<(&'static str, Proof)> {
     vec![
         (

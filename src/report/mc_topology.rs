@@ -33,6 +33,8 @@ pub struct TopologyCase {
     /// Median seconds of the whole-volume topology (certified f64, exact fallback).
     pub seconds: f64,
     pub programs: Vec<ProgramRow>,
+    /// Triangles of the `isosurface` crate beyond the volume (its extra layer), dropped.
+    pub isosurface_beyond: usize,
 }
 
 /// The campaign.
@@ -116,6 +118,82 @@ fn mcubes_mesh(data: &[f32], dims: [usize; 3], iso: f64) -> Result<Mesh, String>
         scalars: None,
         normals: None,
     })
+}
+
+/// The `isosurface` crate's version (pinned in Cargo.toml).
+const ISOSURFACE_VERSION: &str = "0.0.4";
+
+/// The `isosurface` crate's marching cubes of a cubic volume, in voxel units. It samples a
+/// [`Source`](isosurface::source::Source) at `i / (size − 1)` and marks a corner inside when
+/// the sample is `≤ 0`: the source returns `iso − v`, so inside is geocert's positive side
+/// `v ≥ iso`. Its layer loop runs one layer of cells past `z = 1` (sampled there as the last
+/// layer, clamped); the triangles with a vertex beyond the volume are dropped and counted.
+fn isosurface_mesh(data: &[f32], dims: [usize; 3], iso: f64) -> Result<(Mesh, usize), String> {
+    use isosurface::marching_cubes::MarchingCubes;
+    use isosurface::source::Source;
+    if dims[0] != dims[1] || dims[1] != dims[2] {
+        return Err(format!("the crate samples cubes only, not {dims:?}"));
+    }
+    struct Samples<'a> {
+        data: &'a [f32],
+        size: usize,
+        iso: f32,
+    }
+    impl Source for Samples<'_> {
+        fn sample(&self, x: f32, y: f32, z: f32) -> f32 {
+            let last = self.size - 1;
+            let index = |t: f32| ((t * last as f32).round().max(0.0) as usize).min(last);
+            let (i, j, k) = (index(x), index(y), index(z));
+            self.iso - self.data[i + self.size * (j + self.size * k)]
+        }
+    }
+    let size = dims[0];
+    let source = Samples {
+        data,
+        size,
+        iso: iso as f32,
+    };
+    let (mut flat, mut indices) = (Vec::new(), Vec::new());
+    MarchingCubes::new(size).extract(&source, &mut flat, &mut indices);
+    let scale = (size - 1) as f64;
+    let vertices: Vec<[f64; 3]> = flat
+        .chunks_exact(3)
+        .map(|v| [0, 1, 2].map(|a| v[a] as f64 * scale))
+        .collect();
+    let beyond = |t: &[u32; 3]| t.iter().any(|&v| vertices[v as usize][2] > scale + 1e-3);
+    let all: Vec<[u32; 3]> = indices
+        .chunks_exact(3)
+        .map(|t| [t[0], t[1], t[2]])
+        .collect();
+    let triangles: Vec<[u32; 3]> = all.iter().filter(|t| !beyond(t)).copied().collect();
+    let dropped = all.len() - triangles.len();
+    Ok((
+        Mesh {
+            vertices,
+            triangles,
+            scalars: None,
+            normals: None,
+        },
+        dropped,
+    ))
+}
+
+/// `mesh` with every triangle's corners as vertices of their own (as STL stores a mesh).
+fn unindexed(mesh: &Mesh) -> Mesh {
+    let vertices = mesh
+        .triangles
+        .iter()
+        .flat_map(|t| t.map(|v| mesh.vertices[v as usize]))
+        .collect();
+    let triangles = (0..mesh.triangles.len() as u32)
+        .map(|t| [3 * t, 3 * t + 1, 3 * t + 2])
+        .collect();
+    Mesh {
+        vertices,
+        triangles,
+        scalars: None,
+        normals: None,
+    }
 }
 
 /// A peer's mesh: (program, version, mesh path or why there is none).
@@ -209,6 +287,27 @@ pub fn topology_campaign(root: &Path) -> TopologyCampaign {
             verdict: mcubes_mesh(&data, dims, iso)
                 .and_then(|mesh| verify_mesh(&vol, iso, &mesh, &opts).map_err(|e| e.to_string())),
         });
+        let mut dropped = 0;
+        let iso_mesh = isosurface_mesh(&data, dims, iso).map(|(mesh, d)| {
+            dropped = d;
+            mesh
+        });
+        // As indexed, and as a triangle soup that `mc verify` welds by grid edge (which
+        // separates its triangles from its vertex sharing).
+        for (program, mesh) in [
+            ("isosurface (Rust crate)", iso_mesh.clone()),
+            (
+                "isosurface, as a soup welded by grid edge",
+                iso_mesh.map(|m| unindexed(&m)),
+            ),
+        ] {
+            programs.push(ProgramRow {
+                program: program.into(),
+                version: ISOSURFACE_VERSION.into(),
+                verdict: mesh
+                    .and_then(|m| verify_mesh(&vol, iso, &m, &opts).map_err(|e| e.to_string())),
+            });
+        }
         match peer_meshes(
             root,
             &data,
@@ -238,6 +337,7 @@ pub fn topology_campaign(root: &Path) -> TopologyCampaign {
             truth,
             seconds: median(times),
             programs,
+            isosurface_beyond: dropped,
         });
     }
     let _ = std::fs::remove_dir_all(&scratch);
@@ -299,7 +399,9 @@ pub fn write_topology(s: &mut String, c: &TopologyCampaign) {
          infinitesimal as a formal variable (no square roots are needed: the slice saddles' \
          values are compared through their numerators). The proof \
          `mc.trilinear-topology` above checks it against an independent event sweep on every \
-         integer cell in [−3, 3]⁸ at isovalues 0 and 1/2 and on random rational cells. Whole \
+         integer cell in [−3, 3]⁸ at isovalues 0 and 1/2 and on random rational cells (what \
+         `cargo test` runs), and `mc.trilinear-topology-wide` on every integer cell in \
+         [−4, 4]⁸ (run by `geocert prove` only: minutes on one core). Whole \
          volumes add up exactly: `χ = Σ cells (2 − cycles per component) − face arcs + cut \
          edges`, components glued through cut edges.\n\n\
          | volume | isovalue | crossed cells | tunnel cells | χ | components (closed) | exact fallbacks | seconds (median of 3) |\n\
@@ -331,6 +433,22 @@ pub fn write_topology(s: &mut String, c: &TopologyCampaign) {
          beside the truth's. The Python programs run through `benches/peers`; the `mcubes` \
          crate (Rust) runs in-process (a dependency of the `reports` feature), its triangles \
          unwelded as it writes them (`mc verify` joins vertices by grid edge).\n"
+    );
+    let beyond: Vec<String> = c
+        .cases
+        .iter()
+        .map(|case| format!("{} on {}", case.isosurface_beyond, case.name))
+        .collect();
+    let _ = writeln!(
+        s,
+        "The `isosurface` crate (Rust, in-process too) marches one layer of cells past the \
+         volume's last sample plane (its loop runs over all `size` layers and samples at \
+         `z = size/(size − 1)`; the adapter clamps that to the last plane). Its triangles with \
+         a vertex beyond the volume are dropped before checking: {}. Its second row is the \
+         same triangles read as a soup, which `mc verify` welds by grid edge: it separates \
+         the crate's triangles from its vertex sharing (its index cache gives one crossing \
+         several vertices, so the indexed mesh is open).\n",
+        beyond.join(", ")
     );
     if let Some(why) = &c.peers_missing {
         let _ = writeln!(s, "The other programs did not run: {why}.\n");
@@ -407,4 +525,38 @@ pub fn write_topology(s: &mut String, c: &TopologyCampaign) {
         }
     );
     let _ = writeln!(s);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The `isosurface` crate's mesh of three blobs is read as marching cubes on the volume's
+    /// grid (every vertex on a cut edge: the adapter's scale and sign are right) with the
+    /// table's triangle count. As indexed it is open: its index cache gives one crossing
+    /// several vertices. As a soup welded by grid edge it is watertight with the truth's χ
+    /// and components, and no cell differs.
+    #[test]
+    fn isosurface_crate_mesh_is_checked_on_the_grid() {
+        let n = 24;
+        let data = smooth("blobs", n);
+        let vol = Volume::new([n; 3], data.iter().map(|&x| x as f64).collect()).unwrap();
+        let (mesh, dropped) = isosurface_mesh(&data, [n; 3], 0.5).unwrap();
+        assert_eq!(dropped, 0, "the blobs stay inside the volume");
+        let opts = VerifyOptions::default();
+        let own = extract_fast(&vol, 0.5).unwrap().0;
+        let indexed = verify_mesh(&vol, 0.5, &mesh, &opts).unwrap();
+        assert_eq!(indexed.interior_vertices, 0);
+        assert_eq!(indexed.edge_vertices, indexed.vertices);
+        assert_eq!(mesh.triangles.len(), own.triangles.len());
+        assert!(indexed.vertices > own.vertices.len() && !indexed.watertight);
+        let soup = verify_mesh(&vol, 0.5, &unindexed(&mesh), &opts).unwrap();
+        assert_eq!(soup.vertices, own.vertices.len());
+        assert!(soup.watertight);
+        assert_eq!(soup.euler_characteristic, soup.truth_euler_characteristic);
+        assert_eq!(soup.components, soup.truth_components);
+        assert!(soup.mismatches.is_empty());
+        // Non-cubic volumes are refused with a reason.
+        assert!(isosurface_mesh(&data, [n, n, n - 1], 0.5).is_err());
+    }
 }

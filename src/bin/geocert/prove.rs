@@ -77,7 +77,7 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
 fn prove_slice(shard: &str, out: &std::path::Path, json: bool) -> Result<ExitCode, String> {
     let shard = proofs::Shard::parse(shard)?;
     let meta = RunMeta::collect();
-    let outcomes: Vec<ProofOutcome> = proofs::all()
+    let outcomes: Vec<ProofOutcome> = proofs::everything()
         .into_iter()
         .map(|(_, proof)| proof(shard))
         .collect();
@@ -210,7 +210,7 @@ fn prove_mc(out: PathBuf, json: bool) -> Result<ExitCode, String> {
 }
 
 fn mc_table_proofs() -> (Vec<ProofOutcome>, usize) {
-    let outcomes: Vec<_> = proofs::all()
+    let outcomes: Vec<_> = proofs::everything()
         .into_iter()
         .filter(|(name, _)| name.starts_with("mc."))
         .map(|(_, proof)| proof(proofs::Shard::WHOLE))
@@ -221,7 +221,7 @@ fn mc_table_proofs() -> (Vec<ProofOutcome>, usize) {
 
 fn prove(out: PathBuf, json: bool, merged: Option<Vec<ProofOutcome>>) -> Result<ExitCode, String> {
     let meta = RunMeta::collect();
-    let proofs = proofs::all();
+    let proofs = proofs::everything();
     let bar = ProgressBar::new(proofs.len() as u64 + 6);
     bar.set_style(
         ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").map_err(|e| e.to_string())?,

@@ -36,9 +36,9 @@ const SLICE_KIND: &str = "geocert/proof-slice";
 /// A part of `prove` that runs alone.
 #[derive(Clone, Copy, ValueEnum)]
 pub(crate) enum Part {
-    /// The marching-cubes table proofs.
+    /// The marching-cubes proofs `cargo test` runs (not the long ones).
     McTable,
-    /// Marching cubes whole: the table proofs, grids and elements (and VTK), the trilinear
+    /// Marching cubes whole: the table proofs (the long ones too), grids and elements (and VTK), the trilinear
     /// topology and other programs' meshes checked against it; writes mc.md.
     Mc,
     /// The solver's campaign alone (constructed systems, msolve if installed); writes
@@ -158,7 +158,7 @@ fn merge_slices(dirs: &[PathBuf]) -> Result<Vec<ProofOutcome>, String> {
 
 /// The marching-cubes table proofs alone.
 fn prove_mc_table(json: bool) -> Result<ExitCode, String> {
-    let (outcomes, unrealisable) = mc_table_proofs();
+    let (outcomes, unrealisable) = mc_table_proofs(false);
     let ok = outcomes.iter().all(|p| p.ok());
     if json {
         let v = report::mc_markdown::mc_table_summary(&outcomes, unrealisable);
@@ -180,7 +180,7 @@ fn prove_mc_table(json: bool) -> Result<ExitCode, String> {
 fn prove_mc(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     let meta = RunMeta::collect();
     let root = std::env::current_dir().map_err(|e| e.to_string())?;
-    let (outcomes, unrealisable) = mc_table_proofs();
+    let (outcomes, unrealisable) = mc_table_proofs(true);
     let grid = report::mc_grid::grid_campaign(&root, 256, 3);
     let fe = report::mc_fe::fe_campaign(&root, 5, 300);
     let topology = report::mc_topology::topology_campaign(&root);
@@ -209,8 +209,14 @@ fn prove_mc(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     Ok(status(ok))
 }
 
-fn mc_table_proofs() -> (Vec<ProofOutcome>, usize) {
-    let outcomes: Vec<_> = proofs::everything()
+/// The `mc.` proofs (with the long ones when `long`) and the unrealisable entries.
+fn mc_table_proofs(long: bool) -> (Vec<ProofOutcome>, usize) {
+    let list = if long {
+        proofs::everything()
+    } else {
+        proofs::all()
+    };
+    let outcomes: Vec<_> = list
         .into_iter()
         .filter(|(name, _)| name.starts_with("mc."))
         .map(|(_, proof)| proof(proofs::Shard::WHOLE))

@@ -422,8 +422,11 @@ pub fn write_fe(s: &mut String, c: &FeCampaign) {
          then ξ₂, then ξ₃ (about m₃ multiply-adds per sample instead of 8 · dofs products of \
          three basis values); the bound `2⁻⁴⁵ Σ|dofs|` on every sample still holds (derived \
          in `src/mc/fe/tensor.rs`). Signs go into one bitset per lattice row and the cut \
-         cells of a row are found 64 at a time, as on grids; only cut cells are visited. \
-         Exact fallbacks (signs, cut points, the Figure 7 coincidence test) evaluate eqs. 1 \
+         cells of a row are found 64 at a time, as on grids; only cut cells are visited. A \
+         cut edge on an element's boundary finds its vertex in a block of slots of the face \
+         or element edge it lies in (the entity named once per element by its global nodes, \
+         its lattice edges indexed in the entity's canonical frame), not by hashing each \
+         edge's name. Exact fallbacks (signs, cut points, the Figure 7 coincidence test) evaluate eqs. 1 \
          and 2 in integers over a shared denominator with one gcd at the end \
          (`src/mc/fe/integer.rs`), not in normalised rationals. Goals (one thread): at least \
          30 Mcells/s on Hermite and 60 Mcells/s on trilinear Lagrange elements.\n",

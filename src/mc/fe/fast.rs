@@ -11,9 +11,11 @@
 //! So the triangle index structure equals the exact path's.
 //!
 //! Signs are kept as one bitset per lattice row and cut cells found 64 at a time, as on
-//! grids. Cut edges inside an element use per-element arrays; only edges on the element
-//! boundary go through the hash table of edge names (Section 3.2). Element ranges run in
-//! parallel and are welded by those names ([`polygonise_fast`]).
+//! grids. Cut edges inside an element use per-element arrays; edges on the element boundary
+//! use slot blocks of the face or element edge they lie in ([`slots`](super::slots): the
+//! entity is named once per element by its global nodes, Section 3.2, and its lattice edges
+//! are indexed in its canonical frame). Element ranges run in parallel and are welded by
+//! those names ([`polygonise_fast`]).
 
 use super::exact::jacobian_determinant;
 use super::integer::IntegerElement;
@@ -745,7 +747,7 @@ impl<'a> Kernel<'a> {
     }
 
     /// The vertex on cell edge `edge`: made on first use, shared within the element through
-    /// the id arrays and across elements through the edge names.
+    /// the id arrays and across elements through the boundary slots.
     fn edge_vertex(&mut self, cur: &Current, cell: [usize; 3], edge: u8) -> u32 {
         let (axis, lo) = cell_edge(cell, edge);
         let at = self.index(lo);

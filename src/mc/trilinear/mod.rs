@@ -48,6 +48,7 @@
 //! slices, exact on small integer cells — used by the proofs to cross-check the oracle.
 
 pub(crate) mod closed;
+pub mod embedding;
 pub mod polygonise;
 pub(crate) mod ring;
 pub mod sweep;

@@ -13,6 +13,11 @@
 //! opposite ways around it: the stitch pairs one ring forward with the other backward.
 //! Components with more cycles do not occur in trilinear cells (the proof
 //! `mc.trilinear-topology` counts them: none); they are refused.
+//!
+//! The tube's topology is proved; its geometry is not always an embedding: when the two
+//! cycles are far from parallel, the inner rings can pass through each other
+//! ([`embedding`](super::embedding) finds such crossings exactly; `reports/mc.md` counts
+//! them over an exhaustive cell set).
 
 use std::collections::HashMap;
 

@@ -112,7 +112,8 @@ fn oracle_vs_sweep_on(shard: Shard, name: &str, range: i64, random_cells: usize)
                         let case = entry_index * GROUPINGS + code % GROUPINGS;
                         if cases.insert(case) {
                             t.flag("trilinear_cases", entries * GROUPINGS, case);
-                            let built = cell_mesh(&o).map_err(|e| e.to_string());
+                            let shifted = || g.map(|x| Rational::from_integer(x.into()));
+                            let built = cell_mesh(&o, shifted).map_err(|e| e.to_string());
                             let verdict = built.and_then(|m| check_cell_mesh(&o, &m));
                             t.check(verdict.is_ok(), || {
                                 format!("values {v:?}: trilinear triangulation: {verdict:?}")
@@ -257,5 +258,70 @@ fn oracle_vs_sweep_on(shard: Shard, name: &str, range: i64, random_cells: usize)
     t.template(&format!(
         "{{crossed}} cells crossed by the level; {{tunnel_cells}} with a tube (a tunnel), realising {{#tunnel_entries}} table entries; components: {{discs}} discs, {{tubes}} tubes, {{three_holed}} with three or more holes; the f64 path decided {{fast_decided}} (of the undecided, {{fast_ties}} have a corner on the level){random}; {{#trilinear_cases}} distinct trilinear cases (table entry and grouping of its polygons into components) met, each triangulated with its topology (oriented, the table's face segments, no chord in a face, the oracle's components and cycles)",
     ));
+    t.finish()
+}
+
+/// The trilinear tubes are embedded: every integer cell of `[−RANGE, RANGE]⁸` at the
+/// isovalue 1/2 with a tunnel is triangulated ([`cell_mesh`]) and every pair of its
+/// triangles tested for crossings in exact integer arithmetic
+/// ([`crossings`](crate::mc::trilinear::embedding::crossings)). One part per (corner 7,
+/// corner 6).
+pub fn tube_embedding(shard: Shard) -> ProofOutcome {
+    tube_embedding_on(shard, "mc.tube-embedding", RANGE)
+}
+
+/// [`tube_embedding`] on `[−WIDE_RANGE, WIDE_RANGE]⁸` (run by `geocert prove`).
+pub fn tube_embedding_wide(shard: Shard) -> ProofOutcome {
+    tube_embedding_on(shard, "mc.tube-embedding-wide", WIDE_RANGE)
+}
+
+fn tube_embedding_on(shard: Shard, name: &str, range: i64) -> ProofOutcome {
+    use crate::mc::trilinear::embedding::{crossings, shifted};
+    let side = (2 * range + 1) as usize;
+    let mut t = Tally::new(
+        name,
+        &format!(
+            "every integer cell in [−{range}, {range}]⁸ at the isovalue 1/2 ({} cells) whose trilinear surface has a tube: every pair of its triangles tested for crossings, exactly",
+            side.pow(8)
+        ),
+        shard,
+    );
+    let (mut tubes, mut pairs) = (0u64, 0u64);
+    for hi in 0..side * side {
+        if !t.owns(hi as u64) {
+            continue;
+        }
+        for lo in 0..side.pow(6) {
+            let mut c = lo;
+            let mut v = [0i64; 8];
+            for x in v.iter_mut().take(6) {
+                *x = (c % side) as i64 - range;
+                c /= side;
+            }
+            v[6] = (hi % side) as i64 - range;
+            v[7] = (hi / side) as i64 - range;
+            let g = v.map(|x| 2 * x - 1);
+            let Some(topo) = topology_of_small(&g) else {
+                continue;
+            };
+            if topo.tunnels() == 0 {
+                continue;
+            }
+            tubes += 1;
+            let found = cell_mesh(&topo, || shifted(&g))
+                .map_err(|e| e.to_string())
+                .and_then(|m| crossings(&g, &m).ok_or_else(|| "out of range".to_string()));
+            if let Ok(x) = &found {
+                pairs += x.pairs as u64;
+            }
+            t.check(
+                matches!(&found, Ok(x) if x.crossing == 0 && x.coplanar == 0),
+                || format!("values {v:?} at 1/2: {found:?}"),
+            );
+        }
+    }
+    t.count("tubes", tubes);
+    t.count("pairs", pairs);
+    t.template("{tubes} tube cells, {pairs} triangle pairs, none crossing");
     t.finish()
 }

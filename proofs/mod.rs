@@ -372,10 +372,13 @@ pub type Proof = fn(Shard) -> ProofOutcome;
 
 /// Proofs too long for `cargo test` (minutes each), run by `geocert prove` after [`all`].
 pub fn long() -> Vec<(&'static str, Proof)> {
-    vec![(
-        "mc.trilinear-topology-wide",
-        mc_topology::oracle_vs_sweep_wide as Proof,
-    )]
+    vec![
+        (
+            "mc.trilinear-topology-wide",
+            mc_topology::oracle_vs_sweep_wide as Proof,
+        ),
+        ("mc.tube-embedding-wide", mc_topology::tube_embedding_wide),
+    ]
 }
 
 /// [`all`], then [`long`]: what `geocert prove` runs and publishes.
@@ -410,6 +413,7 @@ pub fn all() -> Vec<(&'static str, Proof)> {
         ("mc.table-body-ambiguity", mc_body::body),
         ("mc.face-deciders", mc::face_deciders),
         ("mc.trilinear-topology", mc_topology::oracle_vs_sweep),
+        ("mc.tube-embedding", mc_topology::tube_embedding),
         (
             "diamond.implicit-vs-explicit",
             diamond::implicit_vs_explicit,

@@ -181,7 +181,8 @@ impl<'a> ExactOracle<'a> {
                 let (e, cell) = (element as usize, widen(cell));
                 let corners = std::array::from_fn(|c| self.value(e, cell_corner(cell, c)));
                 let topo = cell_topology_exact(&corners, &self.iso);
-                let mesh = cell_mesh(&topo).expect("the fast path drew this tube");
+                let mesh = cell_mesh(&topo, || corners.clone().map(|v| v - &self.iso))
+                    .expect("the fast path drew this tube");
                 let v = &mesh.interior[index as usize];
                 let cuts: Vec<(u8, [Rational; 3])> =
                     v.of.iter()

@@ -625,7 +625,7 @@ pub(crate) fn tube_mesh(
         (config, sub),
         "Mackerras = asymptotic decider"
     );
-    (topo.tunnels() > 0).then(|| cell_mesh(&topo))
+    (topo.tunnels() > 0).then(|| cell_mesh(&topo, || corners.clone().map(|v| v - iso)))
 }
 
 #[cfg(test)]

@@ -14,15 +14,19 @@
 //! Components with more cycles do not occur in trilinear cells (the proof
 //! `mc.trilinear-topology` counts them: none); they are refused.
 //!
-//! The tube's topology is proved; its geometry is not always an embedding: when the two
-//! cycles are far from parallel, the inner rings can pass through each other
-//! ([`embedding`](super::embedding) finds such crossings exactly; `reports/mc.md` counts
-//! them over an exhaustive cell set).
+//! The stitch interleaves the two rings' steps by index ratio, and its alignment is
+//! geometric: of all pairs of start vertices, the one whose zip's diagonals have the least
+//! sum of squared lengths, compared exactly from the cut points (so both paths choose alike).
+//! Zipping from the cycles' first vertices instead crossed itself in about half the tube
+//! cells of `[−3, 3]⁸`; the aligned zip is embedded in every tube cell of `[−3, 3]⁸` and
+//! `[−4, 4]⁸` at the isovalue 1/2 (proofs `mc.tube-embedding` and `mc.tube-embedding-wide`,
+//! with the exact crossing test of [`embedding`](super::embedding)).
 
 use std::collections::HashMap;
 
 use super::CellTopology;
 use crate::mc::table::{table, triangulate};
+use crate::num::Rational;
 
 /// A vertex of a cell's triangulation that is not a cut point: `(centroid(of) + p) / 2` for
 /// `toward = Some(p)` (a cut point), `centroid(of)` for `None`. All ids are cut edges.
@@ -48,20 +52,46 @@ pub struct CellMesh {
 #[error("a component with {0} boundary cycles: no construction (trilinear cells have at most two)")]
 pub struct TooManyCycles(pub usize);
 
-/// The triangulation of a cell with the oracle's topology.
-pub fn cell_mesh(topo: &CellTopology) -> Result<CellMesh, TooManyCycles> {
+/// The triangulation of a cell with the oracle's topology. `shifted` gives the cell's corner
+/// values minus the isovalue (any common positive scale; table corner order): it is called
+/// only for a cell with a tube, whose stitch is chosen from the cut points' positions.
+pub fn cell_mesh(
+    topo: &CellTopology,
+    shifted: impl FnOnce() -> [Rational; 8],
+) -> Result<CellMesh, TooManyCycles> {
     let mut out = CellMesh {
         triangles: Vec::new(),
         interior: Vec::new(),
     };
+    let mut shifted = Some(shifted);
+    let mut g: Option<[Rational; 8]> = None;
     for comp in &topo.components {
         match comp.cycles.as_slice() {
             [p] => disc(p, &mut out),
-            [a, b] => tube(a, b, &mut out),
+            [a, b] => {
+                let g = g.get_or_insert_with(|| (shifted.take().expect("called once"))());
+                tube(a, b, g, &mut out)
+            }
             other => return Err(TooManyCycles(other.len())),
         }
     }
     Ok(out)
+}
+
+/// The cut point of table edge `e` in the unit cell, for shifted corner values `g` (the edge
+/// must change sign; its point is where the linear interpolant along it is 0).
+pub fn cut_point(g: &[Rational; 8], e: u8) -> [Rational; 3] {
+    let [a, b] = crate::mc::table::EDGES[e as usize];
+    let (ga, gb) = (&g[a as usize], &g[b as usize]);
+    let t = ga / (ga - gb);
+    let (pa, pb) = (
+        crate::mc::table::CORNERS[a as usize],
+        crate::mc::table::CORNERS[b as usize],
+    );
+    [0, 1, 2].map(|k| {
+        Rational::from_integer(pa[k].into())
+            + &t * Rational::from_integer((i64::from(pb[k]) - i64::from(pa[k])).into())
+    })
 }
 
 fn push_interior(out: &mut CellMesh, v: InteriorVertex) -> u8 {
@@ -87,8 +117,9 @@ fn disc(p: &[u8], out: &mut CellMesh) {
     }
 }
 
-/// An annulus between cycles `a` and `b` (see the module docs).
-fn tube(a: &[u8], b: &[u8], out: &mut CellMesh) {
+/// An annulus between cycles `a` and `b` (see the module docs), for shifted corner values
+/// `g`.
+fn tube(a: &[u8], b: &[u8], g: &[Rational; 8], out: &mut CellMesh) {
     let of: Vec<u8> = a.iter().chain(b).copied().collect();
     let ring = |cycle: &[u8], out: &mut CellMesh| -> Vec<u8> {
         let inner: Vec<u8> = cycle
@@ -114,19 +145,61 @@ fn tube(a: &[u8], b: &[u8], out: &mut CellMesh) {
     };
     let ra = ring(a, out);
     let rb = ring(b, out);
-    // Stitch ring a (forward) to ring b reversed: both rings' edges appear forward here.
-    let q: Vec<u8> = (0..rb.len())
-        .map(|j| rb[(rb.len() - j) % rb.len()])
+    // Ring b reversed, so that both rings' edges run forward in the stitch.
+    let (m, n) = (ra.len(), rb.len());
+    let rev = |j: usize| (n - j) % n;
+    // The rings are the cycles scaled by 1/2 about one centre, so squared distances between
+    // ring vertices are a quarter of those between the cut points: compare those.
+    let pa: Vec<[Rational; 3]> = a.iter().map(|&e| cut_point(g, e)).collect();
+    let pb: Vec<[Rational; 3]> = b.iter().map(|&e| cut_point(g, e)).collect();
+    let dist: Vec<Vec<Rational>> = pa
+        .iter()
+        .map(|p| {
+            (0..n)
+                .map(|j| {
+                    let q = &pb[rev(j)];
+                    (0..3).map(|k| (&p[k] - &q[k]) * (&p[k] - &q[k])).sum()
+                })
+                .collect()
+        })
         .collect();
-    let (m, n) = (ra.len(), q.len());
+    let d = |i: usize, j: usize| &dist[i % m][j % n];
+    // The zip: steps along ring a or ring b interleaved by index ratio (never a whole ring at
+    // one vertex of the other), from the pair of start vertices whose zip's diagonals have
+    // the least sum of squared lengths (the first such pair on ties).
+    let mut steps = Vec::with_capacity(m + n);
     let (mut i, mut j) = (0usize, 0usize);
     while i < m || j < n {
-        let advance_p = j == n || (i < m && (i + 1) * n <= (j + 1) * m);
-        if advance_p {
-            out.triangles.push([ra[i % m], ra[(i + 1) % m], q[j % n]]);
+        let along_a = j == n || (i < m && (i + 1) * n <= (j + 1) * m);
+        i += usize::from(along_a);
+        j += usize::from(!along_a);
+        steps.push(along_a);
+    }
+    let mut best: Option<(Rational, usize, usize)> = None;
+    for i0 in 0..m {
+        for j0 in 0..n {
+            let mut total = d(i0, j0).clone();
+            let (mut i, mut j) = (i0, j0);
+            for &along_a in &steps {
+                i += usize::from(along_a);
+                j += usize::from(!along_a);
+                total += d(i, j);
+            }
+            if best.as_ref().is_none_or(|b| total < b.0) {
+                best = Some((total, i0, j0));
+            }
+        }
+    }
+    let (_, i0, j0) = best.expect("cycles are not empty");
+    let q = |j: usize| rb[rev((j0 + j) % n)];
+    let p = |i: usize| ra[(i0 + i) % m];
+    let (mut i, mut j) = (0usize, 0usize);
+    for along_a in steps {
+        if along_a {
+            out.triangles.push([p(i), p(i + 1), q(j)]);
             i += 1;
         } else {
-            out.triangles.push([ra[i % m], q[(j + 1) % n], q[j % n]]);
+            out.triangles.push([p(i), q(j + 1), q(j)]);
             j += 1;
         }
     }
@@ -302,7 +375,13 @@ pub fn extract_trilinear(
     let mut meshes = Vec::with_capacity(cells.len());
     for (cell, topo) in &cells {
         stats.tunnel_cells += usize::from(topo.tunnels() > 0);
-        let m = cell_mesh(topo).map_err(|why| TrilinearError::Construction { cell: *cell, why })?;
+        let shifted = || {
+            let iso = crate::num::rational_from_f64(iso, "isovalue").expect("finite");
+            super::volume::corners_of(vol, *cell)
+                .map(|v| crate::num::rational_from_f64(v, "sample").expect("finite") - &iso)
+        };
+        let m = cell_mesh(topo, shifted)
+            .map_err(|why| TrilinearError::Construction { cell: *cell, why })?;
         meshes.push((*cell, m));
     }
     let point = |cell: [usize; 3], e: u8| -> [f64; 3] {
@@ -372,8 +451,8 @@ pub fn extract_trilinear_exact(
                 let topo = super::cell_topology_exact(&v, iso);
                 stats.cells += 1;
                 stats.tunnel_cells += usize::from(topo.tunnels() > 0);
-                let m =
-                    cell_mesh(&topo).map_err(|why| TrilinearError::Construction { cell, why })?;
+                let m = cell_mesh(&topo, || v.clone().map(|x| x - iso))
+                    .map_err(|why| TrilinearError::Construction { cell, why })?;
                 meshes.push((cell, m));
             }
         }

@@ -28,7 +28,8 @@ pub struct Crossings {
 
 /// The crossings of `mesh`, the triangulation of the cell with shifted integer corner values
 /// `g` (table corner order; `|g| < 2¹⁵`, no corner on the level at an edge the mesh uses).
-/// `None` when a value is out of range or a used edge has no sign change.
+/// `None` when a value is out of range, a used edge has no sign change, or the common
+/// denominator of the cut points reaches `2²⁴` (coordinates would overflow the determinants).
 pub fn crossings(g: &[i64; 8], mesh: &CellMesh) -> Option<Crossings> {
     if g.iter().any(|v| v.abs() >= 1 << 15) {
         return None;
@@ -58,11 +59,12 @@ pub fn crossings(g: &[i64; 8], mesh: &CellMesh) -> Option<Crossings> {
     if used.iter().any(|&e| den[e as usize] == 0) {
         return None;
     }
-    // Scale: lcm of the used denominators, times the averaging counts (≤ 12, and 2).
-    let lcm = used.iter().fold(1i128, |l, &e| {
+    // Scale: lcm of the used denominators, times the averaging counts (≤ 12, and 2), below
+    // 2⁴⁰ so that the orientation determinants (cubes of coordinate differences) fit.
+    let lcm = used.iter().try_fold(1i128, |l, &e| {
         let d = den[e as usize].abs();
-        l / gcd(l, d) * d
-    });
+        (l / gcd(l, d)).checked_mul(d).filter(|&x| x < 1 << 24)
+    })?;
     let scale = lcm * 27720 * 2;
     let cut = |e: u8| -> [i128; 3] {
         let [a, b] = EDGES[e as usize];
@@ -159,8 +161,13 @@ fn same_side(u: [i128; 3], v: [i128; 3], w1: [i128; 3], w2: [i128; 3]) -> bool {
             d[0] * e[1] - d[1] * e[0],
         ]
     };
+    // The two cross products are parallel (normal to the common plane): compare signs, not
+    // magnitudes (their products could overflow).
     let (c1, c2) = (cross(w1), cross(w2));
-    (0..3).map(|k| c1[k] * c2[k]).sum::<i128>() > 0
+    (0..3)
+        .map(|k| c1[k].signum() * c2[k].signum())
+        .sum::<i128>()
+        > 0
 }
 
 fn gcd(mut a: i128, mut b: i128) -> i128 {

@@ -76,13 +76,6 @@ pub(crate) mod prelude {
             self.map(move |x| f(&mut state, x))
         }
 
-        fn flat_map_iter<U: IntoIterator>(
-            self,
-            f: impl FnMut(Self::Item) -> U,
-        ) -> impl Iterator<Item = U::Item> {
-            self.flat_map(f)
-        }
-
         fn flatten_iter(self) -> std::iter::Flatten<Self>
         where
             Self::Item: IntoIterator,

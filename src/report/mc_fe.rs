@@ -167,15 +167,17 @@ fn sphere_errors(m: &FeModel<f64>, iso: f64, cells: [usize; 3]) -> (f64, (f64, f
 /// The samples of `gyroid_block(e)` at `n` cells per element as one `(e n + 1)³` grid (the
 /// block's elements are unit cubes in ξ, `i` fastest).
 fn gathered_samples(e: usize, n: usize) -> Vec<f64> {
-    use crate::mc::fe::tensor::ElementTensor;
+    use crate::mc::fe::tensor::{slot_table, ElementTensor};
     let m = models::gyroid_block(e);
     let side = e * n + 1;
     let lattice = ElementTensor::lattice_bases(m.kind, [n; 3]);
     let (mut scratch, mut vals) = (Vec::new(), Vec::new());
     let mut grid = vec![0.0; side * side * side];
+    let (mut tensor, table) = (ElementTensor::empty(m.kind), slot_table(m.kind));
     for (idx, nodes) in m.elements.iter().enumerate() {
         let o = [idx % e, idx / e % e, idx / (e * e)].map(|x| x * n);
-        ElementTensor::new(&m, nodes).sample_field(&lattice, &mut scratch, &mut vals);
+        tensor.load(&m, nodes, &table);
+        tensor.sample_field(&lattice, &mut scratch, &mut vals);
         for k in 0..=n {
             for j in 0..=n {
                 for i in 0..=n {

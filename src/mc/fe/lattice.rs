@@ -249,6 +249,22 @@ pub(crate) fn check_conforming(elements: &[[u32; 8]], n: [usize; 3]) -> Result<(
     Ok(())
 }
 
+/// Test elements: two unit hexahedra glued along x = 1 (nodes of a 2×1×1 block, id =
+/// i + 3j + 6k), the second rotated a quarter turn about x (local (a, b, c) ↦ global
+/// (1 + a, c, 1 − b)); and the first with its x = 1, y = 1 edge collapsed onto x = 1, y = 0
+/// (a wedge).
+#[cfg(test)]
+pub(crate) fn glued_pair_and_wedge() -> [[u32; 8]; 3] {
+    let id = |i: u32, j: u32, k: u32| i + 3 * j + 6 * k;
+    let e0 = [0, 1, 2, 3, 4, 5, 6, 7].map(|l: u32| id(l & 1, l >> 1 & 1, l >> 2 & 1));
+    let e1 = [0, 1, 2, 3, 4, 5, 6, 7].map(|l: u32| {
+        let (a, b, c) = (l & 1, l >> 1 & 1, l >> 2 & 1);
+        id(1 + a, c, 1 - b)
+    });
+    let wedge = [0, 1, 2, 3, 4, 5, 6, 7].map(|l: u32| id(l & 1, l >> 1 & 1 & !l, l >> 2 & 1));
+    [e0, e1, wedge]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -256,15 +272,7 @@ mod tests {
     /// Two unit hexahedra glued along x = 1, the second rotated a quarter turn about x.
     #[test]
     fn shared_face_points_get_one_name() {
-        // Nodes of a 2×1×1 block: id = i + 3j + 6k.
-        let id = |i: u32, j: u32, k: u32| i + 3 * j + 6 * k;
-        let e0 = [0, 1, 2, 3, 4, 5, 6, 7].map(|l: u32| id(l & 1, l >> 1 & 1, l >> 2 & 1));
-        // Element 1 spans i ∈ [1, 2]; its local ξ₂ runs along −z... a rotated frame:
-        // local (a, b, c) ↦ global (1 + a, c, 1 − b).
-        let e1 = [0, 1, 2, 3, 4, 5, 6, 7].map(|l: u32| {
-            let (a, b, c) = (l & 1, l >> 1 & 1, l >> 2 & 1);
-            id(1 + a, c, 1 - b)
-        });
+        let [e0, e1, _] = glued_pair_and_wedge();
         let n = [4, 4, 4];
         for j in 0..=4 {
             for k in 0..=4 {

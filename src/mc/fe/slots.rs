@@ -298,18 +298,11 @@ mod tests {
     use crate::mc::fe::heart;
     use std::collections::HashMap;
 
-    /// Slot equality is edge-key equality, over every boundary lattice edge of the heart
-    /// (collapsed apex elements included) and of a block glued to a quarter-turned copy.
+    /// Slot equality is edge-key equality, over every boundary lattice edge of the heart, of a
+    /// block glued to a quarter-turned copy, and of a wedge (collapsed edge) beside them.
     #[test]
     fn slots_name_edges_as_edge_keys_do() {
-        let id = |i: u32, j: u32, k: u32| i + 3 * j + 6 * k;
-        let e0 = [0, 1, 2, 3, 4, 5, 6, 7].map(|l: u32| id(l & 1, l >> 1 & 1, l >> 2 & 1));
-        let e1 = [0, 1, 2, 3, 4, 5, 6, 7].map(|l: u32| {
-            let (a, b, c) = (l & 1, l >> 1 & 1, l >> 2 & 1);
-            id(1 + a, c, 1 - b)
-        });
-        // e0 with its x = 1, y = 1 edge collapsed onto x = 1, y = 0 (a wedge).
-        let wedge = [0, 1, 2, 3, 4, 5, 6, 7].map(|l: u32| id(l & 1, l >> 1 & 1 & !l, l >> 2 & 1));
+        let [e0, e1, wedge] = crate::mc::fe::lattice::glued_pair_and_wedge();
         let heart = heart::left_ventricle().elements;
         let cases: [(&[[u32; 8]], [usize; 3]); 6] = [
             (&[wedge, e0, e1], [3, 3, 3]),

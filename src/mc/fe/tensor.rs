@@ -96,6 +96,7 @@ pub(crate) struct Jet {
 
 impl ElementTensor {
     /// Gathers element `nodes`' dofs of `m` into the tensor.
+    #[cfg(test)]
     pub(crate) fn new(m: &FeModel<f64>, nodes: &[u32; 8]) -> ElementTensor {
         let mut t = ElementTensor::empty(m.kind);
         t.load(m, nodes, &slot_table(m.kind));

@@ -38,8 +38,9 @@ const SLICE_KIND: &str = "geocert/proof-slice";
 pub(crate) enum Part {
     /// The marching-cubes proofs `cargo test` runs (not the long ones).
     McTable,
-    /// Marching cubes whole: the table proofs (the long ones too), grids and elements (and VTK), the trilinear
-    /// topology and other programs' meshes checked against it; writes mc.md.
+    /// Marching cubes whole: the table proofs (the long ones too), grids and elements (and
+    /// VTK), the trilinear topology and other programs' meshes checked against it; writes
+    /// mc.md.
     Mc,
     /// The solver's campaign alone (constructed systems, msolve if installed); writes
     /// solve.md.

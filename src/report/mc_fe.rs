@@ -317,12 +317,7 @@ pub fn fe_campaign(root: &std::path::Path, runs: usize, random: usize) -> FeCamp
     let mut failures = Vec::new();
     for _ in 0..random {
         let bytes: Vec<u8> = (0..320)
-            .map(|_| {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                (state >> 24) as u8
-            })
+            .map(|_| (xorshift(&mut state) >> 24) as u8)
             .collect();
         match crate::fuzzing::check_mc_fe(&bytes) {
             Ok(()) => passed += 1,
@@ -341,6 +336,14 @@ pub fn fe_campaign(root: &std::path::Path, runs: usize, random: usize) -> FeCamp
     }
 }
 
+/// One step of Marsaglia's xorshift64 (the campaigns' deterministic bytes).
+fn xorshift(state: &mut u64) -> u64 {
+    *state ^= *state << 13;
+    *state ^= *state >> 7;
+    *state ^= *state << 17;
+    *state
+}
+
 /// `CellRule::Trilinear` on `count` warped blocks of 3 × 3 × 2 trilinear elements with
 /// integer node values in [−3, 3] at the isovalue 1/2, 2 cells per element.
 fn trilinear_topology_campaign(count: usize) -> (usize, usize, usize, usize) {
@@ -350,12 +353,7 @@ fn trilinear_topology_campaign(count: usize) -> (usize, usize, usize, usize) {
     let half = crate::num::Rational::new(1.into(), 2.into());
     for _ in 0..count {
         let vals: Vec<f64> = (0..48)
-            .map(|_| {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                ((state >> 20) % 7) as f64 - 3.0
-            })
+            .map(|_| ((xorshift(&mut state) >> 20) % 7) as f64 - 3.0)
             .collect();
         let value = |p: [f64; 3]| vals[p[0] as usize + 4 * (p[1] as usize + 4 * p[2] as usize)];
         let m = models::block(

@@ -9,8 +9,8 @@
 use super::basis::terms_exact;
 use super::lattice::{edge_key, point_key, EdgeKey, PointKey};
 use super::{
-    cell_corner, cell_edge, classify, face_abcd, prepare, tube_mesh, weld, CellRule, FeError,
-    FeModel, FeOptions, FeStats,
+    cell_corner, cell_edge, classify, face_abcd, prepare, tube_mesh, tube_triangles, weld,
+    CellRule, FeError, FeModel, FeOptions, FeStats,
 };
 use crate::mc::table::{is_positive, table, CENTRE};
 use crate::mc::trilinear::polygonise::interior_position;
@@ -199,35 +199,23 @@ pub fn polygonise_exact(
                             why,
                         })?;
                         stats.tunnel_cells += 1;
-                        let mut inner = vec![u32::MAX; mesh.interior.len()];
-                        for tri in &mesh.triangles {
-                            let mut t = [0u32; 3];
-                            for (slot, &x) in t.iter_mut().zip(tri) {
-                                if x < 12 {
-                                    *slot = edge_vertex(cell, x, &mut vertex_of, &mut vertices);
-                                    continue;
-                                }
-                                let k = (x - 12) as usize;
-                                if inner[k] == u32::MAX {
-                                    let p = interior_position(
-                                        &mesh.interior[k],
-                                        |x| cut_xi(cell, x),
-                                        |a, b| [0, 1, 2].map(|d| &a[d] + &b[d]),
-                                        |a, k| {
-                                            let k = Rational::from_integer((k as i64).into());
-                                            [0, 1, 2].map(|d| &a[d] / &k)
-                                        },
-                                    );
-                                    vertices.push(interpolate_world(m, nodes, &to_xi(&p), None));
-                                    inner[k] = (vertices.len() - 1) as u32;
-                                }
-                                *slot = inner[k];
+                        let tris = tube_triangles(&mesh, flip, |x| {
+                            if x < 12 {
+                                return edge_vertex(cell, x, &mut vertex_of, &mut vertices);
                             }
-                            if flip {
-                                t.swap(1, 2);
-                            }
-                            triangles.push(t);
-                        }
+                            let p = interior_position(
+                                &mesh.interior[(x - 12) as usize],
+                                |x| cut_xi(cell, x),
+                                |a, b| [0, 1, 2].map(|d| &a[d] + &b[d]),
+                                |a, k| {
+                                    let k = Rational::from_integer((k as i64).into());
+                                    [0, 1, 2].map(|d| &a[d] / &k)
+                                },
+                            );
+                            vertices.push(interpolate_world(m, nodes, &to_xi(&p), None));
+                            (vertices.len() - 1) as u32
+                        });
+                        triangles.extend(tris);
                         continue;
                     }
                     // Steps 5–6: the entry's triangles, vertices by linear interpolation.

@@ -22,8 +22,8 @@ use super::integer::IntegerElement;
 use super::slots::{BoundaryName, BoundarySlots};
 use super::tensor::{slot_table, ElementTensor};
 use super::{
-    cell_corner, cell_edge, classify, face_abcd, prepare, tube_mesh, weld, CellRule, FeError,
-    FeModel, FeOptions, FeStats, NormalSource,
+    cell_corner, cell_edge, classify, face_abcd, prepare, tube_mesh, tube_triangles, weld,
+    CellRule, FeError, FeModel, FeOptions, FeStats, NormalSource,
 };
 use crate::hashing::FastMap;
 use crate::mc::decider::decide_exact;
@@ -628,25 +628,14 @@ impl<'a> Kernel<'a> {
     /// vertices made on first use (the exact path's order).
     fn tube(&mut self, cur: &Current, cell: [usize; 3], mesh: &CellMesh, flip: bool) {
         self.out.stats.tunnel_cells += 1;
-        let mut inner = vec![NONE; mesh.interior.len()];
-        for tri in &mesh.triangles {
-            let mut t = [0u32; 3];
-            for (slot, &x) in t.iter_mut().zip(tri) {
-                if x < 12 {
-                    *slot = self.edge_vertex(cur, cell, x);
-                    continue;
-                }
+        let triangles = tube_triangles(mesh, flip, |x| match x {
+            0..12 => self.edge_vertex(cur, cell, x),
+            _ => {
                 let k = (x - 12) as usize;
-                if inner[k] == NONE {
-                    inner[k] = self.interior_vertex(cur, cell, &mesh.interior[k], k);
-                }
-                *slot = inner[k];
+                self.interior_vertex(cur, cell, &mesh.interior[k], k)
             }
-            if flip {
-                t.swap(1, 2);
-            }
-            self.out.triangles.push(t);
-        }
+        });
+        self.out.triangles.extend(triangles);
     }
 
     /// An interior vertex of a tube: [`interior_position`] of the cut points in lattice

@@ -606,6 +606,36 @@ pub(crate) fn face_abcd(f: usize) -> [usize; 4] {
     [c[0] as usize, c[1] as usize, c[3] as usize, c[2] as usize]
 }
 
+/// A tube cell's triangles with vertex ids from `vertex`: cut edge `x < 12` as often as it
+/// appears, interior vertex `12 + k` once, on first use (so both paths number alike); wound
+/// backwards when `flip`.
+pub(crate) fn tube_triangles(
+    mesh: &CellMesh,
+    flip: bool,
+    mut vertex: impl FnMut(u8) -> u32,
+) -> Vec<[u32; 3]> {
+    let mut inner = vec![u32::MAX; mesh.interior.len()];
+    mesh.triangles
+        .iter()
+        .map(|tri| {
+            let mut t = tri.map(|x| {
+                if x < 12 {
+                    return vertex(x);
+                }
+                let k = (x - 12) as usize;
+                if inner[k] == u32::MAX {
+                    inner[k] = vertex(x);
+                }
+                inner[k]
+            });
+            if flip {
+                t.swap(1, 2);
+            }
+            t
+        })
+        .collect()
+}
+
 /// The trilinear cell surface for [`CellRule::Trilinear`]: `Some` when the table entry can
 /// hold a tube (two or more polygons) and the interpolant has one there, computed exactly
 /// from the cell's corner values (table numbering).

@@ -60,17 +60,22 @@ where
     let inner: usize = degrees[..axis].iter().map(|d| d + 1).product();
     let outer: usize = degrees[axis + 1..].iter().map(|d| d + 1).product();
     let mut out = vec![fill.clone(); inner * new_len * outer];
-    let mut line_in: Vec<T> = Vec::with_capacity(len);
+    let mut line_in: Vec<T> = Vec::with_capacity(if inner == 1 { 0 } else { len });
     let mut line_out: Vec<T> = vec![fill.clone(); new_len];
     for o in 0..outer {
         for i in 0..inner {
-            line_in.clear();
-            for k in 0..len {
-                line_in.push(coeffs[i + inner * (k + len * o)].clone());
-            }
-            f(&line_in, &mut line_out);
-            for (k, v) in line_out.iter().enumerate() {
-                out[i + inner * (k + new_len * o)] = v.clone();
+            // Along axis 0 a line is contiguous: no copy.
+            let line = if inner == 1 {
+                &coeffs[len * o..len * (o + 1)]
+            } else {
+                line_in.clear();
+                line_in.extend((0..len).map(|k| coeffs[i + inner * (k + len * o)].clone()));
+                &line_in[..]
+            };
+            f(line, &mut line_out);
+            // Swapped out, not cloned: `out` held `fill`, so `line_out` is back to `fill`.
+            for (k, v) in line_out.iter_mut().enumerate() {
+                std::mem::swap(&mut out[i + inner * (k + new_len * o)], v);
             }
         }
     }
@@ -217,30 +222,42 @@ impl<T: Field> Bernstein<T> {
     pub fn split(&self, axis: usize, t: &T) -> Result<(Self, Self), BernsteinError> {
         self.check_axis(axis)?;
         let len = self.degrees[axis] + 1;
-        let mut rights: Vec<Vec<T>> = Vec::new();
-        let left = map_lines(
-            &self.degrees,
-            &self.coeffs,
-            axis,
-            len,
-            &T::zero(),
-            |line, out| {
+        let inner: usize = self.degrees[..axis].iter().map(|d| d + 1).product();
+        let outer: usize = self.degrees[axis + 1..].iter().map(|d| d + 1).product();
+        let total = self.coeffs.len();
+        let (mut left, mut right) = (Vec::with_capacity(total), Vec::with_capacity(total));
+        if inner == 1 {
+            // Along axis 0 the lines are contiguous, in storage order: split and append.
+            for line in self.coeffs.chunks_exact(len) {
                 let (l, r) = T::split_line(line, t);
-                out.clone_from_slice(&l);
-                rights.push(r);
-            },
-        );
-        let mut it = rights.into_iter();
-        let right = map_lines(
-            &self.degrees,
-            &self.coeffs,
-            axis,
-            len,
-            &T::zero(),
-            |_, out| {
-                out.clone_from_slice(&it.next().expect("one right line per left line"));
-            },
-        );
+                left.extend(l);
+                right.extend(r);
+            }
+        } else {
+            // Split every line, then move the values out in storage order (axis `axis` before
+            // the axes below it): line (o, i) yields its k-th value at i + inner·(k + len·o).
+            let mut line = Vec::with_capacity(len);
+            let mut lefts = Vec::with_capacity(inner * outer);
+            let mut rights = Vec::with_capacity(inner * outer);
+            for o in 0..outer {
+                for i in 0..inner {
+                    line.clear();
+                    line.extend((0..len).map(|k| self.coeffs[i + inner * (k + len * o)].clone()));
+                    let (l, r) = T::split_line(&line, t);
+                    lefts.push(l.into_iter());
+                    rights.push(r.into_iter());
+                }
+            }
+            for o in 0..outer {
+                for _ in 0..len {
+                    for i in 0..inner {
+                        let at = o * inner + i;
+                        left.extend(lefts[at].next());
+                        right.extend(rights[at].next());
+                    }
+                }
+            }
+        }
         Ok((
             Bernstein {
                 degrees: self.degrees.clone(),

@@ -110,7 +110,7 @@ impl Field for Interval {
         Interval::point(1.0)
     }
     fn from_ratio(n: i64, d: i64) -> Self {
-        Interval::from_rational(&Rational::new(BigInt::from(n), BigInt::from(d)))
+        Interval::from_ratio(n, d)
     }
     fn from_rational(r: &Rational) -> Self {
         Interval::from_rational(r)

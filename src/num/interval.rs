@@ -42,6 +42,9 @@ impl Interval {
 
     /// The tightest interval of `f64` that contains the rational `r`.
     pub fn from_rational(r: &Rational) -> Interval {
+        if let Some(x) = super::rational::exact_f64(r) {
+            return Interval::point(x);
+        }
         let x = super::rational_to_f64(r);
         let exact = rational_from_f64(x, "interval").ok();
         match exact {
@@ -51,6 +54,29 @@ impl Interval {
                 hi: x.next_up(),
             },
         }
+    }
+
+    /// The tightest interval around `n / d` (`d ≠ 0`): a point when the quotient is an `f64`.
+    /// Small operands are divided in `f64` (correctly rounded, so the quotient lies within one
+    /// ulp); others go through [`Interval::from_rational`].
+    pub fn from_ratio(n: i64, d: i64) -> Interval {
+        const SMALL: i64 = 1 << 53;
+        if d != 0 && (-SMALL..=SMALL).contains(&n) && (-SMALL..=SMALL).contains(&d) {
+            let g = num_integer::gcd(n, d);
+            let (n, d) = if g == 0 { (n, d) } else { (n / g, d / g) };
+            let q = n as f64 / d as f64;
+            // In lowest terms, n/d is dyadic exactly when |d| is a power of two, and then
+            // (|d| ≤ 2^53, |n| ≤ 2^53) the quotient is exact.
+            return if d.unsigned_abs().is_power_of_two() {
+                Interval::point(q)
+            } else {
+                Interval {
+                    lo: q.next_down(),
+                    hi: q.next_up(),
+                }
+            };
+        }
+        Interval::from_rational(&Rational::new(n.into(), d.into()))
     }
 
     fn widen(lo: f64, hi: f64) -> Interval {

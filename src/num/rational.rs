@@ -139,6 +139,9 @@ pub fn rational_to_f64(r: &Rational) -> f64 {
     if r.is_zero() {
         return 0.0;
     }
+    if let Some(x) = exact_f64(r) {
+        return x;
+    }
     let negative = r.is_negative();
     let n = r.numer().abs();
     let d = r.denom().abs();
@@ -188,6 +191,37 @@ pub fn rational_to_f64(r: &Rational) -> f64 {
     } else {
         value
     }
+}
+
+/// `r` as the `f64` it equals, when that is seen cheaply: a numerator of at most 53 bits over
+/// `2^k`, `k ≤ 1022` (so the value is a normal `f64` or zero). `None` says nothing about
+/// whether `r` is an `f64`.
+pub(crate) fn exact_f64(r: &Rational) -> Option<f64> {
+    let n = r.numer();
+    if n.bits() > 53 {
+        return None;
+    }
+    let k = power_of_two(r.denom())?;
+    if k > 1022 {
+        return None;
+    }
+    // |n| < 2^53 converts exactly; 2^−k is a normal power of two; their product is exact.
+    let m = n.to_i64()? as f64;
+    Some(m * f64::from_bits((1023 - k) << 52))
+}
+
+/// `a + (b − a)·t`, through the gcd-free dyadic operations when all three are dyadic.
+pub(crate) fn lerp(a: &Rational, b: &Rational, t: &Rational) -> Rational {
+    if t.is_zero() {
+        return a.clone();
+    }
+    if t.is_one() {
+        return b.clone();
+    }
+    dyadic_add(b, a, true)
+        .and_then(|w| dyadic_mul(&w, t))
+        .and_then(|wt| dyadic_add(a, &wt, false))
+        .unwrap_or_else(|| a + (b - a) * t)
 }
 
 /// Rounds the 55-bit `q` (plus `sticky`) by dropping `drop` low bits, ties to even,
@@ -334,6 +368,33 @@ mod tests {
     /// The integer dyadic subdivision gives exactly the generic recurrence's coefficients, at
     /// split points inside and outside [0, 1], on lines of mixed powers of two and signs; a
     /// non-dyadic value or split point falls back (`None`).
+    #[test]
+    fn exact_f64_and_lerp_agree_with_the_general_routes() {
+        let mut seed = 7u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let mut seen = 0;
+        for _ in 0..2000 {
+            let (m, k) = ((next() >> (next() % 64)) as i64, next() % 1100);
+            let d = BigInt::one() << (k as usize);
+            let r = Rational::new(BigInt::from(m) - BigInt::from(next() % 3), d);
+            if let Some(x) = exact_f64(&r) {
+                seen += 1;
+                assert_eq!(rational_from_f64(x, "x").unwrap(), r);
+            }
+            let rounded = rational_to_f64(&r);
+            let t = Rational::new(BigInt::from((next() % 33) as i64 - 8), BigInt::from(16));
+            let a = Rational::new(BigInt::from(next() as i32), BigInt::from(1 + next() % 12));
+            assert_eq!(lerp(&a, &r, &t), &a + (&r - &a) * &t);
+            assert!(rounded.is_finite() || k == 0);
+        }
+        assert!(seen > 100, "{seen} exact conversions");
+    }
+
     #[test]
     fn dyadic_split_equals_de_casteljau() {
         let q = |n: i64, d: i64| Rational::new(n.into(), d.into());

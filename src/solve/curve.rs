@@ -768,11 +768,10 @@ impl Tracer<'_> {
         } else {
             1
         };
-        let w = &node.hi[axis] - &node.lo[axis];
         let mut chosen = None;
         for (i, &(p, q)) in SPLITS[..tried].iter().enumerate() {
             let s = Rational::new(p.into(), q.into());
-            let m = &node.lo[axis] + &w * &s;
+            let m = crate::num::rational::lerp(&node.lo[axis], &node.hi[axis], &s);
             let touches = node.points.iter().any(|&id| {
                 self.points[id].axis != axis && self.side(&self.point_boxes[id], axis, &m).is_none()
             });

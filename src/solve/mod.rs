@@ -130,13 +130,16 @@ impl System {
         self.domain
             .iter()
             .zip(t)
-            .map(|((a, b), t)| a + (b - a) * t)
+            .map(|((a, b), t)| crate::num::rational::lerp(a, b, t))
             .collect()
     }
 
     /// The unit-box parameter of the domain coordinate `x` on `axis`: `(x − a)/(b − a)`.
     pub(crate) fn to_unit(&self, axis: usize, x: &Rational) -> Rational {
         let (a, b) = &self.domain[axis];
+        if num_traits::Zero::is_zero(a) && num_traits::One::is_one(b) {
+            return x.clone();
+        }
         (x - a) / (b - a)
     }
 

@@ -175,10 +175,15 @@ pub(super) fn precondition<T: Field>(
 }
 
 /// An approximate inverse of the Jacobian at the box centre, in `f64` rounded to 24 bits, as
-/// exact rationals (the identity where the Jacobian is singular or not finite).
+/// exact rationals (the identity where the Jacobian is singular or not finite, and in one
+/// unknown, where every non-zero scale leaves Miranda's signs and the derivative's sign as
+/// they are).
 fn preconditioner<T: Field>(polys: &[Bernstein<T>]) -> Result<Vec<Vec<Rational>>, SolveError> {
     // Only an approximation is needed: the coefficients rounded to f64.
     let n = polys.len();
+    if n == 1 {
+        return Ok(vec![vec![<Rational as One>::one()]]);
+    }
     let half = vec![0.5f64; n];
     let mut j = vec![vec![0.0f64; n]; n];
     for (i, p) in polys.iter().enumerate() {
@@ -335,12 +340,19 @@ fn certify<T: Coefficient>(
     polys: &[Bernstein<T>],
 ) -> Result<(Decision, Option<RootCertificate>), SolveError> {
     let a = preconditioner(polys)?;
-    let g = precondition(&a, polys)?;
-    let (exists, signs) = miranda(&g)?;
+    let preconditioned;
+    // One unknown: the preconditioner is the identity, `g = f`.
+    let g = if polys.len() == 1 {
+        polys
+    } else {
+        preconditioned = precondition(&a, polys)?;
+        &preconditioned
+    };
+    let (exists, signs) = miranda(g)?;
     if exists == Decision::No {
         return Ok((Decision::No, None));
     }
-    let unique = diagonally_dominant(&g)?;
+    let unique = diagonally_dominant(g)?;
     Ok(match (exists, unique) {
         (Decision::Yes, Decision::Yes) => (
             Decision::Yes,
@@ -808,7 +820,7 @@ fn run<T: Coefficient>(
             left.push(l);
             right.push(r);
         }
-        let mid = &node.lo[axis] + (&node.hi[axis] - &node.lo[axis]) * &s;
+        let mid = crate::num::rational::lerp(&node.lo[axis], &node.hi[axis], &s);
         let mut hi_left = node.hi.clone();
         hi_left[axis] = mid.clone();
         let mut lo_right = node.lo.clone();

@@ -92,12 +92,12 @@ impl Field for Rational {
     }
     fn split_line(line: &[Self], t: &Self) -> (Vec<Self>, Vec<Self>) {
         super::rational::dyadic_split_line(line, t)
-            .unwrap_or_else(|| crate::bernstein::poly::de_casteljau_split(line, t))
+            .unwrap_or_else(|| super::rational::common_split_line(line, t))
     }
     fn eval_line(line: &[Self], t: &Self) -> Self {
         match super::rational::dyadic_split_line(line, t) {
             Some((mut left, _)) => left.pop().expect("a line has a coefficient"),
-            None => crate::bernstein::poly::de_casteljau_eval(line, t),
+            None => super::rational::common_eval_line(line, t),
         }
     }
 }

@@ -92,6 +92,81 @@ pub(crate) fn dyadic_split_line(
     Some((left, right))
 }
 
+/// The value at `t` of a line of Bernstein coefficients (the last value of the left piece of
+/// [`common_split_line`]): the same integer recurrence, one gcd in all.
+pub(crate) fn common_eval_line(line: &[Rational], t: &Rational) -> Rational {
+    let (w, scale) = integer_levels(line, t, |_, _, _| {});
+    match power_of_two(&scale) {
+        Some(k) => dyadic_rational(w, -(k as i64)),
+        None => Rational::new(w, scale),
+    }
+}
+
+/// Runs the integer de Casteljau recurrence of [`common_split_line`], calling
+/// `each(r, w, scale)` on the integer values of level `r` over their denominator `scale`;
+/// returns the last level's single value and its denominator.
+fn integer_levels(
+    line: &[Rational],
+    t: &Rational,
+    mut each: impl FnMut(usize, &[BigInt], &BigInt),
+) -> (BigInt, BigInt) {
+    let n = line.len();
+    // Powers of two (every dyadic value) share the largest without a gcd.
+    let twos: Option<u64> = line
+        .iter()
+        .map(|v| power_of_two(v.denom()))
+        .try_fold(0, |m, k| k.map(|k| m.max(k)));
+    let d = match twos {
+        Some(k) => BigInt::one() << k,
+        None => {
+            let mut d = line[0].denom().clone();
+            for v in &line[1..] {
+                if v.denom() != &d {
+                    d = d.lcm(v.denom());
+                }
+            }
+            d
+        }
+    };
+    let (a, b) = (t.numer(), t.denom());
+    let c = b - a;
+    let mut w: Vec<BigInt> = line
+        .iter()
+        .map(|v| {
+            if v.denom() == &d {
+                v.numer().clone()
+            } else {
+                v.numer() * (&d / v.denom())
+            }
+        })
+        .collect();
+    let mut scale = d;
+    each(0, &w, &scale);
+    for r in 1..n {
+        for i in 0..n - r {
+            w[i] = &c * &w[i] + a * &w[i + 1];
+        }
+        scale *= b;
+        each(r, &w[..n - r], &scale);
+    }
+    (w.swap_remove(0), scale)
+}
+
+/// De Casteljau subdivision of a line of rationals at any rational `t = a/b`, in integers:
+/// the values over their common denominator `D`, level `r` of the recurrence holding
+/// `b^r` times its values as the integers `(b − a) w_i + a w_{i+1}`; each output is reduced
+/// once, over `D·b^r`. Same values as the generic recurrence, with one gcd per output instead of three per step.
+pub(crate) fn common_split_line(line: &[Rational], t: &Rational) -> (Vec<Rational>, Vec<Rational>) {
+    let n = line.len();
+    let mut left = Vec::with_capacity(n);
+    let mut right = vec![Rational::zero(); n];
+    integer_levels(line, t, |r, w, scale| {
+        left.push(Rational::new(w[0].clone(), scale.clone()));
+        right[n - 1 - r] = Rational::new(w[n - 1 - r].clone(), scale.clone());
+    });
+    (left, right)
+}
+
 /// `a ± b` when both are dyadic (`None` otherwise): over the larger power of two, then the
 /// powers of two are taken out of the numerator, so no gcd is needed.
 pub(crate) fn dyadic_add(a: &Rational, b: &Rational, minus: bool) -> Option<Rational> {
@@ -413,6 +488,21 @@ mod tests {
             assert_eq!(fast, crate::bernstein::poly::de_casteljau_split(&line, &t));
         }
         assert!(dyadic_split_line(&[q(1, 3), q(1, 2)], &q(1, 2)).is_none());
+        for _ in 0..2_000 {
+            let len = 1 + next(5) as usize;
+            let line: Vec<Rational> = (0..len).map(|_| q(next(41) - 20, 1 + next(12))).collect();
+            let t = q(next(40) - 8, 1 + next(13));
+            let want = crate::bernstein::poly::de_casteljau_split(&line, &t);
+            let got = common_split_line(&line, &t);
+            for (g, w) in got.0.iter().chain(&got.1).zip(want.0.iter().chain(&want.1)) {
+                assert_eq!((g.numer(), g.denom()), (w.numer(), w.denom()));
+            }
+            assert_eq!(&common_eval_line(&line, &t), want.0.last().expect("value"));
+            assert_eq!(
+                crate::bernstein::poly::de_casteljau_eval(&line, &t),
+                common_eval_line(&line, &t)
+            );
+        }
         // Sums, differences and products of dyadics, integers and zeros: lowest terms, equal
         // to num-rational's; non-dyadic operands are declined.
         for _ in 0..5_000 {

@@ -25,7 +25,7 @@ use super::{
 };
 use crate::bernstein::Bernstein;
 use crate::bspline::TensorSpline;
-use crate::num::{rational_from_f64, rational_to_f64, Interval, Rational, Sign};
+use crate::num::{rational_from_f64, rational_to_f64, Field, Interval, Rational, Sign};
 use crate::Path;
 use std::time::Instant;
 
@@ -481,7 +481,7 @@ fn subdivide<T: Coefficient>(
             } else if p.lo[axis] >= mid {
                 right.push(p);
             } else {
-                let t = T::from_rational(&((&mid - &p.lo[axis]) / (&p.hi[axis] - &p.lo[axis])));
+                let t: T = width_ratio((&p.lo[axis], &mid), (&p.lo[axis], &p.hi[axis]));
                 let (mut fl, mut fr) = (Vec::new(), Vec::new());
                 for e in &p.f {
                     let (l, r) = e.split(axis, &t)?;
@@ -508,7 +508,7 @@ fn subdivide<T: Coefficient>(
         for (blo, bhi, ps) in [(&lo_right, &hi, &mut right), (&lo, &hi_left, &mut left)] {
             for p in ps.iter_mut() {
                 p.ratio = (0..n)
-                    .map(|k| (&bhi[k] - &blo[k]) / (&p.hi[k] - &p.lo[k]))
+                    .map(|k| width_ratio((&blo[k], &bhi[k]), (&p.lo[k], &p.hi[k])))
                     .collect();
             }
         }
@@ -533,7 +533,7 @@ fn plane_root_free<T: Coefficient>(
         let mut sign = None;
         let mut ok = true;
         for p in &on {
-            let t = T::from_rational(&((x - &p.lo[axis]) / (&p.hi[axis] - &p.lo[axis])));
+            let t: T = width_ratio((&p.lo[axis], x), (&p.lo[axis], &p.hi[axis]));
             let s = strict_sign(&p.f[i].eval_axis(axis, &t)?);
             if !matches!(s, Sign::Positive | Sign::Negative) || sign.is_some_and(|o| o != s) {
                 ok = false;
@@ -556,7 +556,15 @@ struct Part<T> {
     lo: Vec<Rational>,
     hi: Vec<Rational>,
     f: Vec<Bernstein<T>>,
-    ratio: Vec<Rational>,
+    ratio: Vec<T>,
+}
+
+/// `(b − a)/(d − c)` for `num = (a, b)`, `den = (c, d)`, `c < d`, in `T`: exact for
+/// rationals (dyadic differences without a gcd), an enclosure for intervals (no rational
+/// division, no big-integer rounding where the bounds are `f64`s).
+fn width_ratio<T: Field>(num: (&Rational, &Rational), den: (&Rational, &Rational)) -> T {
+    let width = |(lo, hi): (&Rational, &Rational)| T::from_rational(hi).sub(&T::from_rational(lo));
+    width(num).div(&width(den))
 }
 
 /// Calls `visit(cell, unit)` for every cell the box `[lo, hi]` meets with positive volume,
@@ -626,7 +634,7 @@ fn parts<'a, T: Coefficient + 'a>(
         for k in 0..n {
             let (a, b) = &c.domain[k];
             let (l, h) = (a + (b - a) * &unit[k].0, a + (b - a) * &unit[k].1);
-            ratio.push((&hi[k] - &lo[k]) / (&h - &l));
+            ratio.push(width_ratio((&lo[k], &hi[k]), (&l, &h)));
             plo.push(l);
             phi.push(h);
         }
@@ -712,7 +720,7 @@ fn certify_parts<T: Coefficient>(
         let fi = fi.map(|c| c.approx());
         for (k, jk) in row.iter_mut().enumerate() {
             if fi.degrees()[k] > 0 {
-                *jk = fi.derivative(k)?.eval(&tau)? * rational_to_f64(&at.ratio[k]);
+                *jk = fi.derivative(k)?.eval(&tau)? * at.ratio[k].approx();
             }
         }
     }
@@ -767,7 +775,7 @@ fn certify_parts<T: Coefficient>(
                     continue;
                 }
                 let d = gp[i].derivative(k)?;
-                let ratio = T::from_rational(&p.ratio[k]);
+                let ratio = &p.ratio[k];
                 if k == i {
                     let s = strict_sign(&d);
                     if s == Sign::Uncertain {
@@ -780,7 +788,7 @@ fn certify_parts<T: Coefficient>(
                         .map(Coefficient::abs_lower)
                         .reduce(|a, b| a.min_lower(&b))
                         .unwrap_or_else(T::zero)
-                        .mul(&ratio);
+                        .mul(ratio);
                     diag = match (diag, s) {
                         (None, Sign::Positive | Sign::Negative) => Some((s, least)),
                         (Some((o, m)), s) if o == s => Some((s, m.min_lower(&least))),
@@ -793,7 +801,7 @@ fn certify_parts<T: Coefficient>(
                         .map(Coefficient::abs_upper)
                         .reduce(|a, b| a.max_upper(&b))
                         .unwrap_or_else(T::zero)
-                        .mul(&ratio);
+                        .mul(ratio);
                     *off_k = off_k.max_upper(&most);
                 }
             }

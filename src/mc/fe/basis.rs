@@ -7,9 +7,12 @@
 
 use super::{Basis, ElementKind};
 use crate::num::Rational;
+use num_bigint::BigInt;
 use num_traits::{One, Zero};
 
-/// `[φ₁⁰, φ₁¹, φ₂⁰, φ₂¹](ξ)` exactly (Section 2).
+/// `[φ₁⁰, φ₁¹, φ₂⁰, φ₂¹](ξ)` exactly (Section 2): the reference [`basis_scaled`] is tested
+/// against.
+#[cfg(test)]
 pub(crate) fn basis_exact(b: Basis, t: &Rational) -> [Rational; 4] {
     let one = Rational::one();
     match b {
@@ -30,7 +33,8 @@ pub(crate) fn basis_exact(b: Basis, t: &Rational) -> [Rational; 4] {
     }
 }
 
-/// `d/dξ [φ₁⁰, φ₁¹, φ₂⁰, φ₂¹](ξ)` exactly.
+/// `d/dξ [φ₁⁰, φ₁¹, φ₂⁰, φ₂¹](ξ)` exactly (the reference of [`basis_scaled`]'s derivatives).
+#[cfg(test)]
 pub(crate) fn basis_derivative_exact(b: Basis, t: &Rational) -> [Rational; 4] {
     let one = Rational::one();
     match b {
@@ -82,7 +86,66 @@ pub(crate) fn basis_derivative_f64(b: Basis, t: f64) -> [f64; 4] {
 /// One term of eq. (1): local node (tensor index `a + 2b + 4c`), its dof, the weight.
 pub(crate) type Term<T> = (usize, usize, T);
 
+/// `[φ₁⁰, φ₁¹, φ₂⁰, φ₂¹](p/q)` (or their derivatives) as integer numerators over one
+/// denominator `q^e`: the same values as [`basis_exact`] / [`basis_derivative_exact`], not
+/// reduced, so that the products of eq. (1) share the denominator `Π q_d^{e_d}`.
+fn basis_scaled(b: Basis, t: &Rational, derivative: bool) -> ([BigInt; 4], BigInt) {
+    let (p, q) = (t.numer(), t.denom());
+    let z = BigInt::zero;
+    match (b, derivative) {
+        (Basis::LinearLagrange, false) => ([q - p, z(), p.clone(), z()], q.clone()),
+        (Basis::LinearLagrange, true) => ([-BigInt::one(), z(), BigInt::one(), z()], BigInt::one()),
+        (Basis::CubicHermite, false) => {
+            let (p2, pq) = (p * p, p - q);
+            (
+                [
+                    q * q * q - 3 * &p2 * q + 2 * &p2 * p,
+                    p * &pq * &pq,
+                    &p2 * (3 * q - 2 * p),
+                    &p2 * &pq,
+                ],
+                q * q * q,
+            )
+        }
+        (Basis::CubicHermite, true) => {
+            let h: BigInt = 6 * p * p - 6 * p * q;
+            (
+                [h.clone(), (p - q) * (3 * p - q), -h, 3 * p * p - 2 * p * q],
+                q * q,
+            )
+        }
+    }
+}
+
+/// The terms of eq. (1) (or of `∂/∂ξ_d` when `derivative = Some(d)`) as integer weights over
+/// one shared denominator: `φᵢᵏ(ξ) = W / D` for every returned `(node, dof, W)`, zero weights
+/// left out. Sums of these terms need one division in all, not a gcd per operation.
+pub(crate) fn terms_scaled(
+    kind: ElementKind,
+    xi: &[Rational; 3],
+    derivative: Option<usize>,
+) -> (Vec<Term<BigInt>>, BigInt) {
+    let per_dir: [([BigInt; 4], BigInt); 3] =
+        std::array::from_fn(|d| basis_scaled(kind.bases[d], &xi[d], derivative == Some(d)));
+    let denominator = per_dir.iter().fold(BigInt::one(), |acc, (_, q)| acc * q);
+    let ndof = kind.dofs_per_node();
+    let mut out = Vec::with_capacity(8 * ndof);
+    for node in 0..8 {
+        let side = [node & 1, node >> 1 & 1, node >> 2 & 1];
+        for k in 0..ndof {
+            let der = kind.derivative_of_dof(k);
+            let pick = |d: usize| &per_dir[d].0[2 * side[d] + usize::from(der[d])];
+            if (0..3).any(|d| pick(d).is_zero()) {
+                continue;
+            }
+            out.push((node, k, pick(0) * pick(1) * pick(2)));
+        }
+    }
+    (out, denominator)
+}
+
 /// The terms `φᵢᵏ(ξ)` of eq. (1) exactly, or those of `∂/∂ξ_d` when `derivative = Some(d)`.
+#[cfg(test)]
 pub(crate) fn terms_exact(
     kind: ElementKind,
     xi: &[Rational; 3],
@@ -186,6 +249,35 @@ mod tests {
             let ed = basis_derivative_exact(b, &t);
             for k in 0..4 {
                 assert!((fd[k] - rational_to_f64(&ed[k])).abs() < 1e-15);
+            }
+        }
+    }
+
+    #[test]
+    fn scaled_terms_equal_the_rational_ones() {
+        for kind in [
+            ElementKind::TRILINEAR_LAGRANGE,
+            ElementKind::TRICUBIC_HERMITE,
+            ElementKind::HERMITE_HERMITE_LAGRANGE,
+        ] {
+            for xi in [
+                [q(1, 3), q(2, 5), q(5, 7)],
+                [q(0, 1), q(1, 1), q(-3, 8)],
+                [q(7, 4), q(1, 2), q(1, 1)],
+            ] {
+                for derivative in [None, Some(0), Some(1), Some(2)] {
+                    let (scaled, d) = terms_scaled(kind, &xi, derivative);
+                    let scaled: Vec<(usize, usize, Rational)> = scaled
+                        .into_iter()
+                        .map(|(n, k, w)| (n, k, Rational::new(w, d.clone())))
+                        .collect();
+                    assert_eq!(
+                        scaled,
+                        terms_exact(kind, &xi, derivative),
+                        "{}",
+                        kind.name()
+                    );
+                }
             }
         }
     }

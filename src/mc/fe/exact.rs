@@ -6,7 +6,7 @@
 //! coordinates (Mackerras' rule), with the decider's tie rule: equal positions count as
 //! joined.
 
-use super::basis::terms_exact;
+use super::basis::terms_scaled;
 use super::lattice::{edge_key, point_key, EdgeKey, PointKey};
 use super::{
     cell_corner, cell_edge, classify, face_abcd, prepare, tube_mesh, tube_triangles, weld,
@@ -53,10 +53,19 @@ pub(crate) fn interpolate_field(
     derivative: Option<usize>,
 ) -> Rational {
     let ndof = m.kind.dofs_per_node();
-    terms_exact(m.kind, xi, derivative)
+    let (terms, denominator) = terms_scaled(m.kind, xi, derivative);
+    let sum = terms
         .into_iter()
-        .map(|(node, k, w)| w * &m.field[nodes[node] as usize * ndof + k])
-        .sum()
+        .fold(Rational::zero(), |acc, (node, k, w)| {
+            crate::num::Field::add(
+                &acc,
+                &crate::num::Field::mul(
+                    &Rational::from_integer(w),
+                    &m.field[nodes[node] as usize * ndof + k],
+                ),
+            )
+        });
+    sum / Rational::from_integer(denominator)
 }
 
 /// Eq. (2) for one element: the world point `x(ξ)` (or its `∂x/∂ξ_d`).
@@ -68,13 +77,16 @@ pub(crate) fn interpolate_world(
 ) -> [Rational; 3] {
     let ndof = m.kind.dofs_per_node();
     let mut x = [Rational::zero(), Rational::zero(), Rational::zero()];
-    for (node, k, w) in terms_exact(m.kind, xi, derivative) {
+    let (terms, denominator) = terms_scaled(m.kind, xi, derivative);
+    for (node, k, w) in terms {
         let c = &m.coordinates[nodes[node] as usize * ndof + k];
+        let w = Rational::from_integer(w);
         for a in 0..3 {
-            x[a] += &w * &c[a];
+            x[a] = crate::num::Field::add(&x[a], &crate::num::Field::mul(&w, &c[a]));
         }
     }
-    x
+    let denominator = Rational::from_integer(denominator);
+    x.map(|v| v / &denominator)
 }
 
 /// `det J` of the isoparametric map at `ξ`, `J = ∂x/∂ξ`.

@@ -877,10 +877,10 @@ pub fn check_solve_bspline(data: &[u8]) -> Result<(), String> {
 /// small limits (depth 7, 64 boxes; cross-sections depth 16, 64 boxes, tolerance 10⁻⁶). A
 /// degenerate equation — a square, a zero, a curve through a corner — fills any budget with
 /// clusters: on the campaigns' corpus 65 % of the traces did at 150 boxes, and 64 boxes left
-/// only 0.4 % more traces with a cluster at 2.4 times the executions per second. Both traces must pass the independent checker
-/// ([`crate::solve::verify_curves`]), every certified vertex of one path must lie in an arc
-/// or cluster box of the other, and where neither path left a cluster both must report the
-/// same components (count, loops, ends per component).
+/// only 0.4 % more traces with a cluster at 2.4 times the executions per second. Both traces
+/// must pass the independent checker ([`crate::solve::verify_curves`]), every certified
+/// vertex of one path must lie in an arc or cluster box of the other, and where neither path
+/// left a cluster both must report the same components (count, loops, ends per component).
 pub fn check_curve(data: &[u8]) -> Result<(), String> {
     use crate::bernstein::{Bernstein, Limits};
     use crate::solve::{trace, verify_curves, CurveOptions, Curves, System};

@@ -155,7 +155,8 @@ fn integer_levels(
 /// De Casteljau subdivision of a line of rationals at any rational `t = a/b`, in integers:
 /// the values over their common denominator `D`, level `r` of the recurrence holding
 /// `b^r` times its values as the integers `(b − a) w_i + a w_{i+1}`; each output is reduced
-/// once, over `D·b^r`. Same values as the generic recurrence, with one gcd per output instead of three per step.
+/// once, over `D·b^r`. Same values as the generic recurrence, with one gcd per output instead
+/// of three per step.
 pub(crate) fn common_split_line(line: &[Rational], t: &Rational) -> (Vec<Rational>, Vec<Rational>) {
     let n = line.len();
     let mut left = Vec::with_capacity(n);
@@ -440,9 +441,8 @@ pub(crate) fn rational_sign(r: &Rational) -> super::Sign {
 mod tests {
     use super::*;
 
-    /// The integer dyadic subdivision gives exactly the generic recurrence's coefficients, at
-    /// split points inside and outside [0, 1], on lines of mixed powers of two and signs; a
-    /// non-dyadic value or split point falls back (`None`).
+    /// A cheap exact conversion is the `f64` the rational denotes (and happens on a good part
+    /// of small dyadics); the gcd-free lerp equals the rational formula, dyadic or not.
     #[test]
     fn exact_f64_and_lerp_agree_with_the_general_routes() {
         let mut seed = 7u64;
@@ -461,15 +461,16 @@ mod tests {
                 seen += 1;
                 assert_eq!(rational_from_f64(x, "x").unwrap(), r);
             }
-            let rounded = rational_to_f64(&r);
             let t = Rational::new(BigInt::from((next() % 33) as i64 - 8), BigInt::from(16));
             let a = Rational::new(BigInt::from(next() as i32), BigInt::from(1 + next() % 12));
             assert_eq!(lerp(&a, &r, &t), &a + (&r - &a) * &t);
-            assert!(rounded.is_finite() || k == 0);
         }
         assert!(seen > 100, "{seen} exact conversions");
     }
 
+    /// The integer dyadic subdivision gives exactly the generic recurrence's coefficients, at
+    /// split points inside and outside [0, 1], on lines of mixed powers of two and signs; a
+    /// non-dyadic value or split point falls back (`None`).
     #[test]
     fn dyadic_split_equals_de_casteljau() {
         let q = |n: i64, d: i64| Rational::new(n.into(), d.into());

@@ -194,15 +194,17 @@ pub fn check_ffd(l: &crate::ffd::Lattice) -> Result<(), String> {
     let exact = run(crate::Path::Exact)?;
     let fast = run(crate::Path::Fast)?;
     let filtered = run(crate::Path::Filtered)?;
+    // An undecided exact verdict (a limit hit) is no verdict: a certified fast one beside it
+    // is checked through its own certificate or witness below.
     let e = exact.verdict.sign();
-    if fast.verdict.sign().contradicts(e) {
+    if e.is_certain() && fast.verdict.sign().contradicts(e) {
         return Err(format!(
             "fast {:?} contradicts exact {:?}",
             fast.verdict.name(),
             exact.verdict.name()
         ));
     }
-    if filtered.verdict.sign().contradicts(e) {
+    if e.is_certain() && filtered.verdict.sign().contradicts(e) {
         return Err(format!(
             "filtered {:?} contradicts exact {:?}",
             filtered.verdict.name(),

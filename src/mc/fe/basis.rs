@@ -86,6 +86,19 @@ pub(crate) fn basis_derivative_f64(b: Basis, t: f64) -> [f64; 4] {
 /// One term of eq. (1): local node (tensor index `a + 2b + 4c`), its dof, the weight.
 pub(crate) type Term<T> = (usize, usize, T);
 
+/// Every term of eq. (1) in order: local node, its dof, and per direction the index into that
+/// direction's `[φ₁⁰, φ₁¹, φ₂⁰, φ₂¹]` the term multiplies.
+fn term_indices(kind: ElementKind) -> impl Iterator<Item = (usize, usize, [usize; 3])> {
+    let ndof = kind.dofs_per_node();
+    (0..8).flat_map(move |node| {
+        (0..ndof).map(move |k| {
+            let der = kind.derivative_of_dof(k);
+            let pick = std::array::from_fn(|d| 2 * (node >> d & 1) + usize::from(der[d]));
+            (node, k, pick)
+        })
+    })
+}
+
 /// `[φ₁⁰, φ₁¹, φ₂⁰, φ₂¹](p/q)` (or their derivatives) as integer numerators over one
 /// denominator `q^e`: the same values as [`basis_exact`] / [`basis_derivative_exact`], not
 /// reduced, so that the products of eq. (1) share the denominator `Π q_d^{e_d}`.
@@ -128,19 +141,16 @@ pub(crate) fn terms_scaled(
     let per_dir: [([BigInt; 4], BigInt); 3] =
         std::array::from_fn(|d| basis_scaled(kind.bases[d], &xi[d], derivative == Some(d)));
     let denominator = per_dir.iter().fold(BigInt::one(), |acc, (_, q)| acc * q);
-    let ndof = kind.dofs_per_node();
-    let mut out = Vec::with_capacity(8 * ndof);
-    for node in 0..8 {
-        let side = [node & 1, node >> 1 & 1, node >> 2 & 1];
-        for k in 0..ndof {
-            let der = kind.derivative_of_dof(k);
-            let pick = |d: usize| &per_dir[d].0[2 * side[d] + usize::from(der[d])];
-            if (0..3).any(|d| pick(d).is_zero()) {
-                continue;
-            }
-            out.push((node, k, pick(0) * pick(1) * pick(2)));
-        }
-    }
+    let out = term_indices(kind)
+        .filter(|(_, _, i)| (0..3).all(|d| !per_dir[d].0[i[d]].is_zero()))
+        .map(|(node, k, i)| {
+            (
+                node,
+                k,
+                &per_dir[0].0[i[0]] * &per_dir[1].0[i[1]] * &per_dir[2].0[i[2]],
+            )
+        })
+        .collect();
     (out, denominator)
 }
 
@@ -158,21 +168,16 @@ pub(crate) fn terms_exact(
             basis_exact(kind.bases[d], &xi[d])
         }
     });
-    let ndof = kind.dofs_per_node();
-    let mut out = Vec::with_capacity(8 * ndof);
-    for node in 0..8 {
-        let side = [node & 1, node >> 1 & 1, node >> 2 & 1];
-        for k in 0..ndof {
-            let der = kind.derivative_of_dof(k);
-            let w = (0..3).fold(Rational::one(), |acc, d| {
-                acc * &per_dir[d][2 * side[d] + usize::from(der[d])]
-            });
-            if !w.is_zero() {
-                out.push((node, k, w));
-            }
-        }
-    }
-    out
+    term_indices(kind)
+        .map(|(node, k, i)| {
+            (
+                node,
+                k,
+                (0..3).fold(Rational::one(), |acc, d| acc * &per_dir[d][i[d]]),
+            )
+        })
+        .filter(|(_, _, w)| !w.is_zero())
+        .collect()
 }
 
 #[cfg(test)]
@@ -191,18 +196,14 @@ pub(crate) fn terms_f64(
             basis_f64(kind.bases[d], xi[d])
         }
     });
-    let ndof = kind.dofs_per_node();
     let mut n = 0;
-    for node in 0..8 {
-        let side = [node & 1, node >> 1 & 1, node >> 2 & 1];
-        for k in 0..ndof {
-            let der = kind.derivative_of_dof(k);
-            let w = per_dir[0][2 * side[0] + usize::from(der[0])]
-                * per_dir[1][2 * side[1] + usize::from(der[1])]
-                * per_dir[2][2 * side[2] + usize::from(der[2])];
-            out[n] = (node, k, w);
-            n += 1;
-        }
+    for (node, k, i) in term_indices(kind) {
+        out[n] = (
+            node,
+            k,
+            per_dir[0][i[0]] * per_dir[1][i[1]] * per_dir[2][i[2]],
+        );
+        n += 1;
     }
     n
 }

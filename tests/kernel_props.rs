@@ -218,6 +218,27 @@ proptest! {
         }
     }
 
+    /// The Bézier matrix (blossom weights, computed once per span and box) applied to the
+    /// span's coefficients gives the blossom route's Bézier coefficients on any sub-interval,
+    /// exactly; the integer dot product equals the term-by-term rational sum.
+    #[test]
+    fn bezier_matrix_is_the_blossom(s in spline(4), a in 0i64..12, b in 0i64..12) {
+        let p = s.degree();
+        let (a, b) = (a.min(b), a.max(b));
+        for mu in s.spans() {
+            let (k0, k1) = (&s.knots()[mu], &s.knots()[mu + 1]);
+            let lo = k0 + (k1 - k0) * q(a, 11);
+            let hi = k0 + (k1 - k0) * q(b, 11);
+            let c = &s.coeffs()[mu - p..=mu];
+            let want = s.bezier_on(mu, &lo, &hi);
+            for (row, w) in s.bezier_matrix(mu, &lo, &hi).iter().zip(&want) {
+                prop_assert_eq!(&Rational::dot(row, c), w);
+                let sum = row.iter().zip(c).fold(q(0, 1), |t, (x, y)| t + x * y);
+                prop_assert_eq!(&sum, w);
+            }
+        }
+    }
+
     #[test]
     fn spline_derivative_matches_bezier_derivative(s in spline(4), y in (1i64..12).prop_map(|n| vec![q(n, 12)])) {
         // Interior points only: at a breakpoint the derivative may jump.
@@ -369,6 +390,25 @@ proptest! {
                 prop_assert_eq!(&c.bounds, &d.bounds);
                 prop_assert_eq!(&c.spans, &d.spans);
                 prop_assert_eq!(&c.poly, &d.poly);
+                // The per-box route (one Bézier matrix per axis) on the same cell.
+                prop_assert_eq!(&x.bezier_on_box(&c.bounds).unwrap(), &c.poly);
+                prop_assert_eq!(&x.bezier_on_box_exact(&c.bounds).unwrap(), &c.poly);
+                // A sub-box (a third to a half of the cell per axis) and a flat one.
+                let part: Vec<(Rational, Rational)> = c
+                    .bounds
+                    .iter()
+                    .map(|(lo, hi)| (lo + (hi - lo) * q(1, 3), lo + (hi - lo) * q(1, 2)))
+                    .collect();
+                prop_assert_eq!(
+                    x.bezier_on_box_exact(&part).unwrap(),
+                    x.bezier_on_box(&part).unwrap()
+                );
+                let mut flat = part.clone();
+                flat[0].1 = flat[0].0.clone();
+                prop_assert_eq!(
+                    x.bezier_on_box_exact(&flat).unwrap(),
+                    x.bezier_on_box(&flat).unwrap()
+                );
             }
         }
     }

@@ -118,15 +118,46 @@ impl<T: Field + PartialOrd> Spline<T> {
         c[p].clone()
     }
 
-    /// The blossom's weights: `F(args) = Σ_k w_k c_{mu−p+k}` (the blossom is linear in the coefficients).
+    /// The blossom's weights: `F(args) = Σ_k w_k c_{mu−p+k}` (the blossom is linear in the
+    /// coefficients). De Boor's recurrence of [`blossom`](Self::blossom) run on the weight
+    /// vectors, one division per step.
     pub fn blossom_weights(&self, mu: usize, args: &[T]) -> Vec<T> {
         let p = self.degree;
-        (0..=p)
+        debug_assert_eq!(args.len(), p);
+        // w[k]: the weights of c_k^[r] on c_{mu−p}, …, c_mu (non-zero only at k−r..=k).
+        let mut w: Vec<Vec<T>> = (0..=p)
             .map(|k| {
-                let mut unit = self.clone();
-                unit.coeffs = vec![T::zero(); self.coeffs.len()];
-                unit.coeffs[mu - p + k] = T::one();
-                unit.blossom(mu, args)
+                let mut e = vec![T::zero(); p + 1];
+                e[k] = T::one();
+                e
+            })
+            .collect();
+        for (r, y) in args.iter().enumerate().map(|(r, y)| (r + 1, y)) {
+            for k in (r..=p).rev() {
+                let i = mu - p + k;
+                let lo = &self.knots[i];
+                let hi = &self.knots[i + p + 1 - r];
+                let den = hi.sub(lo);
+                let (a, b) = (hi.sub(y).div(&den), y.sub(lo).div(&den));
+                let (below, this) = w.split_at_mut(k);
+                for (j, t) in this[0].iter_mut().enumerate().take(k + 1).skip(k - r) {
+                    *t = a.mul(&below[k - 1][j]).add(&b.mul(t));
+                }
+            }
+        }
+        w.swap_remove(p)
+    }
+
+    /// The Bézier coefficients of [`bezier_on`](Self::bezier_on) as a matrix: row `i` holds
+    /// the weights of `b_i = F(lo^{p−i}, hi^i)` on `c_{mu−p}, …, c_mu`. The same for every
+    /// coefficient vector on these knots, so a tensor field computes it once per axis.
+    pub fn bezier_matrix(&self, mu: usize, lo: &T, hi: &T) -> Vec<Vec<T>> {
+        let p = self.degree;
+        (0..=p)
+            .map(|i| {
+                let mut args = vec![lo.clone(); p - i];
+                args.extend(std::iter::repeat_n(hi.clone(), i));
+                self.blossom_weights(mu, &args)
             })
             .collect()
     }

@@ -173,8 +173,12 @@ impl<T: Field + PartialOrd> TensorSpline<T> {
                 .ok_or(BsplineError::CrossesKnot { axis: a })?;
             let p = self.degrees[a];
             let degs: Vec<usize> = counts.iter().map(|c| c - 1).collect();
+            let m = probe.bezier_matrix(mu, lo, hi);
             coeffs = map_lines(&degs, &coeffs, a, p + 1, &T::zero(), |line, out| {
-                out.clone_from_slice(&self.axis_spline(a, line.to_vec()).bezier_on(mu, lo, hi));
+                let line = &line[mu - p..=mu];
+                for (o, row) in out.iter_mut().zip(&m) {
+                    *o = T::dot(row, line);
+                }
             });
             counts[a] = p + 1;
         }
@@ -421,6 +425,63 @@ impl TensorSpline<Rational> {
             .map(|v| Rational::new(v, den.clone()))
             .collect();
         Ok(cut_cells(&self.degrees, &counts, &coeffs, &axis_spans))
+    }
+
+    /// [`bezier_on_box`](TensorSpline::bezier_on_box) for exact rationals, with the same
+    /// result exactly. Per axis the span's rows of the memoised integer Oslo map (the Bézier
+    /// piece on the whole knot span, a linear map of the line that depends on the knots only)
+    /// are applied to every line in integers over one shared denominator; the piece is then
+    /// cut to `bounds` by de Casteljau subdivision where the box is smaller than the span.
+    pub fn bezier_on_box_exact(
+        &self,
+        bounds: &[(Rational, Rational)],
+    ) -> Result<Bernstein<Rational>, BsplineError> {
+        let n = self.dim();
+        if bounds.len() != n || bounds.iter().any(|(lo, hi)| lo >= hi) {
+            // Mismatched or flat boxes (a Bernstein form on a point): the blossom route.
+            return self.bezier_on_box(bounds);
+        }
+        let mut counts = self.counts();
+        let (mut nums, mut den) = common_denominator(&self.coeffs);
+        let mut sub = Vec::with_capacity(n);
+        for (a, (lo, hi)) in bounds.iter().enumerate() {
+            let p = self.degrees[a];
+            let map = oslo_map(p, &self.knots[a])?;
+            let j = map
+                .spans
+                .iter()
+                .position(|(_, k0, k1)| k0 <= lo && hi <= k1)
+                .ok_or(BsplineError::CrossesKnot { axis: a })?;
+            let (_, k0, k1) = &map.spans[j];
+            let rows = &map.rows[j * (p + 1)..(j + 1) * (p + 1)];
+            let degs: Vec<usize> = counts.iter().map(|c| c - 1).collect();
+            nums = map_lines(&degs, &nums, a, p + 1, &BigInt::zero(), |line, out| {
+                for (o, row) in out.iter_mut().zip(rows) {
+                    let mut acc = BigInt::zero();
+                    for (k, w) in row {
+                        if !line[*k].is_zero() {
+                            acc += &line[*k] * w;
+                        }
+                    }
+                    *o = acc;
+                }
+            });
+            den *= &map.scale;
+            counts[a] = p + 1;
+            let width = k1 - k0;
+            sub.push(((lo - k0) / &width, (hi - k0) / &width));
+        }
+        let coeffs = nums
+            .into_iter()
+            .map(|v| Rational::new(v, den.clone()))
+            .collect();
+        let cell = Bernstein::new(self.degrees.clone(), coeffs)?;
+        let whole = sub.iter().all(|(a, b)| a.is_zero() && b.is_one());
+        if whole {
+            Ok(cell)
+        } else {
+            Ok(cell.restrict(&sub)?)
+        }
     }
 
     /// [`product_exact`](Self::product_exact) reusing per-axis tables from `cache` (products

@@ -49,6 +49,17 @@ pub trait Field: Clone + std::fmt::Debug + Send + Sync {
     fn eval_line(line: &[Self], t: &Self) -> Self {
         crate::bernstein::poly::de_casteljau_eval(line, t)
     }
+    /// The linear combination `Σ_j w_j v_j` (the shorter of `weights` and `values` counts). A type
+    /// may do it faster than one rounding or reduction per operation.
+    fn dot<'v>(weights: &[Self], values: impl IntoIterator<Item = &'v Self>) -> Self
+    where
+        Self: 'v,
+    {
+        weights
+            .iter()
+            .zip(values)
+            .fold(Self::zero(), |s, (w, v)| s.add(&w.mul(v)))
+    }
 }
 
 impl Field for Rational {
@@ -66,17 +77,24 @@ impl Field for Rational {
     }
     // Dyadic values (power-of-two denominators: every f64, every dyadic split) are added,
     // subtracted and multiplied without a gcd; others through `num-rational`.
+    // Values whose parts fit in `i64` go through `i128` with a machine-word gcd.
     fn add(&self, o: &Self) -> Self {
-        super::rational::dyadic_add(self, o, false).unwrap_or_else(|| self + o)
+        super::rational::dyadic_add(self, o, false)
+            .or_else(|| super::rational::small_add(self, o, false))
+            .unwrap_or_else(|| self + o)
     }
     fn sub(&self, o: &Self) -> Self {
-        super::rational::dyadic_add(self, o, true).unwrap_or_else(|| self - o)
+        super::rational::dyadic_add(self, o, true)
+            .or_else(|| super::rational::small_add(self, o, true))
+            .unwrap_or_else(|| self - o)
     }
     fn mul(&self, o: &Self) -> Self {
-        super::rational::dyadic_mul(self, o).unwrap_or_else(|| self * o)
+        super::rational::dyadic_mul(self, o)
+            .or_else(|| super::rational::small_mul(self, o, false))
+            .unwrap_or_else(|| self * o)
     }
     fn div(&self, o: &Self) -> Self {
-        self / o
+        super::rational::small_mul(self, o, true).unwrap_or_else(|| self / o)
     }
     fn neg(&self) -> Self {
         -self
@@ -99,6 +117,9 @@ impl Field for Rational {
             Some((mut left, _)) => left.pop().expect("a line has a coefficient"),
             None => super::rational::common_eval_line(line, t),
         }
+    }
+    fn dot<'v>(weights: &[Self], values: impl IntoIterator<Item = &'v Self>) -> Self {
+        super::rational::common_dot(weights, values)
     }
 }
 

@@ -48,6 +48,78 @@ pub(crate) fn f64_dyadic(x: f64) -> (i64, i64) {
     (if negative { -m } else { m }, exp + tz)
 }
 
+/// `n / d` in lowest terms (`d ≠ 0`). Operands that fit in `i128` (the common case: short
+/// coefficients, knots and split points) are reduced with a machine-word binary gcd instead
+/// of `BigUint`'s; others through `num-rational`.
+pub(crate) fn reduced(n: BigInt, d: BigInt) -> Rational {
+    match (n.to_i128(), d.to_i128()) {
+        (Some(a), Some(b)) if a != i128::MIN && b != i128::MIN => small_ratio(a, b),
+        _ => Rational::new(n, d),
+    }
+}
+
+/// `a / b` in lowest terms with a positive denominator (`b ≠ 0`, neither is `i128::MIN`).
+fn small_ratio(a: i128, b: i128) -> Rational {
+    let g = gcd_u128(a.unsigned_abs(), b.unsigned_abs()) as i128;
+    let (a, b) = if b < 0 {
+        (-a / g, -b / g)
+    } else {
+        (a / g, b / g)
+    };
+    Rational::new_raw(BigInt::from(a), BigInt::from(b))
+}
+
+/// Stein's binary gcd on machine words (`gcd(0, b) = b`), in `u64` when both fit.
+fn gcd_u128(mut a: u128, mut b: u128) -> u128 {
+    if a == 0 || b == 0 {
+        return a | b;
+    }
+    let shift = (a | b).trailing_zeros();
+    a >>= a.trailing_zeros();
+    if let (Ok(mut x), Ok(mut y)) = (u64::try_from(a), u64::try_from(b)) {
+        while y != 0 {
+            y >>= y.trailing_zeros();
+            if x > y {
+                std::mem::swap(&mut x, &mut y);
+            }
+            y -= x;
+        }
+        return u128::from(x) << shift;
+    }
+    while b != 0 {
+        b >>= b.trailing_zeros();
+        if a > b {
+            std::mem::swap(&mut a, &mut b);
+        }
+        b -= a;
+    }
+    a << shift
+}
+
+/// The numerator and denominator as `i64`, when both fit.
+fn small_parts(r: &Rational) -> Option<(i64, i64)> {
+    Some((r.numer().to_i64()?, r.denom().to_i64()?))
+}
+
+/// `a + b` (`minus`: `a − b`) in `i128` when all four parts fit in `i64` (`None` otherwise):
+/// products of two `i64` and their sum fit, and one machine gcd reduces the result.
+pub(crate) fn small_add(a: &Rational, b: &Rational, minus: bool) -> Option<Rational> {
+    let ((p, q), (r, s)) = (small_parts(a)?, small_parts(b)?);
+    let (x, y) = (i128::from(p) * i128::from(s), i128::from(r) * i128::from(q));
+    let n = if minus { x - y } else { x + y };
+    Some(small_ratio(n, i128::from(q) * i128::from(s)))
+}
+
+/// `a · b` (`inverse`: `a / b`, `b ≠ 0`) in `i128` when all four parts fit in `i64`.
+pub(crate) fn small_mul(a: &Rational, b: &Rational, inverse: bool) -> Option<Rational> {
+    let ((p, q), (r, s)) = (small_parts(a)?, small_parts(b)?);
+    let (r, s) = if inverse { (s, r) } else { (r, s) };
+    Some(small_ratio(
+        i128::from(p) * i128::from(r),
+        i128::from(q) * i128::from(s),
+    ))
+}
+
 /// `2^k` when `d` is that power of two.
 fn power_of_two(d: &BigInt) -> Option<u64> {
     let k = d.trailing_zeros()?;
@@ -98,7 +170,7 @@ pub(crate) fn common_eval_line(line: &[Rational], t: &Rational) -> Rational {
     let (w, scale) = integer_levels(line, t, |_, _, _| {});
     match power_of_two(&scale) {
         Some(k) => dyadic_rational(w, -(k as i64)),
-        None => Rational::new(w, scale),
+        None => reduced(w, scale),
     }
 }
 
@@ -162,10 +234,38 @@ pub(crate) fn common_split_line(line: &[Rational], t: &Rational) -> (Vec<Rationa
     let mut left = Vec::with_capacity(n);
     let mut right = vec![Rational::zero(); n];
     integer_levels(line, t, |r, w, scale| {
-        left.push(Rational::new(w[0].clone(), scale.clone()));
-        right[n - 1 - r] = Rational::new(w[n - 1 - r].clone(), scale.clone());
+        left.push(reduced(w[0].clone(), scale.clone()));
+        right[n - 1 - r] = reduced(w[n - 1 - r].clone(), scale.clone());
     });
     (left, right)
+}
+
+/// `Σ_j w_j v_j` in integers: the products' numerators summed over the running product of
+/// the distinct denominators met (equal denominators, the common case, share one), reduced
+/// once at the end. Same value as the term-by-term sum, with one gcd instead of two per term.
+pub(crate) fn common_dot<'v>(
+    weights: &[Rational],
+    values: impl IntoIterator<Item = &'v Rational>,
+) -> Rational {
+    let mut num = BigInt::zero();
+    let mut den = BigInt::one();
+    for (w, v) in weights.iter().zip(values) {
+        if w.is_zero() || v.is_zero() {
+            continue;
+        }
+        let n = w.numer() * v.numer();
+        let d = w.denom() * v.denom();
+        if d == den {
+            num += n;
+        } else {
+            num = num * &d + n * &den;
+            den *= d;
+        }
+    }
+    match power_of_two(&den) {
+        Some(k) => dyadic_rational(num, -(k as i64)),
+        None => reduced(num, den),
+    }
 }
 
 /// `a ± b` when both are dyadic (`None` otherwise): over the larger power of two, then the
@@ -466,6 +566,64 @@ mod tests {
             assert_eq!(lerp(&a, &r, &t), &a + (&r - &a) * &t);
         }
         assert!(seen > 100, "{seen} exact conversions");
+    }
+
+    /// The machine-word routes (`i128` products, binary gcd) give the same lowest terms as
+    /// `num-rational`, on values from tiny to the edges of `i64` (both signs, zero), and
+    /// decline what does not fit.
+    #[test]
+    fn small_routes_equal_num_rational() {
+        let mut seed = 11u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let edges = [i64::MIN, i64::MIN + 1, i64::MAX, -1, 0, 1, 3, 1 << 62];
+        let value = |next: &mut dyn FnMut() -> u64| -> Rational {
+            let pick = |x: u64| edges[(x % edges.len() as u64) as usize];
+            let n = match next() % 3 {
+                0 => pick(next()),
+                1 => (next() % 1000) as i64 - 500,
+                _ => (next() >> (next() % 64)) as i64,
+            };
+            let d = match next() % 3 {
+                0 => pick(next()).max(1),
+                1 => 1 + (next() % 1000) as i64,
+                _ => ((next() >> (next() % 64)) as i64).max(1),
+            };
+            Rational::new(n.into(), d.into())
+        };
+        let mut taken = 0;
+        for _ in 0..20_000 {
+            let (a, b) = (value(&mut next), value(&mut next));
+            let same = |x: Option<Rational>, want: Rational| {
+                if let Some(x) = x {
+                    assert_eq!((x.numer(), x.denom()), (want.numer(), want.denom()));
+                    true
+                } else {
+                    false
+                }
+            };
+            taken += usize::from(same(small_add(&a, &b, false), &a + &b));
+            same(small_add(&a, &b, true), &a - &b);
+            same(small_mul(&a, &b, false), &a * &b);
+            if !b.is_zero() {
+                same(small_mul(&a, &b, true), &a / &b);
+            }
+            let (n, d) = (a.numer() * b.denom(), b.numer() * a.denom());
+            if !d.is_zero() {
+                let r = reduced(n.clone(), d.clone());
+                let want = Rational::new(n, d);
+                assert_eq!((r.numer(), r.denom()), (want.numer(), want.denom()));
+            }
+        }
+        assert!(taken > 10_000, "{taken} sums on the machine-word route");
+        let big = Rational::from_integer(BigInt::one() << 70usize);
+        assert!(small_add(&big, &big, false).is_none());
+        assert_eq!(gcd_u128(0, 0), 0);
+        assert_eq!(gcd_u128(u128::MAX, 3), 3);
     }
 
     /// The integer dyadic subdivision gives exactly the generic recurrence's coefficients, at

@@ -142,7 +142,7 @@ pub fn verify_piecewise_root(
             .iter()
             .map(|e| match e {
                 Equation::Polynomial(p) => Ok(p.restrict(&sub)?),
-                Equation::Spline(s) => s.bezier_on_box(&part).map_err(RootRefusal::Spline),
+                Equation::Spline(s) => s.bezier_on_box_exact(&part).map_err(RootRefusal::Spline),
             })
             .collect::<Result<Vec<_>, _>>()?;
         parts.push(Part {
@@ -228,19 +228,20 @@ struct Part {
 fn check_parts(parts: &[Part], certificate: &RootCertificate) -> Result<RootCheck, RootRefusal> {
     let a = &certificate.preconditioner;
     let n = a.len();
+    let mut gs: Vec<Vec<Bernstein<Rational>>> = Vec::with_capacity(parts.len());
     for part in parts {
         let top = part.f[0].degrees().to_vec();
-        // g = A f, coefficient by coefficient.
+        // g = A f, coefficient by coefficient (one integer dot product each).
         let size = part.f[0].coeffs().len();
         let g: Vec<Bernstein<Rational>> = a
             .iter()
             .map(|row| {
                 let coeffs = (0..size)
                     .map(|c| {
-                        row.iter()
-                            .zip(&part.f)
-                            .map(|(aij, fj)| aij * &fj.coeffs()[c])
-                            .fold(Rational::zero(), |s, x| s + x)
+                        <Rational as crate::num::Field>::dot(
+                            row,
+                            part.f.iter().map(|fj| &fj.coeffs()[c]),
+                        )
                     })
                     .collect();
                 Bernstein::new(top.clone(), coeffs)
@@ -285,22 +286,17 @@ fn check_parts(parts: &[Part], certificate: &RootCertificate) -> Result<RootChec
                 }
             }
         }
+        gs.push(g);
     }
     // Uniqueness: min |∂g_i/∂t_i| > Σ_{k≠i} max |∂g_i/∂t_k| over the coefficients of all
     // parts (in the box's coordinates), the diagonal of one strict sign everywhere.
-    for (i, row) in a.iter().enumerate() {
+    for i in 0..n {
         let mut off = vec![Rational::zero(); n];
         let mut diag: Option<Rational> = None;
         let mut diag_sign = 0i8;
-        for part in parts {
+        for (part, g) in parts.iter().zip(&gs) {
             let top = part.f[0].degrees();
-            let gi = part
-                .f
-                .iter()
-                .zip(row)
-                .map(|(fj, aij)| fj.scale(aij))
-                .reduce(|s, t| s.add(&t).expect("same degrees"))
-                .ok_or(RootRefusal::Shape(n))?;
+            let gi = g.get(i).ok_or(RootRefusal::Shape(n))?;
             for (k, &degree) in top.iter().enumerate() {
                 if degree == 0 {
                     if k == i {

@@ -25,6 +25,7 @@ use super::{
 };
 use crate::bernstein::Bernstein;
 use crate::bspline::TensorSpline;
+use crate::num::rational::lerp;
 use crate::num::{rational_from_f64, rational_to_f64, Field, Interval, Rational, Sign};
 use crate::Path;
 use std::time::Instant;
@@ -115,10 +116,11 @@ impl PiecewiseSystem {
                         p.restrict(&unit)?
                     }
                     Equation::Spline(s) => {
-                        s.bezier_on_box(&bounds).map_err(|e| SolveError::Equation {
-                            equation: i,
-                            why: e.to_string(),
-                        })?
+                        s.bezier_on_box_exact(&bounds)
+                            .map_err(|e| SolveError::Equation {
+                                equation: i,
+                                why: e.to_string(),
+                            })?
                     }
                 });
             }
@@ -457,11 +459,13 @@ fn subdivide<T: Coefficient>(
             }));
             continue;
         }
-        let relative = |k: usize| (&hi[k] - &lo[k]) / (&system.domain[k].1 - &system.domain[k].0);
+        let relative: Vec<Rational> = (0..n)
+            .map(|k| width(&lo[k], &hi[k]) / width(&system.domain[k].0, &system.domain[k].1))
+            .collect();
         let axis = (0..n)
-            .max_by(|&a, &b| relative(a).cmp(&relative(b)).then(b.cmp(&a)))
+            .max_by(|&a, &b| relative[a].cmp(&relative[b]).then(b.cmp(&a)))
             .unwrap_or(0);
-        let at = |s: &Rational| &lo[axis] + (&hi[axis] - &lo[axis]) * s;
+        let at = |s: &Rational| lerp(&lo[axis], &hi[axis], s);
         let mut mid = at(&Rational::new(1.into(), 2.into()));
         for &(p, q) in &SPLITS {
             let x = at(&Rational::new(p.into(), q.into()));
@@ -557,6 +561,11 @@ struct Part<T> {
     hi: Vec<Rational>,
     f: Vec<Bernstein<T>>,
     ratio: Vec<T>,
+}
+
+/// `b − a`, without a gcd when both are dyadic.
+fn width(a: &Rational, b: &Rational) -> Rational {
+    <Rational as Field>::sub(b, a)
 }
 
 /// `(b − a)/(d − c)` for `num = (a, b)`, `den = (c, d)`, `c < d`, in `T`: exact for
@@ -704,16 +713,25 @@ fn certify_parts<T: Coefficient>(
 ) -> Result<(Decision, Option<RootCertificate>), SolveError> {
     let n = lo.len();
     // The preconditioner: the inverse Jacobian (in the box's unit coordinates) at the centre.
-    let two = Rational::from_integer(2.into());
-    let centre: Vec<Rational> = (0..n).map(|k| (&lo[k] + &hi[k]) / &two).collect();
+    let half = Rational::new(1.into(), 2.into());
+    let centre: Vec<Rational> = (0..n).map(|k| lerp(&lo[k], &hi[k], &half)).collect();
     let Some(at) = parts
         .iter()
         .find(|p| (0..n).all(|k| p.lo[k] <= centre[k] && centre[k] <= p.hi[k]))
     else {
         return Ok((Decision::No, None));
     };
+    // Only an approximation is needed (the preconditioner may be any matrix).
     let tau: Vec<f64> = (0..n)
-        .map(|k| rational_to_f64(&((&centre[k] - &at.lo[k]) / (&at.hi[k] - &at.lo[k]))))
+        .map(|k| {
+            let t = rational_to_f64(&width(&at.lo[k], &centre[k]))
+                / rational_to_f64(&width(&at.lo[k], &at.hi[k]));
+            if t.is_finite() {
+                t
+            } else {
+                0.5
+            }
+        })
         .collect();
     let mut j = vec![vec![0.0; n]; n];
     for (fi, row) in at.f.iter().zip(j.iter_mut()) {

@@ -151,25 +151,35 @@ pub(super) fn root_free<T: Field>(polys: &[Bernstein<T>]) -> Decision {
     }
 }
 
-/// `g = A f`: each `g_i = Σ_j A_ij f_j` (all equations share their degrees).
+/// `g = A f`: each `g_i = Σ_j A_ij f_j` (all equations share their degrees), coefficient by
+/// coefficient as one [`Field::dot`] over the row's non-zero entries.
 pub(super) fn precondition<T: Field>(
     a: &[Vec<Rational>],
     f: &[Bernstein<T>],
 ) -> Result<Vec<Bernstein<T>>, SolveError> {
+    let degrees = f[0].degrees().to_vec();
+    if let Some(p) = f.iter().find(|p| p.degrees() != degrees.as_slice()) {
+        return Err(SolveError::Field {
+            field: "equations".into(),
+            why: format!(
+                "preconditioning needs equal degrees, found {degrees:?} and {:?}",
+                p.degrees()
+            ),
+        });
+    }
+    let count = f[0].coeffs().len();
     let mut g = Vec::with_capacity(f.len());
     for row in a {
-        let mut acc: Option<Bernstein<T>> = None;
-        for (aij, fj) in row.iter().zip(f) {
-            if aij.is_zero() {
-                continue;
-            }
-            let term = fj.scale(&T::from_rational(aij));
-            acc = Some(match acc {
-                None => term,
-                Some(s) => s.add(&term)?,
-            });
-        }
-        g.push(acc.unwrap_or_else(|| Bernstein::constant(f[0].degrees().to_vec(), T::zero())));
+        let (weights, polys): (Vec<T>, Vec<&Bernstein<T>>) = row
+            .iter()
+            .zip(f)
+            .filter(|(aij, _)| !aij.is_zero())
+            .map(|(aij, fj)| (T::from_rational(aij), fj))
+            .unzip();
+        let coeffs = (0..count)
+            .map(|c| T::dot(&weights, polys.iter().map(|p| &p.coeffs()[c])))
+            .collect();
+        g.push(Bernstein::new(degrees.clone(), coeffs)?);
     }
     Ok(g)
 }

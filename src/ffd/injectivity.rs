@@ -538,6 +538,31 @@ impl std::fmt::Display for InjectivityCheck {
 pub fn verify_injectivity_certificate(
     c: &InjectivityCertificate,
 ) -> Result<InjectivityCheck, FfdError> {
+    verify_certificate_with(c, jacobian_cells_morken)
+}
+
+/// [`verify_injectivity_certificate`] with the Jacobian's Bézier cells from the exact path's
+/// own route (control nets by the integer span map, products in sign-only integers:
+/// [`jacobian_cell_scaled`]) instead of the Mørken route. It re-checks the leaves (tiling,
+/// positivity) and the witness but not the Jacobian itself; several times cheaper, so the
+/// fuzz check uses it on the inputs it does not send through Mørken.
+pub(crate) fn verify_injectivity_certificate_by_nets(
+    c: &InjectivityCertificate,
+) -> Result<InjectivityCheck, FfdError> {
+    verify_certificate_with(c, |l| {
+        l.bezier_nets()
+            .iter()
+            .map(|net| jacobian_cell_scaled(net).map(|p| p.to_rational()))
+            .collect()
+    })
+}
+
+/// The certificate check with the Jacobian's Bézier cells (order as
+/// [`Lattice::cell_index`]) from `cells_of`.
+fn verify_certificate_with(
+    c: &InjectivityCertificate,
+    cells_of: impl FnOnce(&Lattice) -> Result<Vec<Bernstein<Rational>>, FfdError>,
+) -> Result<InjectivityCheck, FfdError> {
     use CertificateRefusal as R;
     if c.kind != CERTIFICATE_KIND {
         return Err(R::Kind {
@@ -552,7 +577,7 @@ pub fn verify_injectivity_certificate(
                 verdict: "injective",
                 field: "cells",
             })?;
-            let polys = jacobian_cells_morken(&l)?;
+            let polys = cells_of(&l)?;
             if cells.len() != polys.len() {
                 return Err(R::CellCount {
                     certified: cells.len(),

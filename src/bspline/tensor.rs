@@ -407,15 +407,7 @@ impl TensorSpline<Rational> {
             den *= l;
             let degs: Vec<usize> = counts.iter().map(|c| c - 1).collect();
             nums = map_lines(&degs, &nums, a, new_len, &BigInt::zero(), |line, out| {
-                for (o, row) in out.iter_mut().zip(rows) {
-                    let mut acc = BigInt::zero();
-                    for (k, w) in row {
-                        if !line[*k].is_zero() {
-                            acc += &line[*k] * w;
-                        }
-                    }
-                    *o = acc;
-                }
+                apply_rows(rows, line, out)
             });
             counts[a] = new_len;
             axis_spans.push(spans);
@@ -456,15 +448,7 @@ impl TensorSpline<Rational> {
             let rows = &map.rows[j * (p + 1)..(j + 1) * (p + 1)];
             let degs: Vec<usize> = counts.iter().map(|c| c - 1).collect();
             nums = map_lines(&degs, &nums, a, p + 1, &BigInt::zero(), |line, out| {
-                for (o, row) in out.iter_mut().zip(rows) {
-                    let mut acc = BigInt::zero();
-                    for (k, w) in row {
-                        if !line[*k].is_zero() {
-                            acc += &line[*k] * w;
-                        }
-                    }
-                    *o = acc;
-                }
+                apply_rows(rows, line, out)
             });
             den *= &map.scale;
             counts[a] = p + 1;
@@ -578,6 +562,19 @@ fn cut_cells<T: Field>(
         });
     }
     cells
+}
+
+/// `out_i = Σ_k w · line_k` over the sparse integer `rows` (`(k, w)` pairs) of a linear map.
+fn apply_rows(rows: &[Vec<(usize, BigInt)>], line: &[BigInt], out: &mut [BigInt]) {
+    for (o, row) in out.iter_mut().zip(rows) {
+        let mut acc = BigInt::zero();
+        for (k, w) in row {
+            if !line[*k].is_zero() {
+                acc += &line[*k] * w;
+            }
+        }
+        *o = acc;
+    }
 }
 
 /// The Oslo map of one axis in integers: `rows[i]` holds the nonzero `(k, w)` with

@@ -48,10 +48,14 @@ pub(crate) fn f64_dyadic(x: f64) -> (i64, i64) {
     (if negative { -m } else { m }, exp + tz)
 }
 
-/// `n / d` in lowest terms (`d ≠ 0`). Operands that fit in `i128` (the common case: short
-/// coefficients, knots and split points) are reduced with a machine-word binary gcd instead
-/// of `BigUint`'s; others through `num-rational`.
+/// `n / d` in lowest terms (`d ≠ 0`). A power-of-two denominator needs no gcd; operands
+/// that fit in `i128` (the common case: short coefficients, knots and split points) are
+/// reduced with a machine-word binary gcd instead of `BigUint`'s; others through
+/// `num-rational`.
 pub(crate) fn reduced(n: BigInt, d: BigInt) -> Rational {
+    if let Some(k) = power_of_two(&d).filter(|_| d.is_positive()) {
+        return dyadic_rational(n, -(k as i64));
+    }
     match (n.to_i128(), d.to_i128()) {
         (Some(a), Some(b)) if a != i128::MIN && b != i128::MIN => small_ratio(a, b),
         _ => Rational::new(n, d),
@@ -168,10 +172,7 @@ pub(crate) fn dyadic_split_line(
 /// [`common_split_line`]): the same integer recurrence, one gcd in all.
 pub(crate) fn common_eval_line(line: &[Rational], t: &Rational) -> Rational {
     let (w, scale) = integer_levels(line, t, |_, _, _| {});
-    match power_of_two(&scale) {
-        Some(k) => dyadic_rational(w, -(k as i64)),
-        None => reduced(w, scale),
-    }
+    reduced(w, scale)
 }
 
 /// Runs the integer de Casteljau recurrence of [`common_split_line`], calling
@@ -262,10 +263,7 @@ pub(crate) fn common_dot<'v>(
             den *= d;
         }
     }
-    match power_of_two(&den) {
-        Some(k) => dyadic_rational(num, -(k as i64)),
-        None => reduced(num, den),
-    }
+    reduced(num, den)
 }
 
 /// `a ± b` when both are dyadic (`None` otherwise): over the larger power of two, then the
@@ -541,17 +539,20 @@ pub(crate) fn rational_sign(r: &Rational) -> super::Sign {
 mod tests {
     use super::*;
 
+    /// Marsaglia's xorshift64: the tests' deterministic generator.
+    fn xorshift(seed: &mut u64) -> u64 {
+        *seed ^= *seed << 13;
+        *seed ^= *seed >> 7;
+        *seed ^= *seed << 17;
+        *seed
+    }
+
     /// A cheap exact conversion is the `f64` the rational denotes (and happens on a good part
     /// of small dyadics); the gcd-free lerp equals the rational formula, dyadic or not.
     #[test]
     fn exact_f64_and_lerp_agree_with_the_general_routes() {
         let mut seed = 7u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
+        let mut next = || xorshift(&mut seed);
         let mut seen = 0;
         for _ in 0..2000 {
             let (m, k) = ((next() >> (next() % 64)) as i64, next() % 1100);
@@ -574,12 +575,7 @@ mod tests {
     #[test]
     fn small_routes_equal_num_rational() {
         let mut seed = 11u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
+        let mut next = || xorshift(&mut seed);
         let edges = [i64::MIN, i64::MIN + 1, i64::MAX, -1, 0, 1, 3, 1 << 62];
         let value = |next: &mut dyn FnMut() -> u64| -> Rational {
             let pick = |x: u64| edges[(x % edges.len() as u64) as usize];

@@ -450,3 +450,85 @@ mod partial {
         }
     }
 }
+
+/// The conformity check on both of its face-counting routes (packed keys for grids up to
+/// `2^13`, a hash map above): the Kuhn mesh of the cube conforms; a simplex left out, one
+/// twice, and one bisected at the cube's diagonal (hanging faces, same volume) do not.
+mod conformity {
+    use geocert::diamond::{check_conforming, Hierarchy, Simplex};
+    use proptest::prelude::*;
+
+    /// The six Kuhn tetrahedra of `[0, s]³`: `0, s·e_π₀, s·(e_π₀ + e_π₁), (s, s, s)`.
+    fn kuhn(s: u32) -> Vec<Simplex<3>> {
+        let perms = [
+            [0, 1, 2],
+            [0, 2, 1],
+            [1, 0, 2],
+            [1, 2, 0],
+            [2, 0, 1],
+            [2, 1, 0],
+        ];
+        perms
+            .iter()
+            .map(|p| {
+                let mut v = [[0u32; 3]; 4];
+                for j in 0..3 {
+                    v[j + 1] = v[j];
+                    v[j + 1][p[j]] = s;
+                }
+                Simplex::new(&v).unwrap()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn kuhn_meshes_conform_and_broken_ones_do_not() {
+        let mut checked = 0;
+        for n in [1, 4, 13, 14, 20, 30] {
+            let hier = Hierarchy::<3>::new(n).unwrap();
+            let s = hier.side();
+            let good = kuhn(s);
+            let c = check_conforming(&hier, &good);
+            assert!(c.conforming, "N = {n}: {c:?}");
+            assert_eq!((c.interior_faces, c.boundary_faces), (6, 12), "N = {n}");
+            let gap = good[1..].to_vec();
+            let c = check_conforming(&hier, &gap);
+            assert!(!c.conforming && c.bad_face_count == 2, "N = {n}: {c:?}");
+            let mut twice = good.clone();
+            twice.push(good[3]);
+            let c = check_conforming(&hier, &twice);
+            assert!(!c.conforming && c.bad_face_count == 4, "N = {n}: {c:?}");
+            // Bisect the first tetrahedron at the diagonal's midpoint: its two faces on the
+            // diagonal become four half-faces that no neighbour has.
+            let v = good[0].vertices().to_vec();
+            let m = [s / 2; 3];
+            let mut split = good[1..].to_vec();
+            split.push(Simplex::new(&[v[0], v[1], v[2], m]).unwrap());
+            split.push(Simplex::new(&[m, v[1], v[2], v[3]]).unwrap());
+            let c = check_conforming(&hier, &split);
+            assert_eq!(c.volume_sum, c.domain_volume, "N = {n}");
+            assert!(!c.conforming && c.bad_face_count == 6, "N = {n}: {c:?}");
+            checked += 4;
+        }
+        println!("{checked} meshes checked on grids 2^1 to 2^30");
+    }
+
+    proptest! {
+        /// `d!·volume` in machine words equals the `BigUint` route, in 2-D and 3-D (cofactor
+        /// expansion) and 4-D (fraction-free elimination), for any `u32` coordinates.
+        #[test]
+        fn volume_routes_agree(c in proptest::collection::vec(any::<u32>(), 20)) {
+            let p2: Vec<[u32; 2]> = c.chunks(2).take(3).map(|x| [x[0], x[1]]).collect();
+            let s2 = Simplex::<2>::new(&p2).unwrap();
+            prop_assert_eq!(s2.scaled_volume_u128().map(Into::into), Some(s2.scaled_volume()));
+            let p3: Vec<[u32; 3]> = c.chunks(3).take(4).map(|x| [x[0], x[1], x[2]]).collect();
+            let s3 = Simplex::<3>::new(&p3).unwrap();
+            prop_assert_eq!(s3.scaled_volume_u128().map(Into::into), Some(s3.scaled_volume()));
+            let p4: Vec<[u32; 4]> = c.chunks(4).take(5).map(|x| [x[0], x[1], x[2], x[3]]).collect();
+            let s4 = Simplex::<4>::new(&p4).unwrap();
+            if let Some(v) = s4.scaled_volume_u128() {
+                prop_assert_eq!(num_bigint::BigUint::from(v), s4.scaled_volume());
+            }
+        }
+    }
+}

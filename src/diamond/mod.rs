@@ -176,7 +176,17 @@ impl<const D: usize> Simplex<D> {
                 m[r][c] = i128::from(v[r + 1][c]) - i128::from(v[0][c]);
             }
         }
-        bareiss_det_checked(&mut m, D).map(i128::unsigned_abs)
+        match D {
+            // Cofactor expansion: entries below 2^33 in magnitude keep every term below 2^102.
+            2 => Some((m[0][0] * m[1][1] - m[0][1] * m[1][0]).unsigned_abs()),
+            3 => Some(
+                (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                    - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                    + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
+                    .unsigned_abs(),
+            ),
+            _ => bareiss_det_checked(&mut m, D).map(i128::unsigned_abs),
+        }
     }
 
     /// `d! · volume`, exactly: `|det(v₁ − v₀, …, v_d − v₀)|`.

@@ -410,19 +410,14 @@ pub fn check_conforming<const D: usize>(
     simplices: &[Simplex<D>],
 ) -> Conformity {
     let side = hier.side();
-    // Faces as their D sorted vertices (the sorted simplex without one vertex).
-    let mut faces: HashMap<[Point<D>; D], u32, std::hash::BuildHasherDefault<super::PointHasher>> =
-        HashMap::default();
-    faces.reserve(simplices.len() * 2);
+    // Face multiplicities: packed sorted keys when D² coordinates fit a u128, else a map.
+    let counts = match FaceCodec::<D>::new(side) {
+        Some(codec) => codec.face_counts(simplices),
+        None => face_counts_hashed(simplices),
+    };
     let mut volume = BigUint::from(0u8);
     let mut small: u128 = 0;
     for s in simplices {
-        let v = s.sorted();
-        let v = v.vertices();
-        for skip in 0..=D {
-            let face: [Point<D>; D] = std::array::from_fn(|j| v[if j < skip { j } else { j + 1 }]);
-            *faces.entry(face).or_insert(0) += 1;
-        }
         match s.scaled_volume_u128().and_then(|x| small.checked_add(x)) {
             Some(sum) => small = sum,
             None => {
@@ -440,7 +435,7 @@ pub fn check_conforming<const D: usize>(
     };
     let (mut interior, mut boundary, mut bad) = (0, 0, Vec::new());
     let mut bad_count = 0;
-    for (f, n) in &faces {
+    for (f, n) in &counts {
         match (*n, on_boundary(f)) {
             (2, false) => interior += 1,
             (1, true) => boundary += 1,
@@ -463,6 +458,102 @@ pub fn check_conforming<const D: usize>(
         conforming: bad_count == 0 && volume == domain,
         volume_sum: volume.to_string(),
         domain_volume: domain.to_string(),
+    }
+}
+
+/// Each distinct `(d−1)`-face (its `d` vertices, sorted) with the number of simplices using it.
+type FaceCounts<const D: usize> = Vec<([Point<D>; D], u32)>;
+
+/// [`check_conforming`]'s face count through a hash map keyed by the sorted vertices.
+fn face_counts_hashed<const D: usize>(simplices: &[Simplex<D>]) -> FaceCounts<D> {
+    let mut faces: HashMap<[Point<D>; D], u32, std::hash::BuildHasherDefault<super::PointHasher>> =
+        HashMap::default();
+    faces.reserve(simplices.len() * 2);
+    for s in simplices {
+        let v = s.sorted();
+        let v = v.vertices();
+        for skip in 0..=D {
+            let face: [Point<D>; D] = std::array::from_fn(|j| v[if j < skip { j } else { j + 1 }]);
+            *faces.entry(face).or_insert(0) += 1;
+        }
+    }
+    faces.into_iter().collect()
+}
+
+/// Grid points packed into `bits`-bit fields, and faces into one `u128` of `d` packed points:
+/// the lossless key [`check_conforming`] sorts when `d²·bits ≤ 128` (in 3-D, `2^N < 2^14`).
+struct FaceCodec<const D: usize> {
+    bits: u32,
+}
+
+impl<const D: usize> FaceCodec<D> {
+    /// The codec for coordinates in `0..=side`, when a face fits a `u128`.
+    fn new(side: u32) -> Option<Self> {
+        let bits = u32::BITS - side.leading_zeros();
+        ((D * D) as u32 * bits <= u128::BITS).then_some(FaceCodec { bits })
+    }
+
+    fn point(&self, p: &Point<D>) -> u128 {
+        p.iter()
+            .rev()
+            .fold(0u128, |acc, &x| acc << self.bits | u128::from(x))
+    }
+
+    fn unpoint(&self, mut code: u128) -> Point<D> {
+        let mask = (1u128 << self.bits) - 1;
+        std::array::from_fn(|_| {
+            let x = (code & mask) as u32;
+            code >>= self.bits;
+            x
+        })
+    }
+
+    /// Sorts the faces' keys and counts each key's run, in `u64` keys when they fit.
+    fn face_counts(&self, simplices: &[Simplex<D>]) -> FaceCounts<D> {
+        if (D * D) as u32 * self.bits <= u64::BITS {
+            self.face_counts_in::<u64>(simplices)
+        } else {
+            self.face_counts_in::<u128>(simplices)
+        }
+    }
+
+    fn face_counts_in<K>(&self, simplices: &[Simplex<D>]) -> FaceCounts<D>
+    where
+        K: Ord + Copy + TryFrom<u128> + Into<u128>,
+    {
+        let width = D as u32 * self.bits;
+        let mut keys: Vec<K> = Vec::with_capacity(simplices.len() * (D + 1));
+        let mut codes = [0u128; super::MAX_DIM + 1];
+        for s in simplices {
+            let codes = &mut codes[..=D];
+            for (c, p) in codes.iter_mut().zip(s.vertices()) {
+                *c = self.point(p);
+            }
+            // Packed points order as their reversed coordinate tuples; any total order works.
+            codes.sort_unstable();
+            for skip in 0..=D {
+                let key = codes
+                    .iter()
+                    .enumerate()
+                    .filter(|&(j, _)| j != skip)
+                    .fold(0u128, |acc, (_, &c)| acc << width | c);
+                // `new` admitted only codecs whose faces fit `K`.
+                keys.extend(K::try_from(key).ok());
+            }
+        }
+        keys.sort_unstable();
+        let mask = (1u128 << width) - 1;
+        let mut out = Vec::with_capacity(keys.len() / 2 + 1);
+        for run in keys.chunk_by(|a, b| a == b) {
+            let mut key: u128 = run[0].into();
+            let mut face = [[0u32; D]; D];
+            for f in face.iter_mut().rev() {
+                *f = self.unpoint(key & mask);
+                key = key.checked_shr(width).unwrap_or(0);
+            }
+            out.push((face, run.len() as u32));
+        }
+        out
     }
 }
 

@@ -12,7 +12,9 @@ pub(crate) mod tensor;
 
 pub use morken::{morken_product, product_knots};
 pub use spline::Spline;
-pub use tensor::{basis_product_table, BasisProductTable, BezierCell, TensorSpline};
+pub use tensor::{
+    basis_product_table, BasisProductTable, BezierCell, ScaledSpline, TableCache, TensorSpline,
+};
 
 use thiserror::Error;
 

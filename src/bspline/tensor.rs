@@ -475,11 +475,51 @@ impl TensorSpline<Rational> {
         other: &TensorSpline<Rational>,
         cache: &mut TableCache,
     ) -> Result<Self, BsplineError> {
-        let n = self.dim();
-        if other.dim() != n {
+        let [a, b] = ScaledSpline::common(&[self, other])
+            .try_into()
+            .expect("two splines");
+        a.product(&b, cache)?.to_rational()
+    }
+}
+
+/// A tensor spline with integer coefficients over one denominator, `c_i = nums_i / den`:
+/// Mørken products, sums and differences of such splines need no gcd per coefficient, so a
+/// polynomial expression of splines (a Jacobian determinant) reduces once, at the end.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScaledSpline {
+    degrees: Vec<usize>,
+    knots: Vec<Vec<Rational>>,
+    nums: Vec<BigInt>,
+    den: BigInt,
+}
+
+impl ScaledSpline {
+    /// The splines over one shared denominator (the lcm of all their coefficients').
+    pub fn common(splines: &[&TensorSpline<Rational>]) -> Vec<ScaledSpline> {
+        let den = lcm_of_denominators(splines.iter().flat_map(|s| s.coeffs.iter()));
+        splines
+            .iter()
+            .map(|s| ScaledSpline {
+                degrees: s.degrees.clone(),
+                knots: s.knots.clone(),
+                nums: s.coeffs.iter().map(|c| scaled_by(c, &den)).collect(),
+                den: den.clone(),
+            })
+            .collect()
+    }
+
+    /// The Mørken product `self · other` over `den_a · den_b · Π_x scale_x` (the tables'
+    /// common denominators), contracted in `i128` when every factor fits, else in `BigInt`.
+    pub fn product(
+        &self,
+        other: &ScaledSpline,
+        cache: &mut TableCache,
+    ) -> Result<ScaledSpline, BsplineError> {
+        let n = self.degrees.len();
+        if other.degrees.len() != n {
             return Err(BsplineError::DimensionMismatch {
                 expected: n,
-                found: other.dim(),
+                found: other.degrees.len(),
             });
         }
         let mut tables: Vec<Arc<IntTable>> = Vec::with_capacity(n);
@@ -491,23 +531,92 @@ impl TensorSpline<Rational> {
                 &other.knots[x],
             )?);
         }
-        let (na, da) = common_denominator(&self.coeffs);
-        let (nb, db) = common_denominator(&other.coeffs);
-        let den = tables.iter().fold(da * db, |d, t| d * &t.scale);
-        let (ca, cb) = (self.counts(), other.counts());
+        let den = tables
+            .iter()
+            .fold(&self.den * &other.den, |d, t| d * &t.scale);
+        let (ca, cb) = (
+            counts_of(&self.degrees, &self.knots),
+            counts_of(&other.degrees, &other.knots),
+        );
         let cp: Vec<usize> = tables.iter().map(|t| t.table.count).collect();
         let sp = strides_of(&cp);
         let counts = (ca.as_slice(), cb.as_slice());
-        let out = contract_small(&na, &nb, &tables, counts, &sp)
-            .unwrap_or_else(|| contract_big(&na, &nb, &tables, counts, &sp));
+        let nums = contract_small(&self.nums, &other.nums, &tables, counts, &sp)
+            .unwrap_or_else(|| contract_big(&self.nums, &other.nums, &tables, counts, &sp));
+        Ok(ScaledSpline {
+            degrees: tables.iter().map(|t| t.table.degree).collect(),
+            knots: tables.iter().map(|t| t.table.knots.clone()).collect(),
+            nums,
+            den,
+        })
+    }
+
+    /// `self + other` (same degrees and knots).
+    pub fn add(&self, other: &ScaledSpline) -> Result<ScaledSpline, BsplineError> {
+        self.combine(other, |a, b| a + b)
+    }
+
+    /// `self − other` (same degrees and knots).
+    pub fn sub(&self, other: &ScaledSpline) -> Result<ScaledSpline, BsplineError> {
+        self.combine(other, |a, b| a - b)
+    }
+
+    /// Coefficient by coefficient over the common denominator (the product of the two when
+    /// they differ).
+    fn combine(
+        &self,
+        other: &ScaledSpline,
+        f: impl Fn(BigInt, BigInt) -> BigInt,
+    ) -> Result<ScaledSpline, BsplineError> {
+        if self.degrees != other.degrees || self.knots != other.knots {
+            return Err(BsplineError::DomainMismatch { factor: 1 });
+        }
+        let same = self.den == other.den;
+        let nums = self
+            .nums
+            .iter()
+            .zip(&other.nums)
+            .map(|(a, b)| {
+                if same {
+                    f(a.clone(), b.clone())
+                } else {
+                    f(a * &other.den, b * &self.den)
+                }
+            })
+            .collect();
+        let den = if same {
+            self.den.clone()
+        } else {
+            &self.den * &other.den
+        };
+        Ok(ScaledSpline {
+            degrees: self.degrees.clone(),
+            knots: self.knots.clone(),
+            nums,
+            den,
+        })
+    }
+
+    /// The spline with rational coefficients in lowest terms.
+    pub fn to_rational(&self) -> Result<TensorSpline<Rational>, BsplineError> {
         TensorSpline::new(
-            tables.iter().map(|t| t.table.degree).collect(),
-            tables.iter().map(|t| t.table.knots.clone()).collect(),
-            out.into_iter()
-                .map(|v| Rational::new(v, den.clone()))
+            self.degrees.clone(),
+            self.knots.clone(),
+            self.nums
+                .iter()
+                .map(|v| Rational::new(v.clone(), self.den.clone()))
                 .collect(),
         )
     }
+}
+
+/// Coefficients per axis of a spline with these degrees and knot vectors.
+fn counts_of(degrees: &[usize], knots: &[Vec<Rational>]) -> Vec<usize> {
+    degrees
+        .iter()
+        .zip(knots)
+        .map(|(p, k)| k.len().saturating_sub(p + 1))
+        .collect()
 }
 
 /// Cuts a net of concatenated Bézier pieces (per axis `spans.len() · (p + 1)` coefficients,
@@ -789,6 +898,11 @@ fn for_each_product<'t, W>(
 
 /// The Mørken contraction `out_o = Σ_{i,j} a_i b_j Π_x w_x` in `i128`, or `None` when a
 /// factor does not fit or a partial sum would overflow (then [`contract_big`] runs).
+///
+/// Axis by axis: `W₀[i, j] = a_i b_j`, and stage `x` replaces the index pair `(i_x, j_x)` by
+/// `o_x` through axis `x`'s table, `W_{x+1}[…, o_x, …] = Σ_{i_x, j_x} w_x · W_x[…, i_x, j_x, …]`.
+/// Each axis's weights multiply partial sums once, not once per leaf of every pair's product
+/// of lists; in 3-D that is several times fewer multiplications than pair by pair.
 fn contract_small(
     na: &[BigInt],
     nb: &[BigInt],
@@ -806,40 +920,78 @@ fn contract_small(
             .collect::<Option<Vec<_>>>()
     };
     let (na, nb) = (fit(na)?, fit(nb)?);
-    let nonzero = |v: &[i128]| v.iter().map(|&x| x != 0).collect::<Vec<_>>();
-    let mut out = vec![0i128; tables.iter().map(|t| t.table.count).product()];
-    for_each_product(
-        (&nonzero(&na), &nonzero(&nb)),
-        counts,
-        &small,
-        |i, j, lists| distribute_small(na[i].checked_mul(nb[j])?, lists, sp, 0, 0, &mut out),
-    )?;
-    Some(out.into_iter().map(BigInt::from).collect())
-}
-
-fn distribute_small(
-    v: i128,
-    lists: &[&[(usize, i128)]],
-    strides: &[usize],
-    axis: usize,
-    at: usize,
-    out: &mut [i128],
-) -> Option<()> {
-    if axis == lists.len() {
-        out[at] = out[at].checked_add(v)?;
-        return Some(());
+    let (ca, cb) = counts;
+    let n = tables.len();
+    let m: Vec<usize> = tables.iter().map(|t| t.table.count).collect();
+    // Stage k's layout, fastest first: o_0 … o_{k−1}, i_k … i_{n−1}, j_k … j_{n−1}. Stage 0 is
+    // `a`'s flat index plus `|a|` times `b`'s; stage n is the output's (`sp`).
+    let layout = |k: usize| -> (Vec<usize>, Vec<usize>) {
+        let sizes: Vec<usize> = m[..k]
+            .iter()
+            .chain(&ca[k..])
+            .chain(&cb[k..])
+            .copied()
+            .collect();
+        (strides_of(&sizes), sizes)
+    };
+    let mut w = Vec::with_capacity(na.len() * nb.len());
+    for &y in &nb {
+        for &x in &na {
+            w.push(x.checked_mul(y)?);
+        }
     }
-    for &(o, w) in lists[axis] {
-        distribute_small(
-            v.checked_mul(w)?,
-            lists,
-            strides,
-            axis + 1,
-            at + o * strides[axis],
-            out,
-        )?;
+    for (k, list) in small.iter().enumerate() {
+        let (sin, size_in) = layout(k);
+        let (sout, size_out) = layout(k + 1);
+        // The dimensions kept through stage k: (size, stride in, stride out).
+        let rest: Vec<(usize, usize, usize)> = (0..k)
+            .map(|y| (size_in[y], sin[y], sout[y]))
+            .chain((k + 1..n).map(|y| (size_in[y], sin[y], sout[y])))
+            .chain((k + 1..n).map(|y| (size_in[n + y - k], sin[n + y - k], sout[n + y - k - 1])))
+            .collect();
+        let (si, sj, so) = (sin[k], sin[n], sout[k]);
+        let mut next = vec![0i128; size_out.iter().product()];
+        let mut digits = vec![0usize; rest.len()];
+        let (mut at_in, mut at_out) = (0usize, 0usize);
+        loop {
+            for ik in 0..ca[k] {
+                for jk in 0..cb[k] {
+                    let v = w[at_in + ik * si + jk * sj];
+                    if v == 0 {
+                        continue;
+                    }
+                    for &(o, wt) in &list[ik * cb[k] + jk] {
+                        let slot = &mut next[at_out + o * so];
+                        *slot = slot.checked_add(v.checked_mul(wt)?)?;
+                    }
+                }
+            }
+            // Advance the kept dimensions' counter (and both flat offsets) by one.
+            let mut d = 0;
+            loop {
+                if d == rest.len() {
+                    break;
+                }
+                let (size, s_in, s_out) = rest[d];
+                digits[d] += 1;
+                at_in += s_in;
+                at_out += s_out;
+                if digits[d] < size {
+                    break;
+                }
+                at_in -= size * s_in;
+                at_out -= size * s_out;
+                digits[d] = 0;
+                d += 1;
+            }
+            if d == rest.len() {
+                break;
+            }
+        }
+        w = next;
     }
-    Some(())
+    debug_assert_eq!(strides_of(&m), sp);
+    Some(w.into_iter().map(BigInt::from).collect())
 }
 
 /// [`contract_small`] in `BigInt`.

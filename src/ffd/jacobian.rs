@@ -16,7 +16,7 @@
 use super::lattice::Lattice;
 use super::FfdError;
 use crate::bernstein::{Bernstein, ScaledBernstein};
-use crate::bspline::{tensor::TableCache, TensorSpline};
+use crate::bspline::{tensor::TableCache, ScaledSpline, TensorSpline};
 use crate::num::Rational;
 use num_bigint::BigInt;
 use num_integer::Integer;
@@ -39,25 +39,29 @@ fn kernel<T>(r: Result<T, crate::bspline::BsplineError>) -> Result<T, FfdError> 
     r.map_err(FfdError::from)
 }
 
-/// `det J` as one trivariate tensor B-spline through Mørken products (eq. 8).
+/// `det J` as one trivariate tensor B-spline through Mørken products (eq. 8), in integer
+/// numerators over one denominator per factor set (one reduction at the end).
 #[allow(clippy::needless_range_loop)] // the index also picks partner rows/columns
 pub fn jacobian_spline(l: &Lattice) -> Result<TensorSpline<Rational>, FfdError> {
     let [fu, fv, fw] = partial_derivatives(l)?;
+    let scaled = |f: &[TensorSpline<Rational>; 3]| ScaledSpline::common(&[&f[0], &f[1], &f[2]]);
+    let (fu, fv, fw) = (scaled(&fu), scaled(&fv), scaled(&fw));
     let mut cache = TableCache::default();
-    let mut det: Option<TensorSpline<Rational>> = None;
+    let mut det: Option<ScaledSpline> = None;
     for c in 0..3 {
         let (a, b) = ((c + 1) % 3, (c + 2) % 3);
         // (∂_v F̃ × ∂_w F̃)_c = ∂_v F̃_a ∂_w F̃_b − ∂_v F̃_b ∂_w F̃_a.
         let cross = kernel(
-            kernel(fv[a].product_exact(&fw[b]))?.sub(&kernel(fv[b].product_exact(&fw[a]))?),
+            kernel(fv[a].product(&fw[b], &mut cache))?
+                .sub(&kernel(fv[b].product(&fw[a], &mut cache))?),
         )?;
-        let term = kernel(fu[c].product_exact_cached(&cross, &mut cache))?;
+        let term = kernel(fu[c].product(&cross, &mut cache))?;
         det = Some(match det {
             None => term,
             Some(d) => kernel(d.add(&term))?,
         });
     }
-    Ok(det.expect("three terms"))
+    kernel(det.expect("three terms").to_rational())
 }
 
 /// The Bézier form of `det J` on every cell (order as [`Lattice::cell_index`]) by the

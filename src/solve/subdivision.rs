@@ -643,32 +643,47 @@ pub(super) const MOVED_SPLITS_DEPTH: u32 = 24;
 /// proved root-free.
 pub(super) const SPLITS: [(i64, i64); 5] = [(1, 2), (7, 16), (9, 16), (3, 8), (5, 8)];
 
-/// The split parameter along `axis`: the first of [`SPLITS`] whose plane some equation is of
-/// one strict sign on, else ½. Below depth [`MOVED_SPLITS_DEPTH`] only ½ is used: a root on
-/// such a plane (a dyadic coordinate with a long expansion) leaves two touching clusters
-/// rather than a certified root, and the exact path's coefficients stay short.
-fn split_parameter<T: Field>(
+/// Splits every polynomial along `axis` at the first of [`SPLITS`] whose plane some equation
+/// is of one strict sign on, else at ½; returns the parameter and the two halves. Below depth
+/// [`MOVED_SPLITS_DEPTH`] only ½ is used: a root on such a plane (a dyadic coordinate with a
+/// long expansion) leaves two touching clusters rather than a certified root, and the exact
+/// path's coefficients stay short. The plane's coefficients are read off the split itself
+/// (the left halves' upper faces), so the common case costs one split and no evaluation.
+#[allow(clippy::type_complexity)]
+fn split_polys<T: Field>(
     polys: &[Bernstein<T>],
     axis: usize,
     depth: u32,
-) -> Result<Rational, SolveError> {
+) -> Result<(Rational, Vec<Bernstein<T>>, Vec<Bernstein<T>>), SolveError> {
     let tried = if depth < MOVED_SPLITS_DEPTH {
         SPLITS.len()
     } else {
-        0
+        1
     };
+    let mut first = None;
     for &(p, q) in &SPLITS[..tried] {
         let s = T::from_ratio(p, q);
+        let mut left = Vec::with_capacity(polys.len());
+        let mut right = Vec::with_capacity(polys.len());
+        let mut plane_free = false;
         for f in polys {
-            if matches!(
-                strict_sign(&f.eval_axis(axis, &s)?),
-                Sign::Positive | Sign::Negative
-            ) {
-                return Ok(Rational::new(p.into(), q.into()));
-            }
+            let (l, r) = f.split(axis, &s)?;
+            // The last coefficients of the left half along `axis` are the plane's.
+            plane_free = plane_free
+                || matches!(
+                    strict_sign(&l.face(axis, true)?),
+                    Sign::Positive | Sign::Negative
+                );
+            left.push(l);
+            right.push(r);
         }
+        let halves = (Rational::new(p.into(), q.into()), left, right);
+        if plane_free {
+            return Ok(halves);
+        }
+        first.get_or_insert(halves);
     }
-    Ok(Rational::new(1.into(), 2.into()))
+    Ok(first.expect("SPLITS starts with 1/2"))
 }
 
 /// Whether the box touches a face of the domain on which the system may vanish.
@@ -821,15 +836,7 @@ fn run<T: Coefficient>(
         }
         // Split the widest side (in unit coordinates) at a root-free plane if one is found.
         let axis = widest_axis(&node.lo, &node.hi);
-        let s = split_parameter(&node.polys, axis, node.depth)?;
-        let st = T::from_rational(&s);
-        let mut left = Vec::with_capacity(node.polys.len());
-        let mut right = Vec::with_capacity(node.polys.len());
-        for p in &node.polys {
-            let (l, r) = p.split(axis, &st)?;
-            left.push(l);
-            right.push(r);
-        }
+        let (s, left, right) = split_polys(&node.polys, axis, node.depth)?;
         let mid = crate::num::rational::lerp(&node.lo[axis], &node.hi[axis], &s);
         let mut hi_left = node.hi.clone();
         hi_left[axis] = mid.clone();

@@ -177,18 +177,14 @@ pub fn decode_lattice(data: &[u8]) -> Option<crate::ffd::Lattice> {
 /// Differential check of the FFD injectivity paths: certified fast and filtered verdicts
 /// never contradict the exact one, filtered is never uncertain, every decided verdict's
 /// certificate re-checks, and every witness has `det J ≤ 0` exactly. Limits per input: depth
-/// 7, 5,000 boxes per path. Certificates are re-checked on one lattice in four (chosen by a
-/// hash of its points) through the Mørken route of `verify_injectivity_certificate`, which
-/// takes about 60 % of the check's time on the campaigns' corpus; on the others the leaves
-/// and witnesses are re-checked against the exact path's own Jacobian route (control nets and
-/// sign-only integer products), which is several times cheaper. The routes are proved equal
-/// by the property tests of `tests/ffd_props.rs`.
+/// 7, 5,000 boxes per path. Every certificate is re-checked as `verify_injectivity_certificate`
+/// does, through the Mørken route (integer numerators, contracted axis by axis), its cells
+/// computed once per lattice and shared by the lattice's distinct certificates.
 pub fn check_ffd(l: &crate::ffd::Lattice) -> Result<(), String> {
-    use crate::ffd::jacobian::jacobian_in_cell;
-    use crate::ffd::{
-        check_injectivity, verify_injectivity_certificate, CheckOptions, InjectivityCertificate,
-        InjectivityVerdict,
-    };
+    use crate::bernstein::Bernstein;
+    use crate::ffd::injectivity::verify_certificate_with;
+    use crate::ffd::jacobian::{jacobian_cells_morken, jacobian_in_cell};
+    use crate::ffd::{check_injectivity, CheckOptions, InjectivityCertificate, InjectivityVerdict};
     let limits = Limits {
         max_depth: 7,
         max_boxes: 5_000,
@@ -220,12 +216,9 @@ pub fn check_ffd(l: &crate::ffd::Lattice) -> Result<(), String> {
     if matches!(filtered.verdict, InjectivityVerdict::Uncertain { .. }) {
         return Err("filtered path left a verdict uncertain".into());
     }
-    let morken = {
-        use std::hash::{Hash, Hasher};
-        let mut h = std::collections::hash_map::DefaultHasher::new();
-        l.points().hash(&mut h);
-        h.finish().is_multiple_of(4)
-    };
+    // The Mørken cells are a function of the lattice: computed once, shared by the (up to
+    // three) distinct certificates that embed this lattice.
+    let mut cells: Option<Vec<Bernstein<Rational>>> = None;
     let mut verified: Vec<InjectivityCertificate> = Vec::new();
     for r in [&exact, &fast, &filtered] {
         if let InjectivityVerdict::NotInjective { point, det, cell } = &r.verdict {
@@ -237,11 +230,15 @@ pub fn check_ffd(l: &crate::ffd::Lattice) -> Result<(), String> {
         // Paths often certify with the same leaves: an identical certificate is checked once.
         if let Some(c) = InjectivityCertificate::from_report(l, r) {
             if !verified.contains(&c) {
-                if morken {
-                    verify_injectivity_certificate(&c)
-                } else {
-                    crate::ffd::injectivity::verify_injectivity_certificate_by_nets(&c)
-                }
+                verify_certificate_with(&c, |embedded| {
+                    if embedded != l {
+                        return jacobian_cells_morken(embedded);
+                    }
+                    if cells.is_none() {
+                        cells = Some(jacobian_cells_morken(l)?);
+                    }
+                    Ok(cells.clone().unwrap_or_default())
+                })
                 .map_err(|e| format!("{:?}: {e}", r.path))?;
                 verified.push(c);
             }

@@ -541,25 +541,9 @@ pub fn verify_injectivity_certificate(
     verify_certificate_with(c, jacobian_cells_morken)
 }
 
-/// [`verify_injectivity_certificate`] with the Jacobian's Bézier cells from the exact path's
-/// own route (control nets by the integer span map, products in sign-only integers:
-/// [`jacobian_cell_scaled`]) instead of the Mørken route. It re-checks the leaves (tiling,
-/// positivity) and the witness but not the Jacobian itself; several times cheaper, so the
-/// fuzz check uses it on the inputs it does not send through Mørken.
-pub(crate) fn verify_injectivity_certificate_by_nets(
-    c: &InjectivityCertificate,
-) -> Result<InjectivityCheck, FfdError> {
-    verify_certificate_with(c, |l| {
-        l.bezier_nets()
-            .iter()
-            .map(|net| jacobian_cell_scaled(net).map(|p| p.to_rational()))
-            .collect()
-    })
-}
-
 /// The certificate check with the Jacobian's Bézier cells (order as
-/// [`Lattice::cell_index`]) from `cells_of`.
-fn verify_certificate_with(
+/// [`Lattice::cell_index`]) from `cells_of`, given the certificate's own lattice.
+pub(crate) fn verify_certificate_with(
     c: &InjectivityCertificate,
     cells_of: impl FnOnce(&Lattice) -> Result<Vec<Bernstein<Rational>>, FfdError>,
 ) -> Result<InjectivityCheck, FfdError> {

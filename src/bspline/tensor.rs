@@ -771,7 +771,7 @@ fn memoised<K: std::hash::Hash + Eq, V, E>(
 }
 
 /// Per-axis basis product tables keyed by `(p, knots, q, knots)`: a local map in front of a
-/// bounded process-wide memo ([`TABLE_MEMO_CAPACITY`] tables). A table is a pure function of
+/// bounded process-wide memo. A table is a pure function of
 /// its key, and computing one (Mørken products of every basis pair by blossoming) costs far
 /// more than the tensor contraction that uses it; callers that check many lattices of the
 /// same shape (certificate checkers, fuzzing, campaigns) compute each table once.

@@ -103,7 +103,8 @@ pub fn check_poly_json(data: &[u8]) -> Result<(), String> {
 }
 
 /// The swept-scene reader on arbitrary bytes, and the silhouette equations of every small
-/// scene it accepts (patches of degree ≤ 3, motions of degree ≤ 4, at most 16 patches): must
+/// scene it accepts (patches of degree ≤ 3, motions of degree ≤ 4, at most 16 patches,
+/// numbers of at most 64 bits): must
 /// return `Ok` or a typed error, never panic.
 pub fn check_sweep_scene(data: &[u8]) -> Result<(), String> {
     use crate::sweep::{equations, scene_from_json, Eye};
@@ -124,12 +125,32 @@ pub fn check_sweep_scene(data: &[u8]) -> Result<(), String> {
         .map(Vec::len)
         .max()
         .unwrap_or(0);
-    let small = patches.len() <= 16
-        && motion_degree <= 5
-        && patches.iter().all(|p| p.degrees().iter().all(|&d| d <= 3));
     let Eye::Point(eye) = &scene.eye else {
         return Ok(());
     };
+    // Numbers of at most 64 bits (numerator and denominator): a motion coefficient such as
+    // 1e308 (1,024 bits) squared through a rotation makes H's coefficients thousands of bits
+    // long, and one scene took over 20 s.
+    let short = |r: &Rational| r.numer().bits() <= 64 && r.denom().bits() <= 64;
+    let motion = &scene.motion;
+    let numbers_short = motion
+        .linear
+        .iter()
+        .flatten()
+        .chain(&motion.translation)
+        .chain(std::iter::once(&motion.denominator))
+        .flatten()
+        .chain(
+            patches
+                .iter()
+                .flat_map(|p| p.hom.iter().flat_map(|h| h.coeffs())),
+        )
+        .chain(eye)
+        .all(short);
+    let small = patches.len() <= 16
+        && motion_degree <= 5
+        && numbers_short
+        && patches.iter().all(|p| p.degrees().iter().all(|&d| d <= 3));
     if small {
         for p in patches {
             let _ = equations(&scene, p, eye);
@@ -895,8 +916,7 @@ pub fn check_solve_bspline(data: &[u8]) -> Result<(), String> {
 /// clusters: on the campaigns' corpus 65 % of the traces did at 150 boxes. On a later corpus
 /// (1,356 inputs, 82 % of traces with a cluster at depth 7 and 64 boxes) depth 5 left the
 /// same 240 traces without a cluster and 48 boxes 235, at 1.5 times the executions per
-/// second. Both traces
-/// must pass the independent checker ([`crate::solve::verify_curves`]), every certified
+/// second. Both traces must pass the independent checker ([`crate::solve::verify_curves`]), every certified
 /// vertex of one path must lie in an arc or cluster box of the other, and where neither path
 /// left a cluster both must report the same components (count, loops, ends per component).
 pub fn check_curve(data: &[u8]) -> Result<(), String> {

@@ -202,9 +202,8 @@ pub fn decode_lattice(data: &[u8]) -> Option<crate::ffd::Lattice> {
 /// does, through the Mørken route (integer numerators, contracted axis by axis), its cells
 /// computed once per lattice and shared by the lattice's distinct certificates.
 pub fn check_ffd(l: &crate::ffd::Lattice) -> Result<(), String> {
-    use crate::bernstein::Bernstein;
     use crate::ffd::injectivity::verify_certificate_with;
-    use crate::ffd::jacobian::{jacobian_cells_morken, jacobian_in_cell};
+    use crate::ffd::jacobian::{jacobian_cells_morken_scaled, jacobian_in_cell};
     use crate::ffd::{check_injectivity, CheckOptions, InjectivityCertificate, InjectivityVerdict};
     let limits = Limits {
         max_depth: 7,
@@ -239,7 +238,7 @@ pub fn check_ffd(l: &crate::ffd::Lattice) -> Result<(), String> {
     }
     // The Mørken cells are a function of the lattice: computed once, shared by the (up to
     // three) distinct certificates that embed this lattice.
-    let mut cells: Option<Vec<Bernstein<Rational>>> = None;
+    let mut cells: Option<Vec<crate::bernstein::ScaledBernstein>> = None;
     let mut verified: Vec<InjectivityCertificate> = Vec::new();
     for r in [&exact, &fast, &filtered] {
         if let InjectivityVerdict::NotInjective { point, det, cell } = &r.verdict {
@@ -253,10 +252,10 @@ pub fn check_ffd(l: &crate::ffd::Lattice) -> Result<(), String> {
             if !verified.contains(&c) {
                 verify_certificate_with(&c, |embedded| {
                     if embedded != l {
-                        return jacobian_cells_morken(embedded);
+                        return jacobian_cells_morken_scaled(embedded);
                     }
                     if cells.is_none() {
-                        cells = Some(jacobian_cells_morken(l)?);
+                        cells = Some(jacobian_cells_morken_scaled(l)?);
                     }
                     Ok(cells.clone().unwrap_or_default())
                 })

@@ -3,8 +3,8 @@
 
 use geocert::bernstein::{
     prove_positive_exact, prove_positive_fast, prove_positive_filtered,
-    verify_positive_certificate, Bernstein, FastBernstein, Limits, PositivityVerdict,
-    ScaledBernstein,
+    verify_positive_certificate, verify_positive_certificate_scaled, Bernstein, FastBernstein,
+    Limits, PositivityVerdict, ScaledBernstein,
 };
 use geocert::bernstein::{verify_witness, CertificateError, WitnessValue};
 use geocert::bspline::{morken_product, ScaledSpline, Spline, TableCache, TensorSpline};
@@ -445,7 +445,13 @@ proptest! {
             .unwrap()
             .add(&sa.product(lone_d, &mut cache).unwrap())
             .unwrap();
-        prop_assert_eq!(got.to_rational().unwrap(), want);
+        prop_assert_eq!(got.to_rational().unwrap(), want.clone());
+        // Bézier extraction in integers equals the rational route, cell by cell.
+        let cells: Vec<Bernstein<Rational>> =
+            got.bezier_cells().unwrap().iter().map(ScaledBernstein::to_rational).collect();
+        let exact: Vec<Bernstein<Rational>> =
+            want.bezier_cells_by_insertion_exact().unwrap().into_iter().map(|c| c.poly).collect();
+        prop_assert_eq!(cells, exact);
         prop_assert!(sa.add(&sb).is_err() || f.knots() == h.knots() && g.knots() == k.knots());
     }
 }
@@ -480,6 +486,18 @@ proptest! {
             })
             .map(|(i, _)| i)
             .collect();
+        // The integer entry point decides the same, on numerators with a common factor left in.
+        let reduced = ScaledBernstein::from_rational(&other);
+        let unreduced = ScaledBernstein::with_denominator(
+            reduced.degrees().to_vec(),
+            reduced.numerators().iter().map(|v| v * 3).collect(),
+            reduced.denominator() * 3,
+        )
+        .unwrap();
+        prop_assert_eq!(
+            verify_positive_certificate_scaled(&unreduced, &leaves),
+            verify_positive_certificate(&other, &leaves)
+        );
         match verify_positive_certificate(&other, &leaves) {
             Ok(n) => prop_assert!(failing.is_empty() && n == leaves.len()),
             Err(CertificateError::NotPositiveLeaf { index, .. }) => {

@@ -29,8 +29,8 @@ pub use poly::Bernstein;
 pub use positivity::{
     prove_positive, prove_positive_exact, prove_positive_fast, prove_positive_filtered,
     prove_positive_filtered_with, prove_positive_scaled, verify_positive_certificate,
-    verify_witness, CertificateError, DyadicBox, LimitHit, Limits, PositivityOptions,
-    PositivityVerdict, WitnessValue,
+    verify_positive_certificate_scaled, verify_witness, CertificateError, DyadicBox, LimitHit,
+    Limits, PositivityOptions, PositivityVerdict, WitnessValue,
 };
 pub use scaled::ScaledBernstein;
 

@@ -13,7 +13,7 @@
 //! down the box tree written in the checker, the witness by exact rational evaluation.
 
 use super::fast::FastBernstein;
-use super::poly::{map_lines, Bernstein};
+use super::poly::Bernstein;
 use super::scaled::ScaledBernstein;
 use super::BernsteinError;
 use crate::num::{rational_to_f64, Field, Rational, Sign};
@@ -591,7 +591,41 @@ pub fn verify_positive_certificate(
     p: &Bernstein<Rational>,
     leaves: &[DyadicBox],
 ) -> Result<usize, CertificateError> {
-    let dim = p.dim();
+    // The coefficients as integers over one positive denominator (signs are what counts).
+    let den = p.coeffs().iter().fold(BigInt::one(), |acc, c| {
+        num_integer::Integer::lcm(&acc, c.denom())
+    });
+    let nums: Vec<BigInt> = p
+        .coeffs()
+        .iter()
+        .map(|c| c.numer() * (&den / c.denom()))
+        .collect();
+    verify_leaves(p.degrees(), nums, &den, leaves)
+}
+
+/// [`verify_positive_certificate`] for a polynomial given as integer numerators over one
+/// positive denominator (no gcd is needed: only signs are checked, and the denominator only
+/// names a failing coefficient's value).
+pub fn verify_positive_certificate_scaled(
+    p: &ScaledBernstein,
+    leaves: &[DyadicBox],
+) -> Result<usize, CertificateError> {
+    verify_leaves(
+        p.degrees(),
+        p.numerators().to_vec(),
+        p.denominator(),
+        leaves,
+    )
+}
+
+/// The common body: `nums / den` (`den > 0`) are the Bernstein coefficients on the unit box.
+fn verify_leaves(
+    degrees: &[usize],
+    nums: Vec<BigInt>,
+    den: &BigInt,
+    leaves: &[DyadicBox],
+) -> Result<usize, CertificateError> {
+    let dim = degrees.len();
     let mut seen: HashSet<&DyadicBox> = HashSet::new();
     for (i, l) in leaves.iter().enumerate() {
         if l.index.len() != dim || !l.is_valid() {
@@ -627,19 +661,10 @@ pub fn verify_positive_certificate(
     }
     let index: HashMap<&DyadicBox, usize> =
         leaves.iter().enumerate().map(|(i, l)| (l, i)).collect();
-    // The coefficients as integers over one positive denominator (signs are what counts).
-    let den = p.coeffs().iter().fold(BigInt::one(), |acc, c| {
-        num_integer::Integer::lcm(&acc, c.denom())
-    });
-    let nums: Vec<BigInt> = p
-        .coeffs()
-        .iter()
-        .map(|c| c.numer() * (&den / c.denom()))
-        .collect();
     let check = LeafCheck {
-        degrees: p.degrees(),
+        degrees,
         index: &index,
-        den: &den,
+        den,
     };
     check.descend(&DyadicBox::root(dim), nums)?;
     Ok(leaves.len())
@@ -671,46 +696,64 @@ impl LeafCheck<'_> {
             return Ok(());
         }
         // The leaves tile the box and none contains another, so a box that is not a leaf is
-        // covered by leaves strictly inside it, at most 62 levels down.
-        for c in 0..1usize << self.degrees.len() {
-            let mut child = nums.clone();
-            for (axis, &d) in self.degrees.iter().enumerate() {
-                let upper = c >> axis & 1 == 1;
-                child = map_lines(
-                    self.degrees,
-                    &child,
-                    axis,
-                    d + 1,
-                    &BigInt::zero(),
-                    |l, out| midpoint_half(l, upper, out),
-                );
+        // covered by leaves strictly inside it, at most 62 levels down. The 2^dim children
+        // come from halving axis by axis (both halves of a line in one pass): child `c` is the
+        // lower (bit `axis` of `c` clear) or upper half along every axis.
+        let mut parts: Vec<Vec<BigInt>> = vec![nums];
+        for axis in 0..self.degrees.len() {
+            let mut next = Vec::with_capacity(2 * parts.len());
+            for part in &parts {
+                let (lower, upper) = midpoint_halves(self.degrees, part, axis);
+                next.push(lower);
+                next.push(upper);
             }
+            parts = next;
+        }
+        // After axis a the parts are ordered with axis a's bit lowest; reverse the bit order
+        // to index children by `c` (bit `axis` = upper along `axis`).
+        let dim = self.degrees.len();
+        let mut children: Vec<Option<Vec<BigInt>>> = parts.into_iter().map(Some).collect();
+        for c in 0..1usize << dim {
+            let at = (0..dim).fold(0, |k, axis| k | ((c >> axis & 1) << (dim - 1 - axis)));
+            let child = children[at].take().expect("each part once");
             self.descend(&b.child(c), child)?;
         }
         Ok(())
     }
 }
 
-/// One half of a line of Bernstein coefficients split at ½ by de Casteljau without division:
-/// level `r` holds `2^r` times the averages, and output `i` of the lower half (the triangle's
-/// left side, `c^{(i)}_0`) is brought to the common scale `2^d` by `2^{d−i}`; the upper half
-/// is the right side `c^{(d−i)}_i`, likewise.
-fn midpoint_half(line: &[BigInt], upper: bool, out: &mut [BigInt]) {
-    let d = line.len() - 1;
-    let mut tri = line.to_vec();
-    // After step r, tri[k] = 2^r · (average at level r starting at k), k = 0..=d−r.
-    let mut lower = vec![BigInt::zero(); d + 1];
-    let mut higher = vec![BigInt::zero(); d + 1];
-    lower[0] = tri[0].clone() << d;
-    higher[d] = tri[d].clone() << d;
-    for r in 1..=d {
-        for k in 0..=d - r {
-            tri[k] = &tri[k] + &tri[k + 1];
+/// Both halves of every line along `axis`, split at ½ by de Casteljau without division: level
+/// `r` holds `2^r` times the averages; output `i` of the lower half (the triangle's left side,
+/// `c^{(i)}_0`) is brought to the common scale `2^d` by `2^{d−i}`, and the upper half is the
+/// right side `c^{(d−i)}_i`, likewise.
+fn midpoint_halves(degrees: &[usize], nums: &[BigInt], axis: usize) -> (Vec<BigInt>, Vec<BigInt>) {
+    let d = degrees[axis];
+    let stride: usize = degrees[..axis].iter().map(|e| e + 1).product();
+    let block = stride * (d + 1);
+    let mut lower = nums.to_vec();
+    let mut upper = nums.to_vec();
+    let mut tri: Vec<BigInt> = vec![BigInt::zero(); d + 1];
+    for base in (0..nums.len()).step_by(block) {
+        for off in 0..stride {
+            let at = |k: usize| base + off + k * stride;
+            for (k, t) in tri.iter_mut().enumerate() {
+                t.clone_from(&nums[at(k)]);
+            }
+            lower[at(0)] <<= d;
+            upper[at(d)] <<= d;
+            for r in 1..=d {
+                for k in 0..=d - r {
+                    let (a, b) = tri.split_at_mut(k + 1);
+                    a[k] += &b[0];
+                }
+                lower[at(r)].clone_from(&tri[0]);
+                lower[at(r)] <<= d - r;
+                upper[at(d - r)].clone_from(&tri[d - r]);
+                upper[at(d - r)] <<= d - r;
+            }
         }
-        lower[r] = tri[0].clone() << (d - r);
-        higher[d - r] = tri[d - r].clone() << (d - r);
     }
-    out.clone_from_slice(if upper { &higher } else { &lower });
+    (lower, upper)
 }
 
 /// Re-checks a `NotPositive` witness: the point lies in the unit box and `p(point) ≤ 0`,

@@ -2,7 +2,7 @@
 
 use super::{morken::morken_product, morken::product_knots, BsplineError, Spline};
 use crate::bernstein::poly::{coefficient_count, map_lines};
-use crate::bernstein::Bernstein;
+use crate::bernstein::{Bernstein, ScaledBernstein};
 use crate::num::{Field, Rational};
 use num_bigint::BigInt;
 use num_integer::Integer;
@@ -396,22 +396,9 @@ impl TensorSpline<Rational> {
     pub fn bezier_cells_by_insertion_exact(
         &self,
     ) -> Result<Vec<BezierCell<Rational>>, BsplineError> {
-        let n = self.dim();
-        let mut counts = self.counts();
-        let (mut nums, mut den) = common_denominator(&self.coeffs);
-        let mut axis_spans: Vec<Vec<(usize, Rational, Rational)>> = Vec::with_capacity(n);
-        for a in 0..n {
-            let map = oslo_map(self.degrees[a], &self.knots[a])?;
-            let (rows, l, spans) = (&map.rows, &map.scale, map.spans.clone());
-            let new_len = rows.len();
-            den *= l;
-            let degs: Vec<usize> = counts.iter().map(|c| c - 1).collect();
-            nums = map_lines(&degs, &nums, a, new_len, &BigInt::zero(), |line, out| {
-                apply_rows(rows, line, out)
-            });
-            counts[a] = new_len;
-            axis_spans.push(spans);
-        }
+        let (nums, den) = common_denominator(&self.coeffs);
+        let (nums, den, counts, axis_spans) =
+            insert_to_bezier(&self.degrees, &self.knots, self.counts(), nums, den)?;
         let coeffs: Vec<Rational> = nums
             .into_iter()
             .map(|v| Rational::new(v, den.clone()))
@@ -597,6 +584,33 @@ impl ScaledSpline {
         })
     }
 
+    /// The Bézier form of every cell (knot span product, axis 0 fastest, as
+    /// [`TensorSpline::bezier_cells_by_insertion_exact`]) by knot insertion in integers: the
+    /// cells share one denominator and no gcd is taken, so signs (positivity certificates)
+    /// are read off directly.
+    pub fn bezier_cells(&self) -> Result<Vec<ScaledBernstein>, BsplineError> {
+        let counts = counts_of(&self.degrees, &self.knots);
+        let (nums, den, counts, axis_spans) = insert_to_bezier(
+            &self.degrees,
+            &self.knots,
+            counts,
+            self.nums.clone(),
+            self.den.clone(),
+        )?;
+        let cell_counts: Vec<usize> = axis_spans.iter().map(Vec::len).collect();
+        let total: usize = cell_counts.iter().product();
+        (0..total)
+            .map(|flat| {
+                let (_, local) = gather_cell(&self.degrees, &counts, &cell_counts, &nums, flat);
+                Ok(ScaledBernstein::with_denominator(
+                    self.degrees.clone(),
+                    local,
+                    den.clone(),
+                )?)
+            })
+            .collect()
+    }
+
     /// The spline with rational coefficients in lowest terms.
     pub fn to_rational(&self) -> Result<TensorSpline<Rational>, BsplineError> {
         TensorSpline::new(
@@ -627,50 +641,98 @@ fn cut_cells<T: Field>(
     coeffs: &[T],
     axis_spans: &[Vec<(usize, T, T)>],
 ) -> Vec<BezierCell<T>> {
-    let n = degrees.len();
     let cell_counts: Vec<usize> = axis_spans.iter().map(|s| s.len()).collect();
     let total: usize = cell_counts.iter().product();
-    let mut cells = Vec::with_capacity(total);
-    for flat in 0..total {
-        let mut rem = flat;
-        let cell: Vec<usize> = cell_counts
-            .iter()
-            .map(|&c| {
-                let i = rem % c;
-                rem /= c;
-                i
-            })
-            .collect();
-        let degs = degrees.to_vec();
-        let m = coefficient_count(&degs);
-        let mut local = Vec::with_capacity(m);
-        for lf in 0..m {
-            let mut r = lf;
-            let mut g = 0;
-            let mut stride = 1;
-            for a in 0..n {
-                let i = r % (degs[a] + 1);
-                r /= degs[a] + 1;
-                g += (cell[a] * (degs[a] + 1) + i) * stride;
-                stride *= counts[a];
+    (0..total)
+        .map(|flat| {
+            let (cell, local) = gather_cell(degrees, counts, &cell_counts, coeffs, flat);
+            BezierCell {
+                spans: cell
+                    .iter()
+                    .enumerate()
+                    .map(|(a, &k)| axis_spans[a][k].0)
+                    .collect(),
+                bounds: cell
+                    .iter()
+                    .enumerate()
+                    .map(|(a, &k)| (axis_spans[a][k].1.clone(), axis_spans[a][k].2.clone()))
+                    .collect(),
+                poly: Bernstein::new(degrees.to_vec(), local).expect("count matches"),
             }
-            local.push(coeffs[g].clone());
-        }
-        cells.push(BezierCell {
-            spans: cell
-                .iter()
-                .enumerate()
-                .map(|(a, &k)| axis_spans[a][k].0)
-                .collect(),
-            bounds: cell
-                .iter()
-                .enumerate()
-                .map(|(a, &k)| (axis_spans[a][k].1.clone(), axis_spans[a][k].2.clone()))
-                .collect(),
-            poly: Bernstein::new(degs, local).expect("count matches"),
+        })
+        .collect()
+}
+
+/// The integer core of Bézier extraction by knot insertion: along each axis the memoised
+/// integer Oslo map is applied to every line of `nums / den` (`counts` per axis); returns the
+/// concatenated Bézier pieces' numerators, their denominator, counts per axis and every
+/// axis's non-empty spans `(μ, lo, hi)`.
+#[allow(clippy::type_complexity)] // one private helper's tuple, unpacked at both call sites
+fn insert_to_bezier(
+    degrees: &[usize],
+    knots: &[Vec<Rational>],
+    mut counts: Vec<usize>,
+    mut nums: Vec<BigInt>,
+    mut den: BigInt,
+) -> Result<
+    (
+        Vec<BigInt>,
+        BigInt,
+        Vec<usize>,
+        Vec<Vec<(usize, Rational, Rational)>>,
+    ),
+    BsplineError,
+> {
+    let n = degrees.len();
+    let mut axis_spans = Vec::with_capacity(n);
+    for a in 0..n {
+        let map = oslo_map(degrees[a], &knots[a])?;
+        let (rows, l, spans) = (&map.rows, &map.scale, map.spans.clone());
+        let new_len = rows.len();
+        den *= l;
+        let degs: Vec<usize> = counts.iter().map(|c| c - 1).collect();
+        nums = map_lines(&degs, &nums, a, new_len, &BigInt::zero(), |line, out| {
+            apply_rows(rows, line, out)
         });
+        counts[a] = new_len;
+        axis_spans.push(spans);
     }
-    cells
+    Ok((nums, den, counts, axis_spans))
+}
+
+/// The cell of flat index `flat` (axis 0 fastest) among `cell_counts` cells per axis, and its
+/// Bézier coefficients gathered from the concatenated pieces (`counts` per axis).
+fn gather_cell<T: Clone>(
+    degrees: &[usize],
+    counts: &[usize],
+    cell_counts: &[usize],
+    coeffs: &[T],
+    flat: usize,
+) -> (Vec<usize>, Vec<T>) {
+    let mut rem = flat;
+    let cell: Vec<usize> = cell_counts
+        .iter()
+        .map(|&c| {
+            let i = rem % c;
+            rem /= c;
+            i
+        })
+        .collect();
+    let m = coefficient_count(degrees);
+    let mut local = Vec::with_capacity(m);
+    for lf in 0..m {
+        let mut r = lf;
+        let mut g = 0;
+        let mut stride = 1;
+        for (a, &d) in degrees.iter().enumerate() {
+            let i = r % (d + 1);
+            r /= d + 1;
+            g += (cell[a] * (d + 1) + i) * stride;
+            stride *= counts[a];
+        }
+        local.push(coeffs[g].clone());
+    }
+    (cell, local)
 }
 
 /// `out_i = Σ_k w · line_k` over the sparse integer `rows` (`(k, w)` pairs) of a linear map.

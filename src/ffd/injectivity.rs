@@ -9,14 +9,17 @@
 //! re-checks through the *other* Jacobian route (Mørken products).
 
 use super::fast::{jacobian_cell_fast, JacobianWorkspace};
-use super::jacobian::{cell_point, jacobian_cell_scaled, jacobian_cells_morken, jacobian_in_cell};
+use super::jacobian::{
+    cell_point, jacobian_cell_scaled_net, jacobian_cells_morken_scaled, jacobian_in_cell,
+};
 use super::lattice::{lattice_from_value, Basis, Lattice};
 use super::FfdError;
 use crate::bernstein::positivity::{round_down, LimitHit, WitnessValue};
 use crate::bernstein::ScaledBernstein;
 use crate::bernstein::{
     prove_positive_fast, prove_positive_filtered_with, prove_positive_scaled,
-    verify_positive_certificate, Bernstein, DyadicBox, FastBernstein, Limits, PositivityVerdict,
+    verify_positive_certificate_scaled, Bernstein, DyadicBox, FastBernstein, Limits,
+    PositivityVerdict,
 };
 use crate::num::UNIT_ROUNDOFF;
 use crate::num::{parse_rational, rational_from_f64, rational_to_string, Rational, Sign};
@@ -184,6 +187,34 @@ pub(crate) fn net_f64(net: &[Bernstein<Rational>; 3]) -> (Vec<[f64; 3]>, f64) {
     (pts, if exact { 0.0 } else { UNIT_ROUNDOFF })
 }
 
+/// [`net_f64`] of a net in integers over a denominator: each coefficient rounded to nearest
+/// without a gcd, and checked exact by multiplying back (`m · 2^e · den = num`).
+pub(crate) fn net_f64_scaled(net: &[ScaledBernstein; 3]) -> (Vec<[f64; 3]>, f64) {
+    use crate::num::rational::{f64_dyadic, ratio_to_f64};
+    let mut exact = true;
+    let pts = (0..net[0].numerators().len())
+        .map(|k| {
+            [0, 1, 2].map(|c| {
+                let (num, den) = (&net[c].numerators()[k], net[c].denominator());
+                let x = ratio_to_f64(num, den);
+                if exact {
+                    exact = x.is_finite() && {
+                        let (m, e) = f64_dyadic(x);
+                        let m = num_bigint::BigInt::from(m) * den;
+                        if e >= 0 {
+                            m << e as usize == *num
+                        } else {
+                            m == num << (-e) as usize
+                        }
+                    };
+                }
+                x
+            })
+        })
+        .collect();
+    (pts, if exact { 0.0 } else { UNIT_ROUNDOFF })
+}
+
 /// The smallest coefficient, as a certified lower bound.
 fn fast_root_bound(f: &FastBernstein) -> f64 {
     let m = f.coeffs().iter().fold(f64::INFINITY, |m, &c| m.min(c));
@@ -192,7 +223,9 @@ fn fast_root_bound(f: &FastBernstein) -> f64 {
 
 /// Decides injectivity of `l` (Theorem 1) by the necessary-and-sufficient test.
 pub fn check_injectivity(l: &Lattice, opts: CheckOptions) -> Result<InjectivityReport, FfdError> {
-    let nets = l.bezier_nets();
+    // Every path starts from the integer nets over one denominator (no gcd): the exact path
+    // multiplies them, the others round them to f64.
+    let nets = l.bezier_nets_scaled();
     let deg = l.order().map(|o| o - 1);
     let mut ws = JacobianWorkspace::default();
     let mut proofs = Vec::with_capacity(nets.len());
@@ -204,16 +237,17 @@ pub fn check_injectivity(l: &Lattice, opts: CheckOptions) -> Result<InjectivityR
         Basis::Bezier => l.points_f64().map(<[_]>::to_vec),
         Basis::Bspline => None,
     };
-    let net_f64 = |net: &[Bernstein<Rational>; 3]| match &direct {
+    let net_f64 = |net: &[ScaledBernstein; 3]| match &direct {
         Some(p) => (p.clone(), 0.0),
-        None => net_f64(net),
+        None => net_f64_scaled(net),
     };
-    for (c, net) in nets.iter().enumerate() {
+    for c in 0..l.cell_count() {
         let cell = l.cell_index(c);
+        let net = &nets[c];
         // The verdict, and the cell's smallest Bézier coefficient as a certified bound.
         let (verdict, root_bound) = match opts.path {
             Path::Exact => {
-                let j = jacobian_cell_scaled(net)?;
+                let j = jacobian_cell_scaled_net(net)?;
                 let rb = round_down(&j.coeff_value(j.argmin()));
                 (prove_positive_scaled(&j, opts.limits), Some(rb))
             }
@@ -242,14 +276,14 @@ pub fn check_injectivity(l: &Lattice, opts: CheckOptions) -> Result<InjectivityR
                 let mut exact_bound = None;
                 let v = prove_positive_filtered_with(
                     f.as_ref(),
-                    || match jacobian_cell_scaled(net) {
+                    || match jacobian_cell_scaled_net(net) {
                         Ok(j) => {
                             exact_bound = Some(round_down(&j.coeff_value(j.argmin())));
                             j
                         }
                         Err(e) => {
                             failure = Some(e);
-                            ScaledBernstein::from_rational(&net[0])
+                            net[0].clone()
                         }
                     },
                     |w| match jacobian_in_cell(l, cell, &cell_point(cell, w)) {
@@ -288,14 +322,14 @@ pub fn check_injectivity(l: &Lattice, opts: CheckOptions) -> Result<InjectivityR
                 };
                 bounds.push(root_bound);
                 // Bounds of the remaining cells (root coefficients) for min_det_lower_bound.
-                for net in &nets[c + 1..] {
+                for rest in c + 1..l.cell_count() {
                     bounds.push(match opts.path {
                         Path::Exact => {
-                            let j = jacobian_cell_scaled(net)?;
+                            let j = jacobian_cell_scaled_net(&nets[rest])?;
                             Some(round_down(&j.coeff_value(j.argmin())))
                         }
                         _ => {
-                            let (pts, eta) = net_f64(net);
+                            let (pts, eta) = net_f64(&nets[rest]);
                             jacobian_cell_fast(&pts, deg, eta, &mut ws)
                                 .ok()
                                 .map(|f| fast_root_bound(&f))
@@ -538,14 +572,14 @@ impl std::fmt::Display for InjectivityCheck {
 pub fn verify_injectivity_certificate(
     c: &InjectivityCertificate,
 ) -> Result<InjectivityCheck, FfdError> {
-    verify_certificate_with(c, jacobian_cells_morken)
+    verify_certificate_with(c, jacobian_cells_morken_scaled)
 }
 
 /// The certificate check with the Jacobian's Bézier cells (order as
 /// [`Lattice::cell_index`]) from `cells_of`, given the certificate's own lattice.
 pub(crate) fn verify_certificate_with(
     c: &InjectivityCertificate,
-    cells_of: impl FnOnce(&Lattice) -> Result<Vec<Bernstein<Rational>>, FfdError>,
+    cells_of: impl FnOnce(&Lattice) -> Result<Vec<ScaledBernstein>, FfdError>,
 ) -> Result<InjectivityCheck, FfdError> {
     use CertificateRefusal as R;
     if c.kind != CERTIFICATE_KIND {
@@ -581,7 +615,7 @@ pub(crate) fn verify_certificate_with(
                 if std::mem::replace(&mut seen[flat], true) {
                     return Err(R::CellTwice(cl.cell).into());
                 }
-                leaves += verify_positive_certificate(&polys[flat], &cl.leaves)
+                leaves += verify_positive_certificate_scaled(&polys[flat], &cl.leaves)
                     .map_err(|why| R::Leaves { cell: cl.cell, why })?;
             }
             Ok(InjectivityCheck::Injective {
@@ -620,5 +654,48 @@ pub(crate) fn verify_certificate_with(
             Ok(InjectivityCheck::NotInjective { point, det })
         }
         other => Err(R::Verdict(other.to_string()).into()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use num_bigint::BigInt;
+
+    /// The gcd-free f64 net equals the one rounded from the reduced rational net, points and
+    /// error bound, on nets that are exactly f64 (dyadic perturbations) and nets that are not.
+    #[test]
+    fn scaled_f64_nets_equal_rational_f64_nets() {
+        for (den, basis, order, cells) in [
+            (8, Basis::Bspline, [2, 2, 2], [2, 1, 2]),
+            (8, Basis::Bspline, [4, 4, 4], [2, 1, 2]),
+            (7, Basis::Bspline, [3, 2, 4], [1, 2, 1]),
+            (1i64 << 40, Basis::Bezier, [3, 2, 5], [1, 1, 1]),
+            (1i64 << 40, Basis::Bezier, [4, 3, 2], [1, 1, 1]),
+            (10, Basis::Bezier, [2, 2, 3], [1, 1, 1]),
+        ] {
+            let id = Lattice::identity(basis, order, cells).unwrap();
+            let delta: Vec<[Rational; 3]> = (0..id.points().len())
+                .map(|i| {
+                    [0, 1, 2].map(|a| {
+                        Rational::new(BigInt::from((i * 7 + a) as i64 % 11 - 5), BigInt::from(den))
+                    })
+                })
+                .collect();
+            let l = id.displaced(&delta).unwrap();
+            let mut exact_seen = false;
+            for (r, s) in l.bezier_nets().iter().zip(l.bezier_nets_scaled()) {
+                let (a, b) = (net_f64(r), net_f64_scaled(&s));
+                let bits =
+                    |p: &[[f64; 3]]| p.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&a.0), bits(&b.0));
+                assert_eq!(a.1, b.1, "{basis:?} {order:?} over {den}");
+                exact_seen |= a.1 == 0.0;
+            }
+            // Exact only for dyadic points on a dyadic identity (Bézier orders 2, 3, 5) and a
+            // linear B-spline (the uniform cubic span map divides by 6, order 4 by 3).
+            let dyadic_net = order == [2, 2, 2] || order == [3, 2, 5];
+            assert_eq!(exact_seen, dyadic_net, "{basis:?} {order:?} over {den}");
+        }
     }
 }

@@ -40,9 +40,14 @@ fn kernel<T>(r: Result<T, crate::bspline::BsplineError>) -> Result<T, FfdError> 
 }
 
 /// `det J` as one trivariate tensor B-spline through Mørken products (eq. 8), in integer
-/// numerators over one denominator per factor set (one reduction at the end).
-#[allow(clippy::needless_range_loop)] // the index also picks partner rows/columns
+/// numerators over one denominator per factor set, reduced once at the end.
 pub fn jacobian_spline(l: &Lattice) -> Result<TensorSpline<Rational>, FfdError> {
+    kernel(jacobian_spline_scaled(l)?.to_rational())
+}
+
+/// [`jacobian_spline`] left as integer numerators over one denominator (no reduction).
+#[allow(clippy::needless_range_loop)] // the index also picks partner rows/columns
+pub fn jacobian_spline_scaled(l: &Lattice) -> Result<ScaledSpline, FfdError> {
     let [fu, fv, fw] = partial_derivatives(l)?;
     let scaled = |f: &[TensorSpline<Rational>; 3]| ScaledSpline::common(&[&f[0], &f[1], &f[2]]);
     let (fu, fv, fw) = (scaled(&fu), scaled(&fv), scaled(&fw));
@@ -61,17 +66,22 @@ pub fn jacobian_spline(l: &Lattice) -> Result<TensorSpline<Rational>, FfdError> 
             Some(d) => kernel(d.add(&term))?,
         });
     }
-    kernel(det.expect("three terms").to_rational())
+    Ok(det.expect("three terms"))
 }
 
 /// The Bézier form of `det J` on every cell (order as [`Lattice::cell_index`]) by the
 /// Mørken route: [`jacobian_spline`], then knot insertion (Section 6, step 3).
 pub fn jacobian_cells_morken(l: &Lattice) -> Result<Vec<Bernstein<Rational>>, FfdError> {
-    let det = jacobian_spline(l)?;
-    Ok(kernel(det.bezier_cells_by_insertion_exact())?
-        .into_iter()
-        .map(|c| c.poly)
+    Ok(jacobian_cells_morken_scaled(l)?
+        .iter()
+        .map(ScaledBernstein::to_rational)
         .collect())
+}
+
+/// [`jacobian_cells_morken`] in integers over one shared denominator: the Mørken products
+/// and the knot insertion take no gcd, so a positivity certificate reads signs directly.
+pub fn jacobian_cells_morken_scaled(l: &Lattice) -> Result<Vec<ScaledBernstein>, FfdError> {
+    kernel(jacobian_spline_scaled(l)?.bezier_cells())
 }
 
 /// The Bézier form of `det J` on one cell from the cell's Bézier control net (one Bernstein
@@ -103,11 +113,18 @@ pub fn jacobian_cell_bezier(
 
 /// The same in sign-only integers: the net is brought to one common denominator, so every
 /// derivative, product and sum stays over a shared denominator (no gcd anywhere).
-#[allow(clippy::needless_range_loop)] // the index also picks partner rows/columns
 pub fn jacobian_cell_scaled(net: &[Bernstein<Rational>; 3]) -> Result<ScaledBernstein, FfdError> {
+    jacobian_cell_scaled_net(&scaled_net(net)?)
+}
+
+/// [`jacobian_cell_scaled`] from a net already in integers (best over one shared denominator,
+/// as [`Lattice::bezier_nets_scaled`] gives it).
+#[allow(clippy::needless_range_loop)] // the index also picks partner rows/columns
+pub fn jacobian_cell_scaled_net(
+    scaled: &[ScaledBernstein; 3],
+) -> Result<ScaledBernstein, FfdError> {
     let k =
         |r: Result<ScaledBernstein, crate::bernstein::BernsteinError>| r.map_err(FfdError::from);
-    let scaled = scaled_net(net)?;
     let d = |axis: usize, c: usize| k(scaled[c].derivative(axis));
     let fu = [d(0, 0)?, d(0, 1)?, d(0, 2)?];
     let fv = [d(1, 0)?, d(1, 1)?, d(1, 2)?];

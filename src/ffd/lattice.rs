@@ -7,7 +7,7 @@
 
 use super::FfdError;
 use crate::bernstein::io::parse_number;
-use crate::bernstein::Bernstein;
+use crate::bernstein::{Bernstein, ScaledBernstein};
 use crate::bspline::TensorSpline;
 use crate::num::{rational_to_string, Rational};
 use num_bigint::BigInt;
@@ -334,39 +334,55 @@ impl Lattice {
             };
             return vec![[coord(0), coord(1), coord(2)]];
         }
-        // Uniform knots: every span's B-spline-to-Bézier map is the same matrix `K / d`
-        // (integers over one denominator), applied along u, v, w in integers over the
-        // coordinate's common denominator; one gcd per coefficient at the end.
-        let maps: Vec<(Vec<Vec<BigInt>>, BigInt)> =
-            (0..3).map(|a| uniform_bezier_map(self.order[a])).collect();
+        self.bezier_nets_scaled()
+            .iter()
+            .map(|net| net.clone().map(|p| p.to_rational()))
+            .collect()
+    }
+
+    /// [`bezier_nets`](Self::bezier_nets) as integer numerators over one denominator shared
+    /// by every coordinate of every cell (no gcd anywhere): the input of the sign-only exact
+    /// Jacobian ([`jacobian_cell_scaled_net`](super::jacobian::jacobian_cell_scaled_net)).
+    pub fn bezier_nets_scaled(&self) -> Vec<[ScaledBernstein; 3]> {
         let [l, m, n] = self.order;
         let degs = vec![l - 1, m - 1, n - 1];
-        let per_coord: Vec<(Vec<BigInt>, BigInt)> = (0..3)
-            .map(|c| common_denominator(self.points.iter().map(|p| &p[c])))
-            .collect();
+        let (nums, den) = common_denominator(self.points.iter().flatten());
+        let coord = |c: usize| nums.iter().skip(c).step_by(3);
+        if self.basis == Basis::Bezier {
+            let one = |c: usize| {
+                ScaledBernstein::with_denominator(
+                    degs.clone(),
+                    coord(c).cloned().collect(),
+                    den.clone(),
+                )
+                .expect("counts match, den > 0")
+            };
+            return vec![[one(0), one(1), one(2)]];
+        }
+        // Uniform knots: every span's B-spline-to-Bézier map is the same matrix `K / d`
+        // (integers over one denominator), applied along u, v, w in integers.
+        let maps: Vec<(Vec<Vec<BigInt>>, BigInt)> =
+            (0..3).map(|a| uniform_bezier_map(self.order[a])).collect();
+        let total = &den * &maps[0].1 * &maps[1].1 * &maps[2].1;
         (0..self.cell_count())
             .map(|k| {
                 let [ci, cj, ck] = self.cell_index(k);
                 [0, 1, 2].map(|c| {
-                    let (nums, den) = &per_coord[c];
                     // The order-sized block of control numerators of this cell.
                     let mut block: Vec<BigInt> = Vec::with_capacity(l * m * n);
                     for w in 0..n {
                         for v in 0..m {
                             for u in 0..l {
-                                block.push(nums[self.index(ci + u, cj + v, ck + w)].clone());
+                                block
+                                    .push(nums[3 * self.index(ci + u, cj + v, ck + w) + c].clone());
                             }
                         }
                     }
                     for (axis, (kmat, _)) in maps.iter().enumerate() {
                         block = apply_along(&block, [l, m, n], axis, kmat);
                     }
-                    let total = den * &maps[0].1 * &maps[1].1 * &maps[2].1;
-                    let coeffs = block
-                        .into_iter()
-                        .map(|x| Rational::new(x, total.clone()))
-                        .collect();
-                    Bernstein::new(degs.clone(), coeffs).expect("counts match")
+                    ScaledBernstein::with_denominator(degs.clone(), block, total.clone())
+                        .expect("counts match, den > 0")
                 })
             })
             .collect()
@@ -603,6 +619,36 @@ mod tests {
                 l.bezier_nets_by_blossoming(),
                 "{order:?} {cells:?}"
             );
+        }
+    }
+
+    /// The integer nets share one denominator and equal the rational nets, Bézier and B-spline.
+    #[test]
+    fn scaled_nets_equal_rational_nets() {
+        for (basis, order, cells) in [
+            (Basis::Bezier, [3, 4, 2], [1, 1, 1]),
+            (Basis::Bspline, [4, 3, 2], [2, 1, 3]),
+        ] {
+            let id = Lattice::identity(basis, order, cells).unwrap();
+            let delta: Vec<Point> = (0..id.points().len())
+                .map(|i| {
+                    [0, 1, 2].map(|a| {
+                        Rational::new(
+                            BigInt::from((i * 13 + a) as i64 % 9 - 4),
+                            BigInt::from(5 + a as i64),
+                        )
+                    })
+                })
+                .collect();
+            let l = id.displaced(&delta).unwrap();
+            let scaled = l.bezier_nets_scaled();
+            let den = scaled[0][0].denominator().clone();
+            assert!(scaled.iter().flatten().all(|p| p.denominator() == &den));
+            let back: Vec<[Bernstein<Rational>; 3]> = scaled
+                .iter()
+                .map(|net| net.clone().map(|p| p.to_rational()))
+                .collect();
+            assert_eq!(back, l.bezier_nets(), "{basis:?} {order:?} {cells:?}");
         }
     }
 }

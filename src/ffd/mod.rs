@@ -54,8 +54,9 @@ pub use injectivity::{
     InjectivityCertificate, InjectivityCheck, InjectivityReport, InjectivityVerdict,
 };
 pub use jacobian::{
-    jacobian_at, jacobian_cell_bezier, jacobian_cell_scaled, jacobian_cells_morken,
-    jacobian_in_cell, jacobian_matrix_at, jacobian_spline,
+    jacobian_at, jacobian_cell_bezier, jacobian_cell_scaled, jacobian_cell_scaled_net,
+    jacobian_cells_morken, jacobian_cells_morken_scaled, jacobian_in_cell, jacobian_matrix_at,
+    jacobian_spline, jacobian_spline_scaled,
 };
 pub use lattice::{
     lattice_from_value, lattices_from_json, Basis, Lattice, Point, MAX_CELLS, MAX_ORDER,

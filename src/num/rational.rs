@@ -316,9 +316,19 @@ pub fn rational_to_f64(r: &Rational) -> f64 {
     if let Some(x) = exact_f64(r) {
         return x;
     }
-    let negative = r.is_negative();
-    let n = r.numer().abs();
-    let d = r.denom().abs();
+    ratio_to_f64(r.numer(), r.denom())
+}
+
+/// `n / d` (`d ≠ 0`, not necessarily in lowest terms) rounded to the nearest `f64` (ties to
+/// even), as [`rational_to_f64`] without a gcd: the rounding reads only the quotient's
+/// leading bits and whether a remainder is left, which do not depend on common factors.
+pub(crate) fn ratio_to_f64(n: &BigInt, d: &BigInt) -> f64 {
+    if n.is_zero() {
+        return 0.0;
+    }
+    let negative = n.is_negative() != d.is_negative();
+    let n = n.abs();
+    let d = d.abs();
     // Choose a shift s so that q = floor(n·2^s / d) has exactly 55 bits.
     let nb = n.bits() as i64;
     let db = d.bits() as i64;
@@ -567,6 +577,30 @@ mod tests {
             assert_eq!(lerp(&a, &r, &t), &a + (&r - &a) * &t);
         }
         assert!(seen > 100, "{seen} exact conversions");
+    }
+
+    /// The gcd-free rounding of `n / d` equals the rounding of the reduced rational, for
+    /// common factors from 1 to large, both signs of `n` and `d`, and magnitudes from
+    /// subnormal to overflow.
+    #[test]
+    fn unreduced_ratio_rounds_as_the_reduced_rational() {
+        let mut seed = 5u64;
+        let mut next = || xorshift(&mut seed);
+        for i in 0..3000 {
+            let n = BigInt::from((next() >> (next() % 64)) as i64 - (1 << 20))
+                << (next() % 1100) as usize;
+            let d: BigInt = (BigInt::from((next() >> (next() % 64)).max(1))
+                << (next() % 1100) as usize)
+                * if i % 2 == 0 { 1 } else { -1 };
+            let k = BigInt::from(next() >> (next() % 64)).max(BigInt::one())
+                * (BigInt::one() << (next() % 40) as usize);
+            let want = rational_to_f64(&Rational::new(n.clone(), d.clone()));
+            assert_eq!(
+                ratio_to_f64(&(&n * &k), &(&d * &k)).to_bits(),
+                want.to_bits(),
+                "{n}/{d} x{k}"
+            );
+        }
     }
 
     /// The machine-word routes (`i128` products, binary gcd) give the same lowest terms as

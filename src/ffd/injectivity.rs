@@ -322,14 +322,14 @@ pub fn check_injectivity(l: &Lattice, opts: CheckOptions) -> Result<InjectivityR
                 };
                 bounds.push(root_bound);
                 // Bounds of the remaining cells (root coefficients) for min_det_lower_bound.
-                for rest in c + 1..l.cell_count() {
+                for rest in &nets[c + 1..] {
                     bounds.push(match opts.path {
                         Path::Exact => {
-                            let j = jacobian_cell_scaled_net(&nets[rest])?;
+                            let j = jacobian_cell_scaled_net(rest)?;
                             Some(round_down(&j.coeff_value(j.argmin())))
                         }
                         _ => {
-                            let (pts, eta) = net_f64(&nets[rest]);
+                            let (pts, eta) = net_f64(rest);
                             jacobian_cell_fast(&pts, deg, eta, &mut ws)
                                 .ok()
                                 .map(|f| fast_root_bound(&f))

@@ -325,7 +325,7 @@ fn positive_and_negative_examples() {
 }
 
 proptest! {
-    /// The integer product (i128, split 256-bit and BigInt routes) equals the rational one,
+    /// The integer product (i64, i128, split 256-bit and BigInt routes) equals the rational one,
     /// for coefficients scaled by 2^0…2^150 so every route is taken.
     #[test]
     fn scaled_product_is_exact(

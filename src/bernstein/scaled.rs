@@ -128,10 +128,23 @@ impl ScaledBernstein {
             });
         }
         let degrees: Vec<usize> = (0..n).map(|x| self.degrees[x] + other.degrees[x]).collect();
-        let bin_a = binomial_weights(&self.degrees);
-        let bin_b = binomial_weights(&other.degrees);
-        let at: Vec<BigInt> = self.num.iter().zip(&bin_a).map(|(a, w)| a * w).collect();
-        let bt: Vec<BigInt> = other.num.iter().zip(&bin_b).map(|(b, w)| b * w).collect();
+        let (wa, wb, wp) = (
+            weights(&self.degrees),
+            weights(&other.degrees),
+            weights(&degrees),
+        );
+        let at: Vec<BigInt> = self
+            .num
+            .iter()
+            .zip(&wa.binomial)
+            .map(|(a, w)| a * w)
+            .collect();
+        let bt: Vec<BigInt> = other
+            .num
+            .iter()
+            .zip(&wb.binomial)
+            .map(|(b, w)| b * w)
+            .collect();
         let so = strides(&degrees);
         // Flat offset of each multi-index of `self` / `other` in the product's layout.
         let off_a = offsets(&self.degrees, &so);
@@ -151,28 +164,13 @@ impl ScaledBernstein {
                 }
                 out
             });
-        // Per axis: L_x = lcm_k C(N_x, k); coefficient k gets Π_x L_x / C(N_x, k_x).
-        let mut big_l = BigInt::one();
-        let per_axis: Vec<Vec<BigInt>> = degrees
-            .iter()
-            .map(|&nx| {
-                let row: Vec<BigInt> = (0..=nx).map(|k| binomial(nx, k)).collect();
-                let l = row.iter().fold(BigInt::one(), |acc, c| acc.lcm(c));
-                big_l *= &l;
-                row.iter().map(|c| &l / c).collect()
-            })
-            .collect();
-        for (flat, v) in out.iter_mut().enumerate() {
-            if v.is_zero() {
-                continue;
-            }
-            let mut rem = flat;
-            for (x, &nx) in degrees.iter().enumerate() {
-                let k = rem % (nx + 1);
-                rem /= nx + 1;
-                *v *= &per_axis[x][k];
+        // Coefficient k gets Π_x L_x / C(N_x, k_x), L_x = lcm_k C(N_x, k).
+        for (v, w) in out.iter_mut().zip(&wp.to_common) {
+            if !v.is_zero() && !w.is_one() {
+                *v *= w;
             }
         }
+        let big_l = wp.common.clone();
         Ok(ScaledBernstein {
             degrees,
             num: out,
@@ -471,23 +469,63 @@ fn scale_pow(v: &BigInt, half: bool, qpow: &[BigInt], k: usize) -> BigInt {
     }
 }
 
-/// `Π_x C(d_x, i_x)` for every multi-index (axis 0 fastest).
-fn binomial_weights(degrees: &[usize]) -> Vec<BigInt> {
-    let rows: Vec<Vec<BigInt>> = degrees
-        .iter()
-        .map(|&d| (0..=d).map(|k| binomial(d, k)).collect())
-        .collect();
-    (0..coefficient_count(degrees))
-        .map(|flat| {
-            let mut rem = flat;
-            let mut w = BigInt::one();
-            for (x, &d) in degrees.iter().enumerate() {
-                w *= &rows[x][rem % (d + 1)];
-                rem /= d + 1;
-            }
-            w
-        })
-        .collect()
+/// The integer weights of a Bernstein product's operands and result, per degree vector.
+struct Weights {
+    /// `Π_x C(d_x, i_x)` for every multi-index (axis 0 fastest).
+    binomial: Vec<BigInt>,
+    /// `Π_x L_x / C(d_x, i_x)` with `L_x = lcm_k C(d_x, k)`: brings `1 / Π C(d_x, i_x)` to the
+    /// common denominator [`common`](Self::common).
+    to_common: Vec<BigInt>,
+    /// `Π_x L_x`.
+    common: BigInt,
+}
+
+/// The [`Weights`] of `degrees`, memoised per thread (a program multiplies a handful of
+/// degree vectors; the memo is emptied past 64 of them).
+fn weights(degrees: &[usize]) -> std::rc::Rc<Weights> {
+    use std::cell::RefCell;
+    use std::collections::HashMap;
+    use std::rc::Rc;
+    thread_local! {
+        static MEMO: RefCell<HashMap<Vec<usize>, Rc<Weights>>> = RefCell::new(HashMap::new());
+    }
+    MEMO.with(|memo| {
+        if let Some(w) = memo.borrow().get(degrees) {
+            return w.clone();
+        }
+        let rows: Vec<Vec<BigInt>> = degrees
+            .iter()
+            .map(|&d| (0..=d).map(|k| binomial(d, k)).collect())
+            .collect();
+        let lcms: Vec<BigInt> = rows
+            .iter()
+            .map(|row| row.iter().fold(BigInt::one(), |acc, c| acc.lcm(c)))
+            .collect();
+        let per_index = |f: &dyn Fn(usize, usize) -> BigInt| -> Vec<BigInt> {
+            (0..coefficient_count(degrees))
+                .map(|flat| {
+                    let mut rem = flat;
+                    let mut w = BigInt::one();
+                    for (x, &d) in degrees.iter().enumerate() {
+                        w *= f(x, rem % (d + 1));
+                        rem /= d + 1;
+                    }
+                    w
+                })
+                .collect()
+        };
+        let w = Rc::new(Weights {
+            binomial: per_index(&|x, i| rows[x][i].clone()),
+            to_common: per_index(&|x, i| &lcms[x] / &rows[x][i]),
+            common: lcms.iter().product(),
+        });
+        let mut memo = memo.borrow_mut();
+        if memo.len() >= 64 {
+            memo.clear();
+        }
+        memo.insert(degrees.to_vec(), w.clone());
+        w
+    })
 }
 
 /// For every multi-index of `degrees`, its flat position under the strides `so`.
@@ -505,6 +543,32 @@ fn offsets(degrees: &[usize], so: &[usize]) -> Vec<usize> {
         .collect()
 }
 
+/// The convolution when both operands fit `i64`: every product is exact in `i128` and the
+/// sums are overflow-checked; `None` when an operand is wider or a sum overflows.
+fn convolve_i64(
+    a: &[BigInt],
+    off_a: &[usize],
+    b: &[BigInt],
+    off_b: &[usize],
+    len: usize,
+) -> Option<Vec<BigInt>> {
+    let narrow = |v: &[BigInt]| -> Option<Vec<i64>> {
+        v.iter().map(num_traits::ToPrimitive::to_i64).collect()
+    };
+    let (a, b) = (narrow(a)?, narrow(b)?);
+    let mut out = vec![0i128; len];
+    for (&x, &oa) in a.iter().zip(off_a) {
+        if x == 0 {
+            continue;
+        }
+        for (&y, &ob) in b.iter().zip(off_b) {
+            let slot = &mut out[oa + ob];
+            *slot = slot.checked_add(x as i128 * y as i128)?;
+        }
+    }
+    Some(out.into_iter().map(BigInt::from).collect())
+}
+
 /// The convolution `out[oa + ob] += a·b` in 256-bit arithmetic ([`I256`]): one operand must
 /// fit `i128`, the other is split as `h·2⁶⁴ + l` with `h` in `i128`; products are exact and
 /// sums overflow-checked. `None` when the operands are too wide or a sum overflows (the caller
@@ -516,6 +580,9 @@ fn convolve_i128(
     off_b: &[usize],
     len: usize,
 ) -> Option<Vec<BigInt>> {
+    if let Some(out) = convolve_i64(a, off_a, b, off_b, len) {
+        return Some(out);
+    }
     let narrow = |v: &[BigInt]| -> Option<Vec<i128>> {
         v.iter().map(num_traits::ToPrimitive::to_i128).collect()
     };

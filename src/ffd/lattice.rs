@@ -11,7 +11,7 @@ use crate::bernstein::{Bernstein, ScaledBernstein};
 use crate::bspline::TensorSpline;
 use crate::num::{rational_to_string, Rational};
 use num_bigint::BigInt;
-use num_traits::{One, Zero};
+use num_traits::{One, ToPrimitive, Zero};
 use serde_json::{json, Value};
 
 /// The basis of a lattice.
@@ -364,6 +364,14 @@ impl Lattice {
         let maps: Vec<(Vec<Vec<BigInt>>, BigInt)> =
             (0..3).map(|a| uniform_bezier_map(self.order[a])).collect();
         let total = &den * &maps[0].1 * &maps[1].1 * &maps[2].1;
+        let small_maps: Option<Vec<Vec<Vec<i64>>>> = maps
+            .iter()
+            .map(|(k, _)| {
+                k.iter()
+                    .map(|row| row.iter().map(|x| x.to_i64()).collect())
+                    .collect()
+            })
+            .collect();
         (0..self.cell_count())
             .map(|k| {
                 let [ci, cj, ck] = self.cell_index(k);
@@ -378,9 +386,13 @@ impl Lattice {
                             }
                         }
                     }
-                    for (axis, (kmat, _)) in maps.iter().enumerate() {
-                        block = apply_along(&block, [l, m, n], axis, kmat);
-                    }
+                    let block =
+                        apply_all_small(&block, [l, m, n], &small_maps).unwrap_or_else(|| {
+                            for (axis, (kmat, _)) in maps.iter().enumerate() {
+                                block = apply_along(&block, [l, m, n], axis, kmat);
+                            }
+                            block
+                        });
                     ScaledBernstein::with_denominator(degs.clone(), block, total.clone())
                         .expect("counts match, den > 0")
                 })
@@ -467,6 +479,38 @@ fn common_denominator<'a>(
         .fold(BigInt::one(), |acc, v| acc.lcm(v.denom()));
     let nums = values.map(|v| v.numer() * (&d / v.denom())).collect();
     (nums, d)
+}
+
+/// [`apply_along`] on every axis in `i128` with overflow checks: `None` when a matrix or
+/// block entry does not fit `i64` or a sum overflows (the caller then uses `BigInt`).
+fn apply_all_small(
+    block: &[BigInt],
+    ext: [usize; 3],
+    maps: &Option<Vec<Vec<Vec<i64>>>>,
+) -> Option<Vec<BigInt>> {
+    let maps = maps.as_ref()?;
+    let mut cur: Vec<i128> = block
+        .iter()
+        .map(|v| v.to_i64().map(i128::from))
+        .collect::<Option<_>>()?;
+    for (axis, k) in maps.iter().enumerate() {
+        let stride = [1, ext[0], ext[0] * ext[1]][axis];
+        let len = ext[axis];
+        let mut out = vec![0i128; cur.len()];
+        for (idx, slot) in out.iter_mut().enumerate() {
+            let i = (idx / stride) % len;
+            let base = idx - i * stride;
+            let mut acc = 0i128;
+            for (j, &kij) in k[i].iter().enumerate() {
+                if kij != 0 {
+                    acc = acc.checked_add(i128::from(kij).checked_mul(cur[base + j * stride])?)?;
+                }
+            }
+            *slot = acc;
+        }
+        cur = out;
+    }
+    Some(cur.into_iter().map(BigInt::from).collect())
 }
 
 /// Applies the square integer matrix `k` along `axis` of a block with extents `ext`
@@ -622,19 +666,21 @@ mod tests {
         }
     }
 
-    /// The integer nets share one denominator and equal the rational nets, Bézier and B-spline.
+    /// The integer nets share one denominator and equal the rational nets, Bézier and B-spline,
+    /// with small numbers (the `i128` route) and 2^80-sized ones (the `BigInt` route).
     #[test]
     fn scaled_nets_equal_rational_nets() {
-        for (basis, order, cells) in [
-            (Basis::Bezier, [3, 4, 2], [1, 1, 1]),
-            (Basis::Bspline, [4, 3, 2], [2, 1, 3]),
+        for (basis, order, cells, shift) in [
+            (Basis::Bezier, [3, 4, 2], [1, 1, 1], 0),
+            (Basis::Bspline, [4, 3, 2], [2, 1, 3], 0),
+            (Basis::Bspline, [4, 3, 2], [2, 1, 3], 80),
         ] {
             let id = Lattice::identity(basis, order, cells).unwrap();
             let delta: Vec<Point> = (0..id.points().len())
                 .map(|i| {
                     [0, 1, 2].map(|a| {
                         Rational::new(
-                            BigInt::from((i * 13 + a) as i64 % 9 - 4),
+                            BigInt::from((i * 13 + a) as i64 % 9 - 4) << shift,
                             BigInt::from(5 + a as i64),
                         )
                     })

@@ -79,6 +79,11 @@ impl I256 {
     }
 
     pub(crate) fn to_bigint(self) -> BigInt {
+        // The common case fits `i128`: the high half is only sign bits of the low one.
+        let low = self.lo as i128;
+        if self.hi == low >> 127 {
+            return BigInt::from(low);
+        }
         (BigInt::from(self.hi) << 128) + BigInt::from(self.lo)
     }
 }

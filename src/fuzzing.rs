@@ -199,8 +199,9 @@ pub fn decode_lattice(data: &[u8]) -> Option<crate::ffd::Lattice> {
 /// never contradict the exact one, filtered is never uncertain, every decided verdict's
 /// certificate re-checks, and every witness has `det J ≤ 0` exactly. Limits per input: depth
 /// 7, 5,000 boxes per path. Every certificate is re-checked as `verify_injectivity_certificate`
-/// does, through the Mørken route (integer numerators, contracted axis by axis), its cells
-/// computed once per lattice and shared by the lattice's distinct certificates.
+/// does, through the Mørken route (integer numerators over one denominator from the products
+/// through the knot insertion to the leaf checks, no gcd), its cells computed once per lattice
+/// and shared by the lattice's distinct certificates.
 pub fn check_ffd(l: &crate::ffd::Lattice) -> Result<(), String> {
     use crate::ffd::injectivity::verify_certificate_with;
     use crate::ffd::jacobian::{jacobian_cells_morken_scaled, jacobian_in_cell};

@@ -133,18 +133,10 @@ impl ScaledBernstein {
             weights(&other.degrees),
             weights(&degrees),
         );
-        let at: Vec<BigInt> = self
-            .num
-            .iter()
-            .zip(&wa.binomial)
-            .map(|(a, w)| a * w)
-            .collect();
-        let bt: Vec<BigInt> = other
-            .num
-            .iter()
-            .zip(&wb.binomial)
-            .map(|(b, w)| b * w)
-            .collect();
+        let binomial_scaled = |p: &Self, w: &Weights| -> Vec<BigInt> {
+            p.num.iter().zip(&w.binomial).map(|(a, w)| a * w).collect()
+        };
+        let (at, bt) = (binomial_scaled(self, &wa), binomial_scaled(other, &wb));
         let so = strides(&degrees);
         // Flat offset of each multi-index of `self` / `other` in the product's layout.
         let off_a = offsets(&self.degrees, &so);

@@ -565,9 +565,10 @@ impl std::fmt::Display for InjectivityCheck {
 }
 
 /// Re-checks a certificate independently of the code that produced it: the Jacobian's Bézier
-/// cells come from the Mørken route ([`jacobian_cells_morken`]), the leaves must tile each
-/// cell with every restricted coefficient positive, and a witness is re-evaluated exactly
-/// from the derivative splines. A refusal is [`FfdError::Certificate`] naming what failed
+/// cells come from the Mørken route
+/// ([`jacobian_cells_morken`](super::jacobian::jacobian_cells_morken), in integers), the
+/// leaves must tile each cell with every restricted coefficient positive, and a witness is
+/// re-evaluated exactly from the derivative splines. A refusal is [`FfdError::Certificate`] naming what failed
 /// (or [`FfdError::Input`] when the embedded lattice is malformed).
 pub fn verify_injectivity_certificate(
     c: &InjectivityCertificate,

@@ -568,8 +568,8 @@ impl std::fmt::Display for InjectivityCheck {
 /// cells come from the Mørken route
 /// ([`jacobian_cells_morken`](super::jacobian::jacobian_cells_morken), in integers), the
 /// leaves must tile each cell with every restricted coefficient positive, and a witness is
-/// re-evaluated exactly from the derivative splines. A refusal is [`FfdError::Certificate`] naming what failed
-/// (or [`FfdError::Input`] when the embedded lattice is malformed).
+/// re-evaluated exactly from the derivative splines. A refusal is [`FfdError::Certificate`]
+/// naming what failed (or [`FfdError::Input`] when the embedded lattice is malformed).
 pub fn verify_injectivity_certificate(
     c: &InjectivityCertificate,
 ) -> Result<InjectivityCheck, FfdError> {

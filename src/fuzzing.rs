@@ -910,49 +910,87 @@ pub fn check_solve_bspline(data: &[u8]) -> Result<(), String> {
 }
 
 /// Differential check of curve tracing: one random bivariate equation (degrees 1–3 per axis,
-/// coefficients k/8) or a product of two lines, traced on the exact and the fast path with
+/// coefficients k/8), a product of two lines, or (when the first byte is 2 mod 4) a random
+/// B-spline field with interior knots, C⁰ ones among them, traced on the exact and the fast path with
 /// small limits (depth 5, 48 boxes; cross-sections depth 16, 64 boxes, tolerance 10⁻⁶). A
 /// degenerate equation — a square, a zero, a curve through a corner — fills any budget with
 /// clusters: on the campaigns' corpus 65 % of the traces did at 150 boxes. On a later corpus
 /// (1,356 inputs, 82 % of traces with a cluster at depth 7 and 64 boxes) depth 5 left the
 /// same 240 traces without a cluster and 48 boxes 235, at 1.5 times the executions per
-/// second. Both traces must pass the independent checker ([`crate::solve::verify_curves`]), every certified
+/// second. Both traces must pass the independent checker ([`crate::solve::verify_curves`], or
+/// [`crate::solve::verify_piecewise_curves`] for the B-spline field), every certified
 /// vertex of one path must lie in an arc or cluster box of the other, and where neither path
 /// left a cluster both must report the same components (count, loops, ends per component).
 pub fn check_curve(data: &[u8]) -> Result<(), String> {
     use crate::bernstein::{Bernstein, Limits};
-    use crate::solve::{trace, verify_curves, CurveOptions, Curves, System};
+    use crate::bspline::TensorSpline;
+    use crate::solve::{
+        trace_piecewise, verify_curves, verify_piecewise_curves, CurveOptions, Curves, Equation,
+        PiecewiseSystem, System,
+    };
     let mut bytes = data.iter().copied();
     let mut next = move || bytes.next().unwrap_or(0);
     let head = next();
     let q = |a: i64, b: i64| Rational::new(a.into(), b.into());
-    let p = if head & 1 == 1 {
-        // (a x + b y + c)(d x + e y + f): two lines, crossing or not.
-        let mut line = || {
-            let (a, b, c) = (
-                next() as i8 as i64,
-                next() as i8 as i64,
-                next() as i8 as i64,
-            );
-            // Bernstein coefficients of a x + b y + c on the unit square, at its corners.
-            Bernstein::new(
-                vec![1, 1],
-                vec![q(c, 8), q(a + c, 8), q(b + c, 8), q(a + b + c, 8)],
-            )
-        };
-        let l1 = line().map_err(|e| e.to_string())?;
-        let l2 = line().map_err(|e| e.to_string())?;
-        l1.product(&l2).map_err(|e| e.to_string())?
-    } else {
+    let unit = vec![(q(0, 1), q(1, 1)); 2];
+    let system = if head & 3 == 2 {
+        // A B-spline field: degrees 1–3, up to two interior knots k/8 per axis (multiplicity
+        // capped at the degree, so C⁰ kinks occur), coefficients k/8.
         let degrees = vec![1 + next() as usize % 3, 1 + next() as usize % 3];
-        let count: usize = degrees.iter().map(|d| d + 1).product();
+        let knots: Vec<Vec<Rational>> = degrees
+            .iter()
+            .map(|&d| {
+                let mut inner: Vec<Rational> = (0..next() % 3)
+                    .map(|_| q(1 + (next() % 7) as i64, 8))
+                    .collect();
+                inner.sort();
+                let mut k = vec![q(0, 1); d + 1];
+                for x in inner {
+                    if k.iter().filter(|y| **y == x).count() < d {
+                        k.push(x);
+                    }
+                }
+                k.extend(vec![q(1, 1); d + 1]);
+                k
+            })
+            .collect();
+        let count: usize = knots
+            .iter()
+            .zip(&degrees)
+            .map(|(k, d)| k.len() - d - 1)
+            .product();
         let coeffs = (0..count).map(|_| q(next() as i8 as i64, 8)).collect();
-        Bernstein::new(degrees, coeffs).map_err(|e| e.to_string())?
+        let s = TensorSpline::new(degrees, knots, coeffs).map_err(|e| e.to_string())?;
+        PiecewiseSystem::new(unit, vec![Equation::Spline(s)]).map_err(|e| e.to_string())?
+    } else {
+        let p = if head & 1 == 1 {
+            // (a x + b y + c)(d x + e y + f): two lines, crossing or not.
+            let mut line = || {
+                let (a, b, c) = (
+                    next() as i8 as i64,
+                    next() as i8 as i64,
+                    next() as i8 as i64,
+                );
+                // Bernstein coefficients of a x + b y + c on the unit square, at its corners.
+                Bernstein::new(
+                    vec![1, 1],
+                    vec![q(c, 8), q(a + c, 8), q(b + c, 8), q(a + b + c, 8)],
+                )
+            };
+            let l1 = line().map_err(|e| e.to_string())?;
+            let l2 = line().map_err(|e| e.to_string())?;
+            l1.product(&l2).map_err(|e| e.to_string())?
+        } else {
+            let degrees = vec![1 + next() as usize % 3, 1 + next() as usize % 3];
+            let count: usize = degrees.iter().map(|d| d + 1).product();
+            let coeffs = (0..count).map(|_| q(next() as i8 as i64, 8)).collect();
+            Bernstein::new(degrees, coeffs).map_err(|e| e.to_string())?
+        };
+        PiecewiseSystem::from_polynomial(System::new(unit, vec![p]).map_err(|e| e.to_string())?)
     };
-    let system = System::new(vec![(q(0, 1), q(1, 1)); 2], vec![p]).map_err(|e| e.to_string())?;
     let limits = Limits::new().with_max_depth(5).with_max_boxes(48);
     let run = |path| {
-        trace(
+        trace_piecewise(
             &system,
             &CurveOptions::new()
                 .with_path(path)
@@ -974,7 +1012,11 @@ pub fn check_curve(data: &[u8]) -> Result<(), String> {
         c.arcs.iter().any(|a| meets(&a.bounds)) || c.clusters.iter().any(|k| meets(&k.bounds))
     };
     for (name, mine, other) in [("exact", &exact, &fast), ("fast", &fast, &exact)] {
-        verify_curves(&system, mine).map_err(|e| format!("{name} trace refused: {e}"))?;
+        match system.polynomial() {
+            Some(p) => verify_curves(p, mine),
+            None => verify_piecewise_curves(&system, mine),
+        }
+        .map_err(|e| format!("{name} trace refused: {e}"))?;
         for p in &mine.points {
             if !covers(other, &p.root.bounds) {
                 return Err(format!(

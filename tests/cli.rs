@@ -779,7 +779,9 @@ fn solve_reads_b_spline_equations_and_certifies_a_root_on_a_knot() {
         "{}",
         String::from_utf8_lossy(&out.stdout)
     );
-    // Curves of piecewise equations are refused with a clear error, nothing written.
+    // The curve of a piecewise equation: f = 0 is the line x = 1/3, which lies on the kink
+    // (C⁰ knot) itself; it is traced from face y = 0 to face y = 1, and its certificate file
+    // re-checks.
     let curve = tmp("kink-curve.json");
     std::fs::write(
         &curve,
@@ -788,12 +790,49 @@ fn solve_reads_b_spline_equations_and_certifies_a_root_on_a_knot() {
                          "coeffs": ["-1/3", "0", "2"]}}]}"#,
     )
     .unwrap();
+    let curve_cert = tmp("kink-curve.cert.json");
     let out = geocert()
-        .args(["solve", curve.to_str().unwrap(), "--curves"])
+        .args(["solve", curve.to_str().unwrap(), "--curves", "--json"])
+        .args(["--cert", curve_cert.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let curves = v["curves"].as_array().unwrap();
+    assert_eq!(curves.len(), 1, "{v}");
+    assert_eq!(v["clusters"].as_array().unwrap().len(), 0, "{v}");
+    for p in curves[0]["polyline"].as_array().unwrap() {
+        approx::assert_abs_diff_eq!(p[0].as_f64().unwrap(), 1.0 / 3.0, epsilon = 1e-12);
+    }
+    let out = geocert()
+        .args(["solve", "verify-cert", curve_cert.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    // Extreme points of B-spline equations are refused with a clear error, nothing written.
+    let refused = tmp("kink-curve-refused.cert.json");
+    let out = geocert()
+        .args([
+            "solve",
+            curve.to_str().unwrap(),
+            "--curves",
+            "--extreme-axis",
+            "0",
+        ])
+        .args(["--cert", refused.to_str().unwrap()])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("not traced yet"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("extreme"));
+    assert!(!refused.exists());
 }
 
 #[test]

@@ -372,7 +372,7 @@ fn tensor_of(
 proptest! {
     /// The integer Mørken product (memoised tables, `i128` with a `BigInt` fallback) equals the
     /// generic rational product, and the integer Oslo map gives the same Bézier cells as knot
-    /// insertion line by line.
+    /// insertion line by line; a field restricted to a plane keeps its values there.
     #[test]
     fn integer_spline_kernels_are_exact(
         f in spline(3), g in spline(3), h in spline(2), k in spline(2),
@@ -409,6 +409,20 @@ proptest! {
                     x.bezier_on_box_exact(&flat).unwrap(),
                     x.bezier_on_box(&flat).unwrap()
                 );
+                // The field on a plane (through the cell's lower corner, a knot, and through
+                // the sub-box) has the field's values there.
+                for axis in 0..2 {
+                    for at in [&c.bounds[axis].0, &part[axis].0] {
+                        let plane = x.restrict_axis(axis, at).unwrap();
+                        let other = &part[1 - axis].1;
+                        let mut point = vec![other.clone(); 2];
+                        point[axis] = at.clone();
+                        prop_assert_eq!(
+                            plane.eval(std::slice::from_ref(other)).unwrap(),
+                            x.eval(&point).unwrap()
+                        );
+                    }
+                }
             }
         }
     }

@@ -2,14 +2,17 @@
 //! their roots keep exactly their roots (each found once, certified across the knot planes,
 //! re-checked by the piecewise checker), genuinely piecewise fields (a linear form times a
 //! positive spline) have exactly the constructed root, and bad fields are refused clearly.
+//! Curves of B-spline equations keep the polynomial trace's topology, pass through C⁰ kinks
+//! (in 3-D with a certified vertex on every kink plane), and their certificates re-check.
 
 use geocert::bernstein::Bernstein;
 use geocert::bspline::TensorSpline;
 use geocert::num::Rational;
 use geocert::solve::{
-    piecewise_solution_certificate, piecewise_system_from_json, solve_piecewise, system_from_json,
-    verify_piecewise_root, verify_solution_certificate, ClusterReason, Equation, PiecewiseSystem,
-    Solution, SolveError, SolveOptions,
+    piecewise_curve_certificate, piecewise_solution_certificate, piecewise_system_from_json,
+    solve_piecewise, system_from_json, trace_piecewise, verify_curve_certificate,
+    verify_piecewise_curves, verify_piecewise_root, verify_solution_certificate, ClusterReason,
+    CurveEnd, CurveOptions, Curves, Equation, PiecewiseSystem, Solution, SolveError, SolveOptions,
 };
 use geocert::Path;
 use proptest::prelude::*;
@@ -373,4 +376,264 @@ fn bad_fields_are_refused_naming_the_equation() {
         r#"{"box": [["0", "1"]], "equations": [{"bspline": {"knots": [[0, 1]], "coeffs": [1]}}]}"#,
         "orders",
     );
+}
+
+// ---- Curves of B-spline equations ----
+
+/// A quadric `Σ_k a_k (x_k − c_k)² − r` on the unit box in `n` variables (a circle or a
+/// sphere when every `a_k = 1`), in Bernstein form.
+fn quadric(c: &[Rational], a: &[i64], r: &Rational) -> Bernstein<Rational> {
+    let n = c.len();
+    (0..n)
+        .map(|k| {
+            let l = linear(n, k, &c[k]);
+            l.product(&l).unwrap().scale(&q(a[k], 1))
+        })
+        .fold(Bernstein::constant(vec![0; n], -r.clone()), |s, t| {
+            s.add_elevated(&t).unwrap()
+        })
+}
+
+/// The ends of a traced curve's open components as sorted (axis, upper) face pairs, and the
+/// number of closed loops.
+fn topology(c: &Curves) -> (Vec<Vec<(usize, bool)>>, usize) {
+    let mut open: Vec<Vec<(usize, bool)>> = c
+        .components
+        .iter()
+        .filter(|k| !k.closed)
+        .map(|k| {
+            let mut e: Vec<(usize, bool)> = k
+                .ends
+                .iter()
+                .filter_map(|e| match *e {
+                    CurveEnd::Face { axis, upper, .. } => Some((axis, upper)),
+                    CurveEnd::Cluster { .. } => None,
+                })
+                .collect();
+            e.sort();
+            e
+        })
+        .collect();
+    open.sort();
+    (open, c.components.iter().filter(|k| k.closed).count())
+}
+
+/// The largest `|f_i|` of the piecewise system at the traced vertices (in `f64`).
+fn worst_residual(system: &PiecewiseSystem, c: &Curves) -> f64 {
+    let mut worst = 0.0f64;
+    for p in &c.points {
+        let x: Vec<Rational> = p
+            .root
+            .approx
+            .iter()
+            .map(|&v| geocert::num::rational_from_f64(v, "x").unwrap())
+            .collect();
+        for e in system.equations() {
+            let v = match e {
+                Equation::Spline(s) => s.eval(&x).unwrap(),
+                Equation::Polynomial(b) => b.eval(&x).unwrap(),
+            };
+            worst = worst.max(geocert::num::rational_to_f64(&v).abs());
+        }
+    }
+    worst
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+
+    /// Circles (2 unknowns) and circles cut from a sphere by a plane (3 unknowns), written as
+    /// B-splines with random interior knots (multiplicity 1 up to the degree, so some are
+    /// C⁰ knots the 3-D tracer must split at): the piecewise trace passes the piecewise
+    /// checker on every path, its vertices lie on the curve, and where neither trace leaves a
+    /// cluster it has the polynomial trace's topology (loops, and open components' faces).
+    #[test]
+    fn polynomial_curves_as_b_splines_keep_their_topology(
+        n in 2usize..=3,
+        centre in proptest::collection::vec(3i64..14, 3),
+        radius in 2i64..9,
+        tilt in proptest::collection::vec(-3i64..=3, 3),
+        knots in proptest::collection::vec(1i64..16, 3),
+        repeat in 1usize..=2,
+    ) {
+        let c: Vec<Rational> = centre.iter().take(n).map(|&k| q(k, 16)).collect();
+        let r = q(radius * radius, 256);
+        let mut polys = vec![quadric(&c, &[1; 3][..n], &r)];
+        if n == 3 {
+            // A plane through the centre, tilted.
+            let forms: Vec<_> = (0..3).map(|k| linear(3, k, &c[k])).collect();
+            let m = vec![vec![tilt[0], tilt[1], 4 + tilt[2].abs()]];
+            polys.push(mix(&forms, &m).remove(0));
+        }
+        let system = PiecewiseSystem::from_polynomial(
+            geocert::solve::System::new(unit(n), polys.clone()).unwrap(),
+        );
+        let equations = polys
+            .iter()
+            .map(|p| {
+                let ks: Vec<Vec<Rational>> = (0..n)
+                    .map(|k| {
+                        let reps = repeat.min(p.degrees()[k]).max(1);
+                        vec![q(knots[k], 16); reps]
+                    })
+                    .collect();
+                Equation::Spline(as_spline(p, &ks))
+            })
+            .collect();
+        let pw = PiecewiseSystem::new(unit(n), equations).unwrap();
+        prop_assert!(pw.cells().len() > 1);
+        // Knots of multiplicity up to the degree, but a polynomial: C¹ everywhere.
+        prop_assert!(pw.kinks().iter().all(Vec::is_empty));
+        let opts = CurveOptions::new().with_resolution(0.25);
+        let reference = trace_piecewise(&system, &opts).unwrap();
+        let paths: &[Path] = if n == 2 { &[Path::Exact, Path::Fast, Path::Filtered] } else { &[Path::Filtered] };
+        for &path in paths {
+            let traced = trace_piecewise(&pw, &opts.with_path(path)).unwrap();
+            verify_piecewise_curves(&pw, &traced).map_err(|e| TestCaseError::fail(e.to_string()))?;
+            prop_assert!(worst_residual(&pw, &traced) < 1e-9);
+            if traced.clusters.is_empty() && reference.clusters.is_empty() {
+                prop_assert_eq!(topology(&traced), topology(&reference), "{}", path);
+            }
+            if path == Path::Filtered && reference.clusters.is_empty() {
+                // Knots do not make a curve harder to resolve (tangencies to the box's faces
+                // leave clusters on both).
+                prop_assert!(traced.clusters.is_empty(), "{:?}", traced.clusters);
+            }
+        }
+    }
+}
+
+/// `Σ_i Σ_l (b_l − g_i) N_i(x_0) M_l(x_axis)` = `x_axis − g(x_0)` for `g` the spline with
+/// coefficients `g` on `knots` (degree `p`), as a tensor spline in `n` unknowns (degree 1
+/// along `axis`, 0 along the others).
+fn graph_equation(
+    n: usize,
+    axis: usize,
+    p: usize,
+    knots: Vec<Rational>,
+    g: &[Rational],
+) -> Equation {
+    let mut degrees = vec![0; n];
+    degrees[0] = p;
+    degrees[axis] = 1;
+    let all_knots: Vec<Vec<Rational>> = (0..n)
+        .map(|k| match k {
+            0 => knots.clone(),
+            k if k == axis => vec![q(0, 1), q(0, 1), q(1, 1), q(1, 1)],
+            _ => vec![q(0, 1), q(1, 1)],
+        })
+        .collect();
+    // Axis 0 fastest; the `axis` index (0 or 1) is the line coordinate b_l = l.
+    let mut coeffs = Vec::new();
+    for l in 0..2 {
+        for gi in g {
+            coeffs.push(q(l, 1) - gi);
+        }
+    }
+    Equation::Spline(TensorSpline::new(degrees, all_knots, coeffs).unwrap())
+}
+
+#[test]
+fn a_c0_graph_is_traced_through_its_kinks_in_two_and_three_unknowns() {
+    // g: piecewise linear through (0, 1/5), (1/3, 3/5), (3/4, 2/5), (1, 7/10) — kinks at 1/3
+    // and 3/4; h: quadratic with a double knot at 1/2 (C⁰ there).
+    let g_knots = vec![q(0, 1), q(0, 1), q(1, 3), q(3, 4), q(1, 1), q(1, 1)];
+    let g = [q(1, 5), q(3, 5), q(2, 5), q(7, 10)];
+    let h_knots = vec![
+        q(0, 1),
+        q(0, 1),
+        q(0, 1),
+        q(1, 2),
+        q(1, 2),
+        q(1, 1),
+        q(1, 1),
+        q(1, 1),
+    ];
+    let h = [q(1, 4), q(3, 4), q(1, 2), q(1, 5), q(3, 5)];
+    let mut compared = 0;
+    for n in [2usize, 3] {
+        let mut equations = vec![graph_equation(n, n - 1, 1, g_knots.clone(), &g)];
+        if n == 3 {
+            equations.push(graph_equation(3, 1, 2, h_knots.clone(), &h));
+        }
+        let system = PiecewiseSystem::new(unit(n), equations).unwrap();
+        let kinks: Vec<Rational> = if n == 3 {
+            vec![q(1, 3), q(1, 2), q(3, 4)]
+        } else {
+            vec![q(1, 3), q(3, 4)]
+        };
+        assert_eq!(system.kinks()[0], kinks);
+        let paths: &[Path] = if n == 2 {
+            &[Path::Exact, Path::Fast, Path::Filtered]
+        } else {
+            &[Path::Fast, Path::Filtered]
+        };
+        for &path in paths {
+            let c = trace_piecewise(&system, &CurveOptions::new().with_path(path)).unwrap();
+            assert!(
+                c.clusters.is_empty(),
+                "{n} unknowns, {path}: {:?}",
+                c.clusters
+            );
+            assert_eq!(c.components.len(), 1, "{n}, {path}");
+            assert_eq!(topology(&c).0, vec![vec![(0, false), (0, true)]]);
+            verify_piecewise_curves(&system, &c).unwrap();
+            assert!(worst_residual(&system, &c) < 1e-12, "{n}, {path}");
+            if n == 3 {
+                // In three unknowns every C⁰ plane the curve crosses is a split plane: the
+                // curve has a certified vertex on it.
+                for x in &kinks {
+                    assert!(
+                        c.points
+                            .iter()
+                            .any(|p| p.axis == 0 && &p.root.bounds[0].0 == x),
+                        "no vertex on the kink x = {x}"
+                    );
+                }
+            }
+            compared += 1;
+        }
+    }
+    assert_eq!(compared, 5);
+}
+
+#[test]
+fn a_loop_around_a_kink_is_closed_and_its_certificate_file_is_rechecked() {
+    // |x − 1/2| + (y − 1/2)² − 1/16 = 0: a loop crossing the C⁰ plane x = 1/2 twice.
+    let a = [q(1, 2), q(0, 1), q(1, 2)];
+    let b = [q(3, 16), q(-5, 16), q(3, 16)];
+    let coeffs: Vec<Rational> = b
+        .iter()
+        .flat_map(|bl| a.iter().map(move |ai| ai + bl))
+        .collect();
+    let spline = TensorSpline::new(
+        vec![1, 2],
+        vec![
+            vec![q(0, 1), q(0, 1), q(1, 2), q(1, 1), q(1, 1)],
+            vec![q(0, 1), q(0, 1), q(0, 1), q(1, 1), q(1, 1), q(1, 1)],
+        ],
+        coeffs,
+    )
+    .unwrap();
+    let system = PiecewiseSystem::new(unit(2), vec![Equation::Spline(spline)]).unwrap();
+    for path in [Path::Exact, Path::Fast, Path::Filtered] {
+        let c = trace_piecewise(&system, &CurveOptions::new().with_path(path)).unwrap();
+        assert!(c.clusters.is_empty(), "{path}: {:?}", c.clusters);
+        assert_eq!(topology(&c), (vec![], 1), "{path}");
+        assert!(worst_residual(&system, &c) < 1e-12);
+        let text = piecewise_curve_certificate(&system, &c).to_string();
+        let check = verify_curve_certificate(&text).unwrap().unwrap();
+        assert_eq!(check.points, c.points.len());
+        // A vertex moved off the curve is refused.
+        let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let axis = v["points"][0]["axis"].as_u64().unwrap() as usize;
+        let other = 1 - axis;
+        v["points"][0]["box"][other] = serde_json::json!(["1/100", "1/50"]);
+        assert!(verify_curve_certificate(&v.to_string()).unwrap().is_err());
+    }
+    // Extreme points are for polynomial equations: asked here, a clear error.
+    let e = trace_piecewise(&system, &CurveOptions::new().with_extreme_axis(Some(0)))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("extreme"), "{e}");
 }

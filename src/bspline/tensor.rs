@@ -196,6 +196,34 @@ impl<T: Field + PartialOrd> TensorSpline<T> {
         Ok(())
     }
 
+    /// The field on the plane `x_axis = x`: a tensor spline in the other `dim − 1` variables
+    /// (same degrees and knots there), each line along `axis` contracted with the basis
+    /// values `N_{i,p}(x)` — the blossom's weights on the diagonal `(x, …, x)`, the same for
+    /// every line. Needs at least two variables and `x` in the axis' domain.
+    pub fn restrict_axis(&self, axis: usize, x: &T) -> Result<TensorSpline<T>, BsplineError> {
+        self.check_axis(axis)?;
+        if self.dim() < 2 {
+            return Err(BsplineError::DimensionMismatch {
+                expected: 2,
+                found: self.dim(),
+            });
+        }
+        let counts = self.counts();
+        let line = self.axis_spline(axis, vec![T::zero(); counts[axis]]);
+        let mu = line.find_span(x)?;
+        let p = self.degrees[axis];
+        let weights = line.blossom_weights(mu, &vec![x.clone(); p]);
+        let degs: Vec<usize> = counts.iter().map(|c| c - 1).collect();
+        let coeffs = map_lines(&degs, &self.coeffs, axis, 1, &T::zero(), |l, out| {
+            out[0] = T::dot(&weights, l[mu - p..=mu].iter());
+        });
+        let mut degrees = self.degrees.clone();
+        degrees.remove(axis);
+        let mut knots = self.knots.clone();
+        knots.remove(axis);
+        TensorSpline::new(degrees, knots, coeffs)
+    }
+
     /// The same field with the knots `xs` (strictly inside the domain) inserted along `axis`
     /// on every line (the Oslo algorithm in blossom form).
     pub fn insert_knots(&self, axis: usize, xs: &[T]) -> Result<TensorSpline<T>, BsplineError> {

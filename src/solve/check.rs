@@ -109,14 +109,31 @@ pub fn verify_piecewise_root(
     let n = system.unknowns();
     shape(n, system.equations().len(), bounds, certificate)?;
     unit_box(system.domain(), bounds)?;
-    // Per axis, the part boundaries: the box's ends and the knots strictly inside it.
+    let mut parts = Vec::new();
+    for part in knot_parts(system, bounds) {
+        parts.push(Part {
+            f: common_degrees(part_equations(system, &part)?)?,
+            lower: (0..n).map(|k| part[k].0 == bounds[k].0).collect(),
+            upper: (0..n).map(|k| part[k].1 == bounds[k].1).collect(),
+            ratio: (0..n)
+                .map(|k| (&bounds[k].1 - &bounds[k].0) / (&part[k].1 - &part[k].0))
+                .collect(),
+        });
+    }
+    check_parts(&parts, certificate)
+}
+
+/// The parts the equations' knots strictly inside `bounds` cut it into (every part a box
+/// inside one knot span of every equation; `bounds` itself when no knot is inside).
+pub(super) fn knot_parts(system: &PiecewiseSystem, bounds: &RationalBox) -> Vec<RationalBox> {
+    let n = bounds.len();
     let mut cuts: Vec<Vec<Rational>> = bounds
         .iter()
         .map(|(a, b)| vec![a.clone(), b.clone()])
         .collect();
     for e in system.equations() {
         if let Equation::Spline(s) = e {
-            for (k, knots) in s.knots().iter().enumerate() {
+            for (k, knots) in s.knots().iter().enumerate().take(n) {
                 let (a, b) = &bounds[k];
                 cuts[k].extend(knots.iter().filter(|x| a < *x && *x < b).cloned());
             }
@@ -128,33 +145,34 @@ pub fn verify_piecewise_root(
     }
     let counts: Vec<usize> = cuts.iter().map(|c| c.len() - 1).collect();
     let total: usize = counts.iter().product();
-    let mut parts = Vec::with_capacity(total);
-    for mut flat in 0..total {
-        let mut part = Vec::with_capacity(n);
-        for k in 0..n {
-            let j = flat % counts[k];
-            flat /= counts[k];
-            part.push((cuts[k][j].clone(), cuts[k][j + 1].clone()));
-        }
-        let sub = unit_box(system.domain(), &part)?;
-        let f = system
-            .equations()
-            .iter()
-            .map(|e| match e {
-                Equation::Polynomial(p) => Ok(p.restrict(&sub)?),
-                Equation::Spline(s) => s.bezier_on_box_exact(&part).map_err(RootRefusal::Spline),
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        parts.push(Part {
-            f: common_degrees(f)?,
-            lower: (0..n).map(|k| part[k].0 == bounds[k].0).collect(),
-            upper: (0..n).map(|k| part[k].1 == bounds[k].1).collect(),
-            ratio: (0..n)
-                .map(|k| (&bounds[k].1 - &bounds[k].0) / (&part[k].1 - &part[k].0))
-                .collect(),
-        });
-    }
-    check_parts(&parts, certificate)
+    (0..total)
+        .map(|mut flat| {
+            (0..n)
+                .map(|k| {
+                    let j = flat % counts[k];
+                    flat /= counts[k];
+                    (cuts[k][j].clone(), cuts[k][j + 1].clone())
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Each equation on `part` (a box inside one knot span of every equation), in Bernstein form
+/// on it, taken directly: a B-spline by blossoming, a polynomial by restriction.
+pub(super) fn part_equations(
+    system: &PiecewiseSystem,
+    part: &RationalBox,
+) -> Result<Vec<Bernstein<Rational>>, RootRefusal> {
+    let sub = unit_box(system.domain(), part)?;
+    system
+        .equations()
+        .iter()
+        .map(|e| match e {
+            Equation::Polynomial(p) => Ok(p.restrict(&sub)?),
+            Equation::Spline(s) => s.bezier_on_box_exact(part).map_err(RootRefusal::Spline),
+        })
+        .collect()
 }
 
 /// The box, the matrix and the signs have the system's dimension, and it is square.

@@ -25,9 +25,12 @@
 //! curve in the domain lies in an arc's box or in a cluster's box.
 
 use super::subdivision::{
-    max_abs, root_free, strict_sign, widest_axis, Coefficient, Decision, MOVED_SPLITS_DEPTH, SPLITS,
+    max_abs, strict_sign, widest_axis, Coefficient, MOVED_SPLITS_DEPTH, SPLITS,
 };
-use super::{solve, Cluster, ClusterReason, RationalBox, Root, SolveError, SolveOptions, System};
+use super::{
+    solve, solve_piecewise, Cluster, ClusterReason, PiecewiseSystem, RationalBox, Root, SolveError,
+    SolveOptions, System,
+};
 use crate::bernstein::poly::map_lines;
 use crate::bernstein::{Bernstein, BernsteinError, Limits, ScaledBernstein};
 use crate::num::{rational_to_f64, Interval, Rational, Sign};
@@ -457,45 +460,85 @@ enum Class {
     Uncertain,
 }
 
-/// Classifies a box from its equations and its tangent minors (`minors[k]` the minor without
-/// column `k`, restricted to the box: up to a positive factor, the box's own minor).
-fn classify<T: Coefficient>(
-    polys: &[Bernstein<T>],
-    minors: &[Bernstein<T>],
-    first: Option<usize>,
-) -> Result<Class, SolveError> {
-    let culled = root_free(polys);
-    if culled == Decision::Yes {
-        return Ok(Class::Empty);
+/// The strict sign the polynomials share on every coefficient (`Zero` when they do not share
+/// one, `Uncertain` when rounding leaves it open): [`strict_sign`] across a box's parts.
+fn common_sign<'p, T: crate::num::Field + 'p>(
+    polys: impl IntoIterator<Item = &'p Bernstein<T>>,
+) -> Sign {
+    let mut out = None;
+    let mut uncertain = false;
+    for p in polys {
+        match strict_sign(p) {
+            Sign::Uncertain => uncertain = true,
+            Sign::Zero => return Sign::Zero,
+            s => match out {
+                None => out = Some(s),
+                Some(o) if o != s => return Sign::Zero,
+                _ => {}
+            },
+        }
     }
-    let mut uncertain = culled == Decision::Uncertain;
-    // The preferred axis first (the extreme axis: a box monotone along it holds no extreme).
-    let order = first
-        .into_iter()
-        .chain((0..minors.len()).filter(|&k| Some(k) != first));
-    for k in order {
-        match strict_sign(&minors[k]) {
-            Sign::Positive | Sign::Negative => return Ok(Class::Regular(k)),
+    match (out, uncertain) {
+        (_, true) => Sign::Uncertain,
+        (Some(s), false) => s,
+        (None, false) => Sign::Zero,
+    }
+}
+
+/// Classifies a box from its parts' equations and tangent minors (`minors[k]` the minor
+/// without column `k`, restricted to the part: up to a positive factor, the part's own
+/// minor). A box holding one part is a polynomial box; across parts the signs must agree on
+/// every part (see [`trace_piecewise`] for why that suffices where the field is C¹, and in
+/// two unknowns where it is only C⁰).
+fn classify<T: Coefficient>(pieces: &[Piece<T>], first: Option<usize>) -> Class {
+    let (m, n) = pieces
+        .first()
+        .map_or((0, 0), |p| (p.polys.len(), p.minors.len()));
+    let mut uncertain = false;
+    for i in 0..m {
+        match common_sign(pieces.iter().map(|p| &p.polys[i])) {
+            Sign::Positive | Sign::Negative => return Class::Empty,
             Sign::Uncertain => uncertain = true,
             Sign::Zero => {}
         }
     }
-    Ok(if uncertain {
+    // The preferred axis first (the extreme axis: a box monotone along it holds no extreme).
+    let order = first
+        .into_iter()
+        .chain((0..n).filter(|&k| Some(k) != first));
+    for k in order {
+        match common_sign(pieces.iter().map(|p| &p.minors[k])) {
+            Sign::Positive | Sign::Negative => return Class::Regular(k),
+            Sign::Uncertain => uncertain = true,
+            Sign::Zero => {}
+        }
+    }
+    if uncertain {
         Class::Uncertain
     } else {
         Class::Irregular
-    })
+    }
+}
+
+/// One cell's part of a box of the curve's subdivision: its bounds (unit coordinates of the
+/// domain), the cell, and the equations and tangent minors on it (Bernstein form on the
+/// part), carried down by de Casteljau with the box (the minor of the restricted equations
+/// is the restricted minor times the product of the part's widths along the other axes: the
+/// same signs).
+struct Piece<T> {
+    lo: Vec<Rational>,
+    hi: Vec<Rational>,
+    cell: usize,
+    polys: Vec<Bernstein<T>>,
+    minors: Vec<Bernstein<T>>,
 }
 
 /// A box of the curve's subdivision (unit coordinates).
 struct Node<T> {
     lo: Vec<Rational>,
     hi: Vec<Rational>,
-    polys: Vec<Bernstein<T>>,
-    /// The tangent minors on the box, carried down by de Casteljau with the equations (the
-    /// minor of the restricted equations is the restricted minor times the product of the
-    /// box's widths along the other axes: the same signs).
-    minors: Vec<Bernstein<T>>,
+    /// One per cell the box meets with positive volume (one for a polynomial system).
+    pieces: Vec<Piece<T>>,
     depth: u32,
     /// Certified curve points on the box's boundary.
     points: Vec<usize>,
@@ -512,8 +555,18 @@ struct UnitBox {
     hi: Vec<Rational>,
 }
 
+/// A cell of the system: its box in unit coordinates and its exact tangent minors.
+struct CellMinors {
+    lo: Vec<Rational>,
+    hi: Vec<Rational>,
+    minors: Vec<Bernstein<Rational>>,
+}
+
 struct Tracer<'a> {
-    system: &'a System,
+    system: &'a PiecewiseSystem,
+    /// The system itself when it is one polynomial cell: its cross-sections take the
+    /// integer route.
+    poly: Option<&'a System>,
     opts: &'a CurveOptions,
     clock: Instant,
     points: Vec<CurvePoint>,
@@ -524,17 +577,45 @@ struct Tracer<'a> {
     clusters: Vec<(Cluster, Vec<usize>)>,
     visited: usize,
     cross_sections: usize,
-    /// The equations in integer form, for the cross-sections.
+    /// The polynomial system's equations in integer form, for the cross-sections.
     scaled: Vec<ScaledBernstein>,
+    /// Per cell, its unit box and exact minors (its equations are the system's cells').
+    cells: Vec<CellMinors>,
+    /// Per axis, the C⁰ knots in unit coordinates (kept only with three or more unknowns).
+    kinks: Vec<Vec<Rational>>,
 }
 
 impl Tracer<'_> {
+    /// The unit coordinate of the domain coordinate `x` on `axis`.
+    fn to_unit(&self, axis: usize, x: &Rational) -> Rational {
+        let (a, b) = &self.system.domain()[axis];
+        if a.is_zero() && b.is_one() {
+            return x.clone();
+        }
+        (x - a) / (b - a)
+    }
+
+    /// The domain box of unit bounds.
+    fn domain_box(&self, lo: &[Rational], hi: &[Rational]) -> RationalBox {
+        self.system
+            .domain()
+            .iter()
+            .zip(lo.iter().zip(hi))
+            .map(|((a, b), (l, h))| {
+                (
+                    crate::num::rational::lerp(a, b, l),
+                    crate::num::rational::lerp(a, b, h),
+                )
+            })
+            .collect()
+    }
+
     /// A domain box in unit coordinates.
     fn unit_box(&self, bounds: &RationalBox) -> UnitBox {
         let (lo, hi) = bounds
             .iter()
             .enumerate()
-            .map(|(k, (a, b))| (self.system.to_unit(k, a), self.system.to_unit(k, b)))
+            .map(|(k, (a, b))| (self.to_unit(k, a), self.to_unit(k, b)))
             .unzip();
         UnitBox { lo, hi }
     }
@@ -549,28 +630,10 @@ impl Tracer<'_> {
         at: &Rational,
         strict: bool,
     ) -> Result<Option<Crossings>, SolveError> {
-        let bounds = self.system.domain_box(lo, hi);
-        let (a, b) = &self.system.domain[axis];
+        let bounds = self.domain_box(lo, hi);
+        let (a, b) = &self.system.domain()[axis];
         let c = a + (b - a) * at;
-        let plane = plane_system_scaled(self.system, &self.scaled, axis, &c, &bounds)?;
         self.cross_sections += 1;
-        // An equation that vanishes on the whole cross-section leaves infinitely many curve
-        // points on it (the solver would subdivide to its budget): no crossings to certify.
-        if plane
-            .equations
-            .iter()
-            .any(|e| e.coeffs().iter().all(Zero::is_zero))
-        {
-            if strict {
-                return Ok(None);
-            }
-            let mut on_plane = bounds.clone();
-            on_plane[axis] = (c.clone(), c.clone());
-            let blob = self.blobs.len();
-            let unit = self.unit_box(&on_plane);
-            self.blobs.push(unit);
-            return Ok(Some((Vec::new(), vec![blob])));
-        }
         let remaining = self
             .opts
             .limits
@@ -584,7 +647,39 @@ impl Tracer<'_> {
                 // is moved, or its clusters become blobs the subdivision resolves.
                 self.opts.section_limits.with_time_limit(remaining),
             );
-        let sol = solve(&plane, &sopts)?;
+        // An equation that vanishes on the whole cross-section (or on a whole cell of it)
+        // leaves infinitely many curve points on it (the solver would subdivide to its
+        // budget): no crossings to certify.
+        let vanishes = |e: &Bernstein<Rational>| e.coeffs().iter().all(Zero::is_zero);
+        let sol = match self.poly {
+            Some(system) => {
+                let plane = plane_system_scaled(system, &self.scaled, axis, &c, &bounds)?;
+                (!plane.equations.iter().any(vanishes))
+                    .then(|| solve(&plane, &sopts))
+                    .transpose()?
+            }
+            None => {
+                let plane = self.system.plane(axis, &c, &bounds)?;
+                let flat = plane
+                    .cells()
+                    .iter()
+                    .any(|cell| cell.equations.iter().any(vanishes));
+                (!flat)
+                    .then(|| solve_piecewise(&plane, &sopts))
+                    .transpose()?
+            }
+        };
+        let Some(sol) = sol else {
+            if strict {
+                return Ok(None);
+            }
+            let mut on_plane = bounds.clone();
+            on_plane[axis] = (c.clone(), c.clone());
+            let blob = self.blobs.len();
+            let unit = self.unit_box(&on_plane);
+            self.blobs.push(unit);
+            return Ok(Some((Vec::new(), vec![blob])));
+        };
         if strict && !sol.clusters.is_empty() {
             return Ok(None);
         }
@@ -619,10 +714,15 @@ impl Tracer<'_> {
     }
 
     fn cluster<T: Coefficient>(&mut self, node: &Node<T>, reason: ClusterReason) {
-        let max_abs_f = max_abs(&node.polys);
+        let max_abs_f = node
+            .pieces
+            .iter()
+            .map(|p| max_abs(&p.polys))
+            .reduce(|a, b| a.iter().zip(&b).map(|(x, y)| x.max(*y)).collect())
+            .unwrap_or_default();
         self.clusters.push((
             Cluster {
-                bounds: self.system.domain_box(&node.lo, &node.hi),
+                bounds: self.domain_box(&node.lo, &node.hi),
                 reason,
                 max_abs_f,
             },
@@ -630,35 +730,55 @@ impl Tracer<'_> {
         ));
     }
 
+    /// The pieces of `node` in exact rationals, restricted from the cells.
+    fn exact_pieces<T>(&self, node: &Node<T>) -> Result<Vec<Piece<Rational>>, SolveError> {
+        let mut out = Vec::with_capacity(node.pieces.len());
+        for p in &node.pieces {
+            let cell = &self.cells[p.cell];
+            let sub: Vec<(Rational, Rational)> = (0..p.lo.len())
+                .map(|k| {
+                    let w = &cell.hi[k] - &cell.lo[k];
+                    ((&p.lo[k] - &cell.lo[k]) / &w, (&p.hi[k] - &cell.lo[k]) / &w)
+                })
+                .collect();
+            let restrict = |ps: &[Bernstein<Rational>]| -> Result<Vec<_>, BernsteinError> {
+                ps.iter().map(|e| e.restrict(&sub)).collect()
+            };
+            out.push(Piece {
+                lo: p.lo.clone(),
+                hi: p.hi.clone(),
+                cell: p.cell,
+                polys: restrict(&self.system.cells()[p.cell].equations)?,
+                minors: restrict(&cell.minors)?,
+            });
+        }
+        Ok(out)
+    }
+
     /// The class of a node; on the filtered path, exactly where rounding left it open at the
     /// depth limit.
     fn class_of<T: Coefficient>(
         &self,
         node: &Node<T>,
-        exact: &[Bernstein<Rational>],
-        exact_minors: &[Bernstein<Rational>],
         at_limit: bool,
     ) -> Result<Class, SolveError> {
-        let class = classify(&node.polys, &node.minors, self.opts.extreme_axis)?;
+        let class = classify(&node.pieces, self.opts.extreme_axis);
         // Rounding that leaves the class open is usually settled by splitting (the
         // coefficients tighten); only boxes at the depth limit are decided exactly.
         if matches!(class, Class::Uncertain) && self.opts.path == Path::Filtered && at_limit {
-            let sub: Vec<(Rational, Rational)> = node
-                .lo
-                .iter()
-                .cloned()
-                .zip(node.hi.iter().cloned())
-                .collect();
-            let restrict = |ps: &[Bernstein<Rational>]| -> Result<Vec<_>, BernsteinError> {
-                ps.iter().map(|e| e.restrict(&sub)).collect()
-            };
-            return classify(
-                &restrict(exact)?,
-                &restrict(exact_minors)?,
-                self.opts.extreme_axis,
-            );
+            return Ok(classify(&self.exact_pieces(node)?, self.opts.extreme_axis));
         }
         Ok(class)
+    }
+
+    /// A C⁰ knot plane strictly inside the node (axis and unit position), if any: the box
+    /// is split there before it may be regular.
+    fn kink_inside<T>(&self, node: &Node<T>) -> Option<(usize, Rational)> {
+        self.kinks.iter().enumerate().find_map(|(k, ks)| {
+            ks.iter()
+                .find(|x| node.lo[k] < **x && **x < node.hi[k])
+                .map(|x| (k, x.clone()))
+        })
     }
 
     /// Which side of the plane `x_axis = m` a point lies on: `Some(false)` below, `Some(true)`
@@ -673,7 +793,7 @@ impl Tracer<'_> {
         }
     }
 
-    fn run<T: Coefficient>(&mut self, exact: &[Bernstein<Rational>]) -> Result<(), SolveError> {
+    fn run<T: Coefficient>(&mut self) -> Result<(), SolveError> {
         let n = self.system.unknowns();
         let limits = self.opts.limits;
         let zero = vec![Rational::zero(); n];
@@ -696,17 +816,31 @@ impl Tracer<'_> {
         } else {
             Rational::one()
         };
-        let exact_minors: Vec<Bernstein<Rational>> = (0..n)
-            .map(|k| tangent_minor_exact(exact, k))
-            .collect::<Result<_, _>>()?;
+        let pieces = self
+            .cells
+            .iter()
+            .zip(self.system.cells())
+            .enumerate()
+            .map(|(c, (cell, system))| Piece {
+                lo: cell.lo.clone(),
+                hi: cell.hi.clone(),
+                cell: c,
+                polys: system
+                    .equations
+                    .iter()
+                    .map(|e| e.map(T::from_rational))
+                    .collect(),
+                minors: cell
+                    .minors
+                    .iter()
+                    .map(|e| e.map(T::from_rational))
+                    .collect(),
+            })
+            .collect();
         let mut stack = vec![Node {
             lo: zero,
             hi: one,
-            polys: exact.iter().map(|e| e.map(T::from_rational)).collect(),
-            minors: exact_minors
-                .iter()
-                .map(|e| e.map(T::from_rational))
-                .collect(),
+            pieces,
             depth: 0,
             points,
             blobs,
@@ -719,23 +853,28 @@ impl Tracer<'_> {
             }
             self.visited += 1;
             let at_limit = node.depth >= limits.max_depth.saturating_mul(n as u32);
-            let class = self.class_of(&node, exact, &exact_minors, at_limit)?;
+            let class = self.class_of(&node, at_limit)?;
+            if matches!(class, Class::Empty) {
+                continue;
+            }
+            let kink = self.kink_inside(&node);
             let widest = widest_axis(&node.lo, &node.hi);
             let width = &node.hi[widest] - &node.lo[widest];
             match class {
-                Class::Empty => continue,
-                Class::Regular(k) if node.blobs.is_empty() => match node.points.len() {
-                    0 => continue,
-                    2 if width <= resolution => {
-                        self.arcs.push(Arc {
-                            bounds: self.system.domain_box(&node.lo, &node.hi),
-                            ends: [node.points[0], node.points[1]],
-                            monotone_axis: k,
-                        });
-                        continue;
+                Class::Regular(k) if node.blobs.is_empty() && kink.is_none() => {
+                    match node.points.len() {
+                        0 => continue,
+                        2 if width <= resolution => {
+                            self.arcs.push(Arc {
+                                bounds: self.domain_box(&node.lo, &node.hi),
+                                ends: [node.points[0], node.points[1]],
+                                monotone_axis: k,
+                            });
+                            continue;
+                        }
+                        _ => {}
                     }
-                    _ => {}
-                },
+                }
                 _ => {}
             }
             // Splitting is always sound; rounding that left the class open shows in the
@@ -749,61 +888,101 @@ impl Tracer<'_> {
                 self.cluster(&node, reason);
                 continue;
             }
-            let (left, right) = self.split(node, widest)?;
+            let (left, right) = match kink {
+                Some((axis, at)) => self.split(node, axis, Some(at))?,
+                None => self.split(node, widest, None)?,
+            };
             stack.push(right);
             stack.push(left);
         }
         Ok(())
     }
 
-    /// Splits a node along `axis` at the first candidate plane whose cross-section is fully
-    /// certified and which no existing point touches (½ with whatever it has otherwise).
+    /// Splits a node along `axis`: at `at` when given (a C⁰ knot plane), else at the first
+    /// candidate plane whose cross-section is fully certified and which no existing point
+    /// touches (½ with whatever it has otherwise).
     fn split<T: Coefficient>(
         &mut self,
         node: Node<T>,
         axis: usize,
+        at: Option<Rational>,
     ) -> Result<(Node<T>, Node<T>), SolveError> {
-        let tried = if node.depth < MOVED_SPLITS_DEPTH {
-            SPLITS.len()
-        } else {
-            1
+        let candidates: Vec<Rational> = match at {
+            Some(m) => vec![m],
+            None => {
+                let tried = if node.depth < MOVED_SPLITS_DEPTH {
+                    SPLITS.len()
+                } else {
+                    1
+                };
+                SPLITS[..tried]
+                    .iter()
+                    .map(|&(p, q)| {
+                        let s = Rational::new(p.into(), q.into());
+                        crate::num::rational::lerp(&node.lo[axis], &node.hi[axis], &s)
+                    })
+                    .collect()
+            }
         };
         let mut chosen = None;
-        for (i, &(p, q)) in SPLITS[..tried].iter().enumerate() {
-            let s = Rational::new(p.into(), q.into());
-            let m = crate::num::rational::lerp(&node.lo[axis], &node.hi[axis], &s);
+        for (i, m) in candidates.iter().enumerate() {
             let touches = node.points.iter().any(|&id| {
-                self.points[id].axis != axis && self.side(&self.point_boxes[id], axis, &m).is_none()
+                self.points[id].axis != axis && self.side(&self.point_boxes[id], axis, m).is_none()
             });
-            if touches && i + 1 < tried {
+            let last = i + 1 == candidates.len();
+            if touches && !last {
                 continue;
             }
-            let last = i + 1 == tried;
-            if let Some(found) = self.cross_section(&node.lo, &node.hi, axis, &m, !last)? {
-                chosen = Some((s, m, found));
+            if let Some(found) = self.cross_section(&node.lo, &node.hi, axis, m, !last)? {
+                chosen = Some((m.clone(), found));
                 break;
             }
         }
-        let Some((s, m, (new_points, new_blobs))) = chosen else {
+        let Some((m, (new_points, new_blobs))) = chosen else {
             return Err(SolveError::Field {
                 field: "split".into(),
                 why: "no split plane was tried".into(),
             });
         };
-        let st = T::from_rational(&s);
-        let mut lp = Vec::with_capacity(node.polys.len());
-        let mut rp = Vec::with_capacity(node.polys.len());
-        for p in &node.polys {
-            let (l, r) = p.split(axis, &st)?;
-            lp.push(l);
-            rp.push(r);
-        }
-        let mut lm = Vec::with_capacity(node.minors.len());
-        let mut rm = Vec::with_capacity(node.minors.len());
-        for p in &node.minors {
-            let (l, r) = p.split(axis, &st)?;
-            lm.push(l);
-            rm.push(r);
+        let (mut lpieces, mut rpieces) = (Vec::new(), Vec::new());
+        for p in node.pieces {
+            if p.hi[axis] <= m {
+                lpieces.push(p);
+                continue;
+            }
+            if p.lo[axis] >= m {
+                rpieces.push(p);
+                continue;
+            }
+            let t = T::from_rational(&((&m - &p.lo[axis]) / (&p.hi[axis] - &p.lo[axis])));
+            let halves = |ps: &[Bernstein<T>]| -> Result<(Vec<_>, Vec<_>), BernsteinError> {
+                let (mut l, mut r) = (Vec::with_capacity(ps.len()), Vec::with_capacity(ps.len()));
+                for q in ps {
+                    let (a, b) = q.split(axis, &t)?;
+                    l.push(a);
+                    r.push(b);
+                }
+                Ok((l, r))
+            };
+            let (lp, rp) = halves(&p.polys)?;
+            let (lm, rm) = halves(&p.minors)?;
+            let (mut lhi, mut rlo) = (p.hi.clone(), p.lo.clone());
+            lhi[axis] = m.clone();
+            rlo[axis] = m.clone();
+            lpieces.push(Piece {
+                lo: p.lo,
+                hi: lhi,
+                cell: p.cell,
+                polys: lp,
+                minors: lm,
+            });
+            rpieces.push(Piece {
+                lo: rlo,
+                hi: p.hi,
+                cell: p.cell,
+                polys: rp,
+                minors: rm,
+            });
         }
         let (mut lpts, mut rpts) = (new_points.clone(), new_points);
         let (mut lblobs, mut rblobs) = (new_blobs.clone(), new_blobs);
@@ -850,8 +1029,7 @@ impl Tracer<'_> {
             Node {
                 lo: node.lo,
                 hi: hi_left,
-                polys: lp,
-                minors: lm,
+                pieces: lpieces,
                 depth: node.depth + 1,
                 points: lpts,
                 blobs: lblobs,
@@ -859,8 +1037,7 @@ impl Tracer<'_> {
             Node {
                 lo: lo_right,
                 hi: node.hi,
-                polys: rp,
-                minors: rm,
+                pieces: rpieces,
                 depth: node.depth + 1,
                 points: rpts,
                 blobs: rblobs,
@@ -971,10 +1148,38 @@ impl Tracer<'_> {
 /// domain. Every point of the curve in the domain lies in an arc's box or a cluster's box;
 /// every polyline vertex is a certified curve point.
 pub fn trace(system: &System, opts: &CurveOptions) -> Result<Curves, SolveError> {
+    trace_piecewise(&PiecewiseSystem::from_polynomial(system.clone()), opts)
+}
+
+/// [`trace`] for a system whose equations may be tensor B-spline fields. The subdivision
+/// runs over the whole box and its boxes cross knot planes, each carrying one part per cell
+/// it meets (as in [`solve_piecewise`]); the cross-sections are the [`PiecewiseSystem::plane`]
+/// systems, solved by [`solve_piecewise`], so a curve point on a knot plane is found once.
+///
+/// Why a box across knot planes is still regular when every part's tangent minor along axis
+/// `k` has the same strict sign:
+/// - across knots where every field is C¹ (multiplicity below the degree) the minor is a
+///   continuous function with no zero on the box, and the polynomial argument holds as it
+///   is (implicit function theorem);
+/// - in two unknowns the minor is `±∂f/∂x_j` (`j ≠ k`), of one strict sign on every part:
+///   the continuous `f` is then strictly monotone along `x_j`, has at most one zero on each
+///   line `x_k = c`, and its zero set is a union of graphs over `x_k` ending on the boundary;
+/// - in three or more unknowns a C⁰ knot plane (a jump of the Jacobian) is never inside a
+///   regular box: such a box is split exactly at the knot plane first (the plane's curve
+///   points are its cross-section's certified roots), since there agreeing signs on the two
+///   sides do not make the slice map injective.
+///
+/// Extreme points ([`CurveOptions::extreme_axis`]) are computed for polynomial systems only:
+/// on B-spline equations the tangent minor is a piecewise product the square solver would
+/// need as one continuous equation; asking for them is an error there.
+pub fn trace_piecewise(
+    system: &PiecewiseSystem,
+    opts: &CurveOptions,
+) -> Result<Curves, SolveError> {
     let n = system.unknowns();
-    if n < 2 || system.equations.len() + 1 != n {
+    if n < 2 || system.equations().len() + 1 != n {
         return Err(SolveError::NotCurve {
-            equations: system.equations.len(),
+            equations: system.equations().len(),
             unknowns: n,
         });
     }
@@ -984,9 +1189,45 @@ pub fn trace(system: &System, opts: &CurveOptions) -> Result<Curves, SolveError>
             why: format!("axis {k} of a {n}-unknown system"),
         });
     }
-    let exact = &system.equations;
+    let poly = system.polynomial();
+    if opts.extreme_axis.is_some() && poly.is_none() {
+        return Err(SolveError::Field {
+            field: "extreme_axis".into(),
+            why: "extreme points are computed for polynomial equations only; these B-spline \
+                  equations have knots inside the box"
+                .into(),
+        });
+    }
+    let unit = |k: usize, x: &Rational| {
+        let (a, b) = &system.domain()[k];
+        (x - a) / (b - a)
+    };
+    let mut cells = Vec::with_capacity(system.cells().len());
+    for cell in system.cells() {
+        let (lo, hi) = cell
+            .domain
+            .iter()
+            .enumerate()
+            .map(|(k, (a, b))| (unit(k, a), unit(k, b)))
+            .unzip();
+        let minors = (0..n)
+            .map(|k| tangent_minor_exact(&cell.equations, k))
+            .collect::<Result<_, _>>()?;
+        cells.push(CellMinors { lo, hi, minors });
+    }
+    let kinks = if n >= 3 {
+        system
+            .kinks()
+            .iter()
+            .enumerate()
+            .map(|(k, ks)| ks.iter().map(|x| unit(k, x)).collect())
+            .collect()
+    } else {
+        vec![Vec::new(); n]
+    };
     let mut tracer = Tracer {
         system,
+        poly,
         opts,
         clock: Instant::now(),
         points: Vec::new(),
@@ -996,17 +1237,24 @@ pub fn trace(system: &System, opts: &CurveOptions) -> Result<Curves, SolveError>
         clusters: Vec::new(),
         visited: 0,
         cross_sections: 0,
-        scaled: exact.iter().map(ScaledBernstein::from_rational).collect(),
+        scaled: poly.map_or_else(Vec::new, |p| {
+            p.equations
+                .iter()
+                .map(ScaledBernstein::from_rational)
+                .collect()
+        }),
+        cells,
+        kinks,
     };
     match opts.path {
-        Path::Exact => tracer.run::<Rational>(exact)?,
-        Path::Fast | Path::Filtered => tracer.run::<Interval>(exact)?,
+        Path::Exact => tracer.run::<Rational>()?,
+        Path::Fast | Path::Filtered => tracer.run::<Interval>()?,
     }
     let (cluster_groups, group_of) = groups(&tracer.clusters);
     let components = tracer.components(&group_of);
-    let (extremes, extreme_clusters) = match opts.extreme_axis {
-        None => (Vec::new(), Vec::new()),
-        Some(k) => extremes(&tracer, &components, k)?,
+    let (extremes, extreme_clusters) = match (opts.extreme_axis, poly) {
+        (Some(k), Some(p)) => extremes(&tracer, p, &components, k)?,
+        _ => (Vec::new(), Vec::new()),
     };
     Ok(Curves {
         cross_sections: tracer.cross_sections,
@@ -1057,6 +1305,7 @@ pub fn extreme_system(system: &System, axis: usize) -> Result<System, SolveError
 
 fn extremes(
     tracer: &Tracer<'_>,
+    system: &System,
     components: &[Component],
     axis: usize,
 ) -> Result<(Vec<Extreme>, Vec<Cluster>), SolveError> {
@@ -1085,7 +1334,7 @@ fn extremes(
             }
         }
     }
-    let whole = extreme_system(tracer.system, axis)?;
+    let whole = extreme_system(system, axis)?;
     let mut equations = Vec::with_capacity(whole.equations.len());
     for e in &whole.equations {
         let mut q = ScaledBernstein::from_rational(e);

@@ -8,10 +8,16 @@
 //! completeness: that no other curve point lies on an arc box's boundary and that the boxes
 //! between arcs hold no curve. Those are the tracer's cross-section solves.
 
-use super::check::verify_root;
+use super::check::{knot_parts, part_equations, verify_piecewise_root, verify_root};
 use super::curve::tangent_minor;
-use super::input::{certificate_from_json, parse_box, system_from_json, system_to_json};
-use super::{plane_system, Arc, Curves, RationalBox, RootRefusal, SolveError, System};
+use super::input::{
+    certificate_from_json, parse_box, piecewise_system_from_json, piecewise_system_to_json,
+    system_to_json,
+};
+use super::{
+    plane_system, Arc, CurvePoint, Curves, PiecewiseSystem, RationalBox, RootRefusal, SolveError,
+    System,
+};
 use crate::bernstein::Bernstein;
 use crate::num::{rational_to_string, Rational};
 use num_traits::Signed;
@@ -80,25 +86,125 @@ pub enum CurveRefusal {
 
 /// Re-checks a traced curve against `system` (see the module docs for what is checked).
 pub fn verify_curves(system: &System, curves: &Curves) -> Result<CurveCheck, CurveRefusal> {
+    verify_with(
+        &system.domain,
+        curves,
+        |pt| {
+            // The plane system on the point's own box: its domain is the box without the axis.
+            let b = &pt.root.bounds;
+            let plane = plane_system(system, pt.axis, &b[pt.axis].0, b).map_err(|_| None)?;
+            verify_root(&plane, &plane.domain, &pt.root.certificate)
+                .map(|_| ())
+                .map_err(Some)
+        },
+        |arc| {
+            let sub: Vec<(Rational, Rational)> = arc
+                .bounds
+                .iter()
+                .enumerate()
+                .map(|(k, (lo, hi))| (system.to_unit(k, lo), system.to_unit(k, hi)))
+                .collect();
+            let f: Vec<Bernstein<Rational>> = system
+                .equations
+                .iter()
+                .map(|e| e.restrict(&sub))
+                .collect::<Result<_, _>>()
+                .map_err(|e| e.to_string())?;
+            monotone(&[f], arc.monotone_axis)
+        },
+    )
+}
+
+/// [`verify_curves`] for a system with B-spline equations. A point is re-verified as a root
+/// of the [`PiecewiseSystem::plane`] system on its box ([`verify_piecewise_root`]); an arc
+/// box is cut at the knots inside it, each equation taken on each part directly, and the
+/// tangent minor must have the same strict sign on every part; in three or more unknowns no
+/// C⁰ knot plane may lie inside an arc box (see [`trace_piecewise`](super::trace_piecewise)
+/// for why).
+pub fn verify_piecewise_curves(
+    system: &PiecewiseSystem,
+    curves: &Curves,
+) -> Result<CurveCheck, CurveRefusal> {
     let n = system.unknowns();
-    for (p, point) in curves.points.iter().enumerate() {
-        let b = &point.root.bounds;
-        let on_plane = point.axis < n
-            && b.len() == n
-            && b[point.axis].0 == b[point.axis].1
-            && inside(system, b);
+    verify_with(
+        system.domain(),
+        curves,
+        |pt| {
+            let b = &pt.root.bounds;
+            let plane = system.plane(pt.axis, &b[pt.axis].0, b).map_err(|_| None)?;
+            let bounds = plane.domain().to_vec();
+            verify_piecewise_root(&plane, &bounds, &pt.root.certificate)
+                .map(|_| ())
+                .map_err(Some)
+        },
+        |arc| {
+            if n >= 3 {
+                for (k, kinks) in system.kinks().iter().enumerate() {
+                    let (lo, hi) = &arc.bounds[k];
+                    if let Some(x) = kinks.iter().find(|x| lo < *x && *x < hi) {
+                        return Err(format!("the C⁰ knot plane x{k} = {x} crosses the box"));
+                    }
+                }
+            }
+            let parts = knot_parts(system, &arc.bounds)
+                .iter()
+                .map(|part| part_equations(system, part))
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(|e| e.to_string())?;
+            monotone(&parts, arc.monotone_axis)
+        },
+    )
+}
+
+/// The tangent minor without column `axis` has one strict sign, the same on every part
+/// (each part's equations in Bernstein form on it).
+fn monotone(parts: &[Vec<Bernstein<Rational>>], axis: usize) -> Result<(), String> {
+    let mut sign = 0;
+    for f in parts {
+        let minor = tangent_minor(f, axis).map_err(|e| e.to_string())?;
+        let here = if minor.coeffs().iter().all(Signed::is_positive) {
+            1
+        } else if minor.coeffs().iter().all(Signed::is_negative) {
+            -1
+        } else {
+            0
+        };
+        if here == 0 || (sign != 0 && here != sign) {
+            return Err(format!(
+                "the tangent minor without column {axis} is not of one strict sign on the box"
+            ));
+        }
+        sign = here;
+    }
+    Ok(())
+}
+
+/// The checks common to both systems: `point(p)` re-verifies a point's root certificate on
+/// its plane (`Err(None)` when the plane cannot be formed), `arc(a)` an arc box's
+/// monotonicity.
+fn verify_with(
+    domain: &[(Rational, Rational)],
+    curves: &Curves,
+    point: impl Fn(&CurvePoint) -> Result<(), Option<RootRefusal>>,
+    arc: impl Fn(&Arc) -> Result<(), String>,
+) -> Result<CurveCheck, CurveRefusal> {
+    let n = domain.len();
+    for (p, pt) in curves.points.iter().enumerate() {
+        let b = &pt.root.bounds;
+        let on_plane =
+            pt.axis < n && b.len() == n && b[pt.axis].0 == b[pt.axis].1 && inside(domain, b);
         if !on_plane {
             return Err(CurveRefusal::PointBox { point: p });
         }
-        let c = &b[point.axis].0;
-        // The plane system on the point's own box: its domain is the box without the axis.
-        let plane = plane_system(system, point.axis, c, b)
-            .map_err(|_| CurveRefusal::PointBox { point: p })?;
-        verify_root(&plane, &plane.domain, &point.root.certificate)
-            .map_err(|why| CurveRefusal::Point { point: p, why })?;
+        point(pt).map_err(|why| match why {
+            None => CurveRefusal::PointBox { point: p },
+            Some(why) => CurveRefusal::Point { point: p, why },
+        })?;
     }
-    for (i, arc) in curves.arcs.iter().enumerate() {
-        check_arc(system, curves, arc).map_err(|why| CurveRefusal::Arc { arc: i, why })?;
+    for (i, a) in curves.arcs.iter().enumerate() {
+        check_arc(domain, curves, a)
+            .and_then(|()| arc(a))
+            .map_err(|why| CurveRefusal::Arc { arc: i, why })?;
     }
     for (c, comp) in curves.components.iter().enumerate() {
         let refuse = |why: String| CurveRefusal::Component { component: c, why };
@@ -135,40 +241,22 @@ pub fn verify_curves(system: &System, curves: &Curves) -> Result<CurveCheck, Cur
 }
 
 /// Whether the closed box lies in the domain.
-fn inside(system: &System, b: &RationalBox) -> bool {
+fn inside(domain: &[(Rational, Rational)], b: &RationalBox) -> bool {
     b.iter()
-        .zip(&system.domain)
+        .zip(domain)
         .all(|((lo, hi), (a, bb))| lo <= hi && lo >= a && hi <= bb)
 }
 
-fn check_arc(system: &System, curves: &Curves, arc: &Arc) -> Result<(), String> {
-    let n = system.unknowns();
+/// An arc's box and ends: a non-empty box inside the domain, a valid axis, two distinct end
+/// points on the box's boundary.
+fn check_arc(domain: &[(Rational, Rational)], curves: &Curves, arc: &Arc) -> Result<(), String> {
+    let n = domain.len();
     let b = &arc.bounds;
-    if b.len() != n || !inside(system, b) || b.iter().any(|(lo, hi)| lo >= hi) {
+    if b.len() != n || !inside(domain, b) || b.iter().any(|(lo, hi)| lo >= hi) {
         return Err("the box is empty or not inside the domain".into());
     }
     if arc.monotone_axis >= n {
         return Err(format!("monotone axis {} out of range", arc.monotone_axis));
-    }
-    let sub: Vec<(Rational, Rational)> = b
-        .iter()
-        .enumerate()
-        .map(|(k, (lo, hi))| (system.to_unit(k, lo), system.to_unit(k, hi)))
-        .collect();
-    let f: Vec<Bernstein<Rational>> = system
-        .equations
-        .iter()
-        .map(|e| e.restrict(&sub))
-        .collect::<Result<_, _>>()
-        .map_err(|e| e.to_string())?;
-    let minor = tangent_minor(&f, arc.monotone_axis).map_err(|e| e.to_string())?;
-    let positive = minor.coeffs().iter().all(Signed::is_positive);
-    let negative = minor.coeffs().iter().all(Signed::is_negative);
-    if !(positive || negative) {
-        return Err(format!(
-            "the tangent minor without column {} is not of one strict sign on the box",
-            arc.monotone_axis
-        ));
     }
     if arc.ends[0] == arc.ends[1] {
         return Err("both ends are the same point".into());
@@ -196,6 +284,15 @@ fn check_arc(system: &System, curves: &Curves, arc: &Arc) -> Result<(), String> 
 /// The certificate file of a traced curve: the system, every point's box and root
 /// certificate, every arc and every component.
 pub fn curve_certificate(system: &System, curves: &Curves) -> Value {
+    certificate_with(system_to_json(system), curves)
+}
+
+/// [`curve_certificate`] for a system with B-spline equations (stored as given).
+pub fn piecewise_curve_certificate(system: &PiecewiseSystem, curves: &Curves) -> Value {
+    certificate_with(piecewise_system_to_json(system), curves)
+}
+
+fn certificate_with(system: Value, curves: &Curves) -> Value {
     let exact = |b: &RationalBox| {
         b.iter()
             .map(|(lo, hi)| json!([rational_to_string(lo), rational_to_string(hi)]))
@@ -203,7 +300,7 @@ pub fn curve_certificate(system: &System, curves: &Curves) -> Value {
     };
     json!({
         "kind": CURVE_CERTIFICATE_KIND,
-        "system": system_to_json(system),
+        "system": system,
         "points": curves.points.iter().map(|p| json!({
             "axis": p.axis,
             "box": exact(&p.root.bounds),
@@ -223,7 +320,8 @@ pub fn curve_certificate(system: &System, curves: &Curves) -> Value {
     })
 }
 
-/// Reads a curve certificate file back and re-checks it with [`verify_curves`].
+/// Reads a curve certificate file back and re-checks it with [`verify_curves`] (or
+/// [`verify_piecewise_curves`] when its equations have knots inside the box).
 pub fn verify_curve_certificate(
     text: &str,
 ) -> Result<Result<CurveCheck, CurveRefusal>, SolveError> {
@@ -238,7 +336,7 @@ pub fn verify_curve_certificate(
             &format!("expected {CURVE_CERTIFICATE_KIND:?}"),
         ));
     }
-    let system = system_from_json(&v["system"].to_string())?;
+    let system = piecewise_system_from_json(&v["system"].to_string())?;
     let n = system.unknowns();
     let list = |name: &str| {
         v.get(name)
@@ -323,5 +421,8 @@ pub fn verify_curve_certificate(
         cross_sections: 0,
         path: crate::Path::Exact,
     };
-    Ok(verify_curves(&system, &curves))
+    Ok(match system.polynomial() {
+        Some(p) => verify_curves(p, &curves),
+        None => verify_piecewise_curves(&system, &curves),
+    })
 }

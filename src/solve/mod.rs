@@ -39,7 +39,8 @@
 //! component of the tangent has one strict sign, certifies the curve's crossings of every
 //! split plane with the square solver above, and links the arcs into components (open or
 //! closed, ending on the domain's faces or in clusters); [`verify_curves`] re-checks the
-//! result. Equations may be rational functions (the numerator, once the denominator is
+//! result. [`trace_piecewise`] and [`verify_piecewise_curves`] do the same for B-spline
+//! equations, splitting exactly at knot planes where a field is only C⁰. Equations may be rational functions (the numerator, once the denominator is
 //! certified to keep its sign on the box).
 //!
 //! Both paths run the same subdivision generically over the coefficient field: the
@@ -60,12 +61,12 @@ pub use check::{
     verify_solution_certificate, RootCheck, RootRefusal, CERTIFICATE_KIND,
 };
 pub use curve::{
-    extreme_system, plane_system, trace, Arc, Component, CurveEnd, CurveOptions, CurvePoint,
-    Curves, Extreme,
+    extreme_system, plane_system, trace, trace_piecewise, Arc, Component, CurveEnd, CurveOptions,
+    CurvePoint, Curves, Extreme,
 };
 pub use curve_check::{
-    curve_certificate, verify_curve_certificate, verify_curves, CurveCheck, CurveRefusal,
-    CURVE_CERTIFICATE_KIND,
+    curve_certificate, piecewise_curve_certificate, verify_curve_certificate, verify_curves,
+    verify_piecewise_curves, CurveCheck, CurveRefusal, CURVE_CERTIFICATE_KIND,
 };
 pub use input::{
     piecewise_system_from_json, piecewise_system_to_json, system_from_json, system_to_json,

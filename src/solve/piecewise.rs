@@ -28,6 +28,7 @@ use crate::bspline::TensorSpline;
 use crate::num::rational::lerp;
 use crate::num::{rational_from_f64, rational_to_f64, Field, Interval, Rational, Sign};
 use crate::Path;
+use num_traits::{One, Zero};
 use std::time::Instant;
 
 /// The most cells (products of knot spans inside the box) a piecewise system may have.
@@ -49,6 +50,7 @@ pub struct PiecewiseSystem {
     domain: RationalBox,
     equations: Vec<Equation>,
     breaks: Vec<Vec<Rational>>,
+    kinks: Vec<Vec<Rational>>,
     cells: Vec<System>,
 }
 
@@ -65,16 +67,25 @@ impl PiecewiseSystem {
             .iter()
             .map(|(a, b)| vec![a.clone(), b.clone()])
             .collect();
+        let mut kinks: Vec<Vec<Rational>> = vec![Vec::new(); n];
         for (i, e) in equations.iter().enumerate() {
             if let Equation::Spline(s) = e {
                 spline_fits(s, &domain).map_err(|why| SolveError::Equation { equation: i, why })?;
                 for (k, knots) in s.knots().iter().enumerate() {
                     let (a, b) = &domain[k];
-                    breaks[k].extend(knots.iter().filter(|x| a < *x && *x < b).cloned());
+                    let inside = knots.iter().filter(|x| a < *x && *x < b);
+                    breaks[k].extend(inside.clone().cloned());
+                    // Multiplicity m gives continuity C^(p−m) at least: C⁰ at most where m = p.
+                    let p = s.degrees()[k];
+                    kinks[k].extend(
+                        inside
+                            .filter(|x| knots.iter().filter(|y| y == x).count() >= p)
+                            .cloned(),
+                    );
                 }
             }
         }
-        for b in &mut breaks {
+        for b in breaks.iter_mut().chain(kinks.iter_mut()) {
             b.sort();
             b.dedup();
         }
@@ -126,12 +137,81 @@ impl PiecewiseSystem {
             }
             cells.push(System::new(bounds, eqs)?);
         }
+        let kinks = true_kinks(&breaks, &counts, &cells, kinks)?;
         Ok(PiecewiseSystem {
             domain,
             equations,
             breaks,
+            kinks,
             cells,
         })
+    }
+
+    /// The system on the plane `x_axis = c` over `bounds` (a box inside the domain whose
+    /// `axis` interval holds `c`): an `(n − 1)`-unknown system on `bounds` without `axis`,
+    /// each B-spline field restricted to the plane ([`TensorSpline::restrict_axis`]) and each
+    /// polynomial restricted to `bounds` and cut at `c`. The field is continuous, so its
+    /// restriction to a knot plane is well defined.
+    pub fn plane(
+        &self,
+        axis: usize,
+        c: &Rational,
+        bounds: &RationalBox,
+    ) -> Result<PiecewiseSystem, SolveError> {
+        let n = self.unknowns();
+        if axis >= n || bounds.len() != n || n < 2 {
+            return Err(SolveError::Unknowns(n));
+        }
+        let unit = |k: usize, x: &Rational| {
+            let (a, b) = &self.domain[k];
+            (x - a) / (b - a)
+        };
+        let sub: Vec<(Rational, Rational)> = bounds
+            .iter()
+            .enumerate()
+            .map(|(k, (lo, hi))| {
+                if k == axis {
+                    (<Rational as Zero>::zero(), <Rational as One>::one())
+                } else {
+                    (unit(k, lo), unit(k, hi))
+                }
+            })
+            .collect();
+        let whole = sub.iter().all(|(a, b)| a.is_zero() && b.is_one());
+        let at = unit(axis, c);
+        let mut equations = Vec::with_capacity(self.equations.len());
+        for (i, e) in self.equations.iter().enumerate() {
+            equations.push(match e {
+                Equation::Polynomial(p) => {
+                    let mut q = p.eval_axis(axis, &at)?;
+                    if !whole {
+                        q = q.restrict(&sub)?;
+                    }
+                    Equation::Polynomial(q.face(axis, false)?)
+                }
+                Equation::Spline(s) => Equation::Spline(s.restrict_axis(axis, c).map_err(|e| {
+                    SolveError::Equation {
+                        equation: i,
+                        why: e.to_string(),
+                    }
+                })?),
+            });
+        }
+        let domain = bounds
+            .iter()
+            .enumerate()
+            .filter(|&(k, _)| k != axis)
+            .map(|(_, b)| b.clone())
+            .collect();
+        PiecewiseSystem::new(domain, equations)
+    }
+
+    /// Per axis, the knots strictly inside the box across which some B-spline equation is
+    /// not C¹: there the Jacobian jumps. A knot of multiplicity equal to the degree is only
+    /// a candidate; it is a kink when the normal derivatives of two cells meeting on it
+    /// differ (compared exactly, in Bernstein form on the common face).
+    pub fn kinks(&self) -> &[Vec<Rational>] {
+        &self.kinks
     }
 
     /// A polynomial system as a piecewise one with a single cell.
@@ -142,6 +222,7 @@ impl PiecewiseSystem {
                 .iter()
                 .map(|(a, b)| vec![a.clone(), b.clone()])
                 .collect(),
+            kinks: vec![Vec::new(); system.domain.len()],
             equations: system
                 .equations
                 .iter()
@@ -194,6 +275,62 @@ impl PiecewiseSystem {
         }
         flat
     }
+}
+
+/// The candidate kinks (per axis) across which some equation's derivative along the axis
+/// really differs between two cells meeting there. Continuity makes the tangential
+/// derivatives agree, so the normal one decides C¹.
+fn true_kinks(
+    breaks: &[Vec<Rational>],
+    counts: &[usize],
+    cells: &[System],
+    candidates: Vec<Vec<Rational>>,
+) -> Result<Vec<Vec<Rational>>, SolveError> {
+    let strides: Vec<usize> = counts
+        .iter()
+        .scan(1, |s, &c| {
+            let here = *s;
+            *s *= c;
+            Some(here)
+        })
+        .collect();
+    let mut out = Vec::with_capacity(candidates.len());
+    for (k, list) in candidates.into_iter().enumerate() {
+        let mut kept = Vec::new();
+        for x in list {
+            // The cell index j along k whose lower end is x: cells j−1 and j meet on it.
+            let Some(j) = breaks[k].iter().position(|b| *b == x) else {
+                continue;
+            };
+            let mut jumps = false;
+            'cells: for below in 0..cells.len() {
+                if (below / strides[k]) % counts[k] != j - 1 {
+                    continue;
+                }
+                let above = below + strides[k];
+                let width = |c: &System| &c.domain[k].1 - &c.domain[k].0;
+                let (wb, wa) = (width(&cells[below]), width(&cells[above]));
+                for (fb, fa) in cells[below].equations.iter().zip(&cells[above].equations) {
+                    if fb.degrees()[k] == 0 {
+                        continue;
+                    }
+                    // d/dx_k = (d/dt_k) / width: compare (d/dt)_below · w_above with
+                    // (d/dt)_above · w_below on the face.
+                    let db = fb.derivative(k)?.face(k, true)?.scale(&wa);
+                    let da = fa.derivative(k)?.face(k, false)?.scale(&wb);
+                    if db != da {
+                        jumps = true;
+                        break 'cells;
+                    }
+                }
+            }
+            if jumps {
+                kept.push(x);
+            }
+        }
+        out.push(kept);
+    }
+    Ok(out)
 }
 
 /// Why a B-spline field does not fit the box, if it does not.

@@ -6,9 +6,10 @@ use clap::Subcommand;
 use geocert::bernstein::Limits;
 use geocert::num::rational_to_string;
 use geocert::solve::{
-    curve_certificate, piecewise_solution_certificate, piecewise_system_from_json, solve_piecewise,
-    trace, verify_curve_certificate, verify_solution_certificate, Cluster, ClusterReason, CurveEnd,
-    CurveOptions, SolveOptions, System, CURVE_CERTIFICATE_KIND,
+    curve_certificate, piecewise_curve_certificate, piecewise_solution_certificate,
+    piecewise_system_from_json, solve_piecewise, trace_piecewise, verify_curve_certificate,
+    verify_solution_certificate, Cluster, ClusterReason, CurveEnd, CurveOptions, PiecewiseSystem,
+    SolveOptions, CURVE_CERTIFICATE_KIND,
 };
 use geocert::Path;
 use std::path::PathBuf;
@@ -79,14 +80,7 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
         ));
     }
     if a.curves {
-        let Some(polynomial) = system.polynomial() else {
-            return Err(format!(
-                "{}: curves of B-spline equations with knots inside the box are not traced yet \
-                 (the square solver takes them)",
-                file.display()
-            ));
-        };
-        return curves(&a, &file, polynomial, time_limit);
+        return curves(&a, &file, &system, time_limit);
     }
     let opts = SolveOptions::new()
         .with_path(a.path)
@@ -206,7 +200,7 @@ fn cluster_json(c: &Cluster) -> serde_json::Value {
 fn curves(
     a: &Args,
     file: &std::path::Path,
-    system: &System,
+    system: &PiecewiseSystem,
     time_limit: Option<std::time::Duration>,
 ) -> Result<ExitCode, String> {
     if !(a.resolution.is_finite() && a.resolution > 0.0) {
@@ -230,10 +224,14 @@ fn curves(
                 .with_time_limit(time_limit),
         );
     let clock = std::time::Instant::now();
-    let c = trace(system, &opts).map_err(|e| format!("{}: {e}", file.display()))?;
+    let c = trace_piecewise(system, &opts).map_err(|e| format!("{}: {e}", file.display()))?;
     let seconds = clock.elapsed().as_secs_f64();
     if let Some(path) = &a.cert {
-        write(path, pretty(&curve_certificate(system, &c))?)?;
+        let cert = match system.polynomial() {
+            Some(p) => curve_certificate(p, &c),
+            None => piecewise_curve_certificate(system, &c),
+        };
+        write(path, pretty(&cert)?)?;
     }
     let end_json = |e: &CurveEnd| match *e {
         CurveEnd::Face { point, axis, upper } => serde_json::json!({

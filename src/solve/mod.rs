@@ -11,7 +11,9 @@
 //! and Elber, The Visual Computer 22, 2006) runs in IRIT, here with certificates:
 //!
 //! * **culling** — a box is dropped when some equation's Bernstein coefficients on it are all
-//!   of one strict sign (convex-hull property);
+//!   of one strict sign (convex-hull property), or when some row of the preconditioned
+//!   system `g = A f` below is (any `A` keeps every root of `f` a root of `g`; where the zero
+//!   sets cross obliquely this culls what the equations alone cannot);
 //! * **existence** — Miranda's theorem on the system preconditioned by an approximate inverse
 //!   Jacobian `A` at the box centre (computed in `f64`, applied exactly: any matrix is
 //!   allowed): `g = A f` with `g_i < 0` on the face `t_i = 0` and `g_i > 0` on `t_i = 1`

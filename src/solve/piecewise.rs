@@ -477,7 +477,7 @@ fn across_split_planes(
         if !clear {
             continue;
         }
-        if let (Decision::Yes, Some(c)) = certify_parts(
+        if let (Decision::Yes, Some(c), _) = certify_parts(
             &parts(system, |c| exact_cell(system, c), &lo, &hi)?,
             &lo,
             &hi,
@@ -560,7 +560,11 @@ fn subdivide<T: Coefficient>(
         let (mut certified, mut certificate) = if cull == Decision::Yes {
             (Decision::No, None)
         } else {
-            certify_parts(&pieces, &lo, &hi)?
+            let (d, c, empty) = certify_parts(&pieces, &lo, &hi)?;
+            if empty {
+                cull = Decision::Yes;
+            }
+            (d, c)
         };
         let deepest = depth >= levels.saturating_mul(n as u32);
         let open = cull == Decision::Uncertain || certified == Decision::Uncertain;
@@ -574,7 +578,11 @@ fn subdivide<T: Coefficient>(
             (certified, certificate) = if cull == Decision::Yes {
                 (Decision::No, None)
             } else {
-                certify_parts(&exact, &lo, &hi)?
+                let (d, c, empty) = certify_parts(&exact, &lo, &hi)?;
+                if empty {
+                    cull = Decision::Yes;
+                }
+                (d, c)
             };
         }
         if cull == Decision::Yes {
@@ -813,13 +821,20 @@ fn parts<'a, T: Coefficient + 'a>(
 
 /// Some equation of one strict sign on every part (the same sign on all): `Yes` culls.
 fn culled<T: Coefficient>(parts: &[Part<T>]) -> Decision {
-    let n = parts.first().map_or(0, |p| p.f.len());
+    let rows: Vec<&[Bernstein<T>]> = parts.iter().map(|p| p.f.as_slice()).collect();
+    one_sign_somewhere(&rows)
+}
+
+/// Some row index `i` whose polynomial has one strict sign on every part (`rows[p][i]` on
+/// part `p`), the same on all.
+fn one_sign_somewhere<T: Coefficient>(rows: &[&[Bernstein<T>]]) -> Decision {
+    let n = rows.first().map_or(0, |p| p.len());
     let mut uncertain = false;
     for i in 0..n {
         let mut sign = None;
         let mut ok = true;
-        for p in parts {
-            match strict_sign(&p.f[i]) {
+        for p in rows {
+            match strict_sign(&p[i]) {
                 s @ (Sign::Positive | Sign::Negative) if sign.is_none_or(|o| o == s) => {
                     sign = Some(s)
                 }
@@ -842,12 +857,13 @@ fn culled<T: Coefficient>(parts: &[Part<T>]) -> Decision {
 }
 
 /// Existence and uniqueness on the box `[lo, hi]` across its parts, in `T`: the
-/// certificate, `No`, or `Uncertain` (rounding).
+/// certificate, `No`, or `Uncertain` (rounding); and whether the preconditioned system
+/// culls the box (some `g_i` of one strict sign on every part: no root).
 fn certify_parts<T: Coefficient>(
     parts: &[Part<T>],
     lo: &[Rational],
     hi: &[Rational],
-) -> Result<(Decision, Option<RootCertificate>), SolveError> {
+) -> Result<(Decision, Option<RootCertificate>, bool), SolveError> {
     let n = lo.len();
     // The preconditioner: the inverse Jacobian (in the box's unit coordinates) at the centre.
     let half = Rational::new(1.into(), 2.into());
@@ -856,7 +872,7 @@ fn certify_parts<T: Coefficient>(
         .iter()
         .find(|p| (0..n).all(|k| p.lo[k] <= centre[k] && centre[k] <= p.hi[k]))
     else {
-        return Ok((Decision::No, None));
+        return Ok((Decision::No, None, false));
     };
     // Only an approximation is needed (the preconditioner may be any matrix).
     let tau: Vec<f64> = (0..n)
@@ -884,6 +900,10 @@ fn certify_parts<T: Coefficient>(
         .iter()
         .map(|p| precondition(&a, &p.f))
         .collect::<Result<_, _>>()?;
+    let rows: Vec<&[Bernstein<T>]> = g.iter().map(Vec::as_slice).collect();
+    if n > 1 && one_sign_somewhere(&rows) == Decision::Yes {
+        return Ok((Decision::No, None, true));
+    }
     let mut uncertain = false;
     // Miranda: g_i of one strict sign on every part of the face t_i = 0, the other on t_i = 1.
     let mut signs = Vec::with_capacity(n);
@@ -902,19 +922,19 @@ fn certify_parts<T: Coefficient>(
                     {
                         sides[usize::from(upper)] = Some(s)
                     }
-                    _ => return Ok((Decision::No, None)),
+                    _ => return Ok((Decision::No, None, false)),
                 }
             }
         }
         match sides {
             [Some(Sign::Negative), Some(Sign::Positive)] if !row_uncertain => signs.push(-1),
             [Some(Sign::Positive), Some(Sign::Negative)] if !row_uncertain => signs.push(1),
-            [Some(a), Some(b)] if a == b => return Ok((Decision::No, None)),
+            [Some(a), Some(b)] if a == b => return Ok((Decision::No, None, false)),
             _ if row_uncertain => {
                 uncertain = true;
                 signs.push(0);
             }
-            _ => return Ok((Decision::No, None)),
+            _ => return Ok((Decision::No, None, false)),
         }
     }
     // Uniqueness: the interval Jacobian over all parts, strictly diagonally dominant by rows.
@@ -925,7 +945,7 @@ fn certify_parts<T: Coefficient>(
             for (k, off_k) in off.iter_mut().enumerate() {
                 if gp[i].degrees()[k] == 0 {
                     if k == i {
-                        return Ok((Decision::No, None));
+                        return Ok((Decision::No, None, false));
                     }
                     continue;
                 }
@@ -947,7 +967,7 @@ fn certify_parts<T: Coefficient>(
                     diag = match (diag, s) {
                         (None, Sign::Positive | Sign::Negative) => Some((s, least)),
                         (Some((o, m)), s) if o == s => Some((s, m.min_lower(&least))),
-                        _ => return Ok((Decision::No, None)),
+                        _ => return Ok((Decision::No, None, false)),
                     };
                 } else {
                     let most = d
@@ -966,16 +986,16 @@ fn certify_parts<T: Coefficient>(
             if uncertain {
                 continue;
             }
-            return Ok((Decision::No, None));
+            return Ok((Decision::No, None, false));
         };
         match m.sub(&off).sign() {
             Sign::Positive => {}
             Sign::Uncertain => uncertain = true,
-            _ => return Ok((Decision::No, None)),
+            _ => return Ok((Decision::No, None, false)),
         }
     }
     if uncertain {
-        return Ok((Decision::Uncertain, None));
+        return Ok((Decision::Uncertain, None, false));
     }
     Ok((
         Decision::Yes,
@@ -983,6 +1003,7 @@ fn certify_parts<T: Coefficient>(
             preconditioner: a,
             lower_face_signs: signs,
         }),
+        false,
     ))
 }
 
@@ -1074,7 +1095,7 @@ fn refine_box(
             shi.push(b.min(hi[k].clone()));
         }
         if (0..n).all(|k| slo[k] < shi[k]) {
-            if let (Decision::Yes, Some(c)) = certify_parts(
+            if let (Decision::Yes, Some(c), _) = certify_parts(
                 &parts(system, |c| exact_cell(system, c), &slo, &shi)?,
                 &slo,
                 &shi,

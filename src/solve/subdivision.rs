@@ -349,6 +349,16 @@ fn diagonally_dominant<T: Coefficient>(g: &[Bernstein<T>]) -> Result<Decision, S
 fn certify<T: Coefficient>(
     polys: &[Bernstein<T>],
 ) -> Result<(Decision, Option<RootCertificate>), SolveError> {
+    certify_or_cull(polys).map(|(d, c, _)| (d, c))
+}
+
+/// [`certify`], and whether the preconditioned system culls the box: a `g_i = Σ_j A_ij f_j`
+/// of one strict sign on it (any matrix `A` keeps every root of `f` a root of `g`). Where the
+/// equations' zero sets cross obliquely this culls far more than the equations themselves:
+/// each `f_i` alone changes sign on boxes near the others' zero sets, `g ≈ J⁻¹ f` does not.
+fn certify_or_cull<T: Coefficient>(
+    polys: &[Bernstein<T>],
+) -> Result<(Decision, Option<RootCertificate>, bool), SolveError> {
     let a = preconditioner(polys)?;
     let preconditioned;
     // One unknown: the preconditioner is the identity, `g = f`.
@@ -356,8 +366,20 @@ fn certify<T: Coefficient>(
         polys
     } else {
         preconditioned = precondition(&a, polys)?;
+        if root_free(&preconditioned) == Decision::Yes {
+            return Ok((Decision::No, None, true));
+        }
         &preconditioned
     };
+    let (certified, certificate) = certify_with(g, a)?;
+    Ok((certified, certificate, false))
+}
+
+/// Miranda and diagonal dominance on `g = A f`.
+fn certify_with<T: Coefficient>(
+    g: &[Bernstein<T>],
+    a: Vec<Vec<Rational>>,
+) -> Result<(Decision, Option<RootCertificate>), SolveError> {
     let (exists, signs) = miranda(g)?;
     if exists == Decision::No {
         return Ok((Decision::No, None));
@@ -812,7 +834,10 @@ fn run<T: Coefficient>(
         if culled == Decision::Yes {
             continue;
         }
-        let (certified, certificate) = certify(&node.polys)?;
+        let (certified, certificate, empty) = certify_or_cull(&node.polys)?;
+        if empty {
+            continue;
+        }
         if let (Decision::Yes, Some(certificate)) = (certified, certificate) {
             let (lo, hi, certificate) = refine(&node, certificate, opts.tolerance, finish)?;
             found.roots.push(root_of(system, &lo, &hi, certificate));

@@ -37,8 +37,8 @@ pub use scene::{builtin_scene, builtin_scene_json, scene_from_json, Patch, BUILT
 #[cfg(feature = "reports")]
 pub(crate) use silhouette::{apply_motion, eye_point};
 pub use silhouette::{
-    silhouette, verify_t_extreme, ComponentEnd, ComponentKind, ComponentType, SilhouetteComponent,
-    SilhouetteOptions, Silhouettes, TExtreme, JOIN_TOLERANCE, MIN_RESOLUTION,
+    silhouette, t_extreme_systems, verify_t_extreme, ComponentEnd, ComponentKind, ComponentType,
+    SilhouetteComponent, SilhouetteOptions, Silhouettes, TExtreme, JOIN_TOLERANCE, MIN_RESOLUTION,
 };
 
 use crate::bernstein::BernsteinError;

@@ -640,6 +640,23 @@ pub fn verify_t_extreme(
     ))
 }
 
+/// Per patch of every surface (in order), the square system `Z₀ = {F̃ = G̃ = H = 0}` of
+/// eq. 3 on `[0,1]² × [a, b]` (`H` the Jacobian minor `F_u G_v − F_v G_u`): its roots are the
+/// silhouette's `t`-extreme points. These are the solver's silhouette systems;
+/// [`silhouette`] solves them only on the boxes the trace leaves non-monotone in `t`.
+pub fn t_extreme_systems(scene: &Scene) -> Result<Vec<System>, SweepError> {
+    let eye = eye_point(scene);
+    let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
+    let mut out = Vec::new();
+    for surface in &scene.surfaces {
+        for patch in &surface.patches {
+            let eq = equations_with(&forms, patch, &eye)?;
+            out.push(extreme_system(&patch_system(scene, &eq, false)?, 2)?);
+        }
+    }
+    Ok(out)
+}
+
 /// Algorithm 1 on every patch of every surface: the envelope's silhouette components with
 /// their types, the certified `t`-extreme points, and (optionally) the end positions'
 /// contours.

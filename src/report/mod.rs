@@ -16,6 +16,7 @@ pub mod mc_markdown;
 pub mod mc_topology;
 pub mod solve;
 pub mod solve_curves;
+pub mod solve_silhouette;
 pub mod sweep;
 
 use crate::proofs::ProofOutcome;

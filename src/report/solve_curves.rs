@@ -2,11 +2,15 @@
 //! known (circles from Pythagorean parameters, space curves that are graphs over `x`),
 //! traced on every path; every sampled point must lie in a traced arc or cluster box, every
 //! traced curve must pass the independent checker, and circles well inside the box must come
-//! back as exactly one loop.
+//! back as exactly one loop. One family is of B-spline equations with C⁰ kinks.
 
 use super::solve::{median, Rng};
+use crate::bspline::{Spline, TensorSpline};
 use crate::num::{rational_to_string, Rational};
-use crate::solve::{system_from_json, trace, verify_curves, CurveOptions, Curves, System};
+use crate::solve::{
+    system_from_json, trace_piecewise, verify_curves, verify_piecewise_curves, CurveOptions,
+    Curves, Equation, PiecewiseSystem,
+};
 use crate::Path as Arith;
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -49,7 +53,7 @@ pub struct CurveRow {
 }
 
 struct CurveCase {
-    system: System,
+    system: PiecewiseSystem,
     points: Vec<Vec<Rational>>,
     one_loop: bool,
 }
@@ -86,7 +90,9 @@ fn circle(cx: Rational, cy: Rational, rho: Rational) -> CurveCase {
         .iter()
         .all(|c| *c - &rho > -&one + &margin && *c + &rho < &one - &margin);
     CurveCase {
-        system: system_from_json(&text).expect("well-formed circle"),
+        system: PiecewiseSystem::from_polynomial(
+            system_from_json(&text).expect("well-formed circle"),
+        ),
         points,
         one_loop,
     }
@@ -124,7 +130,66 @@ fn graph_curve(p: [i64; 4], q: [i64; 4], scale: i64) -> CurveCase {
         .filter(|p| p.iter().all(|v| v >= &-&one && v <= &one))
         .collect();
     CurveCase {
-        system: system_from_json(&text).expect("well-formed curve"),
+        system: PiecewiseSystem::from_polynomial(
+            system_from_json(&text).expect("well-formed curve"),
+        ),
+        points,
+        one_loop: false,
+    }
+}
+
+/// `x_axis − s(x_0)` for the univariate spline `s` (degree `p`, `knots`, `coeffs`) as a
+/// tensor B-spline in three unknowns on `[0, 1]³`.
+fn graph_equation(axis: usize, s: &Spline<Rational>) -> Equation {
+    let mut degrees = vec![0; 3];
+    degrees[0] = s.degree();
+    degrees[axis] = 1;
+    let knots = (0..3)
+        .map(|k| match k {
+            0 => s.knots().to_vec(),
+            k if k == axis => vec![r(0, 1), r(0, 1), r(1, 1), r(1, 1)],
+            _ => vec![r(0, 1), r(1, 1)],
+        })
+        .collect();
+    // Partition of unity: Σ_i Σ_l (l − c_i) N_i(x_0) M_l(x_axis) = x_axis − s(x_0).
+    let coeffs = (0..2)
+        .flat_map(|l| s.coeffs().iter().map(move |c| r(l, 1) - c))
+        .collect();
+    Equation::Spline(
+        TensorSpline::new(degrees, knots, coeffs).expect("graph equations are well formed"),
+    )
+}
+
+/// The space curve `y = g(x)`, `z = h(x)` on `[0, 1]³` with `g` piecewise linear (kinks at
+/// `gk`) and `h` quadratic with a double knot at `hk` (a kink), coefficients in `[1/8, 7/8]`;
+/// and its rational points.
+fn kinked_graph(gk: &[Rational], gc: &[Rational], hk: &Rational, hc: &[Rational]) -> CurveCase {
+    let clamp = |p: usize, inner: &[Rational]| {
+        let mut k = vec![r(0, 1); p + 1];
+        k.extend(inner.iter().cloned());
+        k.extend(vec![r(1, 1); p + 1]);
+        k
+    };
+    let g = Spline::new(1, clamp(1, gk), gc.to_vec()).expect("g is well formed");
+    let h = Spline::new(2, clamp(2, &[hk.clone(), hk.clone()]), hc.to_vec())
+        .expect("h is well formed");
+    let system = PiecewiseSystem::new(
+        vec![(r(0, 1), r(1, 1)); 3],
+        vec![graph_equation(1, &g), graph_equation(2, &h)],
+    )
+    .expect("graph systems are well formed");
+    let points = (0..=48)
+        .map(|k| {
+            let x = r(k, 48);
+            let (y, z) = (
+                g.eval(&x).expect("inside"),
+                h.eval(&x).expect("inside"),
+            );
+            vec![x, y, z]
+        })
+        .collect();
+    CurveCase {
+        system,
         points,
         one_loop: false,
     }
@@ -162,10 +227,30 @@ pub fn curve_campaign(seed: u64, count: usize) -> Vec<CurveRow> {
             graph_curve(p, q, 8)
         })
         .collect();
+    let kinked: Vec<CurveCase> = (0..count)
+        .map(|_| {
+            let mut gk: Vec<i64> = Vec::new();
+            while gk.len() < 3 {
+                let x = rng.int(2, 30);
+                if !gk.contains(&x) {
+                    gk.push(x);
+                }
+            }
+            gk.sort_unstable();
+            let gk: Vec<Rational> = gk.into_iter().map(|x| r(x, 32)).collect();
+            let mut c = |count: usize| (0..count).map(|_| r(rng.int(4, 28), 32)).collect();
+            let (gc, hc): (Vec<Rational>, Vec<Rational>) = (c(5), c(5));
+            kinked_graph(&gk, &gc, &r(rng.int(3, 13), 16), &hc)
+        })
+        .collect();
     let mut rows = Vec::new();
     for (name, cases) in [
         ("circles on [−1, 1]² (radius 1/8 to 1)", circles),
         ("space cubics y = p(x), z = q(x) on [−1, 1]³", graphs),
+        (
+            "C⁰ B-spline graphs y = g(x), z = h(x) on [0, 1]³ (4 kinks)",
+            kinked,
+        ),
     ] {
         let mut paths = Vec::new();
         for path in [Arith::Exact, Arith::Fast, Arith::Filtered] {
@@ -177,7 +262,7 @@ pub fn curve_campaign(seed: u64, count: usize) -> Vec<CurveRow> {
                     .limits
                     .with_time_limit(Some(std::time::Duration::from_secs(20)));
                 let clock = Instant::now();
-                let Ok(c) = trace(&case.system, &opts.with_limits(limits)) else {
+                let Ok(c) = trace_piecewise(&case.system, &opts.with_limits(limits)) else {
                     t.refused += 1;
                     continue;
                 };
@@ -199,10 +284,16 @@ pub fn curve_campaign(seed: u64, count: usize) -> Vec<CurveRow> {
                         t.missing += 1;
                     }
                 }
-                if verify_curves(&case.system, &c).is_err() {
+                let check = match case.system.polynomial() {
+                    Some(p) => verify_curves(p, &c),
+                    None => verify_piecewise_curves(&case.system, &c),
+                };
+                if check.is_err() {
                     t.refused += 1;
                 }
-                let side = 2.0;
+                let side = crate::num::rational_to_f64(
+                    &(&case.system.domain()[0].1 - &case.system.domain()[0].0),
+                );
                 for k in &c.components {
                     t.worst_hausdorff = t.worst_hausdorff.max(k.hausdorff_bound / side);
                 }
@@ -237,7 +328,11 @@ pub fn curves_markdown(rows: &[CurveRow]) -> String {
          boundary holds exactly two certified crossing points (one arc joins them) or none; \
          what cannot be resolved within 16 levels is a cluster. The curves here have exact \
          rational points known by construction: circles from Pythagorean parameters \
-         `c + ρ(1 − t², 2t)/(1 + t²)`, and space cubics that are graphs over x. *Missing* counts \
+         `c + ρ(1 − t², 2t)/(1 + t²)`, space cubics that are graphs over x, and graphs over x \
+         of B-splines with C⁰ kinks (`g` piecewise linear with three kinks, `h` quadratic with a \
+         double knot), whose equations are B-spline fields (`solve::trace_piecewise`: boxes \
+         split exactly at the kink planes, every crossing of one a certified vertex; checked \
+         by `verify_piecewise_curves`). *Missing* counts \
          sampled points in no arc or cluster box, *refused* curves the independent checker \
          (`verify_curves`: every vertex the unique root on its plane, every arc box's minor of \
          one sign, components re-walked) rejects; both must be 0. A circle at least 1/16 inside \

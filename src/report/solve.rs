@@ -961,7 +961,9 @@ pub fn write_solve_report(
         }
     );
     s.push_str(&super::solve_curves::curves_markdown(&c.curves));
-    s.push_str(&super::solve_silhouette::silhouette_markdown(&c.silhouettes));
+    s.push_str(&super::solve_silhouette::silhouette_markdown(
+        &c.silhouettes,
+    ));
     let path = dir.join("solve.md");
     std::fs::create_dir_all(dir)?;
     std::fs::write(&path, s)?;

@@ -171,8 +171,8 @@ fn kinked_graph(gk: &[Rational], gc: &[Rational], hk: &Rational, hc: &[Rational]
         k
     };
     let g = Spline::new(1, clamp(1, gk), gc.to_vec()).expect("g is well formed");
-    let h = Spline::new(2, clamp(2, &[hk.clone(), hk.clone()]), hc.to_vec())
-        .expect("h is well formed");
+    let h =
+        Spline::new(2, clamp(2, &[hk.clone(), hk.clone()]), hc.to_vec()).expect("h is well formed");
     let system = PiecewiseSystem::new(
         vec![(r(0, 1), r(1, 1)); 3],
         vec![graph_equation(1, &g), graph_equation(2, &h)],
@@ -181,10 +181,7 @@ fn kinked_graph(gk: &[Rational], gc: &[Rational], hk: &Rational, hc: &[Rational]
     let points = (0..=48)
         .map(|k| {
             let x = r(k, 48);
-            let (y, z) = (
-                g.eval(&x).expect("inside"),
-                h.eval(&x).expect("inside"),
-            );
+            let (y, z) = (g.eval(&x).expect("inside"), h.eval(&x).expect("inside"));
             vec![x, y, z]
         })
         .collect();

@@ -159,8 +159,8 @@ pub fn silhouette_campaign(root: &Path) -> Vec<SilhouetteRow> {
             }
             Ok((positive, agree, median(t)))
         });
-        let phc = run_phc_within(root, &cases[..1.min(cases.len())], Some(PHC_TIMEOUT)).map(
-            |results| {
+        let phc =
+            run_phc_within(root, &cases[..1.min(cases.len())], Some(PHC_TIMEOUT)).map(|results| {
                 let (real, secs) = results.into_iter().next().unwrap_or_default();
                 let inside: Vec<Vec<f64>> = real
                     .into_iter()
@@ -174,15 +174,17 @@ pub fn silhouette_campaign(root: &Path) -> Vec<SilhouetteRow> {
                             .any(|p| p.iter().zip(&r.approx).all(|(x, y)| (x - y).abs() <= 1e-6))
                     });
                 (inside.len(), matches, 1e3 * secs)
-            },
-        );
+            });
         rows.push(SilhouetteRow {
             scene: name.into(),
             systems: unit_systems.len(),
             degrees,
             roots,
             clusters,
-            filtered_ms: (median(times.clone()), times.iter().copied().fold(0.0, f64::max)),
+            filtered_ms: (
+                median(times.clone()),
+                times.iter().copied().fold(0.0, f64::max),
+            ),
             exact: (median(exact_times), same),
             msolve: msolve_row,
             phc,

@@ -304,6 +304,17 @@ impl<T: Field> Bernstein<T> {
         self.check_axis(axis)?;
         let d = self.degrees[axis];
         let e = d + by;
+        // Row i: the weights of b_j for j = i − by … i (clamped to 0 … d), once per call; each
+        // output is one `Field::dot` (for rationals: one reduction instead of one per term).
+        let rows: Vec<(usize, Vec<T>)> = (0..=e)
+            .map(|i| {
+                let j0 = i.saturating_sub(by);
+                let weights = (j0..=i.min(d))
+                    .map(|j| ratio(binomial(d, j) * binomial(by, i - j), binomial(e, i)))
+                    .collect();
+                (j0, weights)
+            })
+            .collect();
         let coeffs = map_lines(
             &self.degrees,
             &self.coeffs,
@@ -311,15 +322,8 @@ impl<T: Field> Bernstein<T> {
             e + 1,
             &T::zero(),
             |line, out| {
-                for (i, o) in out.iter_mut().enumerate() {
-                    let mut acc = T::zero();
-                    for (j, bj) in line.iter().enumerate() {
-                        if i >= j && i - j <= by {
-                            let w: T = ratio(binomial(d, j) * binomial(by, i - j), binomial(e, i));
-                            acc = acc.add(&w.mul(bj));
-                        }
-                    }
-                    *o = acc;
+                for (o, (j0, w)) in out.iter_mut().zip(&rows) {
+                    *o = T::dot(w, &line[*j0..]);
                 }
             },
         );

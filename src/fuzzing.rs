@@ -807,6 +807,42 @@ pub fn check_solve(data: &[u8]) -> Result<(), String> {
     })
 }
 
+/// A clamped tensor B-spline on the unit box decoded from bytes: per axis (of the given
+/// degrees) `at_least` to `at_least + 2` interior knots on the grid k/8, each kept while its
+/// multiplicity stays at most the degree (so C⁰ knots occur, jumps do not), and coefficients
+/// k/8.
+fn random_spline(
+    next: &mut impl FnMut() -> u8,
+    degrees: Vec<usize>,
+    at_least: u8,
+) -> Result<crate::bspline::TensorSpline<Rational>, String> {
+    let q = |a: i64, b: i64| Rational::new(a.into(), b.into());
+    let knots: Vec<Vec<Rational>> = degrees
+        .iter()
+        .map(|&d| {
+            let mut inner: Vec<Rational> = (0..at_least + next() % 3)
+                .map(|_| q(1 + (next() % 7) as i64, 8))
+                .collect();
+            inner.sort();
+            let mut k = vec![q(0, 1); d + 1];
+            for x in inner {
+                if k.iter().filter(|y| **y == x).count() < d {
+                    k.push(x);
+                }
+            }
+            k.extend(vec![q(1, 1); d + 1]);
+            k
+        })
+        .collect();
+    let count: usize = knots
+        .iter()
+        .zip(&degrees)
+        .map(|(k, d)| k.len() - d - 1)
+        .product();
+    let coeffs = (0..count).map(|_| q(next() as i8 as i64, 8)).collect();
+    crate::bspline::TensorSpline::new(degrees, knots, coeffs).map_err(|e| e.to_string())
+}
+
 /// Differential solving of B-spline equations: a system of 1–2 unknowns decoded from bytes,
 /// each equation a tensor B-spline on the unit box (degree 1–3 per axis, clamped, one to
 /// three interior knots on the grid k/8 of multiplicity at most the degree, coefficients
@@ -861,32 +897,7 @@ pub fn check_solve_bspline(data: &[u8]) -> Result<(), String> {
                 .map_err(|e| e.to_string())?
         } else {
             let degrees: Vec<usize> = (0..n).map(|_| 1 + next() as usize % 3).collect();
-            let knots: Vec<Vec<Rational>> = degrees
-                .iter()
-                .map(|&d| {
-                    let mut inner: Vec<Rational> = (0..1 + next() % 3)
-                        .map(|_| q(1 + (next() % 7) as i64, 8))
-                        .collect();
-                    inner.sort();
-                    let mut capped: Vec<Rational> = Vec::new();
-                    for x in inner {
-                        if capped.iter().filter(|y| **y == x).count() < d {
-                            capped.push(x);
-                        }
-                    }
-                    let mut k = vec![q(0, 1); d + 1];
-                    k.extend(capped);
-                    k.extend(vec![q(1, 1); d + 1]);
-                    k
-                })
-                .collect();
-            let count: usize = knots
-                .iter()
-                .zip(&degrees)
-                .map(|(k, d)| k.len() - d - 1)
-                .product();
-            let coeffs = (0..count).map(|_| q(next() as i8 as i64, 8)).collect();
-            TensorSpline::new(degrees, knots, coeffs).map_err(|e| e.to_string())?
+            random_spline(&mut next, degrees, 1)?
         };
         equations.push(Equation::Spline(spline));
     }
@@ -923,7 +934,6 @@ pub fn check_solve_bspline(data: &[u8]) -> Result<(), String> {
 /// left a cluster both must report the same components (count, loops, ends per component).
 pub fn check_curve(data: &[u8]) -> Result<(), String> {
     use crate::bernstein::{Bernstein, Limits};
-    use crate::bspline::TensorSpline;
     use crate::solve::{
         trace_piecewise, verify_curves, verify_piecewise_curves, CurveOptions, Curves, Equation,
         PiecewiseSystem, System,
@@ -937,30 +947,7 @@ pub fn check_curve(data: &[u8]) -> Result<(), String> {
         // A B-spline field: degrees 1–3, up to two interior knots k/8 per axis (multiplicity
         // capped at the degree, so C⁰ kinks occur), coefficients k/8.
         let degrees = vec![1 + next() as usize % 3, 1 + next() as usize % 3];
-        let knots: Vec<Vec<Rational>> = degrees
-            .iter()
-            .map(|&d| {
-                let mut inner: Vec<Rational> = (0..next() % 3)
-                    .map(|_| q(1 + (next() % 7) as i64, 8))
-                    .collect();
-                inner.sort();
-                let mut k = vec![q(0, 1); d + 1];
-                for x in inner {
-                    if k.iter().filter(|y| **y == x).count() < d {
-                        k.push(x);
-                    }
-                }
-                k.extend(vec![q(1, 1); d + 1]);
-                k
-            })
-            .collect();
-        let count: usize = knots
-            .iter()
-            .zip(&degrees)
-            .map(|(k, d)| k.len() - d - 1)
-            .product();
-        let coeffs = (0..count).map(|_| q(next() as i8 as i64, 8)).collect();
-        let s = TensorSpline::new(degrees, knots, coeffs).map_err(|e| e.to_string())?;
+        let s = random_spline(&mut next, degrees, 0)?;
         PiecewiseSystem::new(unit, vec![Equation::Spline(s)]).map_err(|e| e.to_string())?
     } else {
         let p = if head & 1 == 1 {

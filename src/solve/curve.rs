@@ -25,7 +25,7 @@
 //! curve in the domain lies in an arc's box or in a cluster's box.
 
 use super::subdivision::{
-    max_abs, strict_sign, widest_axis, Coefficient, MOVED_SPLITS_DEPTH, SPLITS,
+    max_abs, shared_sign, strict_sign, widest_axis, Coefficient, MOVED_SPLITS_DEPTH, SPLITS,
 };
 use super::{
     solve, solve_piecewise, Cluster, ClusterReason, PiecewiseSystem, RationalBox, Root, SolveError,
@@ -465,24 +465,7 @@ enum Class {
 fn common_sign<'p, T: crate::num::Field + 'p>(
     polys: impl IntoIterator<Item = &'p Bernstein<T>>,
 ) -> Sign {
-    let mut out = None;
-    let mut uncertain = false;
-    for p in polys {
-        match strict_sign(p) {
-            Sign::Uncertain => uncertain = true,
-            Sign::Zero => return Sign::Zero,
-            s => match out {
-                None => out = Some(s),
-                Some(o) if o != s => return Sign::Zero,
-                _ => {}
-            },
-        }
-    }
-    match (out, uncertain) {
-        (_, true) => Sign::Uncertain,
-        (Some(s), false) => s,
-        (None, false) => Sign::Zero,
-    }
+    shared_sign(polys.into_iter().map(strict_sign))
 }
 
 /// Classifies a box from its parts' equations and tangent minors (`minors[k]` the minor

@@ -92,10 +92,16 @@ struct Node<T> {
 /// The sign all of `p`'s coefficients share strictly, if they do (`Uncertain` when rounding
 /// leaves it open, `Zero` when they do not share one).
 pub(super) fn strict_sign<T: Field>(p: &Bernstein<T>) -> Sign {
+    shared_sign(p.coeffs().iter().map(Field::sign))
+}
+
+/// The strict sign all of `signs` share (`Uncertain` when one is uncertain and none decides
+/// against, `Zero` when one is zero or two differ).
+pub(super) fn shared_sign(signs: impl IntoIterator<Item = Sign>) -> Sign {
     let mut out = None;
     let mut uncertain = false;
-    for c in p.coeffs() {
-        match c.sign() {
+    for s in signs {
+        match s {
             Sign::Uncertain => uncertain = true,
             Sign::Zero => return Sign::Zero,
             s => match out {

@@ -43,7 +43,7 @@ pub struct SilhouetteRow {
     pub clusters: usize,
     /// Median and largest filtered time per system, ms.
     pub filtered_ms: (f64, f64),
-    /// The exact path on the first [`EXACT_SYSTEMS`] systems: median ms, and whether its
+    /// The exact path on the first few systems (`EXACT_SYSTEMS`): median ms, and whether its
     /// roots and clusters matched the filtered path's (same count, boxes meeting).
     pub exact: (f64, bool),
     /// msolve per system: how many it answered as positive-dimensional, how many it isolated

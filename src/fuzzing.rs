@@ -555,6 +555,11 @@ pub fn check_decimate(data: &[u8]) -> Result<(), String> {
         } else {
             ProjectionChoice::PerFan
         },
+        fit: if opts & 0x20 != 0 {
+            crate::decimate::Fit::Rounds(1)
+        } else {
+            crate::decimate::Fit::Auto
+        },
         k: 1 + (opts as usize % 5),
         max_valence: 64,
         rebin: true,

@@ -379,9 +379,58 @@ fn bad_inputs_and_foreign_histories_are_refused() {
     let mid = flipped.len() / 2;
     flipped[mid] ^= 0x40;
     assert!(History::from_bytes(&flipped).is_err());
-    let mut v2 = bytes.clone();
-    v2[8] = 2;
-    assert_eq!(History::from_bytes(&v2), Err(HistoryError::Version(2)));
+    let mut v3 = bytes.clone();
+    v3[8] = 3;
+    assert_eq!(History::from_bytes(&v3), Err(HistoryError::Version(3)));
+    // A version 1 file (no fit section) still reads: the same bytes without the fit's count.
+    assert!(out.history.fit.is_empty());
+    let mut v1 = bytes[..bytes.len() - 12].to_vec();
+    v1[8] = 1;
+    let sum = geocert::decimate::history::fnv1a(&v1);
+    v1.extend_from_slice(&sum.to_le_bytes());
+    assert_eq!(History::from_bytes(&v1).as_ref(), Ok(&out.history));
+}
+
+/// The fit after the last removal (the default on surfaces in 3-D): it moves kept nodes,
+/// lowers the RMS distance to the original, the checker confirms exactly that no triangle
+/// flipped, both engines fit alike, and undecimation is still exact. A fit moved elsewhere is
+/// refused by the checker (a flipped triangle) and by the stage (the mesh is not where the
+/// history says).
+#[test]
+fn the_fit_moves_nodes_verifiably_and_undoes_exactly() {
+    use geocert::decimate::{quality, Fit, HistoryError};
+    let mesh = sphere(3, &[]);
+    let opts = Options::new().with_target(Target::Keep(0.1)).with_k(3);
+    let fitted = decimate(&mesh, &opts).unwrap();
+    let plain = decimate(&mesh, &opts.clone().with_fit(Fit::Rounds(0))).unwrap();
+    assert_eq!(fitted.stats.fit_rounds, Fit::DEFAULT_ROUNDS);
+    assert!(plain.history.fit.is_empty());
+    assert!(fitted.stats.moved > 0 && fitted.stats.moved == fitted.history.fit.len());
+    let (a, b) = (
+        quality::deviation(&mesh, &plain.mesh).forward_rms,
+        quality::deviation(&mesh, &fitted.mesh).forward_rms,
+    );
+    println!(
+        "sphere (level 3) at 10 %: {} nodes moved, RMS {a:.4} → {b:.4}",
+        fitted.stats.moved
+    );
+    assert!(b < 0.8 * a, "{a} → {b}");
+    let v = check::verify(&mesh, &fitted.history, false, 1).unwrap();
+    assert_eq!(v.moved, fitted.stats.moved);
+    assert!(v.fit_triangles_checked >= fitted.stats.moved);
+    let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
+    assert_eq!(exact.history, fitted.history);
+    round_trip(&mesh, &fitted.mesh, &fitted.history, 7);
+    // Tampering: a moved node sent through the sphere flips its triangles.
+    let mut bad = fitted.history.clone();
+    let m = &mut bad.fit[0];
+    m.to = m.to.map(|x| -3.0 * x);
+    let e = check::verify(&mesh, &bad, false, 1).unwrap_err();
+    assert!(e.to_string().contains("the fit flips triangle"), "{e}");
+    assert!(matches!(
+        Stage::decimated(&fitted.mesh, &bad),
+        Err(HistoryError::Mismatch(_))
+    ));
 }
 
 proptest! {

@@ -14,6 +14,9 @@
 //!   once — so nothing flips, overlaps or leaves a T-junction in that projection;
 //! * the mesh is an oriented 2-manifold with the original's Euler characteristic and number
 //!   of border loops (full check every `full_every` steps and at the end);
+//! * the fit's moves after the last step ([`super::fit`]) start where the kept nodes are
+//!   and flip no triangle: every live triangle at a moved node has a normal whose exact dot
+//!   product with its normal before the fit is positive;
 //! * undoing every step gives the original mesh bit for bit, and redoing them gives the
 //!   decimated mesh the history names.
 
@@ -36,6 +39,10 @@ pub struct Verified {
     pub triangles_checked: usize,
     /// Full manifold / Euler / border-loop checks performed.
     pub full_checks: usize,
+    /// Nodes the fit moved.
+    pub moved: usize,
+    /// Triangles at moved nodes checked not flipped by the fit, exactly.
+    pub fit_triangles_checked: usize,
     /// The original's Euler characteristic, kept at every full check.
     pub euler: i64,
     /// The original's number of border loops, kept at every full check.
@@ -243,6 +250,31 @@ pub fn verify(
         if full_every > 0 && (s + 1) % full_every == 0 {
             full(&stage, s, &mut out)?;
         }
+    }
+    if !history.fit.is_empty() {
+        let before = stage.vertices.clone();
+        stage.redo(history)?;
+        let mut moved = vec![false; stage.vertices.len()];
+        for m in &history.fit {
+            moved[m.node as usize] = true;
+        }
+        for (t, tri) in stage.slots.iter().enumerate() {
+            if !stage.live[t] || !tri.iter().any(|&v| moved[v as usize]) {
+                continue;
+            }
+            let (was, is) = (
+                tri.map(|v| before[v as usize]),
+                tri.map(|v| stage.vertices[v as usize]),
+            );
+            if !super::fit::normals_agree_exactly(was, is) {
+                return Err(step(
+                    history.len(),
+                    format!("the fit flips triangle {tri:?} (slot {t})"),
+                ));
+            }
+            out.fit_triangles_checked += 1;
+        }
+        out.moved = history.fit.len();
     }
     full(&stage, history.len(), &mut out)?;
     if fingerprint(&stage.to_mesh()) != history.decimated_fingerprint {

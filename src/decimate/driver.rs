@@ -281,7 +281,26 @@ pub(crate) fn decimate_with<E: Engine>(
         mesh.scalars.is_some(),
     );
     let counts = run(&mut engine, options, &mut history, clock);
-    let (out, projection_xy) = finish(&engine);
+    let (mut out, projection_xy) = finish(&engine);
+    drop(engine);
+    let fit_clock = std::time::Instant::now();
+    let fit_rounds = if history.is_empty() {
+        0
+    } else {
+        options.fit.resolve(projection_xy)
+    };
+    if fit_rounds > 0 {
+        // The kept nodes in original order are the decimated mesh's vertices.
+        let mut removed = vec![false; mesh.vertices.len()];
+        for s in 0..history.len() {
+            removed[history.step(s).node as usize] = true;
+        }
+        let kept: Vec<u32> = (0..mesh.vertices.len() as u32)
+            .filter(|&v| !removed[v as usize])
+            .collect();
+        history.fit = super::fit::fit(mesh, &mut out, &kept, fit_rounds);
+    }
+    let fit_seconds = fit_clock.elapsed().as_secs_f64();
     let seconds = clock.elapsed().as_secs_f64();
     history.original_fingerprint = fingerprint(mesh);
     history.scalar_name = mesh
@@ -307,7 +326,10 @@ pub(crate) fn decimate_with<E: Engine>(
             projection_xy,
             criterion: options.criterion.resolve(projection_xy).name().into(),
             border: options.border.resolve(projection_xy).name().into(),
+            moved: history.fit.len(),
+            fit_rounds,
             seconds,
+            fit_seconds,
             setup_seconds: counts.setup_seconds,
         },
         history,

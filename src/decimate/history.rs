@@ -15,13 +15,21 @@
 //! fingerprints (`u64` each); per step: node `u32`, border flag `u8`, ring length `u8`, ring
 //! (`u32` each), removed slots (`u32` each), the node's position in each (`u8` each), added
 //! triangles (three `u8` ring positions each), the node's coordinates (`f64` ×3) and, with
-//! a scalar field, its value (`f64`); then an FNV-1a 64 checksum of everything before it.
+//! a scalar field, its value (`f64`); since version 2 the fit's moves ([`super::fit`]):
+//! count `u32`, per move the node `u32` and its coordinates before and after (`f64` ×3
+//! each); then an FNV-1a 64 checksum of everything before it. Version 1 files (no moves)
+//! are read too.
+//!
+//! The fit is the last stage: [`Stage::decimated`] starts fitted, its first
+//! [`undo`](Stage::undo) puts the moved nodes back, and [`redo`](Stage::redo) after the last
+//! step moves them again.
 
+use super::fit::Moved;
 use crate::mesh::{Mesh, Scalars};
 use thiserror::Error;
 
 const MAGIC: &[u8; 8] = b"GCDHIST\n";
-const VERSION: u32 = 1;
+const VERSION: u32 = 2;
 
 /// What is wrong with a history, or with a history against a mesh.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -29,7 +37,9 @@ pub enum HistoryError {
     #[error("history file: not a geocert decimation history (bad magic bytes)")]
     /// The file does not start with the history's magic bytes.
     BadMagic,
-    #[error("history file: version {0} is not supported (this build reads version {VERSION})")]
+    #[error(
+        "history file: version {0} is not supported (this build reads versions 1 to {VERSION})"
+    )]
     /// The file's format version is not this build's.
     Version(u32),
     #[error("history file: truncated at byte {0}")]
@@ -105,6 +115,9 @@ pub struct History {
     pub original_fingerprint: u64,
     /// Fingerprint of the decimated mesh.
     pub decimated_fingerprint: u64,
+    /// The fit's moves after the last step, in node order ([`super::fit`]; empty when the
+    /// kept nodes stay where they were).
+    pub fit: Vec<Moved>,
     nodes: Vec<u32>,
     border: Vec<bool>,
     /// Step `s` owns `rings[ring_start[s]..ring_start[s+1]]`; its slots and positions use the
@@ -282,6 +295,13 @@ impl History {
                 out.extend_from_slice(&v.to_le_bytes());
             }
         }
+        out.extend_from_slice(&(self.fit.len() as u32).to_le_bytes());
+        for m in &self.fit {
+            out.extend_from_slice(&m.node.to_le_bytes());
+            for x in m.from.iter().chain(&m.to) {
+                out.extend_from_slice(&x.to_le_bytes());
+            }
+        }
         let sum = fnv1a(&out);
         out.extend_from_slice(&sum.to_le_bytes());
         out
@@ -294,7 +314,7 @@ impl History {
             return Err(HistoryError::BadMagic);
         }
         let version = r.u32()?;
-        if version != VERSION {
+        if !(1..=VERSION).contains(&version) {
             return Err(HistoryError::Version(version));
         }
         let body = &bytes[..bytes.len() - 8];
@@ -385,6 +405,26 @@ impl History {
                 c,
                 v,
             );
+        }
+        if version >= 2 {
+            let moves = r.u32()? as usize;
+            let mut last = None;
+            for k in 0..moves {
+                let node = r.u32()?;
+                let from = [r.f64()?, r.f64()?, r.f64()?];
+                let to = [r.f64()?, r.f64()?, r.f64()?];
+                let bad = |why: String| HistoryError::Step { step: steps, why };
+                if node >= vertex_count || last.is_some_and(|l| l >= node) {
+                    return Err(bad(format!(
+                        "fit move {k}: node {node} out of range or out of order"
+                    )));
+                }
+                if !to.iter().all(|x| x.is_finite()) {
+                    return Err(bad(format!("fit move {k}: node {node} moves to {to:?}")));
+                }
+                last = Some(node);
+                h.fit.push(Moved { node, from, to });
+            }
         }
         if r.at + 8 > bytes.len() {
             return Err(HistoryError::Truncated(bytes.len()));
@@ -478,6 +518,8 @@ pub struct Stage {
     pub present: Vec<bool>,
     /// Steps of the history applied (the original is stage 0).
     pub applied: usize,
+    /// Whether the fit's moves are applied (only after the last step).
+    pub fitted: bool,
 }
 
 impl Stage {
@@ -490,6 +532,7 @@ impl Stage {
             live: vec![true; mesh.triangles.len()],
             present: vec![true; mesh.vertices.len()],
             applied: 0,
+            fitted: false,
         }
     }
 
@@ -579,6 +622,14 @@ impl Stage {
                 values[v] = x;
             }
         }
+        for m in &history.fit {
+            let v = m.node as usize;
+            if !present[v] || vertices[v] != m.to {
+                return Err(HistoryError::Mismatch(format!(
+                    "node {v} is not where the history's fit moved it"
+                )));
+            }
+        }
         let mut slots = vec![[0u32; 3]; history.slot_count as usize];
         let mut next = mesh.triangles.iter();
         for (t, slot) in slots.iter_mut().enumerate() {
@@ -597,11 +648,16 @@ impl Stage {
             live,
             present,
             applied: history.len(),
+            fitted: !history.fit.is_empty(),
         })
     }
 
-    /// Undoes the last applied step, checking that the mesh holds what the step added.
+    /// Undoes the last applied step, checking that the mesh holds what the step added; when
+    /// the fit is applied, puts its moved nodes back first (one call; `applied` stays).
     pub fn undo(&mut self, history: &History) -> Result<(), HistoryError> {
+        if self.fitted {
+            return self.move_fitted(history, false);
+        }
         if self.applied == 0 {
             return Err(HistoryError::Mismatch("nothing left to undo".into()));
         }
@@ -637,8 +693,12 @@ impl Stage {
         Ok(())
     }
 
-    /// Re-applies the next step, checking that the mesh holds what the step removed.
+    /// Re-applies the next step, checking that the mesh holds what the step removed; after
+    /// the last step, applies the fit's moves (one call).
     pub fn redo(&mut self, history: &History) -> Result<(), HistoryError> {
+        if self.applied == history.len() && !self.fitted && !history.fit.is_empty() {
+            return self.move_fitted(history, true);
+        }
         if self.applied == history.len() {
             return Err(HistoryError::Mismatch("nothing left to redo".into()));
         }
@@ -667,6 +727,33 @@ impl Stage {
         }
         self.present[st.node as usize] = false;
         self.applied += 1;
+        Ok(())
+    }
+
+    /// Moves the fit's nodes `from → to` (`forward`) or back, checking each is present and
+    /// where the move starts.
+    fn move_fitted(&mut self, history: &History, forward: bool) -> Result<(), HistoryError> {
+        if self.applied != history.len() {
+            return Err(HistoryError::Mismatch(
+                "the fit applies only after the last step".into(),
+            ));
+        }
+        for m in &history.fit {
+            let (at, to) = if forward {
+                (m.from, m.to)
+            } else {
+                (m.to, m.from)
+            };
+            let v = m.node as usize;
+            if !self.present.get(v).copied().unwrap_or(false) || self.vertices[v] != at {
+                return Err(HistoryError::Step {
+                    step: history.len(),
+                    why: format!("fit: node {v} is not at {at:?}"),
+                });
+            }
+            self.vertices[v] = to;
+        }
+        self.fitted = forward;
         Ok(())
     }
 

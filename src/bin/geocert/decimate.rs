@@ -3,7 +3,7 @@
 
 use crate::out::{choice, read_bytes, status};
 use geocert::decimate::{
-    BorderPolicy, Criterion, History, Options, ProjectionChoice, Stage, Target,
+    BorderPolicy, Criterion, Fit, History, Options, ProjectionChoice, Stage, Target,
 };
 use geocert::mesh::{Format, Mesh};
 use geocert::Path;
@@ -46,6 +46,12 @@ pub(crate) struct Args {
     /// The same as `--border keep` (kept for older scripts).
     #[arg(long, hide = true, conflicts_with = "border")]
     exclude_border: bool,
+    /// Rounds of fitting the kept nodes to the original vertices after the last removal
+    /// (least squares; no triangle flips; the history records the moves, so undecimation
+    /// stays exact): `auto` is 2 on surfaces in 3-D and 0 on height fields and planar
+    /// meshes (their nodes stay where they are).
+    #[arg(long, default_value_t = Fit::Auto, value_parser = |s: &str| s.parse::<Fit>().map_err(|e| e.to_string()))]
+    fit: Fit,
     /// Skip measuring the result against the input (the JSON's error fields are then null).
     #[arg(long)]
     no_measure: bool,
@@ -108,6 +114,7 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
             a.border
         })
         .with_projection(a.projection)
+        .with_fit(a.fit)
         .with_k(a.k)
         .with_rebin(!a.fixed_intervals)
         .with_lazy(!a.eager)
@@ -165,18 +172,22 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
             "evaluated_ahead": s.evaluated_ahead,
             "remembered": s.remembered,
             "setup_seconds": s.setup_seconds,
+            "fit_rounds": s.fit_rounds,
+            "moved": s.moved,
+            "fit_seconds": s.fit_seconds,
             "projection": if s.projection_xy { "xy" } else { "per-fan" },
         });
         println!("{v}");
     } else {
         println!(
-            "{} → {} nodes, {} → {} triangles in {:.3} s ({} removals refused); history: {} steps",
+            "{} → {} nodes, {} → {} triangles in {:.3} s ({} removals refused, {} nodes fitted); history: {} steps",
             s.nodes_in,
             s.nodes_out,
             s.triangles_in,
             s.triangles_out,
             s.seconds,
             s.refused,
+            s.moved,
             result.history.len()
         );
         let what = if s.projection_xy {
@@ -235,6 +246,10 @@ pub(crate) fn undo(a: UndoArgs) -> Result<ExitCode, String> {
         ));
     }
     let clock = std::time::Instant::now();
+    // Any undo starts by putting the fit's moved nodes back.
+    if n > 0 && stage.fitted {
+        stage.undo(&h).map_err(|e| e.to_string())?;
+    }
     for _ in 0..n {
         stage.undo(&h).map_err(|e| e.to_string())?;
     }

@@ -55,7 +55,8 @@ enum Command {
     /// SIDE×SIDE height field like the paper's Table 1) or `builtin:plate` (the Kirsch plate
     /// of Fig. 9 with its von Mises field).
     Decimate(decimate::Args),
-    /// Restore a decimated mesh with its history: undo the last N steps (all by default).
+    /// Restore a decimated mesh with its history: undo the last N steps (all by default; the
+    /// fit's moves, if any, are undone first).
     Undecimate(decimate::UndoArgs),
     /// How far a simplified surface (from any program) lies from its original: symmetric
     /// Hausdorff and RMS distances both ways in % of the bounding-box diagonal, and the

@@ -48,6 +48,9 @@ struct Hole {
 pub(crate) struct ExactEngine {
     /// The input coordinates as given (the heuristics read these).
     float: Vec<[f64; 3]>,
+    /// The original surface's vertex normals ([`vertex_normals`](super::vertex_normals);
+    /// [`Criterion::Quadric`] only, else empty).
+    normals: Vec<[f64; 3]>,
     coords: Vec<[Rational; 3]>,
     values: Option<Vec<Rational>>,
     slots: Vec<Option<[u32; 3]>>,
@@ -90,6 +93,11 @@ impl ExactEngine {
         let criterion = options.criterion.resolve(global.is_some());
         Ok(ExactEngine {
             float: mesh.vertices.clone(),
+            normals: if criterion == Criterion::Quadric {
+                super::vertex_normals(mesh)
+            } else {
+                Vec::new()
+            },
             coords,
             values: mesh
                 .scalars
@@ -201,6 +209,12 @@ impl ExactEngine {
             .map(|&w| self.float[w as usize])
             .collect();
         let pts: Vec<[f64; 2]> = ring3.iter().map(|&q| hole.plane.project(q)).collect();
+        let ring_normals: Vec<[f64; 3]> = hole
+            .fan
+            .ring
+            .iter()
+            .map(|&w| self.normals[w as usize])
+            .collect();
         let p = self.float[v as usize];
         let pv = hole.plane.project(p);
         let fan_error = hole
@@ -222,6 +236,7 @@ impl ExactEngine {
             &hole.triangles,
             hole.plane.drop,
             hole.fan.border,
+            &ring_normals,
         )
     }
 

@@ -76,6 +76,9 @@ struct Plan {
 /// lookahead thread).
 struct Geometry {
     pos: Vec<[f64; 3]>,
+    /// The original surface's vertex normals ([`vertex_normals`](super::vertex_normals);
+    /// [`Criterion::Quadric`] only, else empty).
+    normals: Vec<[f64; 3]>,
     values: Option<Vec<f64>>,
     global: Option<Plane>,
     criterion: Criterion,
@@ -125,6 +128,8 @@ struct Scratch {
     fan: Vec<u32>,
     pts: Vec<[f64; 2]>,
     ring3: Vec<[f64; 3]>,
+    /// The ring's original vertex normals (the quadric criterion's fold test).
+    ring_normals: Vec<[f64; 3]>,
     tris: Vec<[u8; 3]>,
     cutter: EarCutter,
     /// The new triangles' corners by ring positions, `succ[at · l + from] = (to, triangle)`
@@ -207,6 +212,11 @@ impl FastEngine {
         };
         let geo = Geometry {
             pos: huge_copy(&mesh.vertices),
+            normals: if criterion == Criterion::Quadric {
+                super::vertex_normals(mesh)
+            } else {
+                Vec::new()
+            },
             values: mesh.scalars.as_ref().map(|s| s.values.clone()),
             global,
             criterion,
@@ -569,6 +579,9 @@ impl Scratch {
             self.ring3.clear();
             self.ring3
                 .extend(self.ring.iter().map(|&w| geo.pos[w as usize]));
+            self.ring_normals.clear();
+            self.ring_normals
+                .extend(self.ring.iter().map(|&w| geo.normals[w as usize]));
             let p = geo.pos[v as usize];
             let Some(r) = super::quadric_removal(
                 carried,
@@ -579,6 +592,7 @@ impl Scratch {
                 &self.tris,
                 plan.plane.drop,
                 plan.border,
+                &self.ring_normals,
             ) else {
                 self.planned = None;
                 return None;

@@ -10,7 +10,8 @@
 //! the kept nodes minimise `Σᵢ |Σₖ bᵢₖ x_{tᵢₖ} − oᵢ|² + Σ_v μ (1 + d_v) |x_v − x_v⁰|²` (the
 //! regulariser holds a node near its start `x_v⁰` along directions its points do not
 //! constrain; `d_v = Σᵢ bᵢᵥ²`). A move is taken only when every triangle around the node
-//! keeps a normal within about 72° of its normal before the fit ([`MIN_COS`]), decided with
+//! keeps a normal within about 72° of its normal before the fit ([`MIN_COS`]) and, if it
+//! faced along its corners' original vertex normals, still does; the first is decided with
 //! `f64` only where it provably gets the sign right ([`normals_agree`]), so the fit flips no triangle
 //! and [`check`](super::check) re-verifies that exactly.
 //!
@@ -64,6 +65,22 @@ pub fn fit(original: &Mesh, decimated: &mut Mesh, kept: &[u32], rounds: usize) -
         .map(|t| trusted_normal(t.map(|i| start[i as usize])))
         .collect();
     let normals = border_normals(decimated);
+    // The original surface's normals at the kept nodes: a triangle that faces along its
+    // corners' normals before the fit must still after it (the decimation's fold test).
+    let original_normals = super::vertex_normals(original);
+    let corner_normal = |tri: [u32; 3]| -> [f64; 3] {
+        let [a, b, c] = tri.map(|i| original_normals[kept[i as usize] as usize]);
+        std::array::from_fn(|k| a[k] + b[k] + c[k])
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let facing: Vec<bool> = decimated
+        .triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| start[i as usize]);
+            dot(area_vector(a, b, c), corner_normal(*t)) > 0.0
+        })
+        .collect();
     for _ in 0..rounds {
         let attached = attach(original, decimated);
         // Per node, the attached points whose triangle it is a corner of (CSR, in point order).
@@ -106,6 +123,8 @@ pub fn fit(original: &Mesh, decimated: &mut Mesh, kept: &[u32], rounds: usize) -
                         }
                     });
                     before[t as usize].is_some_and(|n| normals_agree(n, c))
+                        && (!facing[t as usize]
+                            || dot(area_vector(c[0], c[1], c[2]), corner_normal(tri)) > 0.0)
                 });
                 if ok {
                     decimated.vertices[v] = target;

@@ -71,7 +71,7 @@ use thiserror::Error;
 pub use history::{History, HistoryError, Stage};
 pub use quadric::{
     crossing_deviation, folds, initial_quadrics, landing, quadric_removal, quadric_value,
-    removal_bound, Carried, Quadric, QuadricRemoval,
+    removal_bound, vertex_normals, Carried, Quadric, QuadricRemoval,
 };
 
 /// How a node is evaluated (Section 1.1); the node with the lowest value goes first.

@@ -238,16 +238,50 @@ pub fn quadric_value(c: &Carried, landed: [f64; 3], bound: f64) -> f64 {
     c.quadric.rms_distance(landed).max(bound)
 }
 
+/// The original surface's normal at every vertex: the sum of its triangles' area vectors (in
+/// triangle order, `f64`; both engines use these). The mesh must be valid.
+pub fn vertex_normals(mesh: &Mesh) -> Vec<[f64; 3]> {
+    let mut n = vec![[0.0; 3]; mesh.vertices.len()];
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|i| mesh.vertices[i as usize]);
+        let m = crate::mesh::area_vector(a, b, c);
+        for &i in t {
+            for k in 0..3 {
+                n[i as usize][k] += m[k];
+            }
+        }
+    }
+    n
+}
+
 /// Whether a planned hole would fold the surface over (both engines, in `f64`; the quadric
 /// criterion refuses such removals): some new triangle's normal points against the removed
 /// fan's area-weighted normal ([`fan_normal`]) — a projection only proves the new triangles
-/// positive along its axis, not along the surface.
-pub fn folds(p: [f64; 3], ring3: &[[f64; 3]], tris: &[[u8; 3]], border: bool) -> bool {
+/// positive along its axis, not along the surface — or against the sum of its corners'
+/// original normals (`normals`, per ring node, [`vertex_normals`]; empty to skip): the
+/// current fan may already lean away from the original surface somewhere, and a new
+/// triangle that agrees with the fan can still face against the surface its corners sit on.
+pub fn folds(
+    p: [f64; 3],
+    ring3: &[[f64; 3]],
+    tris: &[[u8; 3]],
+    border: bool,
+    normals: &[[f64; 3]],
+) -> bool {
     let n = fan_normal(p, ring3, !border);
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     tris.iter().any(|t| {
         let [a, b, c] = t.map(|k| ring3[k as usize]);
         let m = crate::mesh::area_vector(a, b, c);
-        m[0] * n[0] + m[1] * n[1] + m[2] * n[2] <= 0.0
+        if dot(m, n) <= 0.0 {
+            return true;
+        }
+        if normals.is_empty() {
+            return false;
+        }
+        let [na, nb, nc] = t.map(|k| normals[k as usize]);
+        let corners = std::array::from_fn(|k| na[k] + nb[k] + nc[k]);
+        dot(m, corners) <= 0.0
     })
 }
 
@@ -340,9 +374,10 @@ pub struct QuadricRemoval {
 }
 
 /// The quadric criterion on one planned hole, as both engines compute it: where the node `p`
-/// (projected `pv`) lands, `None` when the new triangles fold the surface over ([`folds`]),
-/// else the crossing deviation along axis `drop`, the bound and the value for a node
-/// carrying `c`. `ring3`/`pts` are the ring and its projection, `tris` the cut.
+/// (projected `pv`) lands, `None` when the new triangles fold the surface over ([`folds`],
+/// with the ring's original `normals`), else the crossing deviation along axis `drop`, the
+/// bound and the value for a node carrying `c`. `ring3`/`pts` are the ring and its
+/// projection, `tris` the cut.
 #[allow(clippy::too_many_arguments)]
 pub fn quadric_removal(
     c: &Carried,
@@ -353,9 +388,10 @@ pub fn quadric_removal(
     tris: &[[u8; 3]],
     drop: usize,
     border: bool,
+    normals: &[[f64; 3]],
 ) -> Option<QuadricRemoval> {
     let (landed, corners) = landing(p, pv, ring3, pts, tris, border);
-    if folds(p, ring3, tris, border) {
+    if folds(p, ring3, tris, border, normals) {
         return None;
     }
     let crossing = crossing_deviation(p, pv, ring3, pts, tris, drop, border);

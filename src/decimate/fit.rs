@@ -81,8 +81,11 @@ pub fn fit(original: &Mesh, decimated: &mut Mesh, kept: &[u32], rounds: usize) -
             dot(area_vector(a, b, c), corner_normal(*t)) > 0.0
         })
         .collect();
+    // Every original vertex (a strided subset was tried: every 4th cost the dragon scan 0.03
+    // of RMS and 30 more flipped triangles for 0.33 s, and the bunny a quarter of its gain).
+    let samples = &original.vertices;
     for _ in 0..rounds {
-        let attached = attach(original, decimated);
+        let attached = attach(samples, decimated);
         // Per node, the attached points whose triangle it is a corner of (CSR, in point order).
         let mut first = vec![0u32; n + 1];
         for &(t, _) in &attached {
@@ -104,9 +107,9 @@ pub fn fit(original: &Mesh, decimated: &mut Mesh, kept: &[u32], rounds: usize) -
         for _ in 0..SWEEPS {
             for v in 0..n {
                 let mine = &points[first[v] as usize..first[v + 1] as usize];
-                let Some(target) = node_target(
-                    original, decimated, &attached, mine, v, start[v], normals[v],
-                ) else {
+                let Some(target) =
+                    node_target(samples, decimated, &attached, mine, v, start[v], normals[v])
+                else {
                     continue;
                 };
                 if target == decimated.vertices[v] {
@@ -202,15 +205,16 @@ fn incidence(n: usize, triangles: &[[u32; 3]]) -> (Vec<u32>, Vec<u32>) {
     (first, ids)
 }
 
-/// Every original vertex's closest point on `decimated`: its triangle and barycentric
-/// coordinates there (on all cores; each a function of its point alone).
-fn attach(original: &Mesh, decimated: &Mesh) -> Vec<(u32, [f64; 3])> {
+/// Every sample's closest point on `decimated`: its triangle and barycentric coordinates
+/// there (on all cores; each a function of its point alone). Searching only near the
+/// previous round's triangle was tried: starting the search there saved 8 %, searching only
+/// the triangles around its corners cost 25 % more than the hierarchy.
+fn attach(samples: &[[f64; 3]], decimated: &Mesh) -> Vec<(u32, [f64; 3])> {
     use crate::par::prelude::*;
     let Some(cp) = ClosestPoints::new(decimated) else {
         return Vec::new();
     };
-    original
-        .vertices
+    samples
         .par_iter()
         .map(|&o| {
             let c = cp.query(o);
@@ -244,7 +248,7 @@ fn barycentric(p: [f64; 3], t: [[f64; 3]; 3]) -> [f64; 3] {
 /// onto it (the isotropic least squares' minimum on that line).
 #[allow(clippy::too_many_arguments)]
 fn node_target(
-    original: &Mesh,
+    samples: &[[f64; 3]],
     decimated: &Mesh,
     attached: &[(u32, [f64; 3])],
     mine: &[u32],
@@ -257,7 +261,7 @@ fn node_target(
     for &i in mine {
         let (t, b) = attached[i as usize];
         let tri = decimated.triangles[t as usize];
-        let mut rest = original.vertices[i as usize];
+        let mut rest = samples[i as usize];
         let mut bv = 0.0;
         for k in 0..3 {
             if tri[k] as usize == v {

@@ -331,7 +331,8 @@ pub fn surface_campaign(root: &FsPath) -> SurfaceCampaign {
         let earlier = default
             .clone()
             .with_criterion(Criterion::Error)
-            .with_border(BorderPolicy::Intact);
+            .with_border(BorderPolicy::Intact)
+            .with_fit(Fit::Rounds(0));
         let (before, _) = geocert_row(&mesh, &earlier, "geocert (error criterion, outline kept)");
         let unfitted = default.clone().with_fit(Fit::Rounds(0));
         let (plain, _) = geocert_row(
@@ -406,7 +407,7 @@ pub fn markdown(c: &SurfaceCampaign) -> String {
          when no triangle turns by more than about 72°; the moves are in the history, so \
          undecimation stays exact, and the checker confirms exactly that no triangle \
          flipped). The second row is the same without the fit, the third the earlier \
-         behaviour (error criterion, border outline kept). Peers run at \
+         behaviour (error criterion, border outline kept, no fit). Peers run at \
          geocert's triangle count on one thread. Every result is measured by geocert's own \
          `deviation` (the same for all): distances from every original vertex to the result \
          (→) and from 10 barycentric samples per result triangle back to the original (←), \

@@ -986,6 +986,48 @@ fn sweep_silhouette_writes_components_json_and_a_drawing() {
 }
 
 #[test]
+fn sweep_events_lists_certified_events_for_an_eye_path() {
+    let scene = tmp("turn-eye.json");
+    std::fs::write(
+        &scene,
+        r#"{"surfaces": [{"ellipsoid": {"center": [0, 0, 0], "radii": [2, "1/2", "1/2"]}}],
+            "t": [0, 1],
+            "motion": {"translation": [[0, 3], [0], [0, "1/2"]],
+                       "rotation": {"quaternion": [[1], [0], [0], [0, "1/2"]]}},
+            "eye": {"path": [[-3, 3], [-2], [0, "1/3"]], "r": [0, 3]}}"#,
+    )
+    .unwrap();
+    let out = geocert()
+        .args(["sweep", "events", scene.to_str().unwrap(), "--json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let events = v["events"].as_array().unwrap();
+    assert!(events.iter().all(|e| e["verified"] == true));
+    let r: Vec<f64> = events.iter().map(|e| e["r"].as_f64().unwrap()).collect();
+    assert!(r.windows(2).all(|w| w[0] <= w[1]));
+    let interior: Vec<_> = events
+        .iter()
+        .filter(|e| e["kind"]["where"] == "interior")
+        .collect();
+    assert_eq!(interior.len(), 1);
+    assert_eq!(interior[0]["pivot_certified"], true);
+    assert!((interior[0]["r"].as_f64().unwrap() - 1.6525).abs() < 1e-3);
+    // A fixed eye has no events: exit 2 with the field named.
+    let out = geocert()
+        .args(["sweep", "events", "builtin:sphere-line"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("eye"));
+}
+
+#[test]
 fn dmv_build_and_refine_end_to_end() {
     let dmv = tmp("fuel.dmv");
     let out = geocert()

@@ -567,3 +567,162 @@ fn axis_aligned_motions_and_eyes_do_not_meet_the_primitives_patch_edges() {
         .iter()
         .all(|c| c.kind != ComponentKind::Envelope));
 }
+
+/// The turning ellipsoid (`builtin:ellipsoid-turn`) seen from an eye moving past it along a
+/// line that stays off the swept surface (certified by [`events`]).
+const TURN_EYE: &str = r#"{"surfaces": [{"ellipsoid": {"center": [0, 0, 0], "radii": [2, "1/2", "1/2"]}}],
+ "t": [0, 1],
+ "motion": {"translation": [[0, 3], [0], [0, "1/2"]],
+            "rotation": {"quaternion": [[1], [0], [0], [0, "1/2"]]}},
+ "eye": {"path": [[-3, 3], [-2], [0, "1/3"]], "r": [0, 3]}}"#;
+
+/// A sphere swept along a parabola with an eye path that runs into the swept volume.
+const TUBE_THROUGH: &str = r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": "1/2"}}],
+ "t": [0, 1],
+ "motion": {"translation": [[0, 4], [0, 0, 2], [0]]},
+ "eye": {"path": [[2], ["-1/2", "47/100"], ["1/10"]], "r": [0, 1]}}"#;
+
+/// The envelope components of the silhouette seen from the eye path's point at `r`: their
+/// types and ends.
+fn envelope_components_at(
+    scene: &Scene,
+    r: f64,
+) -> Vec<(Option<ComponentType>, Vec<ComponentEnd>)> {
+    use geocert::num::Rational;
+    let Eye::Path { path, .. } = &scene.eye else {
+        panic!("an eye path")
+    };
+    let r = Rational::new(((r * 4096.0).round() as i64).into(), 4096.into());
+    let point = path.clone().map(|p| {
+        p.iter()
+            .rev()
+            .fold(Rational::from_integer(0.into()), |acc, c| acc * &r + c)
+    });
+    let mut fixed = scene.clone();
+    fixed.eye = Eye::Point(point);
+    let s = silhouette(
+        &fixed,
+        &SilhouetteOptions::new().with_resolution(1.0 / 64.0),
+    )
+    .unwrap();
+    assert!(s.clusters.is_empty(), "clusters at r = {r}");
+    types(&s)
+}
+
+#[test]
+fn a_moving_eye_has_certified_events_and_the_silhouette_reconnects_at_the_interior_one() {
+    use geocert::num::{rational_from_f64, Rational};
+    use geocert::solve::SolveOptions;
+    use geocert::sweep::{event_systems, events, verify_event, EventKind};
+    let scene = scene_from_json(TURN_EYE).unwrap();
+    let ev = events(&scene, &SolveOptions::new()).unwrap();
+    println!(
+        "turning ellipsoid with a moving eye: {} systems, {} events ({} interior), {} clusters",
+        ev.systems,
+        ev.events.len(),
+        ev.events
+            .iter()
+            .filter(|e| e.kind == EventKind::Interior)
+            .count(),
+        ev.clusters.len()
+    );
+    assert!(ev.clusters.is_empty());
+    assert!(ev.events.windows(2).all(|w| w[0].r <= w[1].r));
+    for e in &ev.events {
+        assert!(verify_event(&scene, e).unwrap().is_ok(), "{e:?}");
+    }
+    let interior: Vec<_> = ev
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::Interior)
+        .collect();
+    assert_eq!(interior.len(), 1);
+    let e = interior[0];
+    assert_eq!(e.pivot, Some(true));
+    // At the event the silhouette curve is singular, ∇F ∥ ∇G in (u, v, t) — the Lagrange
+    // condition — while ∇G itself is far from zero: eqs. 6–9 of the paper (G_u = G_v = G_t =
+    // 0) do not hold there.
+    let system = event_systems(&scene)
+        .unwrap()
+        .into_iter()
+        .find(|s| s.patch == e.patch && s.surface == e.surface && s.kind == EventKind::Interior)
+        .unwrap()
+        .system;
+    let unit: Vec<Rational> = system
+        .domain
+        .iter()
+        .zip(&e.root.approx)
+        .map(|((a, b), x)| (rational_from_f64(*x, "x").unwrap() - a) / (b - a))
+        .collect();
+    let grad = |k: usize| -> [f64; 3] {
+        std::array::from_fn(|axis| {
+            let d = system.equations[k].derivative(axis).unwrap();
+            rational_to_f64(&d.eval(&unit).unwrap())
+        })
+    };
+    let (gf, gg) = (grad(0), grad(1));
+    println!(
+        "box error bound {:.2e}; ∇F {gf:?} ∇G {gg:?}; F {:.3e} G {:.3e} minors {:.3e} {:.3e}",
+        e.root.error_bound,
+        rational_to_f64(&system.equations[0].eval(&unit).unwrap()),
+        rational_to_f64(&system.equations[1].eval(&unit).unwrap()),
+        rational_to_f64(&system.equations[2].eval(&unit).unwrap()),
+        rational_to_f64(&system.equations[3].eval(&unit).unwrap())
+    );
+    let norm = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    let cross = [
+        gf[1] * gg[2] - gf[2] * gg[1],
+        gf[2] * gg[0] - gf[0] * gg[2],
+        gf[0] * gg[1] - gf[1] * gg[0],
+    ];
+    let scale = system.equations[1]
+        .coeffs()
+        .iter()
+        .map(|c| rational_to_f64(c).abs())
+        .fold(0.0, f64::max);
+    println!(
+        "interior event at r = {:.5}, (u, v, t) = {:?}: |∇F × ∇G| / (|∇F||∇G|) = {:.2e}, |∇G| / max|G| = {:.3}",
+        e.r,
+        e.uvt,
+        norm(cross) / (norm(gf) * norm(gg)),
+        norm(gg) / scale
+    );
+    assert!(norm(cross) < 1e-6 * norm(gf) * norm(gg));
+    assert!(norm(gg) > 1e-2 * scale);
+    // The silhouette seen from just before and just after the event (no other event between
+    // r ± 0.01): a saddle — the two components, each from the start position to the end
+    // position, exchange partners and become one from start to start and one from end to
+    // end.
+    let (before, after) = (
+        envelope_components_at(&scene, e.r - 0.01),
+        envelope_components_at(&scene, e.r + 0.01),
+    );
+    println!("envelope components: {before:?} before the event, {after:?} after");
+    for g in ev.events.iter().filter(|g| !g.kind.on_patch_border()) {
+        println!("genuine event at r = {:.4}: {:?}", g.r, g.kind);
+    }
+    let lower = ComponentEnd::Time { upper: false };
+    let upper = ComponentEnd::Time { upper: true };
+    assert_eq!(before.len(), 2);
+    assert!(before.iter().all(|c| c.1 == vec![lower, upper]));
+    assert_eq!(after.len(), 2);
+    assert!(after.iter().any(|c| c.1 == vec![lower, lower]));
+    assert!(after.iter().any(|c| c.1 == vec![upper, upper]));
+    // A moved box is refused; a fixed eye has no events.
+    let mut moved = e.clone();
+    moved.root.bounds[3] = (
+        Rational::from_integer(0.into()),
+        Rational::new(1.into(), 2.into()),
+    );
+    assert!(!matches!(verify_event(&scene, &moved), Ok(Ok(_))));
+    let through = scene_from_json(TUBE_THROUGH).unwrap();
+    assert!(matches!(
+        events(&through, &SolveOptions::new()),
+        Err(SweepError::EyePathOnSurface { .. })
+    ));
+    let fixed = builtin_scene("sphere-line").unwrap();
+    assert!(matches!(
+        events(&fixed, &SolveOptions::new()),
+        Err(SweepError::Field { .. })
+    ));
+}

@@ -50,6 +50,9 @@ pub struct Equations {
     pub g_printed: B,
     /// The patch's homogeneous normal `N_h` with the collapsed-edge factors divided out.
     pub normal: Normal,
+    /// `cof(M̂) N_h` in `(u, v, s)`: the moved surface's normal direction (`G̃` is the sight
+    /// vector's product with it).
+    pub cof_normal: [B; 3],
     /// `M̂X + (T̂ − δP) w` (3-D): zero exactly where the eye lies on the moving surface.
     pub sight: [B; 3],
     /// The moved patch in homogeneous form, `(M̂X + T̂w, δw)` (3-D): `A(t)S = image[0..3] /
@@ -287,6 +290,7 @@ pub(crate) fn equations_with(
     let as3 = |v: Vec<B>| -> [B; 3] { v.try_into().expect("three components") };
     let (velocity, sight) = (as3(velocity), as3(sight));
     let f = dot(&velocity, &cof_n)?.at_exact_degrees();
+    let cof_normal = cof_n.clone();
     let g = dot(&sight, &cof_n)?.at_exact_degrees();
     let g_printed = dot(&sight, &m_n)?.at_exact_degrees();
     Ok(Equations {
@@ -294,6 +298,7 @@ pub(crate) fn equations_with(
         g,
         g_printed,
         normal,
+        cof_normal,
         sight,
         image,
         divided,

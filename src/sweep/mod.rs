@@ -24,14 +24,18 @@
 //! `F`'s and `G`'s degrees; up to [`crate::solve::MAX_DEGREE`] per variable): bicubic patches
 //! under low-degree motions fit, higher degrees are refused with the degrees named.
 //!
-//! Not yet here: the moving eye of Section 4 (a scene with an eye path is traced from
-//! `P(r₀)`).
+//! The moving eye of Section 4: the critical events where the silhouette's topology can
+//! change ([`events`], with the Lagrange condition in place of eqs. 6–9, module docs there).
+//! Not yet here: frames between events by continuation (a scene with an eye path is traced
+//! from `P(r₀)`).
 
 mod equations;
+mod events;
 mod scene;
 mod silhouette;
 
 pub use equations::{equations, patch_normal, Equations, Normal};
+pub use events::{event_systems, events, verify_event, Event, EventKind, EventSystem, Events};
 pub use scene::{builtin_scene, builtin_scene_json, scene_from_json, Patch, BUILTIN_SCENES};
 // What the report measures with (feature `reports`).
 #[cfg(feature = "reports")]
@@ -156,6 +160,20 @@ pub enum SweepError {
         t_lo: f64,
         /// Upper end.
         t_hi: f64,
+    },
+    /// The eye path meets the moving surface (a witness point), or that it does not could not
+    /// be certified within the prover's limits (`r`, `t` NaN): the silhouette degenerates
+    /// there, and so would the events.
+    #[error("the eye path meets the moving surface {surface}, patch {patch}, near r = {r}, t = {t} (or this could not be ruled out)")]
+    EyePathOnSurface {
+        /// The surface.
+        surface: usize,
+        /// The patch.
+        patch: usize,
+        /// The eye parameter of the witness.
+        r: f64,
+        /// Its time.
+        t: f64,
     },
     /// The Bernstein kernel refused an operation.
     #[error("Bernstein kernel: {0}")]

@@ -1,11 +1,14 @@
-//! `geocert sweep silhouette`: the perspective silhouette of a swept volume (Seong et al.).
+//! `geocert sweep silhouette` and `geocert sweep events`: the perspective silhouette of a
+//! swept volume (Seong et al.) and, for an eye on a path, the critical events where its
+//! topology can change.
 
 use crate::out::{choice, pretty, read, write};
 use clap::Subcommand;
 use geocert::bernstein::Limits;
 use geocert::num::rational_to_string;
 use geocert::sweep::{
-    builtin_scene, scene_from_json, silhouette, ComponentEnd, Scene, SilhouetteOptions, Silhouettes,
+    builtin_scene, events, scene_from_json, silhouette, verify_event, ComponentEnd, EventKind,
+    Scene, SilhouetteOptions, Silhouettes,
 };
 use geocert::Path;
 use serde_json::{json, Value};
@@ -18,6 +21,25 @@ pub(crate) enum Command {
     /// components (F = G = 0, with Algorithm 1's types 1–3), the certified t-extreme points
     /// (F = G = H = 0), and the contours of the start and end positions.
     Silhouette(SilhouetteArgs),
+    /// For an eye moving along a path P(r): the certified critical events where the
+    /// silhouette's topology can change (Section 4, with the Lagrange condition: the
+    /// silhouette curve of that eye position is singular), on the patch's faces and edges too,
+    /// sorted by r; each re-checked from the scene. The eye path must stay off the moving
+    /// surface (certified first).
+    Events(EventsArgs),
+}
+
+#[derive(clap::Args)]
+pub(crate) struct EventsArgs {
+    /// A scene JSON file whose eye is `{"path": [px, py, pz], "r": [r0, r1]}`.
+    scene: String,
+    #[arg(long, default_value_t = Path::Filtered, value_parser = choice::<Path>(Path::NAMES))]
+    path: Path,
+    /// Wall-clock budget per system in seconds (what it stops is reported as clusters).
+    #[arg(long, default_value_t = 20.0)]
+    time_limit: f64,
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(clap::Args)]
@@ -57,7 +79,94 @@ pub(crate) struct SilhouetteArgs {
 pub(crate) fn run(c: Command) -> Result<ExitCode, String> {
     match c {
         Command::Silhouette(a) => run_silhouette(a),
+        Command::Events(a) => run_events(a),
     }
+}
+
+fn kind_json(k: &EventKind) -> Value {
+    let axis = |a: usize| ["u", "v", "t"][a.min(2)];
+    match k {
+        EventKind::Interior => json!({"where": "interior"}),
+        EventKind::Face { axis: a, upper } => {
+            json!({"where": "face", "fixed": [[axis(*a), if *upper { 1 } else { 0 }]]})
+        }
+        EventKind::Edge { fixed } => json!({"where": "edge", "fixed": fixed
+            .iter()
+            .map(|(a, u)| json!([axis(*a), if *u { 1 } else { 0 }]))
+            .collect::<Vec<_>>()}),
+    }
+}
+
+fn run_events(a: EventsArgs) -> Result<ExitCode, String> {
+    let time_limit = crate::out::time_limit(Some(a.time_limit))?;
+    let scene = load(&a.scene)?;
+    let opts = geocert::solve::SolveOptions::new()
+        .with_path(a.path)
+        .with_limits(
+            Limits::new()
+                .with_max_depth(40)
+                .with_max_boxes(200_000)
+                .with_time_limit(time_limit),
+        );
+    let clock = std::time::Instant::now();
+    let ev = events(&scene, &opts).map_err(|e| e.to_string())?;
+    let seconds = clock.elapsed().as_secs_f64();
+    let mut rows = Vec::new();
+    let mut all_verified = true;
+    for e in &ev.events {
+        let verified = matches!(verify_event(&scene, e), Ok(Ok(_)));
+        all_verified &= verified;
+        rows.push(json!({
+            "r": e.r,
+            "surface": e.surface,
+            "patch": e.patch,
+            "kind": kind_json(&e.kind),
+            "on_patch_border": e.kind.on_patch_border(),
+            "uvt": e.uvt,
+            "error_bound": e.root.error_bound,
+            "pivot_certified": e.pivot,
+            "verified": verified,
+        }));
+    }
+    if a.json {
+        let v = json!({
+            "events": rows,
+            "clusters": ev.clusters.len(),
+            "systems": ev.systems,
+            "seconds": seconds,
+        });
+        println!("{}", pretty(&v)?);
+    } else {
+        println!(
+            "{} events from {} systems in {seconds:.2} s ({} clusters){}",
+            ev.events.len(),
+            ev.systems,
+            ev.clusters.len(),
+            if all_verified {
+                "; every event re-checked"
+            } else {
+                "; SOME EVENTS FAILED THEIR RE-CHECK"
+            }
+        );
+        for e in &ev.events {
+            println!(
+                "r = {:.6}  surface {} patch {}  {:?}{}  (u, v, t) = ({:.4}, {:.4}, {:.4})",
+                e.r,
+                e.surface,
+                e.patch,
+                e.kind,
+                if e.kind.on_patch_border() {
+                    " (patch border)"
+                } else {
+                    ""
+                },
+                e.uvt[0],
+                e.uvt[1],
+                e.uvt[2]
+            );
+        }
+    }
+    Ok(crate::out::status(all_verified && ev.clusters.is_empty()))
 }
 
 fn load(scene: &str) -> Result<Scene, String> {

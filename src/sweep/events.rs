@@ -1,0 +1,445 @@
+//! The moving eye of Section 4: the eye follows a polynomial path `P(r)`, `r ∈ [r₀, r₁]`, and
+//! the silhouette `{F = 0, G(·, r) = 0}` changes with `r`. Its topology changes only at
+//! critical events, found once by the certified solver.
+//!
+//! `F` does not depend on `r` (eq. 4), and `G` is affine in the eye:
+//! `G̃(u, v, s, r) = G̃₀(u, v, s) − Σᵢ Pᵢ(r) Kᵢ(u, v, s)` with `G̃₀` the contour equation for
+//! the eye at the origin and `Kᵢ = δ w (cof(M̂) N_h)ᵢ` (module `equations`). The silhouettes of
+//! all eye positions form the 2-manifold `M = {F = 0, G = 0}` in `(u, v, t, r)`.
+//!
+//! **Correctness beyond the paper.** Section 4.1 takes the `r`-extreme points of `M` from
+//! `G = G_u = G_v = G_t = 0` (eqs. 6–9), kept where `F = 0` too. That asks `G`'s own gradient to
+//! point along `r`; but `M` is cut by two equations, and `r` restricted to `M` is critical
+//! where `e_r` lies in the span of `∇F` and `∇G` (Lagrange): `α ∇F + β ∇G = e_r`, so the
+//! `(u, v, t)` parts of the two gradients are parallel — the silhouette curve of that eye
+//! position is singular (its tangent `∇F × ∇G` vanishes). The paper's condition is the case
+//! `α = 0` only; generically its solutions do not lie on `F = 0` at all. So the events here are:
+//!
+//! * **interior** ([`EventKind::Interior`]): `F = G = 0` and the minors
+//!   `F_u G_v − F_v G_u = F_u G_t − F_t G_u = 0`, four equations in `(u, v, t, r)`; where
+//!   `(F_u, G_u) ≠ (0, 0)` (certified on the root's box, [`Event::pivot`]) the third minor
+//!   vanishes too, so the root is a true event;
+//! * **on a face** of the patch's `(u, v, t)` box ([`EventKind::Face`]; `t` faces are the
+//!   start and end positions): the curve `M ∩ face` has an `r`-extreme — `F = G = 0` and the
+//!   minor in the face's two free parameters, three equations;
+//! * **on an edge** ([`EventKind::Edge`]): `M` meets the edge, where a component's end runs
+//!   over a corner of the domain — `F = G = 0` in the edge's parameter and `r`.
+//!
+//! Faces and edges at `u, v ∈ {0, 1}` are the patch's borders: on a closed surface made of
+//! several patches, events there mark where a component crosses into the neighbouring patch
+//! at a tangency, not a change of the whole silhouette's topology; they are kept and labelled.
+
+use super::equations::{equations_with, motion_forms, on_interval, Equations, MotionForms};
+use super::{Eye, Scene, SweepError};
+use crate::bernstein::{Bernstein, ScaledBernstein};
+use crate::num::Rational;
+use crate::solve::{
+    solve, verify_root, Cluster, Root, RootCheck, RootRefusal, SolveOptions, System,
+};
+use num_traits::{One, Signed, Zero};
+
+type B = Bernstein<Rational>;
+
+/// Where on its patch's `(u, v, t)` box an event lies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EventKind {
+    /// Inside the box: the silhouette of one eye position has a singular point there.
+    Interior,
+    /// On the face `axis = 0` or `1` (`axis` 0 = u, 1 = v, 2 = t): the silhouette's end on
+    /// that face turns back in `r`.
+    Face {
+        /// The fixed parameter.
+        axis: usize,
+        /// At its upper end.
+        upper: bool,
+    },
+    /// On the edge where parameters `fixed[0]` and `fixed[1]` are at their ends (`upper`).
+    Edge {
+        /// The two fixed parameters, each with whether it is at its upper end.
+        fixed: [(usize, bool); 2],
+    },
+}
+
+impl EventKind {
+    /// Whether the event lies on a border of the patch in `u` or `v` (module docs).
+    pub fn on_patch_border(&self) -> bool {
+        match self {
+            EventKind::Interior => false,
+            EventKind::Face { axis, .. } => *axis < 2,
+            EventKind::Edge { fixed } => fixed.iter().any(|&(a, _)| a < 2),
+        }
+    }
+}
+
+/// One event system: the patch, where on it, and the square system whose roots are the
+/// events (unknowns: the free parameters among `u, v, t` in that order, then `r`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EventSystem {
+    /// The surface.
+    pub surface: usize,
+    /// The patch on it.
+    pub patch: usize,
+    /// Where.
+    pub kind: EventKind,
+    /// The system.
+    pub system: System,
+}
+
+/// A certified event.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Event {
+    /// The surface.
+    pub surface: usize,
+    /// The patch on it.
+    pub patch: usize,
+    /// Where on the patch.
+    pub kind: EventKind,
+    /// The eye parameter (the root box's centre).
+    pub r: f64,
+    /// `(u, v, t)` (the box's centre; fixed parameters at their ends).
+    pub uvt: [f64; 3],
+    /// The root of its [`EventSystem`] (box and certificate, [`verify_event`]).
+    pub root: Root,
+    /// For an interior event, whether `F_u` or `G_u` has one strict sign on the root's box
+    /// (then the third minor vanishes too and the event is a true one); `None` elsewhere.
+    pub pivot: Option<bool>,
+}
+
+/// The events of a scene with a moving eye, sorted by `r`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Events {
+    /// Certified events in increasing `r`.
+    pub events: Vec<Event>,
+    /// Boxes the solver could not certify, with their system's surface, patch and kind.
+    pub clusters: Vec<(usize, usize, EventKind, Cluster)>,
+    /// Systems solved.
+    pub systems: usize,
+}
+
+/// The product, in integers over a common denominator.
+fn mul(a: &B, b: &B) -> Result<B, SweepError> {
+    Ok(ScaledBernstein::from_rational(a)
+        .product(&ScaledBernstein::from_rational(b))?
+        .to_rational())
+}
+
+fn sub(a: &B, b: &B) -> Result<B, SweepError> {
+    Ok(a.add_elevated(&b.scale(&-Rational::one()))?)
+}
+
+/// `f_i g_j − f_j g_i` (derivatives along axes `i`, `j`).
+fn minor(f: &B, g: &B, i: usize, j: usize) -> Result<B, SweepError> {
+    let (fi, fj, gi, gj) = (
+        f.derivative(i)?,
+        f.derivative(j)?,
+        g.derivative(i)?,
+        g.derivative(j)?,
+    );
+    Ok(sub(&mul(&fi, &gj)?, &mul(&fj, &gi)?)?.at_exact_degrees())
+}
+
+/// `F̃` and `G̃` of one patch in `(u, v, s, ρ)` (`t = a + (b − a)s`, `r = r₀ + (r₁ − r₀)ρ`).
+fn patch_fg(
+    eq0: &Equations,
+    path: &[super::Poly; 3],
+    r: &(Rational, Rational),
+) -> Result<(B, B), SweepError> {
+    let f = eq0.f.embed(&[0, 1, 2], 4)?;
+    let mut g = eq0.g.embed(&[0, 1, 2], 4)?;
+    for (i, p) in path.iter().enumerate() {
+        let k = mul(&eq0.image[3], &eq0.cof_normal[i])?.embed(&[0, 1, 2], 4)?;
+        let p = on_interval(p, &r.0, &r.1).embed(&[3], 4)?;
+        g = sub(&g, &mul(&k, &p)?)?;
+    }
+    Ok((f, g.at_exact_degrees()))
+}
+
+/// The eye path and its interval, or an error for a fixed eye.
+fn eye_path(scene: &Scene) -> Result<(&[super::Poly; 3], &(Rational, Rational)), SweepError> {
+    match &scene.eye {
+        Eye::Path { path, r } => Ok((path, r)),
+        Eye::Point(_) => Err(SweepError::field(
+            "eye",
+            "events need an eye path {\"path\": …, \"r\": [r0, r1]}",
+        )),
+    }
+}
+
+/// Every event system of a scene whose eye moves along a path (module docs): per patch, the
+/// interior system, the six faces' and the twelve edges' systems. Refused when the eye is a
+/// fixed point.
+pub fn event_systems(scene: &Scene) -> Result<Vec<EventSystem>, SweepError> {
+    let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
+    let mut out = Vec::new();
+    for (s, surface) in scene.surfaces.iter().enumerate() {
+        for p in 0..surface.patches.len() {
+            out.extend(patch_event_systems(scene, &forms, s, p)?);
+        }
+    }
+    Ok(out)
+}
+
+/// The event systems of one patch ([`event_systems`]).
+fn patch_event_systems(
+    scene: &Scene,
+    forms: &MotionForms,
+    s: usize,
+    p: usize,
+) -> Result<Vec<EventSystem>, SweepError> {
+    let (path, r) = eye_path(scene)?;
+    let patch = scene
+        .surfaces
+        .get(s)
+        .and_then(|x| x.patches.get(p))
+        .ok_or_else(|| SweepError::field("event", format!("no patch {p} on surface {s}")))?;
+    let origin = [Rational::zero(), Rational::zero(), Rational::zero()];
+    let unit = (Rational::zero(), Rational::one());
+    let params = [unit.clone(), unit, scene.t.clone()];
+    let eq0 = equations_with(forms, patch, &origin)?;
+    let (f, g) = patch_fg(&eq0, path, r)?;
+    let mut out = Vec::new();
+    let mut push = |kind: EventKind, free: &[usize], eqs: Vec<B>| -> Result<(), SweepError> {
+        let mut domain: Vec<(Rational, Rational)> =
+            free.iter().map(|&k| params[k].clone()).collect();
+        domain.push(r.clone());
+        out.push(EventSystem {
+            surface: s,
+            patch: p,
+            kind,
+            system: System::new(domain, eqs)?,
+        });
+        Ok(())
+    };
+    // Interior: F, G and the two minors with the u column.
+    push(
+        EventKind::Interior,
+        &[0, 1, 2],
+        vec![
+            f.clone(),
+            g.clone(),
+            minor(&f, &g, 0, 1)?,
+            minor(&f, &g, 0, 2)?,
+        ],
+    )?;
+    for axis in 0..3 {
+        for upper in [false, true] {
+            let (ff, gf) = (f.face(axis, upper)?, g.face(axis, upper)?);
+            let free: Vec<usize> = (0..3).filter(|&k| k != axis).collect();
+            let m = minor(&ff, &gf, 0, 1)?;
+            push(
+                EventKind::Face { axis, upper },
+                &free,
+                vec![ff.clone(), gf.clone(), m],
+            )?;
+            // Each edge once: the second fixed axis above the first.
+            for axis2 in axis + 1..3 {
+                for upper2 in [false, true] {
+                    // In the face polynomial, axis2 sits one lower.
+                    let (fe, ge) = (ff.face(axis2 - 1, upper2)?, gf.face(axis2 - 1, upper2)?);
+                    let free: Vec<usize> = (0..3).filter(|&k| k != axis && k != axis2).collect();
+                    push(
+                        EventKind::Edge {
+                            fixed: [(axis, upper), (axis2, upper2)],
+                        },
+                        &free,
+                        vec![fe, ge],
+                    )?;
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Certifies that the eye path stays off the moving patch: `|M̂X + (T̂ − δP(r))w|² > 0` on
+/// `[0,1]² × [a, b] × [r₀, r₁]` by the positivity prover (as for a fixed eye, module
+/// `silhouette`); a witness where it vanishes, or no verdict within the limits, is refused.
+fn eye_path_off_patch(
+    scene: &Scene,
+    forms: &MotionForms,
+    s: usize,
+    p: usize,
+) -> Result<(), SweepError> {
+    use crate::bernstein::{prove_positive, Limits, PositivityOptions, PositivityVerdict};
+    let (path, r) = eye_path(scene)?;
+    let patch = &scene.surfaces[s].patches[p];
+    let origin = [Rational::zero(), Rational::zero(), Rational::zero()];
+    let eq0 = equations_with(forms, patch, &origin)?;
+    let weight = eq0.image[3].embed(&[0, 1, 2], 4)?;
+    let mut sum: Option<B> = None;
+    for (i, poly) in path.iter().enumerate() {
+        let pi = on_interval(poly, &r.0, &r.1).embed(&[3], 4)?;
+        let c = sub(&eq0.image[i].embed(&[0, 1, 2], 4)?, &mul(&weight, &pi)?)?;
+        let sq = mul(&c, &c)?;
+        sum = Some(match sum {
+            None => sq,
+            Some(acc) => acc.add_elevated(&sq)?,
+        });
+    }
+    let sum = sum.expect("three components");
+    let verdict = prove_positive(
+        &sum,
+        &PositivityOptions::new()
+            .with_path(crate::Path::Filtered)
+            .with_limits(Limits::new().with_max_depth(30).with_max_boxes(100_000)),
+    )?;
+    let to_f64 = crate::num::rational::rational_to_f64;
+    let lerp = |lo: &Rational, hi: &Rational, x: &Rational| to_f64(&(lo + (hi - lo) * x));
+    match verdict {
+        PositivityVerdict::Positive { .. } => Ok(()),
+        PositivityVerdict::NotPositive { witness, .. } => Err(SweepError::EyePathOnSurface {
+            surface: s,
+            patch: p,
+            r: lerp(&r.0, &r.1, &witness[3]),
+            t: lerp(&scene.t.0, &scene.t.1, &witness[2]),
+        }),
+        _ => Err(SweepError::EyePathOnSurface {
+            surface: s,
+            patch: p,
+            r: f64::NAN,
+            t: f64::NAN,
+        }),
+    }
+}
+
+/// Whether `F_u` or `G_u` (the interior system's first two equations, derivative along the
+/// first unknown) has one strict sign on the unit-parameter box `sub` of `system`.
+fn pivot_certified(system: &System, sub: &[(Rational, Rational)]) -> Result<bool, SweepError> {
+    for e in &system.equations[..2] {
+        let d = e.derivative(0)?.restrict(sub)?;
+        let c = d.coeffs();
+        if c.iter().all(|x| x.is_positive()) || c.iter().all(|x| x.is_negative()) {
+            return Ok(true);
+        }
+    }
+    Ok(false)
+}
+
+/// The unit-box parameters of a root's box in `system`.
+fn unit_box(system: &System, root: &Root) -> Vec<(Rational, Rational)> {
+    system
+        .domain
+        .iter()
+        .zip(&root.bounds)
+        .map(|((a, b), (lo, hi))| {
+            let h = b - a;
+            ((lo - a) / &h, (hi - a) / &h)
+        })
+        .collect()
+}
+
+/// Solves every event system ([`event_systems`], on all cores) and returns the certified
+/// events sorted by `r`, with what could not be certified. First certifies that the eye path
+/// never meets the moving surface ([`SweepError::EyePathOnSurface`] otherwise): there the
+/// silhouette degenerates and `∇G` vanishes with `G`.
+pub fn events(scene: &Scene, opts: &SolveOptions) -> Result<Events, SweepError> {
+    use crate::par::prelude::*;
+    let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
+    for (s, surface) in scene.surfaces.iter().enumerate() {
+        for p in 0..surface.patches.len() {
+            eye_path_off_patch(scene, &forms, s, p)?;
+        }
+    }
+    let systems = event_systems(scene)?;
+    let mut events = Vec::new();
+    let mut clusters = Vec::new();
+    let to_f64 = |x: &Rational| crate::num::rational::rational_to_f64(x);
+    // The systems are independent: solved on all cores, read in order.
+    let solutions: Vec<_> = systems
+        .par_iter()
+        .map(|es| solve(&es.system, opts))
+        .collect();
+    for (es, sol) in systems.iter().zip(solutions) {
+        let sol = sol?;
+        let n = es.system.unknowns();
+        for root in sol.roots {
+            let free: Vec<usize> = match es.kind {
+                EventKind::Interior => vec![0, 1, 2],
+                EventKind::Face { axis, .. } => (0..3).filter(|&k| k != axis).collect(),
+                EventKind::Edge { fixed } => (0..3)
+                    .filter(|&k| k != fixed[0].0 && k != fixed[1].0)
+                    .collect(),
+            };
+            let mut uvt = [0.0; 3];
+            for (j, &k) in free.iter().enumerate() {
+                uvt[k] = root.approx[j];
+            }
+            let ends = |axis: usize, upper: bool| {
+                if axis == 2 {
+                    to_f64(if upper { &scene.t.1 } else { &scene.t.0 })
+                } else if upper {
+                    1.0
+                } else {
+                    0.0
+                }
+            };
+            match es.kind {
+                EventKind::Face { axis, upper } => uvt[axis] = ends(axis, upper),
+                EventKind::Edge { fixed } => {
+                    for (axis, upper) in fixed {
+                        uvt[axis] = ends(axis, upper);
+                    }
+                }
+                EventKind::Interior => {}
+            }
+            let pivot = match es.kind {
+                EventKind::Interior => {
+                    Some(pivot_certified(&es.system, &unit_box(&es.system, &root))?)
+                }
+                _ => None,
+            };
+            events.push(Event {
+                surface: es.surface,
+                patch: es.patch,
+                kind: es.kind,
+                r: root.approx[n - 1],
+                uvt,
+                root,
+                pivot,
+            });
+        }
+        for c in sol.clusters {
+            clusters.push((es.surface, es.patch, es.kind, c));
+        }
+    }
+    events.sort_by(|a, b| a.r.total_cmp(&b.r));
+    Ok(Events {
+        events,
+        clusters,
+        systems: systems.len(),
+    })
+}
+
+/// Re-checks an event's certificate: rebuilds its system from the scene and checks the root
+/// box with [`verify_root`] (which does not call the solver), and an interior event's pivot.
+pub fn verify_event(
+    scene: &Scene,
+    event: &Event,
+) -> Result<Result<RootCheck, RootRefusal>, SweepError> {
+    let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
+    let system = patch_event_systems(scene, &forms, event.surface, event.patch)?
+        .into_iter()
+        .find(|s| s.kind == event.kind)
+        .ok_or_else(|| {
+            SweepError::field(
+                "event",
+                format!(
+                    "no system for surface {} patch {} {:?}",
+                    event.surface, event.patch, event.kind
+                ),
+            )
+        })?
+        .system;
+    if event.pivot == Some(true) && !pivot_certified(&system, &unit_box(&system, &event.root))? {
+        return Err(SweepError::field(
+            "event",
+            "the pivot F_u or G_u has no strict sign on the box",
+        ));
+    }
+    Ok(verify_root(
+        &system,
+        &event.root.bounds,
+        &event.root.certificate,
+    ))
+}

@@ -24,7 +24,7 @@ use super::earcut::simple_ccw;
 use super::history::{fingerprint, History, HistoryError, Stage};
 use super::{fallback_planes, fan_normal, Plane};
 use crate::mesh::{Mesh, MeshError};
-use crate::num::rational::{dyadic_rational, f64_dyadic};
+use crate::num::rational::{dyadic_rational, f64s_over_shared_power};
 use crate::num::Rational;
 use num_bigint::BigInt;
 use num_traits::{Signed, Zero};
@@ -86,21 +86,9 @@ fn step(step: usize, why: String) -> CheckError {
 /// `det[b − a, c − a]` exactly (finite coordinates), in integers: the six coordinates are
 /// dyadic, `m · 2^k`, and are brought over their smallest power of two, so no gcd is taken.
 fn det(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> Rational {
-    let parts = [a[0], a[1], b[0], b[1], c[0], c[1]].map(f64_dyadic);
-    let e = parts
-        .iter()
-        .filter(|(m, _)| *m != 0)
-        .map(|&(_, k)| k)
-        .min()
-        .unwrap_or(0);
-    let [ax, ay, bx, by, cx, cy] = parts.map(|(m, k)| {
-        if m == 0 {
-            BigInt::zero()
-        } else {
-            BigInt::from(m) << ((k - e) as usize)
-        }
-    });
-    dyadic_rational((&bx - &ax) * (&cy - &ay) - (&by - &ay) * (&cx - &ax), 2 * e)
+    let (ints, e) = f64s_over_shared_power(&[a[0], a[1], b[0], b[1], c[0], c[1]]);
+    let [ax, ay, bx, by, cx, cy]: &[BigInt; 6] = ints[..].try_into().expect("six coordinates");
+    dyadic_rational((bx - ax) * (cy - ay) - (by - ay) * (cx - ax), 2 * e)
 }
 
 /// The number of border loops of a manifold mesh.

@@ -22,9 +22,9 @@
 
 use super::quality::ClosestPoints;
 use crate::mesh::{area_vector, Mesh};
-use crate::num::rational::f64_dyadic;
+use crate::num::rational::f64s_over_shared_power;
 use num_bigint::BigInt;
-use num_traits::{Signed, Zero};
+use num_traits::Signed;
 
 /// One node moved by the fit: its id in the original mesh and its position before and after.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -57,7 +57,7 @@ pub fn fit(original: &Mesh, decimated: &mut Mesh, kept: &[u32], rounds: usize) -
         return Vec::new();
     }
     let start = decimated.vertices.clone();
-    let around = incidence(n, &decimated.triangles);
+    let around = crate::mesh::incident_triangles(n, &decimated.triangles);
     // Triangles whose normal `f64` cannot trust keep their corners where they are.
     let before: Vec<Option<[f64; 3]>> = decimated
         .triangles
@@ -183,28 +183,6 @@ fn border_normals(mesh: &Mesh) -> Vec<Option<[f64; 3]>> {
         .collect()
 }
 
-/// Per node, its incident triangles (CSR: offsets, triangle ids in increasing order).
-fn incidence(n: usize, triangles: &[[u32; 3]]) -> (Vec<u32>, Vec<u32>) {
-    let mut first = vec![0u32; n + 1];
-    for t in triangles {
-        for &i in t {
-            first[i as usize + 1] += 1;
-        }
-    }
-    for v in 0..n {
-        first[v + 1] += first[v];
-    }
-    let mut fill = first.clone();
-    let mut ids = vec![0u32; first[n] as usize];
-    for (k, t) in triangles.iter().enumerate() {
-        for &i in t {
-            ids[fill[i as usize] as usize] = k as u32;
-            fill[i as usize] += 1;
-        }
-    }
-    (first, ids)
-}
-
 /// Every sample's closest point on `decimated`: its triangle and barycentric coordinates
 /// there (on all cores; each a function of its point alone). Searching only near the
 /// previous round's triangle was tried: starting the search there saved 8 %, searching only
@@ -301,8 +279,8 @@ pub fn trusted_normal(t: [[f64; 3]; 3]) -> Option<[f64; 3]> {
         ((u[0] - w[0]).powi(2) + (u[1] - w[1]).powi(2) + (u[2] - w[2]).powi(2)).sqrt()
     };
     let lm = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
-    // The area vector is half the cross product.
-    (lm.is_finite() && lm > 0.0 && 2.0 * lm >= 1e-6 * len(b, a) * len(c, a)).then_some(m)
+    // `area_vector` is the cross product itself.
+    (lm.is_finite() && lm > 0.0 && lm >= 1e-6 * len(b, a) * len(c, a)).then_some(m)
 }
 
 /// Whether the triangle `after` keeps a normal within the fit's angle ([`MIN_COS`]) of
@@ -323,28 +301,13 @@ pub fn normals_agree(before: [f64; 3], after: [[f64; 3]; 3]) -> bool {
 /// has a positive dot product with `(b − a) × (c − a)` of `before` (finite coordinates), in
 /// integers over a shared power of two.
 pub fn normals_agree_exactly(before: [[f64; 3]; 3], after: [[f64; 3]; 3]) -> bool {
-    let parts: Vec<(i64, i64)> = before
+    let coords: Vec<f64> = before
         .iter()
         .chain(after.iter())
         .flatten()
-        .map(|&x| f64_dyadic(x))
+        .copied()
         .collect();
-    let e = parts
-        .iter()
-        .filter(|(m, _)| *m != 0)
-        .map(|&(_, k)| k)
-        .min()
-        .unwrap_or(0);
-    let ints: Vec<BigInt> = parts
-        .iter()
-        .map(|&(m, k)| {
-            if m == 0 {
-                BigInt::zero()
-            } else {
-                BigInt::from(m) << ((k - e) as usize)
-            }
-        })
-        .collect();
+    let (ints, _) = f64s_over_shared_power(&coords);
     let normal = |p: &[BigInt]| {
         let d = |i: usize, k: usize| &p[3 * i + k] - &p[k];
         let (u, w) = ([d(1, 0), d(1, 1), d(1, 2)], [d(2, 0), d(2, 1), d(2, 2)]);

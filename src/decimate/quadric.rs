@@ -91,25 +91,8 @@ pub fn initial_quadrics(mesh: &Mesh) -> Vec<Quadric> {
     use crate::par::prelude::*;
     let n = mesh.vertices.len();
     let (pos, tris) = (&mesh.vertices, &mesh.triangles);
-    // Incident triangles by node, in increasing order (counting sort).
-    let mut start = vec![0u32; n + 1];
-    for t in tris {
-        for &i in t {
-            start[i as usize + 1] += 1;
-        }
-    }
-    for i in 0..n {
-        start[i + 1] += start[i];
-    }
-    let mut fill = start.clone();
-    let mut incident = vec![0u32; 3 * tris.len()];
-    for (k, t) in tris.iter().enumerate() {
-        for &i in t {
-            incident[fill[i as usize] as usize] = k as u32;
-            fill[i as usize] += 1;
-        }
-    }
-    drop(fill);
+    // Incident triangles by node, in increasing order.
+    let (start, incident) = crate::mesh::incident_triangles(n, tris);
     let around = |a: u32| &incident[start[a as usize] as usize..start[a as usize + 1] as usize];
     let unit = |v: [f64; 3]| {
         let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();

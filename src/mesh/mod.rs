@@ -140,6 +140,30 @@ pub fn area_vector(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
     (DVec3::from(b) - a).cross(DVec3::from(c) - a).to_array()
 }
 
+/// Per vertex of `n`, its incident triangles in increasing order, by counting sort: offsets
+/// (`n + 1`, vertex `v`'s run is `ids[offsets[v]..offsets[v + 1]]`) and triangle ids. The
+/// indices must be in range.
+pub(crate) fn incident_triangles(n: usize, triangles: &[[u32; 3]]) -> (Vec<u32>, Vec<u32>) {
+    let mut first = vec![0u32; n + 1];
+    for t in triangles {
+        for &i in t {
+            first[i as usize + 1] += 1;
+        }
+    }
+    for v in 0..n {
+        first[v + 1] += first[v];
+    }
+    let mut fill = first.clone();
+    let mut ids = vec![0u32; first[n] as usize];
+    for (k, t) in triangles.iter().enumerate() {
+        for &i in t {
+            ids[fill[i as usize] as usize] = k as u32;
+            fill[i as usize] += 1;
+        }
+    }
+    (first, ids)
+}
+
 impl Mesh {
     /// Checks coordinates, scalar count and triangle indices.
     pub fn validate(&self) -> Result<(), MeshError> {

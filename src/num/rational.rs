@@ -48,6 +48,30 @@ pub(crate) fn f64_dyadic(x: f64) -> (i64, i64) {
     (if negative { -m } else { m }, exp + tz)
 }
 
+/// Finite `xs` as integers over one shared power of two: `xs[i] = ints[i] · 2^e` exactly,
+/// `e` the smallest exponent among the non-zero values (0 when all are zero), so that sign
+/// and polynomial work on them needs no gcd.
+pub(crate) fn f64s_over_shared_power(xs: &[f64]) -> (Vec<BigInt>, i64) {
+    let parts: Vec<(i64, i64)> = xs.iter().map(|&x| f64_dyadic(x)).collect();
+    let e = parts
+        .iter()
+        .filter(|(m, _)| *m != 0)
+        .map(|&(_, k)| k)
+        .min()
+        .unwrap_or(0);
+    let ints = parts
+        .iter()
+        .map(|&(m, k)| {
+            if m == 0 {
+                BigInt::zero()
+            } else {
+                BigInt::from(m) << ((k - e) as usize)
+            }
+        })
+        .collect();
+    (ints, e)
+}
+
 /// `n / d` in lowest terms (`d ≠ 0`). A power-of-two denominator needs no gcd; operands
 /// that fit in `i128` (the common case: short coefficients, knots and split points) are
 /// reduced with a machine-word binary gcd instead of `BigUint`'s; others through

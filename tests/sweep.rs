@@ -726,3 +726,73 @@ fn a_moving_eye_has_certified_events_and_the_silhouette_reconnects_at_the_interi
         Err(SweepError::Field { .. })
     ));
 }
+
+/// Frames of the moving eye: continued between events, traced afresh across the interior
+/// event; a continued frame matches a certified trace at the same eye position.
+#[test]
+fn frames_continue_between_events_and_are_traced_across_them() {
+    use geocert::solve::SolveOptions;
+    use geocert::sweep::{frames, EventKind};
+    let scene = scene_from_json(TURN_EYE).unwrap();
+    let rs: Vec<f64> = (0..21).map(|i| 1.60 + 0.005 * i as f64).collect();
+    let opts = SilhouetteOptions::new().with_resolution(1.0 / 32.0);
+    let f = frames(&scene, &rs, &opts, &SolveOptions::new()).unwrap();
+    let event = f
+        .events
+        .events
+        .iter()
+        .find(|e| e.kind == EventKind::Interior)
+        .unwrap()
+        .r;
+    let traced: Vec<f64> = f.frames.iter().filter(|x| x.traced).map(|x| x.r).collect();
+    let continued = f.frames.len() - traced.len();
+    println!(
+        "{} frames, traced at {traced:?}; {continued} continued at {:.0} frames/s",
+        f.frames.len(),
+        continued as f64 / f.continued_seconds.max(1e-9)
+    );
+    assert!(traced[0] == rs[0]);
+    let first_after = rs.iter().copied().find(|&r| r > event).unwrap();
+    assert!(traced.contains(&first_after), "re-traced after the event");
+    assert!(continued >= 15);
+    // A continued frame against a fresh certified trace from the same eye point: the same
+    // number of components, and every continued point close to the traced polylines.
+    let frame = f.frames.iter().rev().find(|x| !x.traced).unwrap();
+    let Eye::Path { path, .. } = &scene.eye else {
+        unreachable!()
+    };
+    let rq = geocert::num::rational_from_f64(frame.r, "r").unwrap();
+    let mut fixed = scene.clone();
+    fixed.eye = Eye::Point(path.clone().map(|p| {
+        p.iter()
+            .rev()
+            .fold(geocert::num::Rational::from_integer(0.into()), |acc, c| {
+                acc * &rq + c
+            })
+    }));
+    let fresh = silhouette(&fixed, &opts).unwrap();
+    let fresh_env: Vec<_> = fresh
+        .components
+        .iter()
+        .filter(|c| c.kind == ComponentKind::Envelope)
+        .collect();
+    assert_eq!(fresh_env.len(), frame.components.len());
+    let traced_points: Vec<[f64; 3]> = fresh_env.iter().flat_map(|c| c.points.clone()).collect();
+    let mut worst = 0.0f64;
+    for c in &frame.components {
+        for p in &c.points {
+            let d = traced_points
+                .iter()
+                .map(|q| {
+                    ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+                })
+                .fold(f64::INFINITY, f64::min);
+            worst = worst.max(d);
+        }
+    }
+    println!(
+        "continued frame at r = {:.3}: farthest point {worst:.4} from the traced polylines",
+        frame.r
+    );
+    assert!(worst < 0.1, "{worst}");
+}

@@ -26,16 +26,18 @@
 //!
 //! The moving eye of Section 4: the critical events where the silhouette's topology can
 //! change ([`events`], with the Lagrange condition in place of eqs. 6–9, module docs there).
-//! Not yet here: frames between events by continuation (a scene with an eye path is traced
-//! from `P(r₀)`).
+//! Between events, frames are continued from the previous frame ([`frames`]); a traced
+//! silhouette of a scene with an eye path is seen from `P(r₀)`.
 
 mod equations;
 mod events;
+mod frames;
 mod scene;
 mod silhouette;
 
 pub use equations::{equations, patch_normal, Equations, Normal};
 pub use events::{event_systems, events, verify_event, Event, EventKind, EventSystem, Events};
+pub use frames::{frames, Frame, FrameCurve, Frames, CONTINUATION_TOLERANCE, OVERSHOOT};
 pub use scene::{builtin_scene, builtin_scene_json, scene_from_json, Patch, BUILTIN_SCENES};
 // What the report measures with (feature `reports`).
 #[cfg(feature = "reports")]

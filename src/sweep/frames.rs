@@ -1,0 +1,398 @@
+//! Frames of a moving eye (Section 4.2, "Extraction"): the silhouette at a sequence of eye
+//! parameters `r`. Between two critical events ([`super::events`]) the silhouette's topology
+//! does not change, so a frame is the previous frame's polylines moved onto the new
+//! silhouette by Newton's method in `(u, v, t)` (the minimum-norm step for the two equations
+//! `F = 0`, `G(·, r) = 0`; a component's end on a time face keeps its `t`). A frame is traced
+//! afresh by the certified tracer ([`super::silhouette`]) when it is the first, when an event
+//! lies between it and the previous frame, or when a point does not converge.
+//!
+//! Continued frames are drawings, not certificates: the topology between events is what the
+//! events certify, and every continued point is checked to satisfy both equations to within
+//! [`CONTINUATION_TOLERANCE`] of their coefficient scale.
+
+use super::equations::{equations_with, motion_forms, on_interval, MotionForms};
+use super::events::{events, Events};
+use super::silhouette::{apply_motion, silhouette, SilhouetteComponent, SilhouetteOptions};
+use super::{Eye, Scene, SweepError};
+use crate::bernstein::Bernstein;
+use crate::num::rational::rational_to_f64;
+use crate::num::Rational;
+use crate::solve::SolveOptions;
+use num_traits::Zero;
+
+type B = Bernstein<Rational>;
+
+/// The largest residual `|F|`, `|G|` a continued point may keep, relative to the largest
+/// coefficient of each equation.
+pub const CONTINUATION_TOLERANCE: f64 = 1e-9;
+
+/// How far (in parameter units) a continued point may leave its patch's box: a silhouette
+/// running along a patch border crosses it back and forth; the patch's polynomials extend
+/// past it (for the primitives, onto the same quadric).
+pub const OVERSHOOT: f64 = 0.02;
+
+/// A polynomial in the power basis in up to four variables (axis 0 fastest), in `f64`.
+#[derive(Clone, Debug)]
+struct Power {
+    degrees: Vec<usize>,
+    coeffs: Vec<f64>,
+    scale: f64,
+}
+
+impl Power {
+    fn of(b: &B) -> Power {
+        let coeffs: Vec<f64> = b.to_power().iter().map(rational_to_f64).collect();
+        let scale = b
+            .coeffs()
+            .iter()
+            .map(|c| rational_to_f64(c).abs())
+            .fold(0.0, f64::max);
+        Power {
+            degrees: b.degrees().to_vec(),
+            coeffs,
+            scale,
+        }
+    }
+
+    /// The last axis fixed at `x` (Horner along it).
+    fn fix_last(&self, x: f64) -> Power {
+        let last = *self.degrees.last().expect("at least one axis");
+        let inner: usize = self.coeffs.len() / (last + 1);
+        let mut coeffs = vec![0.0; inner];
+        for k in (0..=last).rev() {
+            for (i, c) in coeffs.iter_mut().enumerate() {
+                *c = *c * x + self.coeffs[k * inner + i];
+            }
+        }
+        Power {
+            degrees: self.degrees[..self.degrees.len() - 1].to_vec(),
+            coeffs,
+            scale: self.scale,
+        }
+    }
+
+    /// The value of a two-variable polynomial at `(u, v)`.
+    fn eval2(&self, u: f64, v: f64) -> f64 {
+        let d0 = self.degrees[0];
+        let mut acc = 0.0;
+        for line in self.coeffs.chunks(d0 + 1).rev() {
+            let p = line.iter().rev().fold(0.0, |p, &c| p * u + c);
+            acc = acc * v + p;
+        }
+        acc
+    }
+
+    /// Value and gradient of a three-variable polynomial at `x`.
+    fn eval_grad(&self, x: [f64; 3]) -> (f64, [f64; 3]) {
+        let [d0, d1, d2] = [self.degrees[0], self.degrees[1], self.degrees[2]];
+        let (mut v, mut g) = (0.0, [0.0; 3]);
+        for k in (0..=d2).rev() {
+            let (mut q, mut q0, mut q1) = (0.0, 0.0, 0.0);
+            for j in (0..=d1).rev() {
+                let line = &self.coeffs[(k * (d1 + 1) + j) * (d0 + 1)..][..d0 + 1];
+                let (mut p, mut p0) = (0.0, 0.0);
+                for &c in line.iter().rev() {
+                    p0 = p0 * x[0] + p;
+                    p = p * x[0] + c;
+                }
+                q1 = q1 * x[1] + q;
+                q = q * x[1] + p;
+                q0 = q0 * x[1] + p0;
+            }
+            g[2] = g[2] * x[2] + v;
+            v = v * x[2] + q;
+            g[0] = g[0] * x[2] + q0;
+            g[1] = g[1] * x[2] + q1;
+        }
+        (v, g)
+    }
+}
+
+/// One patch's equations for continuation: `F̃(u, v, s)` and `G̃(u, v, s, ρ)`, and its
+/// homogeneous coordinates.
+struct PatchForms {
+    f: Power,
+    g: Power,
+    hom: [Power; 4],
+}
+
+impl PatchForms {
+    /// `S(u, v)` (also a little past the patch's square); `None` where the weight is not
+    /// positive.
+    fn point(&self, u: f64, v: f64) -> Option<[f64; 3]> {
+        let w = self.hom[3].eval2(u, v);
+        (w > 0.0).then(|| std::array::from_fn(|k| self.hom[k].eval2(u, v) / w))
+    }
+}
+
+fn patch_forms(
+    scene: &Scene,
+    forms: &MotionForms,
+    s: usize,
+    p: usize,
+) -> Result<PatchForms, SweepError> {
+    let Eye::Path { path, r } = &scene.eye else {
+        return Err(SweepError::field("eye", "frames need an eye path"));
+    };
+    let origin = [Rational::zero(), Rational::zero(), Rational::zero()];
+    let eq0 = equations_with(forms, &scene.surfaces[s].patches[p], &origin)?;
+    let mut g = eq0.g.embed(&[0, 1, 2], 4)?;
+    for (i, poly) in path.iter().enumerate() {
+        let k = eq0.image[3]
+            .product(&eq0.cof_normal[i])?
+            .embed(&[0, 1, 2], 4)?;
+        let pi = on_interval(poly, &r.0, &r.1).embed(&[3], 4)?;
+        g = g.add_elevated(&k.product(&pi)?.scale(&-Rational::from_integer(1.into())))?;
+    }
+    let hom = &scene.surfaces[s].patches[p].hom;
+    Ok(PatchForms {
+        f: Power::of(&eq0.f),
+        g: Power::of(&g.at_exact_degrees()),
+        hom: std::array::from_fn(|k| Power::of(&hom[k])),
+    })
+}
+
+/// One frame: the eye parameter, the envelope's silhouette components as 3-D polylines, and
+/// how the frame was made.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    /// The eye parameter.
+    pub r: f64,
+    /// Per envelope component, its points in `(u, v, t)` and in 3-D.
+    pub components: Vec<FrameCurve>,
+    /// Traced afresh by the certified tracer (else continued from the previous frame).
+    pub traced: bool,
+}
+
+/// One component of a frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameCurve {
+    /// The surface.
+    pub surface: usize,
+    /// Per point, its patch.
+    pub patches: Vec<usize>,
+    /// Points in `(u, v, t)`.
+    pub uvt: Vec<[f64; 3]>,
+    /// Points in 3-D (`A(t)S(u, v)`).
+    pub points: Vec<[f64; 3]>,
+    /// Whether it is closed.
+    pub closed: bool,
+}
+
+/// The frames at `rs` (increasing, inside the eye path's interval) and the events that
+/// decided where the tracer had to run again, with the seconds spent continuing.
+#[derive(Clone, Debug)]
+pub struct Frames {
+    /// One per requested `r`.
+    pub frames: Vec<Frame>,
+    /// The certified events ([`events`]).
+    pub events: Events,
+    /// Seconds spent in continued frames (not in traced ones or the events).
+    pub continued_seconds: f64,
+}
+
+fn from_components(comps: &[SilhouetteComponent]) -> Vec<FrameCurve> {
+    comps
+        .iter()
+        .filter(|c| c.kind == super::ComponentKind::Envelope)
+        .map(|c| FrameCurve {
+            surface: c.surface,
+            patches: c.patches.clone(),
+            uvt: c.uvt.clone(),
+            points: c.points.clone(),
+            closed: c.closed,
+        })
+        .filter(|c| !c.uvt.is_empty() && c.patches.len() == c.uvt.len())
+        .collect()
+}
+
+/// The silhouette frames at the eye parameters `rs` (module docs). Traced frames use
+/// `opts`; the events are solved with `solve_opts`.
+pub fn frames(
+    scene: &Scene,
+    rs: &[f64],
+    opts: &SilhouetteOptions,
+    solve_opts: &SolveOptions,
+) -> Result<Frames, SweepError> {
+    let Eye::Path { path, r } = &scene.eye else {
+        return Err(SweepError::field("eye", "frames need an eye path"));
+    };
+    let (r0, r1) = (rational_to_f64(&r.0), rational_to_f64(&r.1));
+    let increasing = rs.windows(2).all(|w| w[0] < w[1]);
+    if !increasing || rs.iter().any(|x| !(r0..=r1).contains(x)) {
+        return Err(SweepError::field(
+            "frames",
+            format!("eye parameters must increase inside [{r0}, {r1}]"),
+        ));
+    }
+    let ev = events(scene, solve_opts)?;
+    let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
+    let mut patch: Vec<Vec<PatchForms>> = Vec::new();
+    for (s, surface) in scene.surfaces.iter().enumerate() {
+        let mut v = Vec::new();
+        for p in 0..surface.patches.len() {
+            v.push(patch_forms(scene, &forms, s, p)?);
+        }
+        patch.push(v);
+    }
+    let (a, b) = (rational_to_f64(&scene.t.0), rational_to_f64(&scene.t.1));
+    let mut out: Vec<Frame> = Vec::with_capacity(rs.len());
+    let mut continued_seconds = 0.0;
+    for (k, &rk) in rs.iter().enumerate() {
+        let crosses = k > 0
+            && ev
+                .events
+                .iter()
+                .any(|e| !e.kind.on_patch_border() && e.r > rs[k - 1] && e.r <= rk);
+        let rho = (rk - r0) / (r1 - r0);
+        let continued = if k == 0 || crosses {
+            None
+        } else {
+            let clock = std::time::Instant::now();
+            let c = continue_frame(scene, &patch, &out[k - 1], rho, (a, b));
+            continued_seconds += clock.elapsed().as_secs_f64();
+            c
+        };
+        let frame = match continued {
+            Some(components) => Frame {
+                r: rk,
+                components,
+                traced: false,
+            },
+            None => {
+                let rq = crate::num::rational_from_f64(rk, "r")
+                    .map_err(|e| SweepError::field("frames", e.to_string()))?;
+                let point = path.clone().map(|p| {
+                    p.iter()
+                        .rev()
+                        .fold(Rational::zero(), |acc, c| acc * &rq + c)
+                });
+                let mut fixed = scene.clone();
+                fixed.eye = Eye::Point(point);
+                let s = silhouette(&fixed, opts)?;
+                Frame {
+                    r: rk,
+                    components: from_components(&s.components),
+                    traced: true,
+                }
+            }
+        };
+        out.push(frame);
+    }
+    Ok(Frames {
+        frames: out,
+        events: ev,
+        continued_seconds,
+    })
+}
+
+/// The previous frame's components moved onto the silhouette at `rho` (unit eye
+/// parameter); `None` when a point does not converge.
+fn continue_frame(
+    scene: &Scene,
+    patch: &[Vec<PatchForms>],
+    prev: &Frame,
+    rho: f64,
+    (a, b): (f64, f64),
+) -> Option<Vec<FrameCurve>> {
+    // G at this eye position, per patch.
+    let g_here: Vec<Vec<Power>> = patch
+        .iter()
+        .map(|ps| ps.iter().map(|p| p.g.fix_last(rho)).collect())
+        .collect();
+    let mut comps = Vec::with_capacity(prev.components.len());
+    for c in &prev.components {
+        let mut uvt = Vec::with_capacity(c.uvt.len());
+        let mut points = Vec::with_capacity(c.uvt.len());
+        for (&x, &p) in c.uvt.iter().zip(&c.patches) {
+            let forms = &patch[c.surface][p];
+            let g = &g_here[c.surface][p];
+            // Points on a face of the patch's box (a time face, or a patch border where the
+            // component passes to the next patch) stay on it.
+            let s0 = (x[2] - a) / (b - a);
+            let y0 = [x[0], x[1], s0];
+            let fixed = y0.map(|c| c <= 1e-12 || c >= 1.0 - 1e-12);
+            let y = newton(y0, &forms.f, g, fixed)?;
+            let t = a + (b - a) * y[2];
+            let world = forms.point(y[0], y[1])?;
+            uvt.push([y[0], y[1], t]);
+            points.push(apply_motion(scene, t, world));
+        }
+        comps.push(FrameCurve {
+            surface: c.surface,
+            patches: c.patches.clone(),
+            uvt,
+            points,
+            closed: c.closed,
+        });
+    }
+    Some(comps)
+}
+
+/// Newton's method for `F = G = 0` from `x` (minimum-norm steps; the `fixed` coordinates do
+/// not move); `None` when it does not reach [`CONTINUATION_TOLERANCE`] in eight steps, more
+/// than one coordinate is fixed, or a point leaves the unit box.
+fn newton(mut x: [f64; 3], f: &Power, g: &Power, fixed: [bool; 3]) -> Option<[f64; 3]> {
+    if fixed.iter().filter(|&&b| b).count() > 1 {
+        return None;
+    }
+    for _ in 0..8 {
+        let (fv, fg) = f.eval_grad(x);
+        let (gv, gg) = g.eval_grad(x);
+        if fv.abs() <= CONTINUATION_TOLERANCE * f.scale
+            && gv.abs() <= CONTINUATION_TOLERANCE * g.scale
+        {
+            return Some(x);
+        }
+        let free = |v: [f64; 3]| std::array::from_fn(|k| if fixed[k] { 0.0 } else { v[k] });
+        let (fg, gg): ([f64; 3], [f64; 3]) = (free(fg), free(gg));
+        // dx = −Jᵀ (J Jᵀ)⁻¹ R with J = [∇F; ∇G].
+        let dot = |p: [f64; 3], q: [f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
+        let (m00, m01, m11) = (dot(fg, fg), dot(fg, gg), dot(gg, gg));
+        let det = m00 * m11 - m01 * m01;
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        let l0 = (m11 * fv - m01 * gv) / det;
+        let l1 = (m00 * gv - m01 * fv) / det;
+        for k in 0..3 {
+            x[k] -= l0 * fg[k] + l1 * gg[k];
+        }
+        if x.iter()
+            .any(|c| !(c.is_finite() && (-OVERSHOOT..=1.0 + OVERSHOOT).contains(c)))
+        {
+            return None;
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn power_evaluation_and_gradient_match_the_bernstein_form() {
+        // A random-ish 3-variable polynomial of degrees (2, 3, 1).
+        let degrees = vec![2, 3, 1];
+        let n = 3 * 4 * 2;
+        let coeffs: Vec<Rational> = (0..n)
+            .map(|i| Rational::new(((i * 37 % 11) as i64 - 5).into(), 3.into()))
+            .collect();
+        let b = Bernstein::new(degrees, coeffs).unwrap();
+        let p = Power::of(&b);
+        let x = [0.3, 0.7, 0.45];
+        let q = |v: f64| crate::num::rational_from_f64(v, "x").unwrap();
+        let exact = |poly: &B| rational_to_f64(&poly.eval(&x.map(q)).unwrap());
+        let (v, g) = p.eval_grad(x);
+        assert!((v - exact(&b)).abs() < 1e-12);
+        for (axis, ga) in g.iter().enumerate() {
+            let d = b.derivative(axis).unwrap();
+            assert!((ga - exact(&d)).abs() < 1e-11, "axis {axis}");
+        }
+        // Fixing the last axis of a 4-variable form.
+        let b4 = b.embed(&[0, 1, 2], 4).unwrap();
+        let p3 = Power::of(&b4).fix_last(0.25);
+        assert!((p3.eval_grad(x).0 - v).abs() < 1e-12);
+    }
+}

@@ -185,8 +185,9 @@ pub enum Fit {
 
 impl Fit {
     /// The rounds [`Fit::Auto`] runs on surfaces in 3-D: on the dragon scan at 1 % of the
-    /// nodes one round took the RMS distance from 0.126 % to 0.081 % of the diagonal, two
-    /// to 0.076 %, three to 0.073 % (with more flipped triangles against the original).
+    /// nodes two rounds take the RMS distance from 0.130 % to 0.078 % of the diagonal
+    /// (`reports/decimate.md`); in trials one round gave about 0.081 %, three about 0.073 %
+    /// with more triangles flipped against the original.
     pub const DEFAULT_ROUNDS: usize = 2;
 
     /// The rounds that run: [`Fit::Auto`] resolved by whether holes are cut in the global xy

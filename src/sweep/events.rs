@@ -139,20 +139,44 @@ fn minor(f: &B, g: &B, i: usize, j: usize) -> Result<B, SweepError> {
     Ok(sub(&mul(&fi, &gj)?, &mul(&fj, &gi)?)?.at_exact_degrees())
 }
 
-/// `F̃` and `G̃` of one patch in `(u, v, s, ρ)` (`t = a + (b − a)s`, `r = r₀ + (r₁ − r₀)ρ`).
-fn patch_fg(
-    eq0: &Equations,
-    path: &[super::Poly; 3],
-    r: &(Rational, Rational),
-) -> Result<(B, B), SweepError> {
+/// One patch under a moving eye: its equations for the eye at the origin, and `F̃`, `G̃` in
+/// `(u, v, s, ρ)` (`t = a + (b − a)s`, `r = r₀ + (r₁ − r₀)ρ`).
+pub(super) struct MovingEye {
+    /// The patch's equations with the eye at the origin (`G̃₀`, `Kᵢ`'s parts, the image).
+    pub(super) eq0: Equations,
+    /// `F̃`, constant in `ρ`.
+    pub(super) f: B,
+    /// `G̃ = G̃₀ − Σᵢ Pᵢ(r) Kᵢ`.
+    pub(super) g: B,
+}
+
+/// [`MovingEye`] of patch `p` of surface `s` (the eye must move along a path).
+pub(super) fn moving_eye(
+    scene: &Scene,
+    forms: &MotionForms,
+    s: usize,
+    p: usize,
+) -> Result<MovingEye, SweepError> {
+    let (path, r) = eye_path(scene)?;
+    let patch = scene
+        .surfaces
+        .get(s)
+        .and_then(|x| x.patches.get(p))
+        .ok_or_else(|| SweepError::field("event", format!("no patch {p} on surface {s}")))?;
+    let origin = [Rational::zero(), Rational::zero(), Rational::zero()];
+    let eq0 = equations_with(forms, patch, &origin)?;
     let f = eq0.f.embed(&[0, 1, 2], 4)?;
     let mut g = eq0.g.embed(&[0, 1, 2], 4)?;
-    for (i, p) in path.iter().enumerate() {
+    for (i, poly) in path.iter().enumerate() {
         let k = mul(&eq0.image[3], &eq0.cof_normal[i])?.embed(&[0, 1, 2], 4)?;
-        let p = on_interval(p, &r.0, &r.1).embed(&[3], 4)?;
-        g = sub(&g, &mul(&k, &p)?)?;
+        let pi = on_interval(poly, &r.0, &r.1).embed(&[3], 4)?;
+        g = sub(&g, &mul(&k, &pi)?)?;
     }
-    Ok((f, g.at_exact_degrees()))
+    Ok(MovingEye {
+        eq0,
+        f,
+        g: g.at_exact_degrees(),
+    })
 }
 
 /// The eye path and its interval, or an error for a fixed eye.
@@ -174,7 +198,8 @@ pub fn event_systems(scene: &Scene) -> Result<Vec<EventSystem>, SweepError> {
     let mut out = Vec::new();
     for (s, surface) in scene.surfaces.iter().enumerate() {
         for p in 0..surface.patches.len() {
-            out.extend(patch_event_systems(scene, &forms, s, p)?);
+            let me = moving_eye(scene, &forms, s, p)?;
+            out.extend(patch_event_systems(scene, &me, s, p)?);
         }
     }
     Ok(out)
@@ -183,21 +208,14 @@ pub fn event_systems(scene: &Scene) -> Result<Vec<EventSystem>, SweepError> {
 /// The event systems of one patch ([`event_systems`]).
 fn patch_event_systems(
     scene: &Scene,
-    forms: &MotionForms,
+    me: &MovingEye,
     s: usize,
     p: usize,
 ) -> Result<Vec<EventSystem>, SweepError> {
-    let (path, r) = eye_path(scene)?;
-    let patch = scene
-        .surfaces
-        .get(s)
-        .and_then(|x| x.patches.get(p))
-        .ok_or_else(|| SweepError::field("event", format!("no patch {p} on surface {s}")))?;
-    let origin = [Rational::zero(), Rational::zero(), Rational::zero()];
+    let (_, r) = eye_path(scene)?;
     let unit = (Rational::zero(), Rational::one());
     let params = [unit.clone(), unit, scene.t.clone()];
-    let eq0 = equations_with(forms, patch, &origin)?;
-    let (f, g) = patch_fg(&eq0, path, r)?;
+    let (f, g) = (&me.f, &me.g);
     let mut out = Vec::new();
     let mut push = |kind: EventKind, free: &[usize], eqs: Vec<B>| -> Result<(), SweepError> {
         let mut domain: Vec<(Rational, Rational)> =
@@ -215,12 +233,7 @@ fn patch_event_systems(
     push(
         EventKind::Interior,
         &[0, 1, 2],
-        vec![
-            f.clone(),
-            g.clone(),
-            minor(&f, &g, 0, 1)?,
-            minor(&f, &g, 0, 2)?,
-        ],
+        vec![f.clone(), g.clone(), minor(f, g, 0, 1)?, minor(f, g, 0, 2)?],
     )?;
     for axis in 0..3 {
         for upper in [false, true] {
@@ -255,17 +268,10 @@ fn patch_event_systems(
 /// Certifies that the eye path stays off the moving patch: `|M̂X + (T̂ − δP(r))w|² > 0` on
 /// `[0,1]² × [a, b] × [r₀, r₁]` by the positivity prover (as for a fixed eye, module
 /// `silhouette`); a witness where it vanishes, or no verdict within the limits, is refused.
-fn eye_path_off_patch(
-    scene: &Scene,
-    forms: &MotionForms,
-    s: usize,
-    p: usize,
-) -> Result<(), SweepError> {
+fn eye_path_off_patch(scene: &Scene, me: &MovingEye, s: usize, p: usize) -> Result<(), SweepError> {
     use crate::bernstein::{prove_positive, Limits, PositivityOptions, PositivityVerdict};
     let (path, r) = eye_path(scene)?;
-    let patch = &scene.surfaces[s].patches[p];
-    let origin = [Rational::zero(), Rational::zero(), Rational::zero()];
-    let eq0 = equations_with(forms, patch, &origin)?;
+    let eq0 = &me.eq0;
     let weight = eq0.image[3].embed(&[0, 1, 2], 4)?;
     let mut sum: Option<B> = None;
     for (i, poly) in path.iter().enumerate() {
@@ -336,12 +342,14 @@ fn unit_box(system: &System, root: &Root) -> Vec<(Rational, Rational)> {
 pub fn events(scene: &Scene, opts: &SolveOptions) -> Result<Events, SweepError> {
     use crate::par::prelude::*;
     let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
+    let mut systems = Vec::new();
     for (s, surface) in scene.surfaces.iter().enumerate() {
         for p in 0..surface.patches.len() {
-            eye_path_off_patch(scene, &forms, s, p)?;
+            let me = moving_eye(scene, &forms, s, p)?;
+            eye_path_off_patch(scene, &me, s, p)?;
+            systems.extend(patch_event_systems(scene, &me, s, p)?);
         }
     }
-    let systems = event_systems(scene)?;
     let mut events = Vec::new();
     let mut clusters = Vec::new();
     let to_f64 = |x: &Rational| crate::num::rational::rational_to_f64(x);
@@ -418,7 +426,8 @@ pub fn verify_event(
     event: &Event,
 ) -> Result<Result<RootCheck, RootRefusal>, SweepError> {
     let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
-    let system = patch_event_systems(scene, &forms, event.surface, event.patch)?
+    let me = moving_eye(scene, &forms, event.surface, event.patch)?;
+    let system = patch_event_systems(scene, &me, event.surface, event.patch)?
         .into_iter()
         .find(|s| s.kind == event.kind)
         .ok_or_else(|| {

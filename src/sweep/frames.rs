@@ -10,15 +10,14 @@
 //! events certify, and every continued point is checked to satisfy both equations to within
 //! [`CONTINUATION_TOLERANCE`] of their coefficient scale.
 
-use super::equations::{equations_with, motion_forms, on_interval, MotionForms};
-use super::events::{events, Events};
-use super::silhouette::{apply_motion, silhouette, SilhouetteComponent, SilhouetteOptions};
+use super::equations::{motion_forms, MotionForms};
+use super::events::{events, moving_eye, Events};
+use super::silhouette::{apply_motion, eye_at, silhouette, SilhouetteComponent, SilhouetteOptions};
 use super::{Eye, Scene, SweepError};
 use crate::bernstein::Bernstein;
 use crate::num::rational::rational_to_f64;
 use crate::num::Rational;
 use crate::solve::SolveOptions;
-use num_traits::Zero;
 
 type B = Bernstein<Rational>;
 
@@ -131,23 +130,11 @@ fn patch_forms(
     s: usize,
     p: usize,
 ) -> Result<PatchForms, SweepError> {
-    let Eye::Path { path, r } = &scene.eye else {
-        return Err(SweepError::field("eye", "frames need an eye path"));
-    };
-    let origin = [Rational::zero(), Rational::zero(), Rational::zero()];
-    let eq0 = equations_with(forms, &scene.surfaces[s].patches[p], &origin)?;
-    let mut g = eq0.g.embed(&[0, 1, 2], 4)?;
-    for (i, poly) in path.iter().enumerate() {
-        let k = eq0.image[3]
-            .product(&eq0.cof_normal[i])?
-            .embed(&[0, 1, 2], 4)?;
-        let pi = on_interval(poly, &r.0, &r.1).embed(&[3], 4)?;
-        g = g.add_elevated(&k.product(&pi)?.scale(&-Rational::from_integer(1.into())))?;
-    }
+    let me = moving_eye(scene, forms, s, p)?;
     let hom = &scene.surfaces[s].patches[p].hom;
     Ok(PatchForms {
-        f: Power::of(&eq0.f),
-        g: Power::of(&g.at_exact_degrees()),
+        f: Power::of(&me.eq0.f),
+        g: Power::of(&me.g),
         hom: std::array::from_fn(|k| Power::of(&hom[k])),
     })
 }
@@ -262,13 +249,8 @@ pub fn frames(
             None => {
                 let rq = crate::num::rational_from_f64(rk, "r")
                     .map_err(|e| SweepError::field("frames", e.to_string()))?;
-                let point = path.clone().map(|p| {
-                    p.iter()
-                        .rev()
-                        .fold(Rational::zero(), |acc, c| acc * &rq + c)
-                });
                 let mut fixed = scene.clone();
-                fixed.eye = Eye::Point(point);
+                fixed.eye = Eye::Point(eye_at(path, &rq));
                 let s = silhouette(&fixed, opts)?;
                 Frame {
                     r: rk,

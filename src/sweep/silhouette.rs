@@ -215,12 +215,14 @@ pub(crate) fn apply_motion(scene: &Scene, t: f64, x: [f64; 3]) -> [f64; 3] {
 pub(crate) fn eye_point(scene: &Scene) -> [Rational; 3] {
     match &scene.eye {
         Eye::Point(p) => p.clone(),
-        Eye::Path { path, r } => path.clone().map(|p| {
-            p.iter()
-                .rev()
-                .fold(Rational::zero(), |acc, c| acc * &r.0 + c)
-        }),
+        Eye::Path { path, r } => eye_at(path, &r.0),
     }
+}
+
+/// The eye path's point `P(r)`, exactly.
+pub(crate) fn eye_at(path: &[super::Poly; 3], r: &Rational) -> [Rational; 3] {
+    path.clone()
+        .map(|p| p.iter().rev().fold(Rational::zero(), |acc, c| acc * r + c))
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -439,24 +439,37 @@ impl<const D: usize> Diamond<D> {
     /// Calls `f` with each child inside the domain, in [`Diamond::children`]'s order.
     #[inline]
     pub fn for_each_child(&self, mut f: impl FnMut(Diamond<D>)) {
+        self.for_each_child_slot(|child, _| f(child));
+    }
+
+    /// [`Diamond::for_each_child`] with the slot in which this diamond is the child's parent
+    /// (what [`Diamond::slot_of_parent`] would find): for same-scale children `c ± h e_k` the
+    /// slot `2j + σ`, `j` the rank of `k` among the child's even axes and `σ = 1` for `c − h e_k`
+    /// (its parent lies at `+h`); for the children of a class-`(d−1)` diamond its one odd axis.
+    #[inline]
+    pub fn for_each_child_slot(&self, mut f: impl FnMut(Diamond<D>, usize)) {
         let odd = self.odd_axes();
         let h = self.half_width();
         if (odd.count_ones() as usize) > 1 {
             // Same scale: an odd coordinate moves by ±h to a multiple of 2h.
+            let even = !odd & ((1 << D) - 1);
             for k in 0..D {
                 if odd >> k & 1 == 1 {
+                    let rank = (even & ((1 << k) - 1)).count_ones() as usize;
                     for up in [false, true] {
                         let mut p = self.center;
                         p[k] = if up { p[k] + h } else { p[k] - h };
-                        f(Diamond {
+                        let child = Diamond {
                             center: p,
                             scale: self.scale,
                             levels: self.levels,
-                        });
+                        };
+                        f(child, 2 * rank + usize::from(!up));
                     }
                 }
             }
         } else if self.scale > 0 {
+            let slot = odd.trailing_zeros() as usize;
             let side = self.hierarchy().side();
             let half = h / 2;
             'corners: for t in 0..1u32 << D {
@@ -474,12 +487,26 @@ impl<const D: usize> Diamond<D> {
                         *x -= half;
                     }
                 }
-                f(Diamond {
+                let child = Diamond {
                     center: p,
                     scale: self.scale - 1,
                     levels: self.levels,
-                });
+                };
+                f(child, slot);
             }
+        }
+    }
+
+    /// The diamond of a hierarchy with one level fewer centred at half this one's central
+    /// vertex, for a diamond of scale at least 1 (its centre is even and no domain corner, so
+    /// the half is a central vertex of scale `γ − 1`).
+    #[inline]
+    pub(crate) fn halved(&self) -> Diamond<D> {
+        debug_assert!(self.scale > 0 && self.levels > 0);
+        Diamond {
+            center: self.center.map(|x| x / 2),
+            scale: self.scale - 1,
+            levels: self.levels - 1,
         }
     }
 }

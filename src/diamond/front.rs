@@ -8,7 +8,7 @@
 //! * [`SupercubeFront`] (`Σs`): per scale a hash from supercube origin to one bit per
 //!   (type, parent slot) pair — `Σ_τ slots(τ)` bits, 168 in 3-D (the paper's 336/2).
 
-use super::table::PointMap;
+use super::table::{FlagTable, PointMap};
 use super::{Diamond, DiamondType, Hierarchy, Point};
 
 /// An active front: parent flags per diamond in `Σ` (a diamond is in `Σ` when it has flags).
@@ -58,66 +58,109 @@ pub fn full_flags<const D: usize>(dia: &Diamond<D>) -> u32 {
 ///
 /// A diamond that leaves the front keeps its entry with flags `0` (a removal would shift the
 /// entries after it in the table); such entries are dropped when they outnumber the live
-/// ones.
+/// ones. Where the doubled grid's coordinates pack into a `u64` with the flags (3-D grids up
+/// to `2^18 + 1` points a side), an entry takes 8 bytes; elsewhere 16.
 #[derive(Clone, Debug)]
 pub struct DiamondFront<const D: usize> {
     hier: Hierarchy<D>,
-    map: PointMap<u32, D>,
+    map: FrontMap<D>,
     /// Entries with flags.
     live: usize,
 }
 
+/// `Σd`'s table: packed where the coordinates fit.
+#[derive(Clone, Debug)]
+enum FrontMap<const D: usize> {
+    Packed(FlagTable<D>),
+    Wide(PointMap<u32, D>),
+}
+
+impl<const D: usize> DiamondFront<D> {
+    /// Sets the flags of `dia` to `f(old)`; returns `(old, new)`.
+    #[inline(always)]
+    fn update(&mut self, dia: &Diamond<D>, f: impl FnOnce(u32) -> u32) -> (u32, u32) {
+        let c = dia.center();
+        match &mut self.map {
+            FrontMap::Packed(t) => t.update(&c, f),
+            FrontMap::Wide(m) => {
+                let slot = m.get_or_insert_with(c, || 0);
+                let old = *slot;
+                *slot = f(old);
+                (old, *slot)
+            }
+        }
+    }
+
+    /// Drops the entries of diamonds that left the front when they outnumber the live ones.
+    fn compact(&mut self) {
+        let entries = match &self.map {
+            FrontMap::Packed(t) => t.len(),
+            FrontMap::Wide(m) => m.len(),
+        };
+        if entries > 2 * self.live + 1024 {
+            match &mut self.map {
+                FrontMap::Packed(t) => t.retain_flagged(),
+                FrontMap::Wide(m) => m.retain(|_, &f| f != 0),
+            }
+        }
+    }
+}
+
 impl<const D: usize> Front<D> for DiamondFront<D> {
     fn empty(hier: Hierarchy<D>) -> Self {
-        DiamondFront {
-            hier,
-            map: PointMap::default(),
-            live: 0,
-        }
+        let map = if FlagTable::<D>::fits(hier.side()) {
+            FrontMap::Packed(FlagTable::default())
+        } else {
+            FrontMap::Wide(PointMap::default())
+        };
+        DiamondFront { hier, map, live: 0 }
     }
     #[inline]
     fn flags(&self, dia: &Diamond<D>) -> u32 {
-        self.map.get(&dia.center()).copied().unwrap_or(0)
+        match &self.map {
+            FrontMap::Packed(t) => t.get(&dia.center()),
+            FrontMap::Wide(m) => m.get(&dia.center()).copied().unwrap_or(0),
+        }
     }
     #[inline]
     fn set_flags(&mut self, dia: &Diamond<D>, flags: u32) {
-        if flags == 0 {
-            if let Some(f) = self.map.get_mut(&dia.center()) {
-                if *f != 0 {
-                    *f = 0;
-                    self.live -= 1;
-                    if self.map.len() > 2 * self.live + 1024 {
-                        self.map.retain(|_, &f| f != 0);
-                    }
-                }
+        let (old, _) = self.update(dia, |_| flags);
+        match (old != 0, flags != 0) {
+            (false, true) => self.live += 1,
+            (true, false) => {
+                self.live -= 1;
+                self.compact();
             }
-        } else {
-            let f = self.map.get_or_insert_with(dia.center(), || 0);
-            if *f == 0 {
-                self.live += 1;
-            }
-            *f = flags;
+            _ => {}
         }
     }
     #[inline]
     fn add_flags(&mut self, dia: &Diamond<D>, absent: impl FnOnce() -> u32, bits: u32) {
-        let f = self.map.get_or_insert_with(dia.center(), || 0);
-        if *f == 0 {
-            *f = absent();
+        let (old, _) = self.update(dia, |f| if f == 0 { absent() | bits } else { f | bits });
+        if old == 0 {
             self.live += 1;
         }
-        *f |= bits;
     }
     #[inline]
     fn prefetch(&self, dia: &Diamond<D>) {
-        self.map.prefetch(&dia.center());
+        match &self.map {
+            FrontMap::Packed(t) => t.prefetch(&dia.center()),
+            FrontMap::Wide(m) => m.prefetch(&dia.center()),
+        }
     }
     fn for_each(&self, mut f: impl FnMut(Diamond<D>, u32)) {
-        for (p, &flags) in self.map.iter().filter(|(_, &flags)| flags != 0) {
+        let mut call = |p: Point<D>, flags: u32| {
             f(
-                self.hier.diamond(*p).expect("front points are diamonds"),
+                self.hier.diamond(p).expect("front points are diamonds"),
                 flags,
-            );
+            )
+        };
+        match &self.map {
+            FrontMap::Packed(t) => t.flagged().for_each(|(p, flags)| call(p, flags)),
+            FrontMap::Wide(m) => m
+                .iter()
+                .filter(|(_, &flags)| flags != 0)
+                .for_each(|(p, &flags)| call(*p, flags)),
         }
     }
     fn diamonds(&self) -> usize {
@@ -300,5 +343,75 @@ impl<const D: usize> Front<D> for SupercubeFront<D> {
     fn bookkeeping_bytes(&self) -> u64 {
         let (bv, _) = super::index_bytes(D, self.hier.levels());
         self.supercubes() as u64 * (bv + (self.slots as u64).div_ceil(8))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The packed `Σd` table (8-byte entries) and the wide one (the fallback for grids whose
+    /// coordinates do not pack) hold the same front through random flag changes on every
+    /// diamond of a small 3-D grid, compactions included.
+    #[test]
+    fn packed_and_wide_diamond_fronts_agree() {
+        let hier = Hierarchy::<3>::new(5).unwrap();
+        let side = hier.side();
+        let diamonds: Vec<Diamond<3>> = (0..(side + 1).pow(3))
+            .filter_map(|i| {
+                let p = [
+                    i % (side + 1),
+                    i / (side + 1) % (side + 1),
+                    i / (side + 1).pow(2),
+                ];
+                hier.diamond(p).ok()
+            })
+            .collect();
+        let mut packed = DiamondFront::empty(hier);
+        assert!(matches!(packed.map, FrontMap::Packed(_)));
+        let mut wide = DiamondFront {
+            hier,
+            map: FrontMap::Wide(PointMap::default()),
+            live: 0,
+        };
+        let mut x = 0x2545_f491_4f6c_dd1du64;
+        let (mut compacted, mut entries) = (false, 0);
+        for step in 0..400_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let dia = &diamonds[(x >> 16) as usize % diamonds.len()];
+            let bits = (x >> 8) as u32 & full_flags(dia);
+            // Mostly clearing, so that cleared entries come to outnumber the live ones.
+            match x & 7 {
+                0 => assert_eq!(packed.flags(dia), wide.flags(dia), "step {step}"),
+                1 => {
+                    packed.set_flags(dia, bits);
+                    wide.set_flags(dia, bits);
+                }
+                2 => {
+                    packed.add_flags(dia, || absent_parent_flags(dia), bits);
+                    wide.add_flags(dia, || absent_parent_flags(dia), bits);
+                }
+                _ => {
+                    packed.set_flags(dia, 0);
+                    wide.set_flags(dia, 0);
+                }
+            }
+            assert_eq!(packed.diamonds(), wide.diamonds());
+            if let FrontMap::Packed(t) = &packed.map {
+                compacted |= t.len() < entries;
+                entries = t.len();
+            }
+        }
+        assert!(compacted, "the test reaches a compaction");
+        let collect = |f: &DiamondFront<3>| {
+            let mut v = Vec::new();
+            f.for_each(|d, flags| v.push((d.center(), flags)));
+            v.sort_unstable();
+            v
+        };
+        assert_eq!(collect(&packed), collect(&wide));
+        assert!(packed.diamonds() > 0);
     }
 }

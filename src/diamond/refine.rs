@@ -116,9 +116,14 @@ impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
     fn original(&self, dia: &Diamond<D>) -> Diamond<D> {
         // A doubled-grid centre of scale ≥ 1 is even and no domain corner, so half of it is
         // a central vertex of the DMV's grid.
-        self.dmv
-            .hierarchy()
-            .diamond_unchecked(dia.center().map(|x| x / 2))
+        let orig = dia.halved();
+        debug_assert_eq!(
+            orig,
+            self.dmv
+                .hierarchy()
+                .diamond_unchecked(dia.center().map(|x| x / 2))
+        );
+        orig
     }
 
     /// Examines `dia` (counted as visited) and queues it when the criterion wants it.
@@ -197,18 +202,18 @@ impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
         self.front.set_flags(dia, 0);
         // The children's front slots and DMV data are scattered in memory: start loading them
         // all before the first is needed.
-        let mut children = [*dia; 1 << super::MAX_DIM];
+        let mut children = [(*dia, 0); 1 << super::MAX_DIM];
         let mut n = 0;
-        dia.for_each_child(|child| {
+        dia.for_each_child_slot(|child, slot| {
             self.front.prefetch(&child);
             if child.scale() > 0 {
                 self.dmv.prefetch(&self.original(&child));
             }
-            children[n] = child;
+            debug_assert_eq!(child.slot_of_parent(dia), Some(slot));
+            children[n] = (child, slot);
             n += 1;
         });
-        for &child in &children[..n] {
-            let slot = slot_of_parent(&child, dia);
+        for &(child, slot) in &children[..n] {
             self.front
                 .add_flags(&child, || absent_parent_flags(&child), 1 << slot);
             self.examine(child, lod);

@@ -146,25 +146,14 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
         let (mut i, found) = self.probe(&p);
         if !found {
             if (self.len + 1) * LOAD_DEN > self.slots.len() * LOAD_NUM {
-                self.rebuild(self.slots.len() * 2);
+                let grow = if self.slots.len() >= 1 << 16 { 4 } else { 2 };
+                self.rebuild(self.slots.len() * grow);
                 i = self.probe(&p).0;
             }
             self.slots[i] = (p, make());
             self.len += 1;
         }
         &mut self.slots[i].1
-    }
-
-    /// The value of `p`, mutably.
-    #[inline]
-    pub(crate) fn get_mut(&mut self, p: &Point<D>) -> Option<&mut V> {
-        if self.slots.is_empty() {
-            return None;
-        }
-        match self.probe(p) {
-            (i, true) => Some(&mut self.slots[i].1),
-            _ => None,
-        }
     }
 
     /// Keeps only the entries for which `keep` holds, in a table sized for them.
@@ -257,6 +246,201 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
     }
 }
 
+/// A set of grid points with a few flag bits each, one `u64` per slot: the coordinates
+/// packed `B = ⌊(64 − F)/d⌋` bits each and the `F` flag bits above them — the diamond front
+/// `Σd` in 8 bytes per slot where [`PointMap`] takes 16. Open addressing with linear probing;
+/// entries are never removed one by one (a cleared entry keeps its key with flags `0`), only
+/// all at once by [`FlagTable::retain_flagged`].
+#[derive(Clone, Debug)]
+pub(crate) struct FlagTable<const D: usize> {
+    slots: Vec<u64>,
+    len: usize,
+    shift: u32,
+}
+
+/// A 64-bit finaliser (MurmurHash3's `fmix64`): every input bit reaches every output bit,
+/// so packed lattice keys — coordinates in bit fields, low bits zero — spread evenly over
+/// the top bits that choose the home slot (one multiply leaves them clustered).
+#[inline(always)]
+fn mix(mut h: u64) -> u64 {
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xff51_afd7_ed55_8ccd);
+    h ^= h >> 33;
+    h = h.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+    h ^ (h >> 33)
+}
+
+/// An empty slot: all ones, which no packed entry is (a coordinate's field is never all
+/// ones, see [`FlagTable::fits`]).
+const EMPTY_WORD: u64 = u64::MAX;
+
+impl<const D: usize> Default for FlagTable<D> {
+    fn default() -> Self {
+        FlagTable {
+            slots: Vec::new(),
+            len: 0,
+            shift: 64,
+        }
+    }
+}
+
+impl<const D: usize> FlagTable<D> {
+    /// Flag bits: the most parent slots of a `d`-D diamond, `max(d, 2(d − 1))`.
+    pub(crate) const FLAG_BITS: u32 = if 2 * (D as u32).saturating_sub(1) > D as u32 {
+        2 * (D as u32 - 1)
+    } else {
+        D as u32
+    };
+    /// Bits per coordinate.
+    const COORD_BITS: u32 = (64 - Self::FLAG_BITS) / D as u32;
+    const KEY_BITS: u32 = Self::COORD_BITS * D as u32;
+    const KEY_MASK: u64 = (1 << Self::KEY_BITS) - 1;
+
+    /// True when every coordinate up to `max` packs (below the field's all-ones value).
+    pub(crate) fn fits(max: u32) -> bool {
+        u64::from(max) < (1u64 << Self::COORD_BITS) - 1
+    }
+
+    #[inline(always)]
+    fn pack(p: &Point<D>) -> u64 {
+        let mut key = 0u64;
+        for (k, &x) in p.iter().enumerate() {
+            debug_assert!(Self::fits(x));
+            key |= u64::from(x) << (k as u32 * Self::COORD_BITS);
+        }
+        key
+    }
+
+    #[inline(always)]
+    fn unpack(word: u64) -> (Point<D>, u32) {
+        let mask = (1u64 << Self::COORD_BITS) - 1;
+        let p = std::array::from_fn(|k| ((word >> (k as u32 * Self::COORD_BITS)) & mask) as u32);
+        (p, (word >> Self::KEY_BITS) as u32)
+    }
+
+    #[inline(always)]
+    fn home(&self, key: u64) -> usize {
+        (mix(key) >> self.shift) as usize
+    }
+
+    /// The slot holding `key`, or the empty slot where it would go.
+    #[inline(always)]
+    fn probe(&self, key: u64) -> (usize, bool) {
+        let mask = self.slots.len() - 1;
+        let mut i = self.home(key);
+        loop {
+            let w = self.slots[i];
+            // A packed key is never all ones, so a match is no empty slot.
+            if w & Self::KEY_MASK == key {
+                return (i, true);
+            }
+            if w == EMPTY_WORD {
+                return (i, false);
+            }
+            i = (i + 1) & mask;
+        }
+    }
+
+    /// Entries, flagged or not.
+    pub(crate) fn len(&self) -> usize {
+        self.len
+    }
+
+    /// The flags of `p` (`0` when absent).
+    #[inline]
+    pub(crate) fn get(&self, p: &Point<D>) -> u32 {
+        if self.slots.is_empty() {
+            return 0;
+        }
+        match self.probe(Self::pack(p)) {
+            (i, true) => (self.slots[i] >> Self::KEY_BITS) as u32,
+            _ => 0,
+        }
+    }
+
+    /// Sets the flags of `p` to `f(old)` (`old` is `0` when `p` is absent; an absent `p`
+    /// whose new flags are `0` is not inserted); returns `(old, new)`.
+    #[inline]
+    pub(crate) fn update(&mut self, p: &Point<D>, f: impl FnOnce(u32) -> u32) -> (u32, u32) {
+        let key = Self::pack(p);
+        if self.slots.is_empty() {
+            self.rebuild(MIN_SLOTS);
+        }
+        let (mut i, found) = self.probe(key);
+        let old = if found {
+            (self.slots[i] >> Self::KEY_BITS) as u32
+        } else {
+            0
+        };
+        let new = f(old);
+        debug_assert!(new < 1 << Self::FLAG_BITS);
+        if !found {
+            if new == 0 {
+                return (0, 0);
+            }
+            if (self.len + 1) * LOAD_DEN > self.slots.len() * LOAD_NUM {
+                let grow = if self.slots.len() >= 1 << 16 { 4 } else { 2 };
+                self.rebuild(self.slots.len() * grow);
+                i = self.probe(key).0;
+            }
+            self.len += 1;
+        }
+        self.slots[i] = key | (u64::from(new) << Self::KEY_BITS);
+        (old, new)
+    }
+
+    /// Starts loading `p`'s home slot into the cache (a hint; it changes nothing else).
+    #[inline(always)]
+    pub(crate) fn prefetch(&self, p: &Point<D>) {
+        if !self.slots.is_empty() {
+            crate::memory::prefetch(&self.slots[self.home(Self::pack(p))]);
+        }
+    }
+
+    /// Every entry with non-zero flags, in slot order.
+    pub(crate) fn flagged(&self) -> impl Iterator<Item = (Point<D>, u32)> + '_ {
+        self.slots
+            .iter()
+            .filter(|&&w| w != EMPTY_WORD && w >> Self::KEY_BITS != 0)
+            .map(|&w| Self::unpack(w))
+    }
+
+    /// Drops the entries whose flags are `0`, in a table sized for the rest.
+    pub(crate) fn retain_flagged(&mut self) {
+        let kept: Vec<u64> = self
+            .slots
+            .iter()
+            .copied()
+            .filter(|&w| w != EMPTY_WORD && w >> Self::KEY_BITS != 0)
+            .collect();
+        let mut slots = MIN_SLOTS;
+        while kept.len() * LOAD_DEN > slots * LOAD_NUM {
+            slots *= 2;
+        }
+        self.slots = Vec::new();
+        self.len = 0;
+        self.rebuild(slots);
+        for w in kept {
+            let (i, _) = self.probe(w & Self::KEY_MASK);
+            self.slots[i] = w;
+            self.len += 1;
+        }
+    }
+
+    /// Moves every entry into a table of `slots` slots (a power of two).
+    fn rebuild(&mut self, slots: usize) {
+        let fresh = crate::memory::huge_vec(EMPTY_WORD, slots);
+        let old = std::mem::replace(&mut self.slots, fresh);
+        self.shift = 64 - slots.trailing_zeros();
+        for w in old {
+            if w != EMPTY_WORD {
+                let (i, _) = self.probe(w & Self::KEY_MASK);
+                self.slots[i] = w;
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -309,5 +493,66 @@ mod tests {
             (empty.get(&[1, 2]), empty.len(), empty.capacity()),
             (None, 0, 0)
         );
+    }
+
+    /// Random flag updates against `std`'s map, in 2-D, 3-D and 5-D, on keys from a small box
+    /// (long probe runs) and up to the largest coordinate that packs; entries cleared and
+    /// compacted away.
+    #[test]
+    fn flag_table_agrees_with_std_hash_map() {
+        fn run<const D: usize>(range: u32, ops: usize) {
+            assert!(FlagTable::<D>::fits(range));
+            assert!(!FlagTable::<D>::fits((1 << FlagTable::<D>::COORD_BITS) - 1));
+            let mut ours: FlagTable<D> = FlagTable::default();
+            let mut reference: HashMap<[u32; D], u32> = HashMap::new();
+            let mut x = 0x9e37_79b9_7f4a_7c15u64 ^ D as u64;
+            let mut next = || {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                x
+            };
+            let flag_mask = (1u32 << FlagTable::<D>::FLAG_BITS) - 1;
+            for _ in 0..ops {
+                let r = next();
+                let p: [u32; D] =
+                    std::array::from_fn(|k| ((next() >> (k * 7)) as u32) % (range + 1));
+                let bits = (r >> 8) as u32 & flag_mask;
+                if r & 3 == 0 {
+                    assert_eq!(ours.get(&p), reference.get(&p).copied().unwrap_or(0));
+                } else {
+                    let set = r & 3 == 1;
+                    let (old, new) = ours.update(&p, |f| if set { bits } else { f | bits });
+                    let want_old = reference.get(&p).copied().unwrap_or(0);
+                    let want_new = if set { bits } else { want_old | bits };
+                    assert_eq!((old, new), (want_old, want_new));
+                    if want_new != 0 || reference.contains_key(&p) {
+                        reference.insert(p, want_new);
+                    }
+                }
+                ours.prefetch(&p);
+            }
+            let mut a: Vec<_> = ours.flagged().collect();
+            let mut b: Vec<_> = reference
+                .iter()
+                .filter(|(_, &f)| f != 0)
+                .map(|(k, &f)| (*k, f))
+                .collect();
+            a.sort_unstable();
+            b.sort_unstable();
+            assert_eq!(a, b);
+            assert_eq!(ours.len(), reference.len());
+            ours.retain_flagged();
+            assert_eq!(ours.len(), b.len());
+            for (k, f) in &b {
+                assert_eq!(ours.get(k), *f);
+            }
+        }
+        run::<2>(9, 50_000);
+        run::<2>((1 << FlagTable::<2>::COORD_BITS) - 2, 50_000);
+        run::<3>(6, 100_000);
+        run::<3>((1 << FlagTable::<3>::COORD_BITS) - 2, 100_000);
+        run::<5>(4, 50_000);
+        run::<5>((1 << FlagTable::<5>::COORD_BITS) - 2, 50_000);
     }
 }

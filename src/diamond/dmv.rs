@@ -4,7 +4,7 @@
 //! hash from supercube origin to a bit-flag internal map and a packed data array, Section 5.2–5.3).
 
 use super::error::{diamond_stats_fast, diamond_stats_integer, integer_samples};
-use super::table::PointMap;
+use super::table::{pack_point, HashTable, PointMap};
 use super::{Diamond, Field, Hierarchy, Point};
 use crate::par::prelude::*;
 
@@ -188,8 +188,7 @@ impl<const D: usize> FullDmv<D> {
 
     /// The diamond-based encoding `Δd` of a selection.
     pub fn diamond_encoding(&self, sel: &Selection<D>) -> DiamondDmv<D> {
-        let mut map = PointMap::default();
-        map.reserve(sel.count());
+        let mut map = DataTable::new(self.field.hierarchy().side(), sel.count());
         for i in sel.indices() {
             map.insert(self.field.point(i), self.data_at(i));
         }
@@ -291,8 +290,11 @@ impl<const D: usize> DmvAccess<D> for FullDmv<D> {
     }
     #[inline]
     fn prefetch(&self, dia: &Diamond<D>) {
-        if let Some(s) = self.stats.get(self.field.index(&dia.center())) {
+        // `data` reads the statistics and the sample: two arrays, two lines.
+        let i = self.field.index(&dia.center());
+        if let (Some(s), Some(v)) = (self.stats.get(i), self.field.values().get(i)) {
             crate::memory::prefetch(s);
+            crate::memory::prefetch(v);
         }
     }
     #[inline]
@@ -340,8 +342,67 @@ impl<const D: usize> Selection<D> {
 #[derive(Clone, Debug)]
 pub struct DiamondDmv<const D: usize> {
     hier: Hierarchy<D>,
-    map: PointMap<DiamondData, D>,
+    map: DataTable<D>,
     corners: Vec<f64>,
+}
+
+/// `Δd`'s table: the central vertex packed into one word where its coordinates fit
+/// (`⌊63/d⌋` bits each: 3-D grids up to `2^20 + 1` a side), 32-byte entries in 3-D that never
+/// straddle a cache line; else the coordinates as they are (40 bytes).
+#[derive(Clone, Debug)]
+enum DataTable<const D: usize> {
+    Packed(HashTable<u64, DiamondData>),
+    Wide(PointMap<DiamondData, D>),
+}
+
+impl<const D: usize> DataTable<D> {
+    const BITS: u32 = 63 / D as u32;
+
+    /// An empty table for a grid of side `side`, with room for `n` entries.
+    fn new(side: u32, n: usize) -> Self {
+        if u64::from(side) < 1 << Self::BITS {
+            DataTable::Packed(HashTable::with_capacity(n))
+        } else {
+            DataTable::Wide(HashTable::with_capacity(n))
+        }
+    }
+
+    fn insert(&mut self, p: Point<D>, data: DiamondData) {
+        match self {
+            DataTable::Packed(t) => t.insert(pack_point(&p, Self::BITS), data),
+            DataTable::Wide(t) => t.insert(p, data),
+        };
+    }
+
+    #[inline]
+    fn get(&self, p: &Point<D>) -> Option<DiamondData> {
+        match self {
+            DataTable::Packed(t) => t.get(&pack_point(p, Self::BITS)).copied(),
+            DataTable::Wide(t) => t.get(p).copied(),
+        }
+    }
+
+    #[inline]
+    fn prefetch(&self, p: &Point<D>) {
+        match self {
+            DataTable::Packed(t) => t.prefetch(&pack_point(p, Self::BITS)),
+            DataTable::Wide(t) => t.prefetch(p),
+        }
+    }
+
+    fn len(&self) -> usize {
+        match self {
+            DataTable::Packed(t) => t.len(),
+            DataTable::Wide(t) => t.len(),
+        }
+    }
+
+    fn capacity(&self) -> usize {
+        match self {
+            DataTable::Packed(t) => t.capacity(),
+            DataTable::Wide(t) => t.capacity(),
+        }
+    }
 }
 
 impl<const D: usize> DiamondDmv<D> {
@@ -351,7 +412,7 @@ impl<const D: usize> DiamondDmv<D> {
     }
     /// True when no diamond is held.
     pub fn is_empty(&self) -> bool {
-        self.map.is_empty()
+        self.map.len() == 0
     }
     /// The hash table's buckets (for the load factor).
     pub fn capacity(&self) -> usize {
@@ -365,7 +426,7 @@ impl<const D: usize> DmvAccess<D> for DiamondDmv<D> {
     }
     #[inline]
     fn data(&self, dia: &Diamond<D>) -> Option<DiamondData> {
-        self.map.get(&dia.center()).copied()
+        self.map.get(&dia.center())
     }
     #[inline]
     fn prefetch(&self, dia: &Diamond<D>) {
@@ -639,8 +700,7 @@ impl<const D: usize> DiamondDmv<D> {
     pub fn from_supercubes(ds: &SupercubeDmv<D>) -> DiamondDmv<D> {
         let types: Vec<super::DiamondType<D>> = super::DiamondType::all().collect();
         let w = flag_words(D);
-        let mut map = PointMap::default();
-        map.reserve(ds.len());
+        let mut map = DataTable::new(ds.hier.side(), ds.len());
         for (n, &(scale, origin)) in ds.keys.iter().enumerate() {
             let cube = super::Supercube { origin, scale };
             let mut next = ds.start[n] as usize;
@@ -658,6 +718,58 @@ impl<const D: usize> DiamondDmv<D> {
             hier: ds.hier,
             map,
             corners: ds.corners.clone(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `Δd`'s packed table (one-word keys) and its wide fallback hold the same data, at the
+    /// largest coordinates that pack.
+    #[test]
+    fn packed_and_wide_data_tables_agree() {
+        let bits = DataTable::<3>::BITS;
+        let side = (1u32 << bits) - 1;
+        assert!(matches!(DataTable::<3>::new(side, 0), DataTable::Packed(_)));
+        assert!(matches!(
+            DataTable::<3>::new(side + 1, 0),
+            DataTable::Wide(_)
+        ));
+        let mut packed = DataTable::<3>::Packed(HashTable::default());
+        let mut wide = DataTable::<3>::Wide(HashTable::default());
+        let mut x = 0x2545_f491_4f6c_dd1du64;
+        let mut points = Vec::new();
+        for i in 0..20_000u32 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            // Coordinates near 0 and near the top of the packed range.
+            let p: Point<3> = std::array::from_fn(|k| {
+                let c = (x >> (16 * k)) as u32 & 0xff;
+                if x >> (60 - k) & 1 == 1 {
+                    side - c
+                } else {
+                    c
+                }
+            });
+            let data = DiamondData {
+                value: f64::from(i),
+                error: i as f32,
+                min: -(i as f32),
+                max: 2.0 * i as f32,
+            };
+            packed.insert(p, data);
+            wide.insert(p, data);
+            points.push(p);
+        }
+        assert_eq!(packed.len(), wide.len());
+        for p in &points {
+            assert_eq!(packed.get(p), wide.get(p));
+            assert!(packed.get(p).is_some());
+            let q = [p[0], p[1], p[2] ^ 1];
+            assert_eq!(packed.get(&q), wide.get(&q));
         }
     }
 }

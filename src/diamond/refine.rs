@@ -177,15 +177,23 @@ impl<'a, const D: usize, A: DmvAccess<D>, F: Front<D>> Refiner<'a, D, A, F> {
         if flags == 0 {
             flags = absent_parent_flags(dia);
         }
+        // The parents still to refine are scattered in the front: load them all at once.
+        let mut parents = [*dia; 2 * super::MAX_DIM];
+        let mut n = 0;
         for slot in 0..dia.parent_slots() {
             if flags >> slot & 1 == 0 {
                 let parent = dia
                     .parent_in_slot(slot)
                     .expect("slots without a parent are always set");
-                self.visited += 1;
-                let parent_flags = self.front.flags(&parent);
-                self.force(&parent, false, parent_flags, lod)?;
+                self.front.prefetch(&parent);
+                parents[n] = parent;
+                n += 1;
             }
+        }
+        for parent in &parents[..n] {
+            self.visited += 1;
+            let parent_flags = self.front.flags(parent);
+            self.force(parent, false, parent_flags, lod)?;
         }
         if !held && self.refinable(dia).is_none() {
             return Err(RefineError::Missing {

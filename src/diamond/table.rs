@@ -1,7 +1,8 @@
-//! The hash table behind the diamond-based encodings (`Δd`, `Σd`) and the supercube indices
-//! (`Δs`, `Σs`): open addressing with linear probing on grid-point keys, each key stored next to
-//! its value so that a look-up touches one cache line, and a [`PointMap::prefetch`] that starts
-//! loading a key's slot before it is needed.
+//! The hash tables behind the diamond-based encodings (`Δd`, `Σd`) and the supercube indices
+//! (`Δs`, `Σs`): open addressing with linear probing on grid-point keys (as coordinates, or
+//! packed into one word), each key stored next to its value so that a look-up touches one
+//! cache line, and a [`HashTable::prefetch`] that starts loading a key's slot before it is
+//! needed.
 //!
 //! Refinement visits millions of diamonds in an order the hash scatters over memory; its cost
 //! is the latency of those scattered loads. A prefetch issued when a diamond is queued (its
@@ -22,19 +23,86 @@ const LOAD_DEN: usize = 8;
 /// The fewest slots of an allocated table.
 const MIN_SLOTS: usize = 16;
 
-/// A hash map from grid points to `V` (open addressing, linear probing, backward-shift
-/// deletion: no tombstones, so look-ups stay short after many removals).
+/// A key of [`HashTable`]: a value no key takes marks an empty slot.
+pub(crate) trait TableKey: Copy + Send + Sync {
+    /// The empty slot's key.
+    const EMPTY: Self;
+    /// True for [`TableKey::EMPTY`] (cheaper than a full comparison).
+    fn is_empty_key(&self) -> bool;
+    /// Equality, without branches.
+    fn same(&self, other: &Self) -> bool;
+    /// The hash whose top bits choose the home slot.
+    fn table_hash(&self) -> u64;
+}
+
+impl<const D: usize> TableKey for Point<D> {
+    const EMPTY: Self = [EMPTY; D];
+    #[inline(always)]
+    fn is_empty_key(&self) -> bool {
+        self[0] == EMPTY
+    }
+    #[inline(always)]
+    fn same(&self, other: &Self) -> bool {
+        self.iter().zip(other).fold(0, |d, (a, b)| d | (a ^ b)) == 0
+    }
+    #[inline(always)]
+    fn table_hash(&self) -> u64 {
+        hash(self)
+    }
+}
+
+/// A grid point packed into one word (see [`pack_point`]); never all ones.
+impl TableKey for u64 {
+    const EMPTY: Self = u64::MAX;
+    #[inline(always)]
+    fn is_empty_key(&self) -> bool {
+        *self == u64::MAX
+    }
+    #[inline(always)]
+    fn same(&self, other: &Self) -> bool {
+        self == other
+    }
+    #[inline(always)]
+    fn table_hash(&self) -> u64 {
+        mix(*self)
+    }
+}
+
+/// `p` in one word, `bits` bits per coordinate (every coordinate below `2^bits`, `d·bits ≤
+/// 63`, so the word is never all ones).
+#[inline(always)]
+pub(crate) fn pack_point<const D: usize>(p: &Point<D>, bits: u32) -> u64 {
+    let mut key = 0u64;
+    for (k, &x) in p.iter().enumerate() {
+        debug_assert!(u64::from(x) < 1 << bits);
+        key |= u64::from(x) << (k as u32 * bits);
+    }
+    key
+}
+
+/// The point [`pack_point`] packed.
+#[inline(always)]
+pub(crate) fn unpack_point<const D: usize>(key: u64, bits: u32) -> Point<D> {
+    let mask = (1u64 << bits) - 1;
+    std::array::from_fn(|k| ((key >> (k as u32 * bits)) & mask) as u32)
+}
+
+/// A hash map from keys to `V` (open addressing, linear probing, backward-shift deletion: no
+/// tombstones, so look-ups stay short after many removals).
 #[derive(Clone, Debug)]
-pub(crate) struct PointMap<V, const D: usize> {
-    slots: Vec<(Point<D>, V)>,
+pub(crate) struct HashTable<K, V> {
+    slots: Vec<(K, V)>,
     len: usize,
     /// `64 − log2(slots.len())`: the home slot is the hash's top bits.
     shift: u32,
 }
 
-impl<V: Copy + Default + Send + Sync, const D: usize> Default for PointMap<V, D> {
+/// A hash map from grid points to `V`.
+pub(crate) type PointMap<V, const D: usize> = HashTable<Point<D>, V>;
+
+impl<K: TableKey, V: Copy + Default + Send + Sync> Default for HashTable<K, V> {
     fn default() -> Self {
-        PointMap {
+        HashTable {
             slots: Vec::new(),
             len: 0,
             shift: 64,
@@ -52,10 +120,10 @@ fn hash<const D: usize>(p: &Point<D>) -> u64 {
     h ^ (h >> 32)
 }
 
-impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
+impl<K: TableKey, V: Copy + Default + Send + Sync> HashTable<K, V> {
     /// An empty map with room for `n` keys without growing.
     pub(crate) fn with_capacity(n: usize) -> Self {
-        let mut m = PointMap::default();
+        let mut m = HashTable::default();
         m.reserve(n);
         m
     }
@@ -63,11 +131,6 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
     /// The number of keys.
     pub(crate) fn len(&self) -> usize {
         self.len
-    }
-
-    /// True when no key is held.
-    pub(crate) fn is_empty(&self) -> bool {
-        self.len == 0
     }
 
     /// The number of slots (the load factor is `len / capacity`).
@@ -88,9 +151,9 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
     }
 
     #[inline(always)]
-    fn home(&self, p: &Point<D>) -> usize {
+    fn home(&self, p: &K) -> usize {
         // `shift` is 64 only for the unallocated table, whose callers return early.
-        (hash(p) >> self.shift) as usize
+        (p.table_hash() >> self.shift) as usize
     }
 
     #[inline(always)]
@@ -100,16 +163,15 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
 
     /// The slot holding `p`, or the empty slot where it would go.
     #[inline(always)]
-    fn probe(&self, p: &Point<D>) -> (usize, bool) {
+    fn probe(&self, p: &K) -> (usize, bool) {
         let mask = self.mask();
         let mut i = self.home(p);
         loop {
             let k = &self.slots[i].0;
-            // Branch-free comparison of the coordinates.
-            if k.iter().zip(p).fold(0, |d, (a, b)| d | (a ^ b)) == 0 {
+            if k.same(p) {
                 return (i, true);
             }
-            if k[0] == EMPTY {
+            if k.is_empty_key() {
                 return (i, false);
             }
             i = (i + 1) & mask;
@@ -118,7 +180,7 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
 
     /// Starts loading `p`'s home slot into the cache (a hint; it changes nothing else).
     #[inline(always)]
-    pub(crate) fn prefetch(&self, p: &Point<D>) {
+    pub(crate) fn prefetch(&self, p: &K) {
         if !self.slots.is_empty() {
             crate::memory::prefetch(&self.slots[self.home(p)]);
         }
@@ -126,7 +188,7 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
 
     /// The value of `p`.
     #[inline]
-    pub(crate) fn get(&self, p: &Point<D>) -> Option<&V> {
+    pub(crate) fn get(&self, p: &K) -> Option<&V> {
         if self.slots.is_empty() {
             return None;
         }
@@ -138,8 +200,8 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
 
     /// The value of `p`, inserting `make()` first when `p` is absent.
     #[inline]
-    pub(crate) fn get_or_insert_with(&mut self, p: Point<D>, make: impl FnOnce() -> V) -> &mut V {
-        debug_assert!(p[0] != EMPTY);
+    pub(crate) fn get_or_insert_with(&mut self, p: K, make: impl FnOnce() -> V) -> &mut V {
+        debug_assert!(!p.is_empty_key());
         if self.slots.is_empty() {
             self.reserve(1);
         }
@@ -157,14 +219,14 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
     }
 
     /// Keeps only the entries for which `keep` holds, in a table sized for them.
-    pub(crate) fn retain(&mut self, keep: impl Fn(&Point<D>, &V) -> bool) {
-        let kept: Vec<(Point<D>, V)> = self
+    pub(crate) fn retain(&mut self, keep: impl Fn(&K, &V) -> bool) {
+        let kept: Vec<(K, V)> = self
             .slots
             .iter()
-            .filter(|(k, v)| k[0] != EMPTY && keep(k, v))
+            .filter(|(k, v)| !k.is_empty_key() && keep(k, v))
             .copied()
             .collect();
-        *self = PointMap::with_capacity(kept.len());
+        *self = HashTable::with_capacity(kept.len());
         for (k, v) in kept {
             self.insert(k, v);
         }
@@ -172,7 +234,7 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
 
     /// Sets the value of `p`; the old value, if any.
     #[inline]
-    pub(crate) fn insert(&mut self, p: Point<D>, v: V) -> Option<V> {
+    pub(crate) fn insert(&mut self, p: K, v: V) -> Option<V> {
         let mut inserted = false;
         let slot = self.get_or_insert_with(p, || {
             inserted = true;
@@ -187,7 +249,7 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
 
     /// Removes `p`; its value, if it was held.
     #[inline]
-    pub(crate) fn remove(&mut self, p: &Point<D>) -> Option<V> {
+    pub(crate) fn remove(&mut self, p: &K) -> Option<V> {
         if self.slots.is_empty() {
             return None;
         }
@@ -202,7 +264,7 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
         let mut j = hole;
         loop {
             j = (j + 1) & mask;
-            if self.slots[j].0[0] == EMPTY {
+            if self.slots[j].0.is_empty_key() {
                 break;
             }
             let home = self.home(&self.slots[j].0);
@@ -216,16 +278,16 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
                 hole = j;
             }
         }
-        self.slots[hole] = ([EMPTY; D], V::default());
+        self.slots[hole] = (K::EMPTY, V::default());
         self.len -= 1;
         Some(value)
     }
 
     /// Every key with its value, in slot order.
-    pub(crate) fn iter(&self) -> impl Iterator<Item = (&Point<D>, &V)> + '_ {
+    pub(crate) fn iter(&self) -> impl Iterator<Item = (&K, &V)> + '_ {
         self.slots
             .iter()
-            .filter(|(k, _)| k[0] != EMPTY)
+            .filter(|(k, _)| !k.is_empty_key())
             .map(|(k, v)| (k, v))
     }
 
@@ -234,11 +296,11 @@ impl<V: Copy + Default + Send + Sync, const D: usize> PointMap<V, D> {
         debug_assert!(slots.is_power_of_two() && slots >= MIN_SLOTS);
         // Large tables on huge pages: refinement's look-ups are scattered, and on 4 KiB pages
         // nearly every one would also miss the TLB.
-        let fresh = crate::memory::huge_vec(([EMPTY; D], V::default()), slots);
+        let fresh = crate::memory::huge_vec((K::EMPTY, V::default()), slots);
         let old = std::mem::replace(&mut self.slots, fresh);
         self.shift = 64 - slots.trailing_zeros();
         for (k, v) in old {
-            if k[0] != EMPTY {
+            if !k.is_empty_key() {
                 let (i, _) = self.probe(&k);
                 self.slots[i] = (k, v);
             }
@@ -303,19 +365,15 @@ impl<const D: usize> FlagTable<D> {
 
     #[inline(always)]
     fn pack(p: &Point<D>) -> u64 {
-        let mut key = 0u64;
-        for (k, &x) in p.iter().enumerate() {
-            debug_assert!(Self::fits(x));
-            key |= u64::from(x) << (k as u32 * Self::COORD_BITS);
-        }
-        key
+        pack_point(p, Self::COORD_BITS)
     }
 
     #[inline(always)]
     fn unpack(word: u64) -> (Point<D>, u32) {
-        let mask = (1u64 << Self::COORD_BITS) - 1;
-        let p = std::array::from_fn(|k| ((word >> (k as u32 * Self::COORD_BITS)) & mask) as u32);
-        (p, (word >> Self::KEY_BITS) as u32)
+        (
+            unpack_point(word & Self::KEY_MASK, Self::COORD_BITS),
+            (word >> Self::KEY_BITS) as u32,
+        )
     }
 
     #[inline(always)]

@@ -532,3 +532,30 @@ mod conformity {
         }
     }
 }
+
+/// `for_each_child_slot` names, for every child of every diamond of small grids in 2-D to 5-D,
+/// the slot in which `slot_of_parent` finds the parent, and yields the children in
+/// `children()`'s order.
+#[test]
+fn children_name_the_slot_of_their_parent() {
+    fn check<const D: usize>(levels: u32) -> usize {
+        let hier = Hierarchy::<D>::new(levels).unwrap();
+        let n = hier.side() as usize + 1;
+        let mut pairs = 0;
+        for i in 0..n.pow(D as u32) {
+            let p: [u32; D] = std::array::from_fn(|k| (i / n.pow(k as u32) % n) as u32);
+            let Ok(dia) = hier.diamond(p) else { continue };
+            let mut seen = Vec::new();
+            dia.for_each_child_slot(|child, slot| {
+                assert_eq!(child.slot_of_parent(&dia), Some(slot), "{p:?} → {:?}", child.center());
+                seen.push(child.center());
+                pairs += 1;
+            });
+            assert_eq!(seen, dia.children().to_vec());
+        }
+        pairs
+    }
+    let pairs = [check::<2>(4), check::<3>(3), check::<4>(2), check::<5>(2)];
+    println!("child–parent pairs checked (d = 2, 3, 4, 5): {pairs:?}");
+    assert!(pairs.iter().all(|&p| p > 0));
+}

@@ -547,7 +547,12 @@ fn children_name_the_slot_of_their_parent() {
             let Ok(dia) = hier.diamond(p) else { continue };
             let mut seen = Vec::new();
             dia.for_each_child_slot(|child, slot| {
-                assert_eq!(child.slot_of_parent(&dia), Some(slot), "{p:?} → {:?}", child.center());
+                assert_eq!(
+                    child.slot_of_parent(&dia),
+                    Some(slot),
+                    "{p:?} → {:?}",
+                    child.center()
+                );
                 seen.push(child.center());
                 pairs += 1;
             });

@@ -313,6 +313,29 @@ impl<const D: usize> Front<D> for SupercubeFront<D> {
             _ => {}
         }
     }
+    /// One look-up of the supercube where the default takes two (`flags`, then `set_flags`).
+    #[inline]
+    fn add_flags(&mut self, dia: &Diamond<D>, absent: impl FnOnce() -> u32, bits: u32) {
+        let (cube, off, n) = self.locate(dia);
+        let Some(cube) = cube else {
+            // A new supercube: `set_flags` creates it.
+            self.set_flags(dia, absent() | bits);
+            return;
+        };
+        let base = cube as usize * self.words * 64 + off;
+        let old = get_bits(&self.bits, base, n);
+        let new = if old == 0 {
+            absent() | bits
+        } else {
+            old | bits
+        };
+        set_bits(&mut self.bits, base, n, new);
+        // Flags are only added: a diamond in the front stays there.
+        if old == 0 && new != 0 {
+            self.counts[cube as usize] += 1;
+            self.diamonds += 1;
+        }
+    }
     #[inline]
     fn prefetch(&self, dia: &Diamond<D>) {
         self.levels[dia.scale() as usize].prefetch(&dia.supercube_origin());

@@ -136,8 +136,8 @@ impl<const D: usize> Front<D> for DiamondFront<D> {
     }
     #[inline]
     fn add_flags(&mut self, dia: &Diamond<D>, absent: impl FnOnce() -> u32, bits: u32) {
-        let (old, _) = self.update(dia, |f| if f == 0 { absent() | bits } else { f | bits });
-        if old == 0 {
+        let (old, new) = self.update(dia, |f| if f == 0 { absent() | bits } else { f | bits });
+        if old == 0 && new != 0 {
             self.live += 1;
         }
     }
@@ -435,6 +435,8 @@ mod tests {
             v
         };
         assert_eq!(collect(&packed), collect(&wide));
+        // Adding no bits to an absent diamond without absent parents adds nothing.
+        assert_eq!(collect(&packed).len(), packed.diamonds());
         assert!(packed.diamonds() > 0);
     }
 }

@@ -7,6 +7,15 @@ fn geocert() -> Command {
     Command::new(env!("CARGO_BIN_EXE_geocert"))
 }
 
+/// Asserts that the command succeeded, showing its error output otherwise.
+fn assert_success(out: &std::process::Output) {
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 fn tmp(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("geocert-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -157,11 +166,7 @@ fn ffd_check_json_and_certificate_round_trip() {
         .arg(&cert)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let verdict = v["verdict"].as_str().unwrap();
     assert!(["injective", "not_injective"].contains(&verdict), "{v}");
@@ -194,11 +199,7 @@ fn ffd_drag_then_deform_a_mesh() {
         .arg(&steps)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let parsed: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&steps).unwrap()).unwrap();
     assert!(
@@ -222,11 +223,7 @@ fn ffd_drag_then_deform_a_mesh() {
         .arg(&output)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let back = Mesh::read(&output, None).unwrap();
     assert_eq!(back.triangles, dome.triangles);
     // The dragged apex (0, 0, 0.5) + (2, 2, 2.3) = (2, 2, 2.8) moved by (0, 0, −1.6).
@@ -268,11 +265,7 @@ fn prove_mc_table_json_counts() {
         .args(["prove", "mc-table", "--json"])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["entries"], 656);
     assert_eq!(v["cracks"], 0);
@@ -297,11 +290,7 @@ fn mc_export_then_audit() {
         .arg(&table)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["cracks"], 0);
     assert_eq!(v["winding_errors"], 0);
@@ -679,11 +668,7 @@ fn solve_certifies_roots_and_the_checker_agrees() {
             .args(["--cert", cert.to_str().unwrap()])
             .output()
             .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        assert_success(&out);
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         let roots = v["roots"].as_array().unwrap();
         assert_eq!(roots.len(), 2, "{path}: {v}");
@@ -751,11 +736,7 @@ fn solve_reads_b_spline_equations_and_certifies_a_root_on_a_knot() {
         .args(["--cert", cert.to_str().unwrap()])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let roots = v["roots"].as_array().unwrap();
     assert_eq!(roots.len(), 1, "{v}");
@@ -796,11 +777,7 @@ fn solve_reads_b_spline_equations_and_certifies_a_root_on_a_knot() {
         .args(["--cert", curve_cert.to_str().unwrap()])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let curves = v["curves"].as_array().unwrap();
     assert_eq!(curves.len(), 1, "{v}");
@@ -851,11 +828,7 @@ fn solve_traces_curves_and_the_checker_agrees() {
         .args(["--extreme-axis", "0", "--cert", cert.to_str().unwrap()])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let curves = v["curves"].as_array().unwrap();
     assert_eq!(curves.len(), 1, "{v}");
@@ -941,11 +914,7 @@ fn sweep_silhouette_writes_components_json_and_a_drawing() {
         .args(["--svg", svg.to_str().unwrap()])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let comps = v["components"].as_array().unwrap();
     let envelope: Vec<_> = comps.iter().filter(|c| c["kind"] == "envelope").collect();
@@ -1001,11 +970,7 @@ fn sweep_events_lists_certified_events_for_an_eye_path() {
         .args(["sweep", "events", scene.to_str().unwrap(), "--json"])
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let events = v["events"].as_array().unwrap();
     assert!(events.iter().all(|e| e["verified"] == true));
@@ -1043,11 +1008,7 @@ fn dmv_build_and_refine_end_to_end() {
         .arg(&dmv)
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let np = v["diamonds"].as_u64().unwrap();
     assert!(np > 0 && v["supercubes"].as_u64().unwrap() > 0);
@@ -1073,11 +1034,7 @@ fn dmv_build_and_refine_end_to_end() {
             .arg(&mesh)
             .output()
             .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        assert_success(&out);
         let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         assert_eq!(r["conforming"], true);
         assert_eq!(r["surface_closed"], true);

@@ -992,6 +992,88 @@ fn sweep_events_lists_certified_events_for_an_eye_path() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("eye"));
 }
 
+/// `sweep animate`: a unit sphere on a line seen from an eye moving along a line. The envelope
+/// is the cylinder of radius 1 about the path `(2t, t/2, 0)`, so every point of every frame,
+/// continued or traced, lies on it and sees the eye along a tangent: `(X − E) · n = 0`.
+#[test]
+fn sweep_animate_draws_frames_on_the_true_contour() {
+    let scene = tmp("sphere-line-eye.json");
+    std::fs::write(
+        &scene,
+        r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": 1}}],
+            "t": [0, 2],
+            "motion": {"translation": [[0, 2], [0, "1/2"], [0]]},
+            "eye": {"path": [[2, 1], [-8], [3]], "r": [0, 2]}}"#,
+    )
+    .unwrap();
+    let dir = tmp("animate-frames");
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = geocert()
+        .args(["sweep", "animate", scene.to_str().unwrap(), "--frames", "9"])
+        .args(["--svg-dir", dir.to_str().unwrap(), "--json"])
+        .output()
+        .unwrap();
+    assert_success(&out);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let frames = v["frames"].as_array().unwrap();
+    assert_eq!(frames.len(), 9);
+    assert_eq!(frames[0]["traced"], true);
+    assert_eq!(
+        v["continued_frames"], 8,
+        "no event on this path: {}",
+        v["events"]
+    );
+    // The path's direction (2, 1/2, 0), normalised.
+    let axis = [4.0 / 17f64.sqrt(), 1.0 / 17f64.sqrt(), 0.0];
+    let mut worst = 0.0f64;
+    for (k, f) in frames.iter().enumerate() {
+        let r = f["r"].as_f64().unwrap();
+        assert!((r - 0.25 * k as f64).abs() < 1e-12);
+        let eye = [2.0 + r, -8.0, 3.0];
+        let comps = f["components"].as_array().unwrap();
+        assert_eq!(comps.len(), 2, "frame {k}");
+        for c in comps {
+            for p in c["points"].as_array().unwrap() {
+                let x: Vec<f64> = p
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|c| c.as_f64().unwrap())
+                    .collect();
+                // The radial part of x about the axis through the origin.
+                let along = x[0] * axis[0] + x[1] * axis[1];
+                let n = [x[0] - along * axis[0], x[1] - along * axis[1], x[2]];
+                let radius = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+                let to = [x[0] - eye[0], x[1] - eye[1], x[2] - eye[2]];
+                let tangency = (to[0] * n[0] + to[1] * n[1] + to[2] * n[2])
+                    / (to[0] * to[0] + to[1] * to[1] + to[2] * to[2]).sqrt();
+                worst = worst.max((radius - 1.0).abs()).max(tangency.abs());
+            }
+        }
+        let drawing = std::fs::read_to_string(dir.join(format!("frame-{k:04}.svg"))).unwrap();
+        assert_eq!(drawing.matches("<path").count(), 2);
+    }
+    println!("9 frames (8 continued): worst |radius − 1| or tangency {worst:.2e}");
+    assert!(worst < 1e-6, "{worst}");
+    // A fixed eye, no frames, a range outside the path: exit 2, nothing written.
+    let none = tmp("animate-never");
+    let _ = std::fs::remove_dir_all(&none);
+    for args in [
+        vec!["builtin:sphere-line"],
+        vec![scene.to_str().unwrap(), "--frames", "0"],
+        vec![scene.to_str().unwrap(), "--from", "1", "--to", "3"],
+    ] {
+        let out = geocert()
+            .args(["sweep", "animate"])
+            .args(&args)
+            .args(["--svg-dir", none.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(!none.exists());
+    }
+}
+
 #[test]
 fn dmv_build_and_refine_end_to_end() {
     let dmv = tmp("fuel.dmv");

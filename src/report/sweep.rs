@@ -369,8 +369,35 @@ pub fn write_sweep_report(
 
 /// A perspective drawing from the eye towards the silhouettes' centroid.
 pub fn svg(scene: &Scene, s: &Silhouettes) -> String {
-    let eye = eye_f64(scene);
-    let pts: Vec<[f64; 3]> = s.components.iter().flat_map(|c| c.points.clone()).collect();
+    let lines: Vec<SvgLine<'_>> = s
+        .components
+        .iter()
+        .map(|c| SvgLine {
+            points: &c.points,
+            closed: c.closed,
+            envelope: c.kind == ComponentKind::Envelope,
+            title: c.kind.name(),
+        })
+        .collect();
+    svg_lines(eye_f64(scene), &lines)
+}
+
+/// One polyline of [`svg_lines`].
+pub struct SvgLine<'a> {
+    /// Its points in 3-D.
+    pub points: &'a [[f64; 3]],
+    /// Whether it closes.
+    pub closed: bool,
+    /// Drawn solid and coloured (an envelope component), else dashed grey (a cap).
+    pub envelope: bool,
+    /// The tooltip.
+    pub title: &'a str,
+}
+
+/// A perspective drawing of 3-D polylines seen from `eye`, looking at their centroid, fitted
+/// into 800 px.
+pub fn svg_lines(eye: [f64; 3], lines: &[SvgLine<'_>]) -> String {
+    let pts: Vec<[f64; 3]> = lines.iter().flat_map(|c| c.points.to_vec()).collect();
     let n = pts.len().max(1) as f64;
     let centre: Vec<f64> = (0..3)
         .map(|k| pts.iter().map(|p| p[k]).sum::<f64>() / n)
@@ -402,8 +429,7 @@ pub fn svg(scene: &Scene, s: &Silhouettes) -> String {
         let z = dot(v, d).max(1e-9);
         (dot(v, right) / z, -dot(v, up) / z)
     };
-    let projected: Vec<Vec<(f64, f64)>> = s
-        .components
+    let projected: Vec<Vec<(f64, f64)>> = lines
         .iter()
         .map(|c| c.points.iter().map(project).collect())
         .collect();
@@ -434,7 +460,7 @@ pub fn svg(scene: &Scene, s: &Silhouettes) -> String {
     let mut out = format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{width}\" height=\"{height}\" viewBox=\"0 0 {width} {height}\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
     );
-    for (i, (c, line)) in s.components.iter().zip(&projected).enumerate() {
+    for (i, (c, line)) in lines.iter().zip(&projected).enumerate() {
         let mut d = String::new();
         for (k, &p) in line.iter().enumerate() {
             let (x, y) = to_px(p);
@@ -443,13 +469,14 @@ pub fn svg(scene: &Scene, s: &Silhouettes) -> String {
         if c.closed {
             d.push('Z');
         }
-        let (colour, dash, stroke) = match c.kind {
-            ComponentKind::Envelope => (colours[i % colours.len()], "", 2.5),
-            _ => ("#555555", " stroke-dasharray=\"6 4\"", 1.2),
+        let (colour, dash, stroke) = if c.envelope {
+            (colours[i % colours.len()], "", 2.5)
+        } else {
+            ("#555555", " stroke-dasharray=\"6 4\"", 1.2)
         };
         out.push_str(&format!(
             "<path d=\"{d}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"{stroke}\"{dash}><title>component {i}: {}</title></path>\n",
-            c.kind.name()
+            c.title
         ));
     }
     out.push_str("</svg>\n");

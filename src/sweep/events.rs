@@ -421,14 +421,55 @@ pub fn events(scene: &Scene, opts: &SolveOptions) -> Result<Events, SweepError> 
 
 /// Re-checks an event's certificate: rebuilds its system from the scene and checks the root
 /// box with [`verify_root`] (which does not call the solver), and an interior event's pivot.
+/// To re-check many events, [`verify_events`] builds each patch's systems once.
 pub fn verify_event(
     scene: &Scene,
     event: &Event,
 ) -> Result<Result<RootCheck, RootRefusal>, SweepError> {
-    let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
-    let me = moving_eye(scene, &forms, event.surface, event.patch)?;
-    let system = patch_event_systems(scene, &me, event.surface, event.patch)?
-        .into_iter()
+    verify_events(scene, std::slice::from_ref(event))
+        .pop()
+        .expect("one event, one check")
+}
+
+/// [`verify_event`] for each of `events`, in order; each patch's systems are rebuilt from
+/// the scene once (what a single check costs is almost all in building them).
+pub fn verify_events(
+    scene: &Scene,
+    events: &[Event],
+) -> Vec<Result<Result<RootCheck, RootRefusal>, SweepError>> {
+    let forms = match motion_forms(&scene.motion, &scene.t.0, &scene.t.1) {
+        Ok(f) => f,
+        Err(e) => return events.iter().map(|_| Err(e.clone())).collect(),
+    };
+    // Per (surface, patch) met so far, its systems (or why they could not be built).
+    type Built = ((usize, usize), Result<Vec<EventSystem>, SweepError>);
+    let mut built: Vec<Built> = Vec::new();
+    events
+        .iter()
+        .map(|event| {
+            let key = (event.surface, event.patch);
+            let at = match built.iter().position(|(k, _)| *k == key) {
+                Some(i) => i,
+                None => {
+                    let systems = moving_eye(scene, &forms, event.surface, event.patch)
+                        .and_then(|me| patch_event_systems(scene, &me, event.surface, event.patch));
+                    built.push((key, systems));
+                    built.len() - 1
+                }
+            };
+            let systems = built[at].1.as_ref().map_err(Clone::clone)?;
+            check_event(systems, event)
+        })
+        .collect()
+}
+
+/// The check of [`verify_event`] against the event's patch's rebuilt systems.
+fn check_event(
+    systems: &[EventSystem],
+    event: &Event,
+) -> Result<Result<RootCheck, RootRefusal>, SweepError> {
+    let system = &systems
+        .iter()
         .find(|s| s.kind == event.kind)
         .ok_or_else(|| {
             SweepError::field(
@@ -440,14 +481,14 @@ pub fn verify_event(
             )
         })?
         .system;
-    if event.pivot == Some(true) && !pivot_certified(&system, &unit_box(&system, &event.root))? {
+    if event.pivot == Some(true) && !pivot_certified(system, &unit_box(system, &event.root))? {
         return Err(SweepError::field(
             "event",
             "the pivot F_u or G_u has no strict sign on the box",
         ));
     }
     Ok(verify_root(
-        &system,
+        system,
         &event.root.bounds,
         &event.root.certificate,
     ))

@@ -145,6 +145,8 @@ fn patch_forms(
 pub struct Frame {
     /// The eye parameter.
     pub r: f64,
+    /// The eye `P(r)` (rounded to `f64`).
+    pub eye: [f64; 3],
     /// Per envelope component, its points in `(u, v, t)` and in 3-D.
     pub components: Vec<FrameCurve>,
     /// Traced afresh by the certified tracer (else continued from the previous frame).
@@ -240,20 +242,24 @@ pub fn frames(
             continued_seconds += clock.elapsed().as_secs_f64();
             c
         };
+        let rq = crate::num::rational_from_f64(rk, "r")
+            .map_err(|e| SweepError::field("frames", e.to_string()))?;
+        let eye_rq = eye_at(path, &rq);
+        let eye = std::array::from_fn(|k| rational_to_f64(&eye_rq[k]));
         let frame = match continued {
             Some(components) => Frame {
                 r: rk,
+                eye,
                 components,
                 traced: false,
             },
             None => {
-                let rq = crate::num::rational_from_f64(rk, "r")
-                    .map_err(|e| SweepError::field("frames", e.to_string()))?;
                 let mut fixed = scene.clone();
-                fixed.eye = Eye::Point(eye_at(path, &rq));
+                fixed.eye = Eye::Point(eye_rq);
                 let s = silhouette(&fixed, opts)?;
                 Frame {
                     r: rk,
+                    eye,
                     components: from_components(&s.components),
                     traced: true,
                 }

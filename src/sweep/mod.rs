@@ -36,7 +36,9 @@ mod scene;
 mod silhouette;
 
 pub use equations::{equations, patch_normal, Equations, Normal};
-pub use events::{event_systems, events, verify_event, Event, EventKind, EventSystem, Events};
+pub use events::{
+    event_systems, events, verify_event, verify_events, Event, EventKind, EventSystem, Events,
+};
 pub use frames::{frames, Frame, FrameCurve, Frames, CONTINUATION_TOLERANCE, OVERSHOOT};
 pub use scene::{builtin_scene, builtin_scene_json, scene_from_json, Patch, BUILTIN_SCENES};
 // What the report measures with (feature `reports`).
@@ -110,7 +112,7 @@ pub struct Scene {
 }
 
 /// Why a scene was refused or could not be processed.
-#[derive(Debug, Error)]
+#[derive(Clone, Debug, Error)]
 #[non_exhaustive]
 pub enum SweepError {
     /// The scene file is not JSON.

@@ -15,6 +15,7 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "ellipsoid-line",
     "ellipsoid-turn",
     "tuba",
+    "ellipsoid-turn-eye",
 ];
 
 /// A rational tensor Bézier patch on the unit square in homogeneous form: `hom[0..3]` are
@@ -761,6 +762,15 @@ pub fn builtin_scene_json(name: &str) -> Option<&'static str> {
                 "motion": {"translation": [[0, 4], [0, 0, 1], [0]],
                            "linear": [[[1, 1], [0], [0]], [[0], [1, 1], [0]], [[0], [0], [1, 1]]]},
                 "eye": [2, -9, 4]}"#
+        }
+        // Section 4: `ellipsoid-turn` seen from an eye moving along a parabola; one interior
+        // event (near r = 1.6525) where the silhouette's topology changes.
+        "ellipsoid-turn-eye" => {
+            r#"{"surfaces": [{"ellipsoid": {"center": [0, 0, 0], "radii": [2, "1/2", "1/2"]}}],
+                "t": [0, 1],
+                "motion": {"translation": [[0, 3], [0], [0, "1/2"]],
+                           "rotation": {"quaternion": [[1], [0], [0], [0, "1/2"]]}},
+                "eye": {"path": [[-3, 3], [-2], [0, "1/3"]], "r": [0, 3]}}"#
         }
         _ => return None,
     })

@@ -1,14 +1,15 @@
-//! `geocert sweep silhouette` and `geocert sweep events`: the perspective silhouette of a
-//! swept volume (Seong et al.) and, for an eye on a path, the critical events where its
-//! topology can change.
+//! `geocert sweep silhouette`, `geocert sweep events` and `geocert sweep animate`: the
+//! perspective silhouette of a swept volume (Seong et al.) and, for an eye on a path, the
+//! critical events where its topology can change and the frames between them.
 
 use crate::out::{choice, pretty, read, write};
 use clap::Subcommand;
 use geocert::bernstein::Limits;
+use geocert::internals::report::sweep::{svg_lines, SvgLine};
 use geocert::num::rational_to_string;
 use geocert::sweep::{
-    builtin_scene, events, scene_from_json, silhouette, verify_event, ComponentEnd, EventKind,
-    Scene, SilhouetteOptions, Silhouettes,
+    builtin_scene, events, frames, scene_from_json, silhouette, verify_events, ComponentEnd,
+    EventKind, Eye, Scene, SilhouetteOptions, Silhouettes,
 };
 use geocert::Path;
 use serde_json::{json, Value};
@@ -27,7 +28,45 @@ pub(crate) enum Command {
     /// sorted by r; each re-checked from the scene. The eye path must stay off the moving
     /// surface (certified first).
     Events(EventsArgs),
+    /// For an eye moving along a path P(r): the silhouette at evenly spaced eye parameters
+    /// (Section 4.2). The events are solved first; a frame is traced afresh by the certified
+    /// tracer when an event lies since the previous frame, and otherwise continued from it
+    /// (Newton's method on F = G = 0, each point checked against both equations).
+    Animate(AnimateArgs),
 }
+
+#[derive(clap::Args)]
+pub(crate) struct AnimateArgs {
+    /// A scene JSON file whose eye is `{"path": [px, py, pz], "r": [r0, r1]}`, or
+    /// `builtin:ellipsoid-turn-eye`.
+    scene: String,
+    /// Frames, evenly spaced from --from to --to (both included).
+    #[arg(long, default_value_t = 24)]
+    frames: usize,
+    /// The first eye parameter (default: the path's r0).
+    #[arg(long)]
+    from: Option<f64>,
+    /// The last eye parameter (default: the path's r1).
+    #[arg(long)]
+    to: Option<f64>,
+    #[arg(long, default_value_t = Path::Filtered, value_parser = choice::<Path>(Path::NAMES))]
+    path: Path,
+    /// The widest arc box of traced frames relative to the parameter domain.
+    #[arg(long, default_value_t = 1.0 / 32.0)]
+    resolution: f64,
+    /// Wall-clock budget per system (events) and per patch (traced frames) in seconds.
+    #[arg(long, default_value_t = 20.0)]
+    time_limit: f64,
+    /// Write one perspective drawing per frame, from that frame's eye, into this directory
+    /// (`frame-0000.svg`, …); nothing is written when a frame fails.
+    #[arg(long)]
+    svg_dir: Option<PathBuf>,
+    #[arg(long)]
+    json: bool,
+}
+
+/// The most frames `animate` draws.
+const MAX_FRAMES: usize = 100_000;
 
 #[derive(clap::Args)]
 pub(crate) struct EventsArgs {
@@ -45,7 +84,8 @@ pub(crate) struct EventsArgs {
 #[derive(clap::Args)]
 pub(crate) struct SilhouetteArgs {
     /// A scene JSON file (`{"surfaces": [...], "t": [a, b], "motion": {...}, "eye": ...}`), or
-    /// `builtin:NAME` (sphere-line, sphere-cone, ellipsoid-line, ellipsoid-turn, tuba).
+    /// `builtin:NAME` (sphere-line, sphere-cone, ellipsoid-line, ellipsoid-turn, tuba,
+    /// ellipsoid-turn-eye).
     scene: String,
     #[arg(long, default_value_t = Path::Filtered, value_parser = choice::<Path>(Path::NAMES))]
     path: Path,
@@ -80,7 +120,158 @@ pub(crate) fn run(c: Command) -> Result<ExitCode, String> {
     match c {
         Command::Silhouette(a) => run_silhouette(a),
         Command::Events(a) => run_events(a),
+        Command::Animate(a) => run_animate(a),
     }
+}
+
+fn run_animate(a: AnimateArgs) -> Result<ExitCode, String> {
+    if !(1..=MAX_FRAMES).contains(&a.frames) {
+        return Err(format!(
+            "--frames must be from 1 to {MAX_FRAMES}, got {}",
+            a.frames
+        ));
+    }
+    if !(a.resolution.is_finite() && a.resolution > 0.0) {
+        return Err(format!(
+            "--resolution must be a positive number, got {}",
+            a.resolution
+        ));
+    }
+    let time_limit = crate::out::time_limit(Some(a.time_limit))?;
+    let scene = load(&a.scene)?;
+    let Eye::Path { r, .. } = &scene.eye else {
+        return Err(format!(
+            "{}: eye: animate needs an eye path {{\"path\": [px, py, pz], \"r\": [r0, r1]}}",
+            a.scene
+        ));
+    };
+    let (r0, r1) = (
+        geocert::num::rational_to_f64(&r.0),
+        geocert::num::rational_to_f64(&r.1),
+    );
+    let (from, to) = (a.from.unwrap_or(r0), a.to.unwrap_or(r1));
+    let inside = r0 <= from && to <= r1;
+    let ordered = from < to || (a.frames == 1 && from == to);
+    if !(inside && ordered) {
+        return Err(format!(
+            "--from {from} and --to {to} must satisfy {r0} ≤ from < to ≤ {r1} (the eye path's r)"
+        ));
+    }
+    let rs: Vec<f64> = if a.frames == 1 {
+        vec![from]
+    } else {
+        let n = (a.frames - 1) as f64;
+        (0..a.frames)
+            .map(|i| {
+                if i + 1 == a.frames {
+                    to
+                } else {
+                    from + (to - from) * i as f64 / n
+                }
+            })
+            .collect()
+    };
+    if rs.windows(2).any(|w| w[0] >= w[1]) {
+        return Err(format!(
+            "{} frames from {from} to {to} are not distinct in f64",
+            a.frames
+        ));
+    }
+    let limits = Limits::new()
+        .with_max_depth(40)
+        .with_max_boxes(200_000)
+        .with_time_limit(time_limit);
+    let solve_opts = geocert::solve::SolveOptions::new()
+        .with_path(a.path)
+        .with_limits(limits);
+    let opts = SilhouetteOptions::default()
+        .with_path(a.path)
+        .with_resolution(a.resolution)
+        .with_limits(limits.with_max_depth(14))
+        .with_caps(false);
+    let clock = std::time::Instant::now();
+    let f = frames(&scene, &rs, &opts, &solve_opts).map_err(|e| e.to_string())?;
+    let seconds = clock.elapsed().as_secs_f64();
+    let verified: Vec<bool> = verify_events(&scene, &f.events.events)
+        .iter()
+        .map(|c| matches!(c, Ok(Ok(_))))
+        .collect();
+    let all_verified = verified.iter().all(|&v| v);
+    if let Some(dir) = &a.svg_dir {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        for (k, frame) in f.frames.iter().enumerate() {
+            let lines: Vec<SvgLine<'_>> = frame
+                .components
+                .iter()
+                .map(|c| SvgLine {
+                    points: &c.points,
+                    closed: c.closed,
+                    envelope: true,
+                    title: if frame.traced { "traced" } else { "continued" },
+                })
+                .collect();
+            write(
+                &dir.join(format!("frame-{k:04}.svg")),
+                svg_lines(frame.eye, &lines),
+            )?;
+        }
+    }
+    let traced = f.frames.iter().filter(|x| x.traced).count();
+    if a.json {
+        let v = json!({
+            "events": f.events.events.iter().zip(&verified).map(|(e, ok)| json!({
+                "r": e.r,
+                "kind": kind_json(&e.kind),
+                "on_patch_border": e.kind.on_patch_border(),
+                "verified": ok,
+            })).collect::<Vec<_>>(),
+            "clusters": f.events.clusters.len(),
+            "frames": f.frames.iter().map(|x| json!({
+                "r": x.r,
+                "eye": x.eye,
+                "traced": x.traced,
+                "components": x.components.iter().map(|c| json!({
+                    "surface": c.surface,
+                    "closed": c.closed,
+                    "patches": c.patches,
+                    "uvt": c.uvt,
+                    "points": c.points,
+                })).collect::<Vec<_>>(),
+            })).collect::<Vec<_>>(),
+            "traced_frames": traced,
+            "continued_frames": f.frames.len() - traced,
+            "continued_seconds": f.continued_seconds,
+            "seconds": seconds,
+        });
+        println!("{}", pretty(&v)?);
+    } else {
+        println!(
+            "{} frames from r = {from} to {to} in {seconds:.2} s: {traced} traced, {} continued \
+             ({:.4} s); {} events ({} clusters){}",
+            f.frames.len(),
+            f.frames.len() - traced,
+            f.continued_seconds,
+            f.events.events.len(),
+            f.events.clusters.len(),
+            if all_verified {
+                ", every event re-checked"
+            } else {
+                "; SOME EVENTS FAILED THEIR RE-CHECK"
+            }
+        );
+        for x in &f.frames {
+            println!(
+                "r = {:.6}  {} component(s), {} points  {}",
+                x.r,
+                x.components.len(),
+                x.components.iter().map(|c| c.points.len()).sum::<usize>(),
+                if x.traced { "traced" } else { "continued" }
+            );
+        }
+    }
+    Ok(crate::out::status(
+        all_verified && f.events.clusters.is_empty(),
+    ))
 }
 
 fn kind_json(k: &EventKind) -> Value {
@@ -111,10 +302,11 @@ fn run_events(a: EventsArgs) -> Result<ExitCode, String> {
     let clock = std::time::Instant::now();
     let ev = events(&scene, &opts).map_err(|e| e.to_string())?;
     let seconds = clock.elapsed().as_secs_f64();
+    let checks = verify_events(&scene, &ev.events);
     let mut rows = Vec::new();
     let mut all_verified = true;
-    for e in &ev.events {
-        let verified = matches!(verify_event(&scene, e), Ok(Ok(_)));
+    for (e, check) in ev.events.iter().zip(&checks) {
+        let verified = matches!(check, Ok(Ok(_)));
         all_verified &= verified;
         rows.push(json!({
             "r": e.r,

@@ -9,7 +9,8 @@
 use geocert::bernstein::Bernstein;
 use geocert::num::Rational;
 use geocert::solve::{
-    solve, verify_root, ClusterReason, RootCertificate, Solution, SolveOptions, System,
+    solve, verify_root, verify_root_exactly, ClusterReason, RootCertificate, Solution,
+    SolveOptions, System,
 };
 use geocert::Path;
 use proptest::prelude::*;
@@ -92,6 +93,8 @@ fn account(system: &System, s: &Solution, roots: &[Vec<Rational>]) -> Result<(),
             return Err(format!("certified box {:?} holds {held} roots", x.bounds));
         }
         verify_root(system, &x.bounds, &x.certificate).map_err(|e| e.to_string())?;
+        // The interval filter accepts nothing the exact check refuses.
+        verify_root_exactly(system, &x.bounds, &x.certificate).map_err(|e| e.to_string())?;
     }
     Ok(())
 }
@@ -144,6 +147,74 @@ proptest! {
                 prop_assert!(exact.roots.iter().any(|e| roots.iter().any(|p| contains(&e.bounds, p) && contains(&r.bounds, p))));
             }
         }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    /// `verify_root` reads the conditions from `f64` interval enclosures first: it never
+    /// accepts a box the exact check refuses. Boxes of the solved roots moved by fractions of
+    /// their widths (the root leaves some), and boxes of width about 2⁻³⁰ around the
+    /// constructed roots or just beside them, with the solved root's certificate. (The filter
+    /// deciding such boxes at all is the unit test `interval_filter_decides_moderate_boxes`.)
+    #[test]
+    fn the_interval_filter_agrees_with_the_exact_check(
+        n in 2usize..=3,
+        xs in spread(97, 2, 5),
+        ys in spread(89, 2, 5),
+        zs in spread(83, 1, 5),
+        shear in -3i64..=3,
+        moves in proptest::collection::vec((-4i64..=4, -4i64..=4), 3),
+        tiny in proptest::collection::vec((-2i64..=3, -2i64..=3), 3),
+    ) {
+        let per_axis = [xs, ys, zs];
+        let eqs: Vec<_> = (0..n).map(|k| product_of_roots(n, k, &per_axis[k])).collect();
+        let m: Vec<Vec<i64>> = (0..n)
+            .map(|i| (0..n).map(|j| if i == j { 1 } else if j < i { shear } else { 0 }).collect())
+            .collect();
+        let system = unit_system(mix(eqs, &m));
+        // Boxes about 1e-8 wide: the size the interval filter decides.
+        let exact = solve(
+            &system,
+            &SolveOptions::new().with_path(Path::Exact).with_tolerance(1e-8),
+        )
+        .unwrap();
+        let (mut accepted, mut refused) = (0, 0);
+        for r in &exact.roots {
+            let moved: Vec<(Rational, Rational)> = r
+                .bounds
+                .iter()
+                .zip(&moves)
+                .map(|((a, b), &(s0, s1))| {
+                    let w = b - a;
+                    (a + &w * q(s0, 8), b + &w * q(s1, 8))
+                })
+                .collect();
+            // The constructed root in this box (the one it holds).
+            let root: Vec<Rational> = (0..n)
+                .map(|k| {
+                    per_axis[k]
+                        .iter()
+                        .find(|x| r.bounds[k].0 <= **x && **x <= r.bounds[k].1)
+                        .unwrap()
+                        .clone()
+                })
+                .collect();
+            let eps = q(1, 1 << 30);
+            let small: Vec<(Rational, Rational)> = root
+                .iter()
+                .zip(&tiny)
+                .map(|(x, &(l, h))| (x - &eps * q(l, 1), x + &eps * q(h, 1)))
+                .collect();
+            for bounds in [moved, small] {
+                let filtered = verify_root(&system, &bounds, &r.certificate).is_ok();
+                let exactly = verify_root_exactly(&system, &bounds, &r.certificate).is_ok();
+                prop_assert_eq!(filtered, exactly, "box {:?}", bounds);
+                if exactly { accepted += 1 } else { refused += 1 }
+            }
+        }
+        prop_assert!(accepted + refused > 0);
     }
 }
 
@@ -210,9 +281,11 @@ fn the_checker_refuses_a_tampered_certificate() {
     let mut flipped: RootCertificate = r.certificate.clone();
     flipped.lower_face_signs[0] = -flipped.lower_face_signs[0];
     assert!(verify_root(&system, &r.bounds, &flipped).is_err());
+    assert!(verify_root_exactly(&system, &r.bounds, &flipped).is_err());
     // A box beside the root holds none: Miranda fails there.
     let beside = vec![(q(1, 2), q(1, 1)), r.bounds[1].clone()];
     assert!(verify_root(&system, &beside, &r.certificate).is_err());
+    assert!(verify_root_exactly(&system, &beside, &r.certificate).is_err());
 }
 
 #[test]

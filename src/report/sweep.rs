@@ -130,7 +130,8 @@ fn moving_eye_run(name: &str, dir: &FsPath) -> MovingEyeRun {
         .with_resolution(1.0 / 32.0)
         .with_caps(false);
     let clock = std::time::Instant::now();
-    let f = match frames(&scene, &rs, &opts, &SolveOptions::new()) {
+    let solve_opts = SolveOptions::new().with_tolerance(crate::sweep::EVENT_TOLERANCE);
+    let f = match frames(&scene, &rs, &opts, &solve_opts) {
         Ok(f) => f,
         Err(e) => {
             run.error = Some(e.to_string());

@@ -1,6 +1,9 @@
 //! The independent checker of root certificates. It does not call the subdivision: it
 //! restricts the original equations to the root's box directly, forms `g = A f` and reads
-//! the faces and the partial derivatives itself, all in exact rationals.
+//! the faces and the partial derivatives itself, all in exact rationals — after a filter in
+//! `f64` interval arithmetic that accepts a certificate only when rigorous enclosures of the
+//! same quantities decide every condition (and otherwise leaves the decision to the exact
+//! check; it never refuses).
 
 use super::input::{
     certificate_from_json, parse_box, piecewise_system_from_json, piecewise_system_to_json,
@@ -11,7 +14,7 @@ use super::{
 };
 use crate::bernstein::{Bernstein, BernsteinError};
 use crate::bspline::BsplineError;
-use crate::num::{rational_to_string, Rational};
+use crate::num::{rational_to_string, Interval, Rational};
 use num_traits::{One, Signed, Zero};
 use serde_json::{json, Value};
 
@@ -73,7 +76,9 @@ pub enum RootRefusal {
 }
 
 /// Re-checks that `bounds` (domain coordinates) holds exactly one root of `system`, from the
-/// certificate's preconditioner and face signs.
+/// certificate's preconditioner and face signs. The conditions are first read from rigorous
+/// `f64` interval enclosures (accepted only when those decide every one of them); otherwise,
+/// and for every refusal, exactly as [`verify_root_exactly`].
 pub fn verify_root(
     system: &System,
     bounds: &RationalBox,
@@ -82,10 +87,36 @@ pub fn verify_root(
     let n = system.unknowns();
     shape(n, system.equations.len(), bounds, certificate)?;
     let sub = unit_box(&system.domain, bounds)?;
+    if let Some(check) = check_interval(system, &sub, certificate) {
+        return Ok(check);
+    }
+    check_exactly(system, &sub, certificate)
+}
+
+/// [`verify_root`] in exact rationals only (no interval filter): the equations restricted to
+/// the box exactly, every sign and the dominance read from exact coefficients.
+pub fn verify_root_exactly(
+    system: &System,
+    bounds: &RationalBox,
+    certificate: &RootCertificate,
+) -> Result<RootCheck, RootRefusal> {
+    let n = system.unknowns();
+    shape(n, system.equations.len(), bounds, certificate)?;
+    let sub = unit_box(&system.domain, bounds)?;
+    check_exactly(system, &sub, certificate)
+}
+
+/// The exact check on the box `sub` (unit coordinates of the domain).
+fn check_exactly(
+    system: &System,
+    sub: &[(Rational, Rational)],
+    certificate: &RootCertificate,
+) -> Result<RootCheck, RootRefusal> {
+    let n = system.unknowns();
     let f = system
         .equations
         .iter()
-        .map(|e| e.restrict(&sub))
+        .map(|e| e.restrict(sub))
         .collect::<Result<Vec<_>, _>>()?;
     let whole = Part {
         f: common_degrees(f)?,
@@ -353,6 +384,143 @@ fn check_parts(parts: &[Part], certificate: &RootCertificate) -> Result<RootChec
     Ok(RootCheck { unknowns: n })
 }
 
+/// Rigorous `f64` interval enclosures of the Bernstein coefficients of `e` restricted to
+/// `sub` (unit coordinates): the coefficients and the box's ends enclosed, de Casteljau's
+/// recurrence in outward-rounded intervals (which, by inclusion monotonicity, encloses the
+/// exact split at the exact point). `None` when the box is not certainly inside `[0, 1]ⁿ`.
+pub(crate) fn enclose_on(
+    e: &Bernstein<Rational>,
+    sub: &[(Rational, Rational)],
+) -> Option<Bernstein<Interval>> {
+    let sub: Vec<(Interval, Interval)> = sub
+        .iter()
+        .map(|(a, b)| (Interval::from_rational(a), Interval::from_rational(b)))
+        .collect();
+    e.map(Interval::from_rational).restrict(&sub).ok()
+}
+
+/// [`check_parts`] on the whole box (one part) in `f64` interval arithmetic. Every
+/// enclosure is rigorous: the coefficients and the box's ends are enclosed, arithmetic rounds
+/// outward, and de Casteljau's recurrence with an enclosed split point encloses the exact
+/// split (inclusion monotonicity). So when every Miranda coefficient's enclosure has the
+/// certified strict sign, and the diagonal derivative's least enclosed magnitude exceeds the
+/// enclosed sum of the others' largest, the exact check would pass as well. `None` when the
+/// enclosures do not decide (wide, or not finite): then the exact check runs.
+fn check_interval(
+    system: &System,
+    sub: &[(Rational, Rational)],
+    certificate: &RootCertificate,
+) -> Option<RootCheck> {
+    use crate::num::Field;
+    let n = sub.len();
+    let f: Vec<Bernstein<Interval>> = system
+        .equations
+        .iter()
+        .map(|e| enclose_on(e, sub))
+        .collect::<Option<_>>()?;
+    let top: Vec<usize> = (0..n)
+        .map(|k| f.iter().map(|e| e.degrees()[k]).max().unwrap_or(0))
+        .collect();
+    let f: Vec<Bernstein<Interval>> = f
+        .into_iter()
+        .map(|mut p| {
+            for (k, &t) in top.iter().enumerate() {
+                let d = p.degrees()[k];
+                if d < t {
+                    p = p.elevate(k, t - d).ok()?;
+                }
+            }
+            Some(p)
+        })
+        .collect::<Option<_>>()?;
+    let size = f.first()?.coeffs().len();
+    let g: Vec<Bernstein<Interval>> = certificate
+        .preconditioner
+        .iter()
+        .map(|row| {
+            let row: Vec<Interval> = row.iter().map(Interval::from_rational).collect();
+            let coeffs = (0..size)
+                .map(|c| <Interval as Field>::dot(&row, f.iter().map(|fj| &fj.coeffs()[c])))
+                .collect();
+            Bernstein::new(top.clone(), coeffs).ok()
+        })
+        .collect::<Option<_>>()?;
+    if g.len() != n || certificate.lower_face_signs.len() != n {
+        return None;
+    }
+    let strides: Vec<usize> = (0..n)
+        .scan(1, |s, k| {
+            let here = *s;
+            *s *= top[k] + 1;
+            Some(here)
+        })
+        .collect();
+    let negative = |x: &Interval| x.hi < 0.0;
+    let positive = |x: &Interval| x.lo > 0.0;
+    for (i, gi) in g.iter().enumerate() {
+        let negative_below = certificate.lower_face_signs[i] < 0;
+        for upper in [false, true] {
+            let want_negative = negative_below != upper;
+            let face = if upper { top[i] } else { 0 };
+            let decided = gi
+                .coeffs()
+                .iter()
+                .enumerate()
+                .filter(|(c, _)| (c / strides[i]) % (top[i] + 1) == face)
+                .all(|(_, x)| {
+                    if want_negative {
+                        negative(x)
+                    } else {
+                        positive(x)
+                    }
+                });
+            if !decided {
+                return None;
+            }
+        }
+    }
+    for (i, gi) in g.iter().enumerate() {
+        let mut diag = f64::INFINITY;
+        let mut off = Interval::point(0.0);
+        for (k, &degree) in top.iter().enumerate() {
+            if degree == 0 {
+                if k == i {
+                    return None;
+                }
+                continue;
+            }
+            let d = gi.derivative(k).ok()?;
+            if k == i {
+                diag = if d.coeffs().iter().all(positive) {
+                    d.coeffs()
+                        .iter()
+                        .map(|x| x.lo)
+                        .fold(f64::INFINITY, f64::min)
+                } else if d.coeffs().iter().all(negative) {
+                    d.coeffs()
+                        .iter()
+                        .map(|x| -x.hi)
+                        .fold(f64::INFINITY, f64::min)
+                } else {
+                    return None;
+                };
+            } else {
+                let most = d
+                    .coeffs()
+                    .iter()
+                    .map(|x| x.lo.abs().max(x.hi.abs()))
+                    .fold(0.0, f64::max);
+                off = <Interval as Field>::add(&off, &Interval::point(most));
+            }
+        }
+        // Decided only when `diag > off.hi` (false for NaN too).
+        if diag.partial_cmp(&off.hi) != Some(std::cmp::Ordering::Greater) {
+            return None;
+        }
+    }
+    Some(RootCheck { unknowns: n })
+}
+
 /// The certificate file of a solution: the system (exactly) and each root's box,
 /// preconditioner and face signs.
 pub fn solution_certificate(system: &System, solution: &Solution) -> Value {
@@ -406,4 +574,75 @@ pub fn verify_solution_certificate(
         out.push(verify_piecewise_root(&system, &bounds, &certificate));
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn q(n: i64, d: i64) -> Rational {
+        Rational::new(n.into(), d.into())
+    }
+
+    /// The filter decides a 2⁻²⁶-wide box around the root of `x² + y² = ½, x = y` (at
+    /// `(½, ½)`) with a Newton preconditioner, declines the box moved off the root (where
+    /// the exact check refuses), and declines a 2⁻⁵⁰-wide box (too small for `f64`) that the
+    /// exact check accepts.
+    #[test]
+    fn interval_filter_decides_moderate_boxes() {
+        // x² + y² − ½ and x − y on [0, 1]², in Bernstein form (degree 2 × 2 and 1 × 1
+        // elevated to 2 × 2).
+        let circle = Bernstein::new(
+            vec![2, 2],
+            vec![
+                q(-1, 2),
+                q(-1, 2),
+                q(1, 2),
+                q(-1, 2),
+                q(-1, 2),
+                q(1, 2),
+                q(1, 2),
+                q(1, 2),
+                q(3, 2),
+            ],
+        )
+        .unwrap();
+        let diagonal = Bernstein::new(vec![1, 1], vec![q(0, 1), q(1, 1), q(-1, 1), q(0, 1)])
+            .unwrap()
+            .elevate(0, 1)
+            .unwrap()
+            .elevate(1, 1)
+            .unwrap();
+        let system = System::new(vec![(q(0, 1), q(1, 1)); 2], vec![circle, diagonal]).unwrap();
+        // J = [[1, 1], [1, −1]] at (½, ½); in unit coordinates of a box of width w,
+        // J·w, so A = (J w)⁻¹ = [[1, 1], [1, −1]] / (2w).
+        let boxed = |k: u32, shift: i64| -> (RationalBox, RootCertificate) {
+            let w = Rational::new(1.into(), num_bigint::BigInt::from(1u64) << k);
+            let c = q(1, 2) + &w * q(shift, 1);
+            let half = &w / q(2, 1);
+            let bounds = vec![(&c - &half, &c + &half), (q(1, 2) - &half, q(1, 2) + &half)];
+            let a = &w * q(2, 1);
+            let cert = RootCertificate {
+                preconditioner: vec![
+                    vec![q(1, 1) / &a, q(1, 1) / &a],
+                    vec![q(1, 1) / &a, q(-1, 1) / &a],
+                ],
+                lower_face_signs: vec![-1, -1],
+            };
+            (bounds, cert)
+        };
+        let (b, cert) = boxed(26, 0);
+        let sub = unit_box(&system.domain, &b).unwrap();
+        assert!(check_interval(&system, &sub, &cert).is_some());
+        assert!(verify_root_exactly(&system, &b, &cert).is_ok());
+        let (b, cert) = boxed(26, 3);
+        let sub = unit_box(&system.domain, &b).unwrap();
+        assert!(check_interval(&system, &sub, &cert).is_none());
+        assert!(verify_root_exactly(&system, &b, &cert).is_err());
+        assert!(verify_root(&system, &b, &cert).is_err());
+        let (b, cert) = boxed(50, 0);
+        let sub = unit_box(&system.domain, &b).unwrap();
+        assert!(check_interval(&system, &sub, &cert).is_none());
+        assert!(verify_root(&system, &b, &cert).is_ok());
+    }
 }

@@ -58,9 +58,10 @@ mod input;
 mod piecewise;
 mod subdivision;
 
+pub(crate) use check::enclose_on;
 pub use check::{
     piecewise_solution_certificate, solution_certificate, verify_piecewise_root, verify_root,
-    verify_solution_certificate, RootCheck, RootRefusal, CERTIFICATE_KIND,
+    verify_root_exactly, verify_solution_certificate, RootCheck, RootRefusal, CERTIFICATE_KIND,
 };
 pub use curve::{
     extreme_system, plane_system, trace, trace_piecewise, Arc, Component, CurveEnd, CurveOptions,

@@ -183,7 +183,8 @@ fn run_animate(a: AnimateArgs) -> Result<ExitCode, String> {
         .with_time_limit(time_limit);
     let solve_opts = geocert::solve::SolveOptions::new()
         .with_path(a.path)
-        .with_limits(limits);
+        .with_limits(limits)
+        .with_tolerance(geocert::sweep::EVENT_TOLERANCE);
     let opts = SilhouetteOptions::default()
         .with_path(a.path)
         .with_resolution(a.resolution)
@@ -298,7 +299,8 @@ fn run_events(a: EventsArgs) -> Result<ExitCode, String> {
                 .with_max_depth(40)
                 .with_max_boxes(200_000)
                 .with_time_limit(time_limit),
-        );
+        )
+        .with_tolerance(geocert::sweep::EVENT_TOLERANCE);
     let clock = std::time::Instant::now();
     let ev = events(&scene, &opts).map_err(|e| e.to_string())?;
     let seconds = clock.elapsed().as_secs_f64();

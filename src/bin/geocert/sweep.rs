@@ -52,7 +52,7 @@ pub(crate) struct AnimateArgs {
     #[arg(long, default_value_t = Path::Filtered, value_parser = choice::<Path>(Path::NAMES))]
     path: Path,
     /// The widest arc box of traced frames relative to the parameter domain.
-    #[arg(long, default_value_t = 1.0 / 32.0)]
+    #[arg(long, default_value_t = 1.0 / 16.0)]
     resolution: f64,
     /// Wall-clock budget per system (events) and per patch (traced frames) in seconds.
     #[arg(long, default_value_t = 20.0)]

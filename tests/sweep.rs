@@ -631,6 +631,29 @@ fn a_moving_eye_has_certified_events_and_the_silhouette_reconnects_at_the_interi
     for e in &ev.events {
         assert!(verify_event(&scene, e).unwrap().is_ok(), "{e:?}");
     }
+    // The ellipsoid is closed: every event on a patch border is seen from each patch there
+    // (two, or four at a pole), at the same r and 3-D point; the others stand alone.
+    let groups = geocert::sweep::event_groups(&scene, &ev.events);
+    println!(
+        "{} events in {} groups: sizes {:?}",
+        ev.events.len(),
+        groups.len(),
+        groups.iter().map(Vec::len).collect::<Vec<_>>()
+    );
+    for g in &groups {
+        let border = ev.events[g[0]].kind.on_patch_border();
+        assert!(g
+            .iter()
+            .all(|&i| ev.events[i].kind.on_patch_border() == border));
+        if border {
+            assert!(g.len() >= 2, "a border event seen from one patch: {g:?}");
+        } else {
+            assert_eq!(g.len(), 1);
+        }
+        let patches: std::collections::BTreeSet<usize> =
+            g.iter().map(|&i| ev.events[i].patch).collect();
+        assert_eq!(patches.len(), g.len(), "one event per patch in a group");
+    }
     let interior: Vec<_> = ev
         .events
         .iter()

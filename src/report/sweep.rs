@@ -54,6 +54,8 @@ pub struct Eq2Row {
 #[derive(Clone, Debug, Serialize)]
 pub struct EventRow {
     pub r: f64,
+    /// Its group ([`crate::sweep::event_groups`]): the same event seen from another patch.
+    pub group: usize,
     /// `interior`, `face` or `edge`.
     pub kind: String,
     pub on_patch_border: bool,
@@ -154,13 +156,24 @@ fn moving_eye_run(name: &str, dir: &FsPath) -> MovingEyeRun {
     run.verify_seconds = clock.elapsed().as_secs_f64();
     run.systems = f.events.systems;
     run.clusters = f.events.clusters.len();
+    let mut group_of = vec![0; f.events.events.len()];
+    for (g, members) in crate::sweep::event_groups(&scene, &f.events.events)
+        .iter()
+        .enumerate()
+    {
+        for &i in members {
+            group_of[i] = g;
+        }
+    }
     run.events = f
         .events
         .events
         .iter()
         .zip(&checks)
-        .map(|(e, c)| EventRow {
+        .zip(&group_of)
+        .map(|((e, c), &group)| EventRow {
             r: e.r,
+            group,
             kind: match e.kind {
                 crate::sweep::EventKind::Interior => "interior",
                 crate::sweep::EventKind::Face { .. } => "face",
@@ -557,7 +570,10 @@ fn moving_markdown(s: &mut String, m: &MovingEyeRun) {
          clusters. Solving the events {:.2} s (root boxes to {:e} of each parameter's \
          interval); events and frames together {:.2} s, of which the {} continued frames \
          {:.4} s (the rest is the traced frames); re-checking the events {:.2} s (two cores).\n\n\
-         | r | where | patch border | re-checked |\n|---:|---|---|---|",
+         Events with the same *group* are one event seen from the patches that meet there \
+         (`event_groups`: a border crossing shows on both patches, at a pole on four): {} \
+         distinct.\n\n\
+         | r | group | where | patch border | re-checked |\n|---:|---:|---|---|---|",
         m.events.len(),
         m.systems,
         interior,
@@ -569,13 +585,15 @@ fn moving_markdown(s: &mut String, m: &MovingEyeRun) {
         m.seconds,
         m.frames.iter().filter(|f| !f.traced).count(),
         m.continued_seconds,
-        m.verify_seconds
+        m.verify_seconds,
+        m.events.iter().map(|e| e.group + 1).max().unwrap_or(0)
     );
     for e in &m.events {
         let _ = writeln!(
             s,
-            "| {:.6} | {} | {} | {} |",
+            "| {:.6} | {} | {} | {} | {} |",
             e.r,
+            e.group,
             e.kind,
             if e.on_patch_border { "yes" } else { "no" },
             if e.verified { "yes" } else { "NO" }

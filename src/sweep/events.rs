@@ -447,6 +447,88 @@ pub fn events(scene: &Scene, opts: &SolveOptions) -> Result<Events, SweepError> 
     })
 }
 
+/// Events that are one geometric event seen from several patches, as groups of indices into
+/// `events` (in order; every event in exactly one group). A silhouette crossing the border
+/// between two patches of a surface at a tangency yields the same event on both patches (and
+/// at a corner on up to four). Two border events ([`EventKind::on_patch_border`]) are joined
+/// when they lie on the same surface and on different patches, their certified `r`
+/// intervals overlap (each widened by `1e-9` of the eye path's interval), and their points
+/// `A(t)S(u, v)` agree to `1e-6 · (1 + |x|)`. This groups by geometry to count distinct
+/// events; each member keeps its own certificate.
+pub fn event_groups(scene: &Scene, events: &[Event]) -> Vec<Vec<usize>> {
+    let n = events.len();
+    let widen = match &scene.eye {
+        Eye::Path { r, .. } => 1e-9 * crate::num::rational_to_f64(&(&r.1 - &r.0)).abs(),
+        Eye::Point(_) => 0.0,
+    };
+    let r_range = |e: &Event| {
+        let (lo, hi) = e.root.bounds.last().map_or((e.r, e.r), |(a, b)| {
+            (
+                crate::num::rational_to_f64(a),
+                crate::num::rational_to_f64(b),
+            )
+        });
+        (lo - widen, hi + widen)
+    };
+    let point = |e: &Event| {
+        let [u, v, t] = e.uvt;
+        scene
+            .surfaces
+            .get(e.surface)
+            .and_then(|s| s.patches.get(e.patch))
+            .and_then(|p| p.point(u, v))
+            .map(|x| super::silhouette::apply_motion(scene, t, x))
+    };
+    let points: Vec<Option<[f64; 3]>> = events.iter().map(point).collect();
+    // Union-find over the joined pairs.
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for i in 0..n {
+        let (ei, (lo_i, hi_i)) = (&events[i], r_range(&events[i]));
+        if !ei.kind.on_patch_border() {
+            continue;
+        }
+        for j in i + 1..n {
+            // All pairs: event lists are short (tens to hundreds).
+            let (ej, (lo_j, hi_j)) = (&events[j], r_range(&events[j]));
+            if lo_j > hi_i
+                || hi_j < lo_i
+                || !ej.kind.on_patch_border()
+                || ej.surface != ei.surface
+                || ej.patch == ei.patch
+            {
+                continue;
+            }
+            let (Some(a), Some(b)) = (points[i], points[j]) else {
+                continue;
+            };
+            let d = (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt();
+            let size = (0..3).map(|k| a[k] * a[k]).sum::<f64>().sqrt();
+            if d <= 1e-6 * (1.0 + size) {
+                let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+                parent[ri.max(rj)] = ri.min(rj);
+            }
+        }
+    }
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut slot = vec![usize::MAX; n];
+    for i in 0..n {
+        let r = root(&mut parent, i);
+        if slot[r] == usize::MAX {
+            slot[r] = groups.len();
+            groups.push(Vec::new());
+        }
+        groups[slot[r]].push(i);
+    }
+    groups
+}
+
 /// Re-checks an event's certificate: rebuilds its system from the scene and checks the root
 /// box with [`verify_root`] (which does not call the solver), and an interior event's pivot.
 /// To re-check many events, [`verify_events`] builds each patch's systems once.

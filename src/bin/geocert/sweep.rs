@@ -8,8 +8,8 @@ use geocert::bernstein::Limits;
 use geocert::internals::report::sweep::{svg_lines, SvgLine};
 use geocert::num::rational_to_string;
 use geocert::sweep::{
-    builtin_scene, events, frames, scene_from_json, silhouette, verify_events, ComponentEnd,
-    EventKind, Eye, Scene, SilhouetteOptions, Silhouettes,
+    builtin_scene, event_groups, events, frames, scene_from_json, silhouette, verify_events,
+    ComponentEnd, EventKind, Eye, Scene, SilhouetteOptions, Silhouettes,
 };
 use geocert::Path;
 use serde_json::{json, Value};
@@ -198,6 +198,8 @@ fn run_animate(a: AnimateArgs) -> Result<ExitCode, String> {
         .map(|c| matches!(c, Ok(Ok(_))))
         .collect();
     let all_verified = verified.iter().all(|&v| v);
+    let groups = event_groups(&scene, &f.events.events);
+    let group_of = group_index(&groups, f.events.events.len());
     if let Some(dir) = &a.svg_dir {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         for (k, frame) in f.frames.iter().enumerate() {
@@ -220,12 +222,14 @@ fn run_animate(a: AnimateArgs) -> Result<ExitCode, String> {
     let traced = f.frames.iter().filter(|x| x.traced).count();
     if a.json {
         let v = json!({
-            "events": f.events.events.iter().zip(&verified).map(|(e, ok)| json!({
+            "events": f.events.events.iter().zip(&verified).zip(&group_of).map(|((e, ok), group)| json!({
                 "r": e.r,
+                "group": group,
                 "kind": kind_json(&e.kind),
                 "on_patch_border": e.kind.on_patch_border(),
                 "verified": ok,
             })).collect::<Vec<_>>(),
+            "distinct_events": groups.len(),
             "clusters": f.events.clusters.len(),
             "frames": f.frames.iter().map(|x| json!({
                 "r": x.r,
@@ -305,13 +309,16 @@ fn run_events(a: EventsArgs) -> Result<ExitCode, String> {
     let ev = events(&scene, &opts).map_err(|e| e.to_string())?;
     let seconds = clock.elapsed().as_secs_f64();
     let checks = verify_events(&scene, &ev.events);
+    let groups = event_groups(&scene, &ev.events);
+    let group_of = group_index(&groups, ev.events.len());
     let mut rows = Vec::new();
     let mut all_verified = true;
-    for (e, check) in ev.events.iter().zip(&checks) {
+    for ((e, check), group) in ev.events.iter().zip(&checks).zip(&group_of) {
         let verified = matches!(check, Ok(Ok(_)));
         all_verified &= verified;
         rows.push(json!({
             "r": e.r,
+            "group": group,
             "surface": e.surface,
             "patch": e.patch,
             "kind": kind_json(&e.kind),
@@ -325,6 +332,7 @@ fn run_events(a: EventsArgs) -> Result<ExitCode, String> {
     if a.json {
         let v = json!({
             "events": rows,
+            "distinct": groups.len(),
             "clusters": ev.clusters.len(),
             "systems": ev.systems,
             "seconds": seconds,
@@ -332,8 +340,10 @@ fn run_events(a: EventsArgs) -> Result<ExitCode, String> {
         println!("{}", pretty(&v)?);
     } else {
         println!(
-            "{} events from {} systems in {seconds:.2} s ({} clusters){}",
+            "{} events ({} distinct: border events seen from several patches joined) from {} \
+             systems in {seconds:.2} s ({} clusters){}",
             ev.events.len(),
+            groups.len(),
             ev.systems,
             ev.clusters.len(),
             if all_verified {
@@ -361,6 +371,17 @@ fn run_events(a: EventsArgs) -> Result<ExitCode, String> {
         }
     }
     Ok(crate::out::status(all_verified && ev.clusters.is_empty()))
+}
+
+/// Per event, the index of its group ([`event_groups`]).
+fn group_index(groups: &[Vec<usize>], n: usize) -> Vec<usize> {
+    let mut of = vec![0; n];
+    for (g, members) in groups.iter().enumerate() {
+        for &i in members {
+            of[i] = g;
+        }
+    }
+    of
 }
 
 fn load(scene: &str) -> Result<Scene, String> {

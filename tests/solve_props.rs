@@ -99,6 +99,27 @@ fn account(system: &System, s: &Solution, roots: &[Vec<Rational>]) -> Result<(),
     Ok(())
 }
 
+/// The grid of roots `per_axis[0] × … × per_axis[n−1]` (a product of linear factors per
+/// unknown), mixed by a unit lower-triangular matrix with `shear` below the diagonal
+/// (invertible: the roots do not change).
+fn sheared_grid(n: usize, per_axis: &[Vec<Rational>; 3], shear: i64) -> System {
+    let eqs: Vec<_> = (0..n)
+        .map(|k| product_of_roots(n, k, &per_axis[k]))
+        .collect();
+    let m: Vec<Vec<i64>> = (0..n)
+        .map(|i| {
+            (0..n)
+                .map(|j| match (i == j, j < i) {
+                    (true, _) => 1,
+                    (false, true) => shear,
+                    _ => 0,
+                })
+                .collect()
+        })
+        .collect();
+    unit_system(mix(eqs, &m))
+}
+
 /// Distinct values `k/den`, `0 < k < den`, at least `gap/den` apart.
 fn spread(den: i64, count: usize, gap: i64) -> impl Strategy<Value = Vec<Rational>> {
     proptest::collection::btree_set(1..den, count).prop_filter_map("gap", move |s| {
@@ -123,12 +144,7 @@ proptest! {
         shear in -3i64..=3,
     ) {
         let per_axis = [xs, ys, zs];
-        let eqs: Vec<_> = (0..n).map(|k| product_of_roots(n, k, &per_axis[k])).collect();
-        // Unit lower-triangular with a shear: invertible.
-        let m: Vec<Vec<i64>> = (0..n)
-            .map(|i| (0..n).map(|j| if i == j { 1 } else if j < i { shear } else { 0 }).collect())
-            .collect();
-        let system = unit_system(mix(eqs, &m));
+        let system = sheared_grid(n, &per_axis, shear);
         let mut roots: Vec<Vec<Rational>> = vec![vec![]];
         for axis in per_axis.iter().take(n) {
             roots = roots
@@ -169,11 +185,7 @@ proptest! {
         tiny in proptest::collection::vec((-2i64..=3, -2i64..=3), 3),
     ) {
         let per_axis = [xs, ys, zs];
-        let eqs: Vec<_> = (0..n).map(|k| product_of_roots(n, k, &per_axis[k])).collect();
-        let m: Vec<Vec<i64>> = (0..n)
-            .map(|i| (0..n).map(|j| if i == j { 1 } else if j < i { shear } else { 0 }).collect())
-            .collect();
-        let system = unit_system(mix(eqs, &m));
+        let system = sheared_grid(n, &per_axis, shear);
         // Boxes about 1e-8 wide: the size the interval filter decides.
         let exact = solve(
             &system,

@@ -156,15 +156,8 @@ fn moving_eye_run(name: &str, dir: &FsPath) -> MovingEyeRun {
     run.verify_seconds = clock.elapsed().as_secs_f64();
     run.systems = f.events.systems;
     run.clusters = f.events.clusters.len();
-    let mut group_of = vec![0; f.events.events.len()];
-    for (g, members) in crate::sweep::event_groups(&scene, &f.events.events)
-        .iter()
-        .enumerate()
-    {
-        for &i in members {
-            group_of[i] = g;
-        }
-    }
+    let group_of =
+        crate::sweep::group_of_each(&crate::sweep::event_groups(&scene, &f.events.events));
     run.events = f
         .events
         .events
@@ -201,19 +194,9 @@ fn moving_eye_run(name: &str, dir: &FsPath) -> MovingEyeRun {
             max_f,
             max_g,
         });
-        let lines: Vec<SvgLine<'_>> = frame
-            .components
-            .iter()
-            .map(|c| SvgLine {
-                points: &c.points,
-                closed: c.closed,
-                envelope: true,
-                title: if frame.traced { "traced" } else { "continued" },
-            })
-            .collect();
         let _ = std::fs::write(
             dir.join(format!("sweep-{name}-frame-{k:02}.svg")),
-            svg_lines(frame.eye, &lines),
+            frame_svg(frame),
         );
     }
     run
@@ -620,6 +603,22 @@ fn moving_markdown(s: &mut String, m: &MovingEyeRun) {
         let _ = writeln!(s, "![frame {k}](sweep-{}-frame-{k:02}.svg)", m.scene);
     }
     s.push('\n');
+}
+
+/// A frame of a moving eye drawn from that frame's eye (its components' titles say whether
+/// it was traced or continued).
+pub fn frame_svg(frame: &crate::sweep::Frame) -> String {
+    let lines: Vec<SvgLine<'_>> = frame
+        .components
+        .iter()
+        .map(|c| SvgLine {
+            points: &c.points,
+            closed: c.closed,
+            envelope: true,
+            title: if frame.traced { "traced" } else { "continued" },
+        })
+        .collect();
+    svg_lines(frame.eye, &lines)
 }
 
 /// A perspective drawing from the eye towards the silhouettes' centroid.

@@ -84,9 +84,7 @@ pub fn verify_root(
     bounds: &RationalBox,
     certificate: &RootCertificate,
 ) -> Result<RootCheck, RootRefusal> {
-    let n = system.unknowns();
-    shape(n, system.equations.len(), bounds, certificate)?;
-    let sub = unit_box(&system.domain, bounds)?;
+    let sub = checked_box(system, bounds, certificate)?;
     if let Some(check) = check_interval(system, &sub, certificate) {
         return Ok(check);
     }
@@ -100,10 +98,23 @@ pub fn verify_root_exactly(
     bounds: &RationalBox,
     certificate: &RootCertificate,
 ) -> Result<RootCheck, RootRefusal> {
-    let n = system.unknowns();
-    shape(n, system.equations.len(), bounds, certificate)?;
-    let sub = unit_box(&system.domain, bounds)?;
+    let sub = checked_box(system, bounds, certificate)?;
     check_exactly(system, &sub, certificate)
+}
+
+/// The box in the domain's unit coordinates, after checking the shapes.
+fn checked_box(
+    system: &System,
+    bounds: &RationalBox,
+    certificate: &RootCertificate,
+) -> Result<Vec<(Rational, Rational)>, RootRefusal> {
+    shape(
+        system.unknowns(),
+        system.equations.len(),
+        bounds,
+        certificate,
+    )?;
+    unit_box(&system.domain, bounds)
 }
 
 /// The exact check on the box `sub` (unit coordinates of the domain).

@@ -529,6 +529,17 @@ pub fn event_groups(scene: &Scene, events: &[Event]) -> Vec<Vec<usize>> {
     groups
 }
 
+/// Per event, the index of its group in `groups` ([`event_groups`]).
+pub fn group_of_each(groups: &[Vec<usize>]) -> Vec<usize> {
+    let mut of = vec![0; groups.iter().map(Vec::len).sum()];
+    for (g, members) in groups.iter().enumerate() {
+        for &i in members {
+            of[i] = g;
+        }
+    }
+    of
+}
+
 /// Re-checks an event's certificate: rebuilds its system from the scene and checks the root
 /// box with [`verify_root`] (which does not call the solver), and an interior event's pivot.
 /// To re-check many events, [`verify_events`] builds each patch's systems once.

@@ -37,8 +37,8 @@ mod silhouette;
 
 pub use equations::{equations, patch_normal, Equations, Normal};
 pub use events::{
-    event_groups, event_systems, events, verify_event, verify_events, Event, EventKind,
-    EventSystem, Events, EVENT_TOLERANCE,
+    event_groups, event_systems, events, group_of_each, verify_event, verify_events, Event,
+    EventKind, EventSystem, Events, EVENT_TOLERANCE,
 };
 pub use frames::{frames, Frame, FrameCurve, Frames, CONTINUATION_TOLERANCE, OVERSHOOT};
 pub use scene::{builtin_scene, builtin_scene_json, scene_from_json, Patch, BUILTIN_SCENES};

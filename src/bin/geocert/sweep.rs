@@ -5,11 +5,11 @@
 use crate::out::{choice, pretty, read, write};
 use clap::Subcommand;
 use geocert::bernstein::Limits;
-use geocert::internals::report::sweep::{svg_lines, SvgLine};
+use geocert::internals::report::sweep::frame_svg;
 use geocert::num::rational_to_string;
 use geocert::sweep::{
-    builtin_scene, event_groups, events, frames, scene_from_json, silhouette, verify_events,
-    ComponentEnd, EventKind, Eye, Scene, SilhouetteOptions, Silhouettes,
+    builtin_scene, event_groups, events, frames, group_of_each, scene_from_json, silhouette,
+    verify_events, ComponentEnd, EventKind, Eye, Scene, SilhouetteOptions, Silhouettes,
 };
 use geocert::Path;
 use serde_json::{json, Value};
@@ -199,24 +199,11 @@ fn run_animate(a: AnimateArgs) -> Result<ExitCode, String> {
         .collect();
     let all_verified = verified.iter().all(|&v| v);
     let groups = event_groups(&scene, &f.events.events);
-    let group_of = group_index(&groups, f.events.events.len());
+    let group_of = group_of_each(&groups);
     if let Some(dir) = &a.svg_dir {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         for (k, frame) in f.frames.iter().enumerate() {
-            let lines: Vec<SvgLine<'_>> = frame
-                .components
-                .iter()
-                .map(|c| SvgLine {
-                    points: &c.points,
-                    closed: c.closed,
-                    envelope: true,
-                    title: if frame.traced { "traced" } else { "continued" },
-                })
-                .collect();
-            write(
-                &dir.join(format!("frame-{k:04}.svg")),
-                svg_lines(frame.eye, &lines),
-            )?;
+            write(&dir.join(format!("frame-{k:04}.svg")), frame_svg(frame))?;
         }
     }
     let traced = f.frames.iter().filter(|x| x.traced).count();
@@ -310,7 +297,7 @@ fn run_events(a: EventsArgs) -> Result<ExitCode, String> {
     let seconds = clock.elapsed().as_secs_f64();
     let checks = verify_events(&scene, &ev.events);
     let groups = event_groups(&scene, &ev.events);
-    let group_of = group_index(&groups, ev.events.len());
+    let group_of = group_of_each(&groups);
     let mut rows = Vec::new();
     let mut all_verified = true;
     for ((e, check), group) in ev.events.iter().zip(&checks).zip(&group_of) {
@@ -371,17 +358,6 @@ fn run_events(a: EventsArgs) -> Result<ExitCode, String> {
         }
     }
     Ok(crate::out::status(all_verified && ev.clusters.is_empty()))
-}
-
-/// Per event, the index of its group ([`event_groups`]).
-fn group_index(groups: &[Vec<usize>], n: usize) -> Vec<usize> {
-    let mut of = vec![0; n];
-    for (g, members) in groups.iter().enumerate() {
-        for &i in members {
-            of[i] = g;
-        }
-    }
-    of
 }
 
 fn load(scene: &str) -> Result<Scene, String> {

@@ -239,11 +239,12 @@ fn run_animate(a: AnimateArgs) -> Result<ExitCode, String> {
     } else {
         println!(
             "{} frames from r = {from} to {to} in {seconds:.2} s: {traced} traced, {} continued \
-             ({:.4} s); {} events ({} clusters){}",
+             ({:.4} s); {} events, {} distinct ({} clusters){}",
             f.frames.len(),
             f.frames.len() - traced,
             f.continued_seconds,
             f.events.events.len(),
+            groups.len(),
             f.events.clusters.len(),
             if all_verified {
                 ", every event re-checked"

@@ -179,13 +179,16 @@ fn moving_eye_run(name: &str, dir: &FsPath) -> MovingEyeRun {
         .collect();
     let _ = std::fs::create_dir_all(dir);
     for (k, frame) in f.frames.iter().enumerate() {
-        let (mut max_f, mut max_g, mut vertices) = (0.0f64, 0.0f64, 0);
-        for c in &frame.components {
-            for (uvt, &patch) in c.uvt.iter().zip(&c.patches) {
-                let (f, g) = residuals(&scene, c.surface, patch, *uvt, frame.eye);
-                (max_f, max_g, vertices) = (max_f.max(f), max_g.max(g), vertices + 1);
-            }
-        }
+        let (max_f, max_g, vertices) = worst_at(
+            &scene,
+            frame.eye,
+            frame.components.iter().flat_map(|c| {
+                c.uvt
+                    .iter()
+                    .zip(&c.patches)
+                    .map(|(x, &p)| (c.surface, p, *x))
+            }),
+        );
         run.frames.push(FrameRow {
             r: frame.r,
             traced: frame.traced,
@@ -250,19 +253,30 @@ pub fn eye_f64(scene: &Scene) -> [f64; 3] {
 
 /// The largest residuals over the envelope's vertices, and their count.
 fn worst(scene: &Scene, s: &Silhouettes) -> (f64, f64, usize) {
-    let eye = eye_f64(scene);
-    let mut w = (0.0f64, 0.0f64, 0);
-    for c in s
+    let envelope = s
         .components
         .iter()
         .filter(|c| c.kind == ComponentKind::Envelope)
-    {
-        for (uvt, &patch) in c.uvt.iter().zip(&c.patches) {
-            let (f, g) = residuals(scene, c.surface, patch, *uvt, eye);
-            w = (w.0.max(f), w.1.max(g), w.2 + 1);
-        }
-    }
-    w
+        .flat_map(|c| {
+            c.uvt
+                .iter()
+                .zip(&c.patches)
+                .map(|(x, &p)| (c.surface, p, *x))
+        });
+    worst_at(scene, eye_f64(scene), envelope)
+}
+
+/// The largest residuals seen from `eye` over `(surface, patch, (u, v, t))` points, and
+/// their count.
+fn worst_at(
+    scene: &Scene,
+    eye: [f64; 3],
+    points: impl Iterator<Item = (usize, usize, [f64; 3])>,
+) -> (f64, f64, usize) {
+    points.fold((0.0f64, 0.0f64, 0), |w, (surface, patch, uvt)| {
+        let (f, g) = residuals(scene, surface, patch, uvt, eye);
+        (w.0.max(f), w.1.max(g), w.2 + 1)
+    })
 }
 
 fn median(mut v: Vec<f64>) -> f64 {

@@ -320,17 +320,21 @@ fn eye_path_off_patch(scene: &Scene, me: &MovingEye, s: usize, p: usize) -> Resu
 /// Whether `F_u` or `G_u` (the interior system's first two equations, derivative along the
 /// first unknown) has one strict sign on the unit-parameter box `sub` of `system`.
 fn pivot_certified(system: &System, sub: &[(Rational, Rational)]) -> Result<bool, SweepError> {
+    let derivatives = [
+        system.equations[0].derivative(0)?,
+        system.equations[1].derivative(0)?,
+    ];
     // Rigorous interval enclosures decide it almost always; exactly otherwise.
-    for e in &system.equations[..2] {
-        if let Some(d) = crate::solve::enclose_on(&e.derivative(0)?, sub) {
+    for d in &derivatives {
+        if let Some(d) = crate::solve::enclose_on(d, sub) {
             let c = d.coeffs();
             if c.iter().all(|x| x.lo > 0.0) || c.iter().all(|x| x.hi < 0.0) {
                 return Ok(true);
             }
         }
     }
-    for e in &system.equations[..2] {
-        let d = e.derivative(0)?.restrict(sub)?;
+    for d in &derivatives {
+        let d = d.restrict(sub)?;
         let c = d.coeffs();
         if c.iter().all(|x| x.is_positive()) || c.iter().all(|x| x.is_negative()) {
             return Ok(true);

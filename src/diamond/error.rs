@@ -399,13 +399,27 @@ pub fn diamond_stats_integer<const D: usize>(
                 cs[p] = cp;
                 gs[p] = gp;
             }
-            for ur in -r..=r {
+            // The row's samples, in order; `|2h·F| ≤ 2^54` and each term below is a sum of at
+            // most six such (see `MAX_INTEGER_SAMPLE`), so the wrapping operations never wrap.
+            let stride = l.stride[row_axis];
+            let first = (row_idx - r * stride) as usize;
+            let row = values[first..]
+                .iter()
+                .step_by(stride as usize)
+                .take((2 * r + 1) as usize);
+            let two_h = 2 * h;
+            for (ur, &f) in (-r..=r).zip(row) {
                 let t_r = row_sign * ur + r;
                 let p = others[..no].iter().take_while(|o| o.0 > t_r).count();
-                let fp = at(row_idx + ur * l.stride[row_axis]);
+                let fp = i64::from(f);
                 min = min.min(fp);
                 max = max.max(fp);
-                let e = (2 * h * fp - cs[p] - t_r * gs[p] - acc_e).abs();
+                let e = two_h
+                    .wrapping_mul(fp)
+                    .wrapping_sub(cs[p])
+                    .wrapping_sub(t_r.wrapping_mul(gs[p]))
+                    .wrapping_sub(acc_e)
+                    .wrapping_abs();
                 worst = worst.max(e);
             }
             if !Layout::<D>::next(&mut u, 1, m, |_| -r, |_| r) {

@@ -70,6 +70,9 @@ pub struct RefineRow {
     pub visited: u64,
     pub median_seconds: f64,
     pub per_second: f64,
+    /// `Σs` rows: the median over the interleaved rounds of this row's time over the `Σd`
+    /// row's on the same encoding.
+    pub against_diamond_front: Option<f64>,
     pub simplices: usize,
     pub front_bytes: u64,
     pub bytes_per_simplex: f64,
@@ -267,26 +270,27 @@ fn dmv_row(volume: &str, criterion: String, dmv: &FullDmv<3>, sel: &Selection<3>
     }
 }
 
-/// Refines `REFINE_RUNS` times; the median time, and the last run's mesh and counts.
-fn time_refine<A: DmvAccess<3>, F: Front<3>>(
-    dmv: &A,
-    lod: &Lod<3>,
-) -> (f64, u64, Vec<Simplex<3>>, u64) {
-    let mut times = Vec::new();
-    let mut last = None;
-    for _ in 0..REFINE_RUNS {
-        let t = Instant::now();
-        let mut r: Refiner<'_, 3, A, F> = Refiner::new(dmv);
-        let ok = r.refine(lod).is_ok();
-        times.push(t.elapsed().as_secs_f64());
-        if ok {
-            last = Some((r.visited, r.mesh(), r.front.bookkeeping_bytes()));
-        }
-    }
-    let (v, m, b) = last.unwrap_or((0, Vec::new(), 0));
-    (median(times), v, m, b)
+/// One timed refinement: its seconds, and its visited count, mesh and front bytes (`None`
+/// when it failed).
+type RefineRun = (f64, Option<(u64, Vec<Simplex<3>>, u64)>);
+
+/// Refines once on `dmv` with front `F`, timed.
+fn refine_once<A: DmvAccess<3>, F: Front<3>>(dmv: &A, lod: &Lod<3>) -> RefineRun {
+    let t = Instant::now();
+    let mut r: Refiner<'_, 3, A, F> = Refiner::new(dmv);
+    let ok = r.refine(lod).is_ok();
+    let secs = t.elapsed().as_secs_f64();
+    (
+        secs,
+        ok.then(|| (r.visited, r.mesh(), r.front.bookkeeping_bytes())),
+    )
 }
 
+/// Table 4's six refinements (three encodings × two fronts), interleaved: each of the
+/// `REFINE_RUNS` rounds runs all six, starting one further along each round, so that the
+/// machine's drift (frequency, other load) falls on all alike. Per row the median time, the
+/// last run's mesh and counts, and for `Σs` the median over rounds of its time over `Σd`'s on
+/// the same encoding in the same round.
 fn refine_rows(
     volume: &str,
     full: &FullDmv<3>,
@@ -296,11 +300,58 @@ fn refine_rows(
     let ds = full.supercube_encoding(iso_sel);
     let dd = full.diamond_encoding(iso_sel);
     let hier = full.field().hierarchy();
+    type Runner<'a> = Box<dyn Fn() -> RefineRun + 'a>;
+    let runners: Vec<(&str, &str, Runner<'_>)> = vec![
+        (
+            "Δf",
+            "Σd",
+            Box::new(|| refine_once::<_, DiamondFront<3>>(full, lod)),
+        ),
+        (
+            "Δf",
+            "Σs",
+            Box::new(|| refine_once::<_, SupercubeFront<3>>(full, lod)),
+        ),
+        (
+            "Δd",
+            "Σd",
+            Box::new(|| refine_once::<_, DiamondFront<3>>(&dd, lod)),
+        ),
+        (
+            "Δd",
+            "Σs",
+            Box::new(|| refine_once::<_, SupercubeFront<3>>(&dd, lod)),
+        ),
+        (
+            "Δs",
+            "Σd",
+            Box::new(|| refine_once::<_, DiamondFront<3>>(&ds, lod)),
+        ),
+        (
+            "Δs",
+            "Σs",
+            Box::new(|| refine_once::<_, SupercubeFront<3>>(&ds, lod)),
+        ),
+    ];
+    let n = runners.len();
+    let mut times = vec![Vec::with_capacity(REFINE_RUNS); n];
+    let mut last: Vec<Option<(u64, Vec<Simplex<3>>, u64)>> = vec![None; n];
+    for round in 0..REFINE_RUNS {
+        for k in 0..n {
+            let j = (round + k) % n;
+            let (secs, result) = (runners[j].2)();
+            times[j].push(secs);
+            if result.is_some() {
+                last[j] = result;
+            }
+        }
+    }
     let mut rows = Vec::new();
     let mut reference: Option<Vec<Simplex<3>>> = None;
     let mut conformity: Option<bool> = None;
-    let mut push = |dmv: &str, front: &str, r: (f64, u64, Vec<Simplex<3>>, u64)| {
-        let (secs, visited, mesh, bytes) = r;
+    for (j, (dmv, front, _)) in runners.iter().enumerate() {
+        let (visited, mesh, bytes) = last[j].take().unwrap_or((0, Vec::new(), 0));
+        let secs = median(times[j].clone());
         let sorted = sorted_mesh(mesh);
         let same = match &reference {
             Some(m) => *m == sorted,
@@ -319,26 +370,31 @@ fn refine_rows(
                 c
             }
         };
+        // Σs rows follow their encoding's Σd row.
+        let against_diamond_front = (*front == "Σs").then(|| {
+            median(
+                times[j]
+                    .iter()
+                    .zip(&times[j - 1])
+                    .map(|(s, d)| s / d.max(1e-12))
+                    .collect(),
+            )
+        });
         rows.push(RefineRow {
             volume: volume.into(),
-            dmv: dmv.into(),
-            front: front.into(),
+            dmv: (*dmv).into(),
+            front: (*front).into(),
             visited,
             median_seconds: secs,
             per_second: visited as f64 / secs.max(1e-12),
+            against_diamond_front,
             simplices: sorted.len(),
             front_bytes: bytes,
             bytes_per_simplex: bytes as f64 / sorted.len().max(1) as f64,
             conforming,
             same_mesh: same,
         });
-    };
-    push("Δf", "Σd", time_refine::<_, DiamondFront<3>>(full, lod));
-    push("Δf", "Σs", time_refine::<_, SupercubeFront<3>>(full, lod));
-    push("Δd", "Σd", time_refine::<_, DiamondFront<3>>(&dd, lod));
-    push("Δd", "Σs", time_refine::<_, SupercubeFront<3>>(&dd, lod));
-    push("Δs", "Σd", time_refine::<_, DiamondFront<3>>(&ds, lod));
-    push("Δs", "Σs", time_refine::<_, SupercubeFront<3>>(&ds, lod));
+    }
     rows
 }
 
@@ -871,24 +927,50 @@ pub fn write_diamond_report(
     }
     let _ = writeln!(
         s,
-        "\n## Selective refinement (Table 4)\n\nThe query of Table 4: refine diamonds with error above 1 % of the value range whose range holds the middle isovalue, top-down from the base diamond, on Δf (the full array), and on Δd and Δs built from the one-isovalue DMV above. Median of {REFINE_RUNS} runs, one thread, including the front's memory management; \"visited\" counts every diamond examined (popped from the queue or forced). Front bytes by the paper's model: Σd 7 bytes per diamond, Σs 27 per supercube; so Σs's bytes per tetrahedron is 27 over the mesh's tetrahedra per supercube, fixed by the volume and the query, not by the implementation (the paper's Section 8: 26.5 tetrahedra per supercube on its test, ≈ 1 byte; 25.6 on Fuel, 1.05 bytes). The first mesh (Δf, Σd) is checked conforming exactly (faces matched, volumes summing to the domain's); the other five are compared with it simplex for simplex.\n\n| volume | DMV | front | visited | median s | M diamonds/s | tetrahedra | front bytes | bytes/tet | conforming | same mesh |\n|---|---|---|---:|---:|---:|---:|---:|---:|---|---|"
+        "\n## Selective refinement (Table 4)\n\nThe query of Table 4: refine diamonds with error above 1 % of the value range whose range holds the middle isovalue, top-down from the base diamond, on Δf (the full array), and on Δd and Δs built from the one-isovalue DMV above. Median of {REFINE_RUNS} runs, one thread, including the front's memory management; the six runs of a volume are interleaved (each round runs all six, starting one further along), so that the machine's drift falls on all alike, and \"Σs/Σd\" is the median over rounds of Σs's time over Σd's on the same encoding in the same round; \"visited\" counts every diamond examined (popped from the queue or forced). Front bytes by the paper's model: Σd 7 bytes per diamond, Σs 27 per supercube; so Σs's bytes per tetrahedron is 27 over the mesh's tetrahedra per supercube, fixed by the volume and the query, not by the implementation (the paper's Section 8: 26.5 tetrahedra per supercube on its test, ≈ 1 byte; 25.6 on Fuel, 1.05 bytes). The first mesh (Δf, Σd) is checked conforming exactly (faces matched, volumes summing to the domain's); the other five are compared with it simplex for simplex.\n\n| volume | DMV | front | visited | median s | M diamonds/s | Σs/Σd | tetrahedra | front bytes | bytes/tet | conforming | same mesh |\n|---|---|---|---:|---:|---:|---:|---:|---:|---:|---|---|"
     );
     for r in &c.refinement {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {:.4} | {:.2} | {} | {} | {:.2} | {} | {} |",
+            "| {} | {} | {} | {} | {:.4} | {:.2} | {} | {} | {} | {:.2} | {} | {} |",
             r.volume,
             r.dmv,
             r.front,
             r.visited,
             r.median_seconds,
             r.per_second / 1e6,
+            r.against_diamond_front
+                .map_or(String::new(), |x| format!("{x:.3}")),
             r.simplices,
             r.front_bytes,
             r.bytes_per_simplex,
             r.conforming,
             r.same_mesh
         );
+    }
+    if !c.refinement.is_empty() {
+        let slowest = c
+            .refinement
+            .iter()
+            .min_by(|a, b| a.per_second.total_cmp(&b.per_second));
+        let widest = c
+            .refinement
+            .iter()
+            .filter_map(|r| r.against_diamond_front.map(|x| (x, r)))
+            .max_by(|a, b| a.0.total_cmp(&b.0));
+        if let (Some(low), Some((ratio, wide))) = (slowest, widest) {
+            let _ = writeln!(
+                s,
+                "\nSlowest row: {:.2} M diamonds/s ({}, {} {}; goal ≥ 10). Largest Σs/Σd: {:.3} ({}, {}; goal ≤ 1.05).",
+                low.per_second / 1e6,
+                low.volume,
+                low.dmv,
+                low.front,
+                ratio,
+                wide.volume,
+                wide.dmv
+            );
+        }
     }
     let _ = writeln!(
         s,

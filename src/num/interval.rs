@@ -46,6 +46,14 @@ impl Interval {
             return Interval::point(x);
         }
         let x = super::rational_to_f64(r);
+        // Every finite f64 is dyadic: a rational whose (lowest-terms) denominator is no power
+        // of two is never one, and the rounded quotient lies strictly inside the widening.
+        if super::rational::power_of_two(r.denom()).is_none() {
+            return Interval {
+                lo: x.next_down(),
+                hi: x.next_up(),
+            };
+        }
         let exact = rational_from_f64(x, "interval").ok();
         match exact {
             Some(e) if &e == r => Interval::point(x),

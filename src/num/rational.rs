@@ -149,7 +149,7 @@ pub(crate) fn small_mul(a: &Rational, b: &Rational, inverse: bool) -> Option<Rat
 }
 
 /// `2^k` when `d` is that power of two.
-fn power_of_two(d: &BigInt) -> Option<u64> {
+pub(crate) fn power_of_two(d: &BigInt) -> Option<u64> {
     let k = d.trailing_zeros()?;
     (d.bits() == k + 1).then_some(k)
 }

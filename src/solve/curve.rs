@@ -286,27 +286,31 @@ fn face_scaled(
     Ok(ScaledBernstein::with_denominator(degrees, num, p.denominator().clone())?.to_rational())
 }
 
-/// [`plane_system`] from the equations in integer form (`scaled[i]` is `system.equations[i]`):
-/// the same polynomials, computed by integer de Casteljau instead of rational arithmetic.
+/// [`plane_system`] from the equations in integer form already restricted to `bounds`
+/// (`restricted[i]` is `system.equations[i]` on the box `bounds`, reparametrised to the unit
+/// cube): the same polynomials, computed by one integer de Casteljau step instead of
+/// rational arithmetic. The tracer keeps every box's restriction (a child's is its parent's
+/// split at a small fraction), so a cross-section never restricts from the whole domain.
 fn plane_system_scaled(
     system: &System,
-    scaled: &[ScaledBernstein],
+    restricted: &[ScaledBernstein],
     axis: usize,
     c: &Rational,
     bounds: &RationalBox,
 ) -> Result<System, SolveError> {
     plane_shape(system, axis, bounds)?;
-    let at = system.to_unit(axis, c);
-    let mut equations = Vec::with_capacity(scaled.len());
-    for e in scaled {
-        let mut q = e.clone();
-        for (k, (lo, hi)) in bounds.iter().enumerate() {
-            if k != axis {
-                q = restrict_scaled(q, k, &system.to_unit(k, lo), &system.to_unit(k, hi))?;
-            }
-        }
+    let (lo, hi) = &bounds[axis];
+    if hi <= lo {
+        return Err(SolveError::Field {
+            field: "bounds".into(),
+            why: format!("the cross-section's box is flat along axis {axis}"),
+        });
+    }
+    let at = (c - lo) / (hi - lo);
+    let mut equations = Vec::with_capacity(restricted.len());
+    for q in restricted {
         let face = if at.is_zero() || at.is_one() {
-            face_scaled(&q, axis, at.is_one())?
+            face_scaled(q, axis, at.is_one())?
         } else {
             let right = q.split(axis, at.numer(), at.denom())?.1;
             face_scaled(&right, axis, false)?
@@ -527,6 +531,9 @@ struct Node<T> {
     points: Vec<usize>,
     /// Uncertified cross-section clusters touching the box's boundary.
     blobs: Vec<usize>,
+    /// A polynomial system's equations in integer form restricted to the box (reparametrised
+    /// to the unit cube), for its cross-sections; empty for a piecewise system.
+    exact: Vec<ScaledBernstein>,
 }
 
 /// The new points and blobs (ids) of a cross-section.
@@ -605,10 +612,13 @@ impl Tracer<'_> {
 
     /// Solves the cross-section `x_axis = at` (unit) of the box `lo..hi`; returns the new
     /// point ids and blob ids, or `None` when it had uncertified roots and `strict`.
+    /// `exact` is the polynomial system's integer form restricted to the box (see
+    /// [`Node::exact`]; unused for a piecewise system).
     fn cross_section(
         &mut self,
         lo: &[Rational],
         hi: &[Rational],
+        exact: &[ScaledBernstein],
         axis: usize,
         at: &Rational,
         strict: bool,
@@ -636,7 +646,7 @@ impl Tracer<'_> {
         let vanishes = |e: &Bernstein<Rational>| e.coeffs().iter().all(Zero::is_zero);
         let sol = match self.poly {
             Some(system) => {
-                let plane = plane_system_scaled(system, &self.scaled, axis, &c, &bounds)?;
+                let plane = plane_system_scaled(system, exact, axis, &c, &bounds)?;
                 (!plane.equations.iter().any(vanishes))
                     .then(|| solve(&plane, &sopts))
                     .transpose()?
@@ -784,10 +794,11 @@ impl Tracer<'_> {
         // The curve's points on the domain's faces.
         let mut points = Vec::new();
         let mut blobs = Vec::new();
+        let root_exact = std::mem::take(&mut self.scaled);
         for axis in 0..n {
             for at in [Rational::zero(), Rational::one()] {
                 let (p, b) = self
-                    .cross_section(&zero, &one, axis, &at, false)?
+                    .cross_section(&zero, &one, &root_exact, axis, &at, false)?
                     .unwrap_or_default();
                 points.extend(p);
                 blobs.extend(b);
@@ -827,6 +838,7 @@ impl Tracer<'_> {
             depth: 0,
             points,
             blobs,
+            exact: root_exact,
         }];
         while let Some(node) = stack.pop() {
             let over_time = limits.time_limit.is_some_and(|t| self.clock.elapsed() > t);
@@ -916,7 +928,9 @@ impl Tracer<'_> {
             if touches && !last {
                 continue;
             }
-            if let Some(found) = self.cross_section(&node.lo, &node.hi, axis, m, !last)? {
+            if let Some(found) =
+                self.cross_section(&node.lo, &node.hi, &node.exact, axis, m, !last)?
+            {
                 chosen = Some((m.clone(), found));
                 break;
             }
@@ -1004,6 +1018,19 @@ impl Tracer<'_> {
                 rblobs.push(id);
             }
         }
+        // The children's restrictions: the box's, split at the plane's fraction of it (a
+        // small one, `SPLITS`, unless the plane is a knot).
+        let (mut lexact, mut rexact) = (Vec::new(), Vec::new());
+        if !node.exact.is_empty() {
+            let s = (&m - &node.lo[axis]) / (&node.hi[axis] - &node.lo[axis]);
+            for q in &node.exact {
+                let (mut a, mut b) = q.split(axis, s.numer(), s.denom())?;
+                a.normalise_twos();
+                b.normalise_twos();
+                lexact.push(a);
+                rexact.push(b);
+            }
+        }
         let mut hi_left = node.hi.clone();
         hi_left[axis] = m.clone();
         let mut lo_right = node.lo.clone();
@@ -1016,6 +1043,7 @@ impl Tracer<'_> {
                 depth: node.depth + 1,
                 points: lpts,
                 blobs: lblobs,
+                exact: lexact,
             },
             Node {
                 lo: lo_right,
@@ -1024,6 +1052,7 @@ impl Tracer<'_> {
                 depth: node.depth + 1,
                 points: rpts,
                 blobs: rblobs,
+                exact: rexact,
             },
         ))
     }
@@ -1431,7 +1460,18 @@ mod tests {
             let inside = &lo + (&hi - &lo) * q(2, 5);
             for c in [lo, inside, hi] {
                 let a = plane_system(&system, axis, &c, &bounds).unwrap();
-                let s = plane_system_scaled(&system, &scaled, axis, &c, &bounds).unwrap();
+                let restricted: Vec<_> = scaled
+                    .iter()
+                    .map(|e| {
+                        let mut e = e.clone();
+                        for (k, (lo, hi)) in bounds.iter().enumerate() {
+                            let unit = |x: &Rational| system.to_unit(k, x);
+                            e = restrict_scaled(e, k, &unit(lo), &unit(hi)).unwrap();
+                        }
+                        e
+                    })
+                    .collect();
+                let s = plane_system_scaled(&system, &restricted, axis, &c, &bounds).unwrap();
                 assert_eq!(a, s, "axis {axis} at {c}");
                 compared += 1;
             }

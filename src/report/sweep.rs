@@ -93,12 +93,86 @@ pub struct MovingEyeRun {
     pub error: Option<String>,
 }
 
+/// OpenCASCADE's outline of the static capsule against geocert's silhouette
+/// (`benches/peers/occ_outline.py`); distances in OCC's view plane.
+#[derive(Clone, Debug, Serialize)]
+pub struct OccRow {
+    pub scene: String,
+    pub version: String,
+    /// OCC: building the capsule and its hidden-line outline, median of 5.
+    pub occ_seconds: f64,
+    /// geocert: the whole silhouette (median of the scene row's runs).
+    pub geocert_seconds: f64,
+    pub edges: usize,
+    /// The outline's bounding-box diagonal in the view plane (the unit of the relative
+    /// figures).
+    pub diagonal: f64,
+    pub occ_to_geocert: f64,
+    pub envelope_to_occ: f64,
+    pub occ_to_closed_form: f64,
+    pub geocert_to_closed_form: f64,
+}
+
 /// Everything the report shows.
 #[derive(Clone, Debug, Serialize)]
 pub struct SweepCampaign {
     pub rows: Vec<SceneRow>,
     pub eq2: Vec<Eq2Row>,
     pub moving: Vec<MovingEyeRun>,
+    /// The OpenCASCADE peer, or why it did not run.
+    pub occ: Result<OccRow, String>,
+}
+
+/// The OpenCASCADE peer's scene: a unit sphere at the origin translated along a segment, so
+/// that the swept volume is a capsule OCC builds exactly (a cylinder fused with two spheres).
+const OCC_SCENE: &str = "sphere-line";
+/// Its sphere's radius (its centre is the origin).
+const OCC_RADIUS: f64 = 1.0;
+
+/// Runs `benches/peers/occ_outline.py` on `OCC_SCENE`'s silhouette `s` (computed in a median
+/// `seconds`).
+fn occ_peer(root: &FsPath, scene: &Scene, s: &Silhouettes, seconds: f64) -> Result<OccRow, String> {
+    let python = root.join(".venv-peers/bin/python");
+    if !python.exists() {
+        return Err("`.venv-peers` not found (benches/peers/setup.sh installs it)".into());
+    }
+    let t = |x: &crate::num::Rational| rational_to_f64(x);
+    let (a, b) = (
+        apply_motion(scene, t(&scene.t.0), [0.0; 3]),
+        apply_motion(scene, t(&scene.t.1), [0.0; 3]),
+    );
+    let curves = |envelope: bool| -> Vec<&Vec<[f64; 3]>> {
+        s.components
+            .iter()
+            .filter(|c| (c.kind == ComponentKind::Envelope) == envelope)
+            .map(|c| &c.points)
+            .collect()
+    };
+    let spec = serde_json::json!({
+        "a": a, "b": b, "radius": OCC_RADIUS, "eye": eye_f64(scene),
+        "envelope": curves(true), "caps": curves(false),
+    });
+    let file = std::env::temp_dir().join(format!("geocert-occ-{}.json", std::process::id()));
+    std::fs::write(&file, spec.to_string()).map_err(|e| e.to_string())?;
+    let out = std::process::Command::new(python)
+        .arg(root.join("benches/peers/occ_outline.py"))
+        .arg(&file)
+        .output();
+    let _ = std::fs::remove_file(&file);
+    let v = super::peer_json(out)?;
+    let num = |k: &str| v[k].as_f64().ok_or_else(|| format!("no {k} in {v}"));
+    Ok(OccRow {
+        scene: OCC_SCENE.into(),
+        version: v["version"].as_str().unwrap_or("unknown").into(),
+        occ_seconds: num("median_s")?,
+        geocert_seconds: seconds,
+        edges: v["edges"].as_u64().unwrap_or(0) as usize,
+        diagonal: num("diagonal")?,
+        occ_to_geocert: num("occ_to_geocert")?,
+        envelope_to_occ: num("envelope_to_occ")?,
+        occ_to_closed_form: num("occ_to_closed_form")?,
+        geocert_to_closed_form: num("geocert_to_closed_form")?,
+    })
 }
 
 /// The moving eye's scene, and the frames drawn: around its interior event.
@@ -361,9 +435,11 @@ fn empty_row(name: &str, path: Path) -> SceneRow {
 }
 
 /// Runs every built-in scene on the filtered and fast paths, eq. 2 as printed on a
-/// non-uniform scale and on a similarity, and draws each scene into `dir`.
-pub fn sweep_campaign(dir: &FsPath) -> SweepCampaign {
+/// non-uniform scale and on a similarity, and draws each scene into `dir`; the OpenCASCADE
+/// peer from `root`'s `.venv-peers` when it is installed.
+pub fn sweep_campaign(root: &FsPath, dir: &FsPath) -> SweepCampaign {
     let mut rows = Vec::new();
+    let mut occ = Err(format!("scene {OCC_SCENE} did not run"));
     for &name in crate::sweep::BUILTIN_SCENES {
         let Ok(scene) = builtin_scene(name) else {
             continue;
@@ -372,6 +448,9 @@ pub fn sweep_campaign(dir: &FsPath) -> SweepCampaign {
         if let Some(s) = &s {
             let _ = std::fs::create_dir_all(dir);
             let _ = std::fs::write(dir.join(format!("sweep-{name}.svg")), svg(&scene, s));
+            if name == OCC_SCENE {
+                occ = occ_peer(root, &scene, s, r.median_seconds);
+            }
         }
         rows.push(r);
         rows.push(row(name, &scene, Path::Fast).0);
@@ -398,7 +477,12 @@ pub fn sweep_campaign(dir: &FsPath) -> SweepCampaign {
         }
     }
     let moving = vec![moving_eye_run(MOVING_SCENE, dir)];
-    SweepCampaign { rows, eq2, moving }
+    SweepCampaign {
+        rows,
+        eq2,
+        moving,
+        occ,
+    }
 }
 
 /// The campaign passes when every filtered run succeeded without clusters, every certified
@@ -526,10 +610,11 @@ pub fn write_sweep_report(
     for m in &c.moving {
         moving_markdown(&mut s, m);
     }
+    occ_markdown(&mut s, &c.occ);
     let _ = writeln!(
         s,
-        "## Not yet here\n\nThe OpenCASCADE peer, silhouettes through patch corners or along \
-         patch edges (they would show as clusters), and the paper's 0.1 s event budget: solving \
+        "## Not yet here\n\nSilhouettes through patch corners or along patch edges (they would \
+         show as clusters), and the paper's 0.1 s event budget: solving \
          the events and tracing the frames near them (each traced frame is a whole certified \
          run of Algorithm 1) are the slow parts (see the times above)."
     );
@@ -537,6 +622,66 @@ pub fn write_sweep_report(
     let path = dir.join("sweep.md");
     std::fs::write(&path, s)?;
     Ok(path)
+}
+
+/// The OpenCASCADE section.
+fn occ_markdown(s: &mut String, occ: &Result<OccRow, String>) {
+    let _ = writeln!(
+        s,
+        "## OpenCASCADE as a peer (static eye)\n\nScene `{OCC_SCENE}`: a unit sphere swept along \
+         a segment, whose swept volume is a capsule OpenCASCADE builds exactly (a cylinder fused \
+         with two spheres, `BRepAlgoAPI_Fuse`). OCC's outline is `HLRBRep_Algo` with a \
+         perspective `HLRAlgo_Projector` (its viewing system at the capsule's midpoint, Z \
+         towards the eye, focus = the eye's distance, so the eye sits at Focus·Z), visible and \
+         hidden outline edges. geocert's polylines are projected by the same projector \
+         (`HLRAlgo_Projector.Project`) and the curves compared in its view plane \
+         (`benches/peers/occ_outline.py`). The closed form is the capsule's true outline from \
+         the eye: the cylinder's two tangent lines and the end spheres' contour circles, \
+         sampled at 4,000 points a circle (so distances to it below about 1e-6 are its own \
+         sampling). geocert's caps are whole contours of the end spheres, partly inside the \
+         capsule where OCC draws nothing, so only the envelope is measured against OCC's \
+         outline; OCC's outline is measured against all of geocert's curves.\n"
+    );
+    match occ {
+        Err(e) => {
+            let _ = writeln!(s, "Not run: {e}.\n");
+        }
+        Ok(o) => {
+            let rel = |x: f64| 100.0 * x / o.diagonal;
+            let _ = writeln!(
+                s,
+                "| measure | view-plane units | % of the outline's diagonal ({:.3}) |\n|---|---:|---:|\n\
+                 | OCC outline → geocert's curves (max) | {:.2e} | {:.3} |\n\
+                 | geocert's envelope → OCC outline (max) | {:.2e} | {:.1e} |\n\
+                 | OCC outline → closed form (max) | {:.2e} | {:.3} |\n\
+                 | geocert's vertices → closed form (max) | {:.2e} | {:.1e} |\n",
+                o.diagonal,
+                o.occ_to_geocert,
+                rel(o.occ_to_geocert),
+                o.envelope_to_occ,
+                rel(o.envelope_to_occ),
+                o.occ_to_closed_form,
+                rel(o.occ_to_closed_form),
+                o.geocert_to_closed_form,
+                rel(o.geocert_to_closed_form),
+            );
+            let _ = writeln!(
+                s,
+                "OCC {} ({} outline edges): {:.4} s to build the capsule and its outline (median \
+                 of 5); geocert {:.4} s for the whole certified silhouette (equations, tracing, \
+                 extremes, caps; median of {RUNS}), {:.1}× OCC's time. Against the closed \
+                 form, OCC's outline is up to {:.2} % of the outline's size off and geocert's \
+                 vertices up to {:.1e} %.\n",
+                o.version,
+                o.edges,
+                o.occ_seconds,
+                o.geocert_seconds,
+                o.geocert_seconds / o.occ_seconds.max(1e-12),
+                rel(o.occ_to_closed_form),
+                rel(o.geocert_to_closed_form),
+            );
+        }
+    }
 }
 
 /// The moving eye's section.

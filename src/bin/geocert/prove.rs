@@ -280,7 +280,7 @@ fn prove(out: PathBuf, json: bool, merged: Option<Vec<ProofOutcome>>) -> Result<
     let solve_camp = solve_campaign(&root)?;
     bar.inc(1);
     bar.set_message("swept-volume silhouettes of the built-in scenes");
-    let sweep_camp = report::sweep::sweep_campaign(&out);
+    let sweep_camp = report::sweep::sweep_campaign(&root, &out);
     bar.set_message("diamond hierarchies, DMVs and refinement (and OpenVDB, VTK, pymartini)");
     let diamond_camp = report::diamond::diamond_campaign(&root, DIAMOND_SIDE);
     bar.finish_and_clear();
@@ -466,7 +466,8 @@ fn prove_solve(out: PathBuf, json: bool) -> Result<ExitCode, String> {
 /// `prove sweep`: the swept-volume scenes alone; writes sweep.md.
 fn prove_sweep(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     let meta = RunMeta::collect();
-    let c = report::sweep::sweep_campaign(&out);
+    let root = std::env::current_dir().map_err(|e| e.to_string())?;
+    let c = report::sweep::sweep_campaign(&root, &out);
     let written = report::sweep::write_sweep_report(&out, &meta, &c)
         .map_err(|e| format!("writing {}: {e}", out.display()))?;
     let ok = report::sweep::campaign_ok(&c);

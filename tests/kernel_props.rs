@@ -11,7 +11,7 @@ use geocert::bspline::{morken_product, ScaledSpline, Spline, TableCache, TensorS
 use geocert::num::{rational_from_f64, rational_to_f64, Field, Interval, Rational, Sign};
 use geocert::strategies::{bernstein_poly, spline};
 use num_bigint::BigInt;
-use num_traits::Signed;
+use num_traits::{Signed, Zero};
 use proptest::prelude::*;
 
 fn q(n: i64, d: i64) -> Rational {
@@ -87,6 +87,30 @@ proptest! {
     fn elevation_preserves(p in bernstein_poly(vec![2, 1], 20), by in 1usize..4, s in point(2)) {
         let e = p.elevate(1, by).unwrap().elevate(0, 1).unwrap();
         prop_assert_eq!(e.eval(&s).unwrap(), p.eval(&s).unwrap());
+    }
+
+    /// `at_exact_degrees` (top differences and inverted elevation) gives back a polynomial
+    /// elevated along each axis, at its exact degrees as the power basis reads them (the
+    /// highest power present), and a lower-degree term dropped to zero is trimmed too.
+    #[test]
+    fn exact_degrees_undo_elevation(p in bernstein_poly(vec![2, 1, 3], 20), by in 0usize..3, axis in 0usize..3, s in point(3)) {
+        let e = p.elevate(axis, by).unwrap().elevate((axis + 1) % 3, 1).unwrap();
+        let back = e.at_exact_degrees();
+        let power = p.to_power();
+        let mut exact = vec![0usize; 3];
+        for (flat, c) in power.iter().enumerate() {
+            if !c.is_zero() {
+                let idx = [flat % 3, flat / 3 % 2, flat / 6];
+                for k in 0..3 {
+                    exact[k] = exact[k].max(idx[k]);
+                }
+            }
+        }
+        prop_assert_eq!(back.degrees(), &exact[..]);
+        prop_assert_eq!(back.eval(&s).unwrap(), p.eval(&s).unwrap());
+        if exact == [2, 1, 3] {
+            prop_assert_eq!(&back, &p);
+        }
     }
 
     #[test]

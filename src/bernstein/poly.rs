@@ -511,32 +511,77 @@ impl<T: Field> Bernstein<T> {
         Ok(Some(Bernstein { degrees, coeffs }))
     }
 
-    /// The same polynomial at its exact degree per axis (the highest power actually present),
-    /// found in the power basis and converted back; never higher than the current degrees.
+    /// The same polynomial at its exact degree per axis (the highest power actually present);
+    /// never higher than the current degrees. Per axis, while the leading power coefficient
+    /// (the top forward difference `Δ^d b` of every line along it) vanishes, the degree is
+    /// reduced by inverting degree elevation, `c₀ = b₀`, `cᵢ = (d·bᵢ − i·cᵢ₋₁)/(d − i)`
+    /// (exact then); the Bernstein form at given degrees is unique, so this is the power
+    /// basis's answer without converting to it.
     pub fn at_exact_degrees(&self) -> Self {
-        let power = self.to_power();
-        let mut exact = vec![0; self.dim()];
-        for (flat, c) in power.iter().enumerate() {
-            if c.is_exact_zero() {
-                continue;
-            }
-            for (a, i) in multi_index(&self.degrees, flat).into_iter().enumerate() {
-                exact[a] = exact[a].max(i);
+        let mut p = self.clone();
+        for axis in 0..p.dim() {
+            while p.degrees[axis] > 0 && p.top_difference_vanishes(axis) {
+                p = p.reduced(axis);
             }
         }
-        if exact == self.degrees {
-            return self.clone();
-        }
-        let mut trimmed = vec![T::zero(); coefficient_count(&exact)];
-        let out = strides(&exact);
-        for (flat, c) in power.iter().enumerate() {
-            let idx = multi_index(&self.degrees, flat);
-            if idx.iter().zip(&exact).all(|(i, e)| i <= e) {
-                let k: usize = idx.iter().zip(&out).map(|(i, st)| i * st).sum();
-                trimmed[k] = c.clone();
-            }
-        }
-        Bernstein::from_power(exact, trimmed).expect("degrees and coefficients agree")
+        p
+    }
+
+    /// Whether `Δ^d b` vanishes on every line along `axis` (`d ≥ 1` its degree there): the
+    /// coefficient of `t_axis^d` in the power basis is `Δ^d b` times other variables' terms.
+    fn top_difference_vanishes(&self, axis: usize) -> bool {
+        let d = self.degrees[axis];
+        let weights: Vec<T> = (0..=d)
+            .map(|k| {
+                let w = ratio::<T>(binomial(d, k), BigInt::from(1));
+                if (d - k).is_multiple_of(2) {
+                    w
+                } else {
+                    w.neg()
+                }
+            })
+            .collect();
+        map_lines(
+            &self.degrees,
+            &self.coeffs,
+            axis,
+            1,
+            &T::zero(),
+            |line, out| {
+                out[0] = line
+                    .iter()
+                    .zip(&weights)
+                    .fold(T::zero(), |acc, (b, w)| acc.add(&b.mul(w)));
+            },
+        )
+        .iter()
+        .all(Field::is_exact_zero)
+    }
+
+    /// Degree `d − 1` along `axis` by inverting elevation; exact when
+    /// [`top_difference_vanishes`](Self::top_difference_vanishes).
+    fn reduced(&self, axis: usize) -> Self {
+        let d = self.degrees[axis];
+        let coeffs = map_lines(
+            &self.degrees,
+            &self.coeffs,
+            axis,
+            d,
+            &T::zero(),
+            |line, out| {
+                out[0] = line[0].clone();
+                for i in 1..d {
+                    let c = line[i]
+                        .mul_int(d as i64)
+                        .sub(&out[i - 1].mul_int(i as i64))
+                        .mul(&T::from_ratio(1, (d - i) as i64));
+                    out[i] = c;
+                }
+            },
+        );
+        let mut degrees = self.degrees.clone();
+        degrees[axis] = d - 1;
+        Bernstein { degrees, coeffs }
     }
 
     /// Every coefficient times `k`.

@@ -157,6 +157,39 @@ impl Field for Interval {
     fn approx(&self) -> f64 {
         self.mid()
     }
+    /// At `t = ½` each de Casteljau step is a midpoint ([`Interval::midpoint_of`]): one
+    /// outward-rounded addition instead of two interval products and a sum.
+    fn split_line(line: &[Self], t: &Self) -> (Vec<Self>, Vec<Self>) {
+        if !t.is_half() {
+            return crate::bernstein::poly::de_casteljau_split(line, t);
+        }
+        let n = line.len();
+        let mut work = line.to_vec();
+        let mut left = Vec::with_capacity(n);
+        let mut right = vec![Interval::point(0.0); n];
+        left.push(work[0]);
+        right[n - 1] = work[n - 1];
+        for r in 1..n {
+            for i in 0..n - r {
+                work[i] = Interval::midpoint_of(work[i], work[i + 1]);
+            }
+            left.push(work[0]);
+            right[n - 1 - r] = work[n - 1 - r];
+        }
+        (left, right)
+    }
+    fn eval_line(line: &[Self], t: &Self) -> Self {
+        if !t.is_half() {
+            return crate::bernstein::poly::de_casteljau_eval(line, t);
+        }
+        let mut work = line.to_vec();
+        for r in 1..work.len() {
+            for i in 0..work.len() - r {
+                work[i] = Interval::midpoint_of(work[i], work[i + 1]);
+            }
+        }
+        work[0]
+    }
 }
 
 /// Plain `f64`: fast and uncertified. Its `sign` is the sign of the rounded value,

@@ -159,10 +159,17 @@ impl Field for Interval {
     }
     /// At `t = ½` each de Casteljau step is a midpoint ([`Interval::midpoint_of`]): one
     /// outward-rounded addition instead of two interval products and a sum.
+    /// Elsewhere, at a point `t` whose complement is exact, each step is a non-negative
+    /// blend ([`Interval::blend`]); other `t` take the generic recurrence.
     fn split_line(line: &[Self], t: &Self) -> (Vec<Self>, Vec<Self>) {
-        if !t.is_half() {
+        let step: fn(Interval, Interval, f64, f64) -> Interval = if t.is_half() {
+            |a, b, _, _| Interval::midpoint_of(a, b)
+        } else {
+            Interval::blend
+        };
+        let Some((s, w)) = t.exact_weights() else {
             return crate::bernstein::poly::de_casteljau_split(line, t);
-        }
+        };
         let n = line.len();
         let mut work = line.to_vec();
         let mut left = Vec::with_capacity(n);
@@ -171,7 +178,7 @@ impl Field for Interval {
         right[n - 1] = work[n - 1];
         for r in 1..n {
             for i in 0..n - r {
-                work[i] = Interval::midpoint_of(work[i], work[i + 1]);
+                work[i] = step(work[i], work[i + 1], s, w);
             }
             left.push(work[0]);
             right[n - 1 - r] = work[n - 1 - r];
@@ -179,13 +186,18 @@ impl Field for Interval {
         (left, right)
     }
     fn eval_line(line: &[Self], t: &Self) -> Self {
-        if !t.is_half() {
+        let step: fn(Interval, Interval, f64, f64) -> Interval = if t.is_half() {
+            |a, b, _, _| Interval::midpoint_of(a, b)
+        } else {
+            Interval::blend
+        };
+        let Some((s, w)) = t.exact_weights() else {
             return crate::bernstein::poly::de_casteljau_eval(line, t);
-        }
+        };
         let mut work = line.to_vec();
         for r in 1..work.len() {
             for i in 0..work.len() - r {
-                work[i] = Interval::midpoint_of(work[i], work[i + 1]);
+                work[i] = step(work[i], work[i + 1], s, w);
             }
         }
         work[0]

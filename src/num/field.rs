@@ -162,12 +162,7 @@ impl Field for Interval {
     /// Elsewhere, at a point `t` whose complement is exact, each step is a non-negative
     /// blend ([`Interval::blend`]); other `t` take the generic recurrence.
     fn split_line(line: &[Self], t: &Self) -> (Vec<Self>, Vec<Self>) {
-        let step: fn(Interval, Interval, f64, f64) -> Interval = if t.is_half() {
-            |a, b, _, _| Interval::midpoint_of(a, b)
-        } else {
-            Interval::blend
-        };
-        let Some((s, w)) = t.exact_weights() else {
+        let Some((step, s, w)) = interval_step(t) else {
             return crate::bernstein::poly::de_casteljau_split(line, t);
         };
         let n = line.len();
@@ -186,12 +181,7 @@ impl Field for Interval {
         (left, right)
     }
     fn eval_line(line: &[Self], t: &Self) -> Self {
-        let step: fn(Interval, Interval, f64, f64) -> Interval = if t.is_half() {
-            |a, b, _, _| Interval::midpoint_of(a, b)
-        } else {
-            Interval::blend
-        };
-        let Some((s, w)) = t.exact_weights() else {
+        let Some((step, s, w)) = interval_step(t) else {
             return crate::bernstein::poly::de_casteljau_eval(line, t);
         };
         let mut work = line.to_vec();
@@ -202,6 +192,21 @@ impl Field for Interval {
         }
         work[0]
     }
+}
+
+/// One de Casteljau step `(a, b, 1 − t, t) ↦ (1 − t)·a + t·b` on intervals.
+type IntervalStep = fn(Interval, Interval, f64, f64) -> Interval;
+
+/// The step for a split at `t` and its weights, when `t` is a point whose complement is exact:
+/// a midpoint at ½, a non-negative blend elsewhere; `None` for the generic recurrence.
+fn interval_step(t: &Interval) -> Option<(IntervalStep, f64, f64)> {
+    let (s, w) = t.exact_weights()?;
+    let step: IntervalStep = if t.is_half() {
+        |a, b, _, _| Interval::midpoint_of(a, b)
+    } else {
+        Interval::blend
+    };
+    Some((step, s, w))
 }
 
 /// Plain `f64`: fast and uncertified. Its `sign` is the sign of the rounded value,

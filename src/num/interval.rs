@@ -171,12 +171,12 @@ impl Interval {
     }
 
     /// The weights `(1 − t, t)` of a de Casteljau step when `t` is a point interval in
-    /// `[0, 1]` whose complement `1 − t` is exact in `f64`, else `None`.
+    /// `(0, 1)` whose complement `1 − t` is exact in `f64`, else `None` (the ends are left to
+    /// the generic recurrence: a zero weight times an infinite bound would be NaN).
     pub fn exact_weights(&self) -> Option<(f64, f64)> {
         let t = self.lo;
         let s = 1.0 - t;
-        (self.lo == self.hi && (0.0..=1.0).contains(&t) && s + t == 1.0 && 1.0 - s == t)
-            .then_some((s, t))
+        (self.lo == self.hi && t > 0.0 && t < 1.0 && s + t == 1.0 && 1.0 - s == t).then_some((s, t))
     }
 
     /// True for the point interval `[½, ½]`, where de Casteljau's step is a midpoint.

@@ -162,51 +162,52 @@ impl Field for Interval {
     /// Elsewhere, at a point `t` whose complement is exact, each step is a non-negative
     /// blend ([`Interval::blend`]); other `t` take the generic recurrence.
     fn split_line(line: &[Self], t: &Self) -> (Vec<Self>, Vec<Self>) {
-        let Some((step, s, w)) = interval_step(t) else {
-            return crate::bernstein::poly::de_casteljau_split(line, t);
-        };
-        let n = line.len();
-        let mut work = line.to_vec();
-        let mut left = Vec::with_capacity(n);
-        let mut right = vec![Interval::point(0.0); n];
-        left.push(work[0]);
-        right[n - 1] = work[n - 1];
-        for r in 1..n {
-            for i in 0..n - r {
-                work[i] = step(work[i], work[i + 1], s, w);
-            }
-            left.push(work[0]);
-            right[n - 1 - r] = work[n - 1 - r];
+        match t.exact_weights() {
+            _ if t.is_half() => split_with(line, Interval::midpoint_of),
+            Some((s, w)) => split_with(line, |a, b| Interval::blend(a, b, s, w)),
+            None => crate::bernstein::poly::de_casteljau_split(line, t),
         }
-        (left, right)
     }
     fn eval_line(line: &[Self], t: &Self) -> Self {
-        let Some((step, s, w)) = interval_step(t) else {
-            return crate::bernstein::poly::de_casteljau_eval(line, t);
-        };
-        let mut work = line.to_vec();
-        for r in 1..work.len() {
-            for i in 0..work.len() - r {
-                work[i] = step(work[i], work[i + 1], s, w);
-            }
+        match t.exact_weights() {
+            _ if t.is_half() => eval_with(line, Interval::midpoint_of),
+            Some((s, w)) => eval_with(line, |a, b| Interval::blend(a, b, s, w)),
+            None => crate::bernstein::poly::de_casteljau_eval(line, t),
         }
-        work[0]
     }
 }
 
-/// One de Casteljau step `(a, b, 1 − t, t) ↦ (1 − t)·a + t·b` on intervals.
-type IntervalStep = fn(Interval, Interval, f64, f64) -> Interval;
+/// De Casteljau's subdivision of an interval line with the step `(a, b) ↦ (1 − t)·a + t·b`
+/// (each monomorphised, so the step inlines).
+fn split_with(line: &[Interval], step: impl Fn(Interval, Interval) -> Interval) -> SplitLine {
+    let n = line.len();
+    let mut work = line.to_vec();
+    let mut left = Vec::with_capacity(n);
+    let mut right = vec![Interval::point(0.0); n];
+    left.push(work[0]);
+    right[n - 1] = work[n - 1];
+    for r in 1..n {
+        for i in 0..n - r {
+            work[i] = step(work[i], work[i + 1]);
+        }
+        left.push(work[0]);
+        right[n - 1 - r] = work[n - 1 - r];
+    }
+    (left, right)
+}
 
-/// The step for a split at `t` and its weights, when `t` is a point whose complement is exact:
-/// a midpoint at ½, a non-negative blend elsewhere; `None` for the generic recurrence.
-fn interval_step(t: &Interval) -> Option<(IntervalStep, f64, f64)> {
-    let (s, w) = t.exact_weights()?;
-    let step: IntervalStep = if t.is_half() {
-        |a, b, _, _| Interval::midpoint_of(a, b)
-    } else {
-        Interval::blend
-    };
-    Some((step, s, w))
+/// The pieces of a split line on `[0, t]` and `[t, 1]`.
+type SplitLine = (Vec<Interval>, Vec<Interval>);
+
+/// De Casteljau's value of an interval line with the step of [`split_with`].
+fn eval_with(line: &[Interval], step: impl Fn(Interval, Interval) -> Interval) -> Interval {
+    let mut work = line.to_vec();
+    for r in 1..work.len() {
+        for i in 0..work.len() - r {
+            work[i] = step(work[i], work[i + 1]);
+        }
+    }
+    work[0]
 }
 
 /// Plain `f64`: fast and uncertified. Its `sign` is the sign of the rounded value,

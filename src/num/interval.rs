@@ -144,6 +144,7 @@ impl Interval {
 
     /// `(a + b)/2`, enclosed: the outward-rounded sum halved. Halving is exact except below
     /// `2⁻¹⁰²¹` in magnitude (subnormal results), where each end is widened once more.
+    #[inline]
     pub fn midpoint_of(a: Interval, b: Interval) -> Interval {
         let s = a.add_(b);
         let half = |x: f64, out: fn(f64) -> f64| {
@@ -164,6 +165,7 @@ impl Interval {
     /// (`s + t = 1`): each end is a weighted sum of the ends, every product and the sum
     /// rounded to nearest and then moved one step outward, so each is on the right side of
     /// the exact value (no sign cases: the weights are non-negative).
+    #[inline]
     pub fn blend(a: Interval, b: Interval, s: f64, t: f64) -> Interval {
         let lo = ((s * a.lo).next_down() + (t * b.lo).next_down()).next_down();
         let hi = ((s * a.hi).next_up() + (t * b.hi).next_up()).next_up();
@@ -180,6 +182,7 @@ impl Interval {
     }
 
     /// True for the point interval `[½, ½]`, where de Casteljau's step is a midpoint.
+    #[inline]
     pub fn is_half(&self) -> bool {
         self.lo == 0.5 && self.hi == 0.5
     }

@@ -274,15 +274,16 @@ fn dmv_row(volume: &str, criterion: String, dmv: &FullDmv<3>, sel: &Selection<3>
 /// when it failed).
 type RefineRun = (f64, Option<(u64, Vec<Simplex<3>>, u64)>);
 
-/// Refines once on `dmv` with front `F`, timed.
-fn refine_once<A: DmvAccess<3>, F: Front<3>>(dmv: &A, lod: &Lod<3>) -> RefineRun {
+/// Refines once on `dmv` with front `F`, timed; the counts and mesh only when `keep` (the
+/// last round: reading out a mesh of millions of simplices every round would be wasted).
+fn refine_once<A: DmvAccess<3>, F: Front<3>>(dmv: &A, lod: &Lod<3>, keep: bool) -> RefineRun {
     let t = Instant::now();
     let mut r: Refiner<'_, 3, A, F> = Refiner::new(dmv);
     let ok = r.refine(lod).is_ok();
     let secs = t.elapsed().as_secs_f64();
     (
         secs,
-        ok.then(|| (r.visited, r.mesh(), r.front.bookkeeping_bytes())),
+        (ok && keep).then(|| (r.visited, r.mesh(), r.front.bookkeeping_bytes())),
     )
 }
 
@@ -300,37 +301,37 @@ fn refine_rows(
     let ds = full.supercube_encoding(iso_sel);
     let dd = full.diamond_encoding(iso_sel);
     let hier = full.field().hierarchy();
-    type Runner<'a> = Box<dyn Fn() -> RefineRun + 'a>;
+    type Runner<'a> = Box<dyn Fn(bool) -> RefineRun + 'a>;
     let runners: Vec<(&str, &str, Runner<'_>)> = vec![
         (
             "Δf",
             "Σd",
-            Box::new(|| refine_once::<_, DiamondFront<3>>(full, lod)),
+            Box::new(|keep| refine_once::<_, DiamondFront<3>>(full, lod, keep)),
         ),
         (
             "Δf",
             "Σs",
-            Box::new(|| refine_once::<_, SupercubeFront<3>>(full, lod)),
+            Box::new(|keep| refine_once::<_, SupercubeFront<3>>(full, lod, keep)),
         ),
         (
             "Δd",
             "Σd",
-            Box::new(|| refine_once::<_, DiamondFront<3>>(&dd, lod)),
+            Box::new(|keep| refine_once::<_, DiamondFront<3>>(&dd, lod, keep)),
         ),
         (
             "Δd",
             "Σs",
-            Box::new(|| refine_once::<_, SupercubeFront<3>>(&dd, lod)),
+            Box::new(|keep| refine_once::<_, SupercubeFront<3>>(&dd, lod, keep)),
         ),
         (
             "Δs",
             "Σd",
-            Box::new(|| refine_once::<_, DiamondFront<3>>(&ds, lod)),
+            Box::new(|keep| refine_once::<_, DiamondFront<3>>(&ds, lod, keep)),
         ),
         (
             "Δs",
             "Σs",
-            Box::new(|| refine_once::<_, SupercubeFront<3>>(&ds, lod)),
+            Box::new(|keep| refine_once::<_, SupercubeFront<3>>(&ds, lod, keep)),
         ),
     ];
     let n = runners.len();
@@ -339,7 +340,7 @@ fn refine_rows(
     for round in 0..REFINE_RUNS {
         for k in 0..n {
             let j = (round + k) % n;
-            let (secs, result) = (runners[j].2)();
+            let (secs, result) = (runners[j].2)(round + 1 == REFINE_RUNS);
             times[j].push(secs);
             if result.is_some() {
                 last[j] = result;

@@ -1,10 +1,15 @@
 //! Swept-volume silhouettes of the built-in scenes on the filtered path: the whole of
 //! Algorithm 1 (equations, tracing, certified t-extreme points, the end positions' contours)
-//! per scene, and the equations alone.
+//! per scene, the equations alone, and the moving eye's certified events (Section 4) with
+//! the options the CLI and the report use.
 #![allow(missing_docs)] // criterion's group and main macros generate undocumented items
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use geocert::sweep::{builtin_scene, equations, silhouette, Eye, SilhouetteOptions};
+use geocert::bernstein::Limits;
+use geocert::solve::SolveOptions;
+use geocert::sweep::{
+    builtin_scene, equations, events, silhouette, Eye, SilhouetteOptions, EVENT_TOLERANCE,
+};
 use std::hint::black_box;
 
 fn scenes(c: &mut Criterion) {
@@ -30,5 +35,18 @@ fn scenes(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, scenes);
+fn moving_eye(c: &mut Criterion) {
+    let scene = builtin_scene("ellipsoid-turn-eye").unwrap();
+    let opts = SolveOptions::new()
+        .with_limits(Limits::new().with_max_depth(40).with_max_boxes(200_000))
+        .with_tolerance(EVENT_TOLERANCE);
+    let mut g = c.benchmark_group("sweep_events");
+    g.sample_size(10);
+    g.bench_function("ellipsoid-turn-eye", |b| {
+        b.iter(|| events(black_box(&scene), &opts).unwrap())
+    });
+    g.finish();
+}
+
+criterion_group!(benches, scenes, moving_eye);
 criterion_main!(benches);

@@ -115,6 +115,22 @@ pub(crate) fn de_casteljau_eval<T: Field>(b: &[T], t: &T) -> T {
     work[0].clone()
 }
 
+/// The degrees and coefficients of `(degrees, coeffs)` evaluated at `t` along `axis`.
+fn eval_axis_of<T: Field>(
+    degrees: &[usize],
+    coeffs: &[T],
+    axis: usize,
+    t: &T,
+) -> (Vec<usize>, Vec<T>) {
+    let len = degrees[axis] + 1;
+    let inner: usize = degrees[..axis].iter().map(|d| d + 1).product();
+    let mut out = Vec::with_capacity(coeffs.len() / len);
+    T::eval_lines(coeffs, len, inner, t, &mut out);
+    let mut degrees = degrees.to_vec();
+    degrees[axis] = 0;
+    (degrees, out)
+}
+
 fn ratio<T: Field>(n: BigInt, d: BigInt) -> T {
     T::from_rational(&Rational::new(n, d))
 }
@@ -187,18 +203,7 @@ impl<T: Field> Bernstein<T> {
     /// Evaluates along one axis at `t`, leaving degree 0 on that axis.
     pub fn eval_axis(&self, axis: usize, t: &T) -> Result<Self, BernsteinError> {
         self.check_axis(axis)?;
-        let coeffs = map_lines(
-            &self.degrees,
-            &self.coeffs,
-            axis,
-            1,
-            &T::zero(),
-            |line, out| {
-                out[0] = T::eval_line(line, t);
-            },
-        );
-        let mut degrees = self.degrees.clone();
-        degrees[axis] = 0;
+        let (degrees, coeffs) = eval_axis_of(&self.degrees, &self.coeffs, axis, t);
         Ok(Bernstein { degrees, coeffs })
     }
 
@@ -210,11 +215,13 @@ impl<T: Field> Bernstein<T> {
                 found: point.len(),
             });
         }
-        let mut p = self.clone();
-        for (axis, t) in point.iter().enumerate() {
-            p = p.eval_axis(axis, t)?;
+        // Axis by axis from axis 0 (its lines contiguous), the first step reading `self`.
+        // (Every polynomial has an axis: `new` refuses none.)
+        let (mut degrees, mut coeffs) = eval_axis_of(&self.degrees, &self.coeffs, 0, &point[0]);
+        for (axis, t) in point.iter().enumerate().skip(1) {
+            (degrees, coeffs) = eval_axis_of(&degrees, &coeffs, axis, t);
         }
-        Ok(p.coeffs[0].clone())
+        Ok(coeffs.swap_remove(0))
     }
 
     /// de Casteljau subdivision at `t` along `axis`: the pieces on `[0,t]` and `[t,1]`,
@@ -223,41 +230,9 @@ impl<T: Field> Bernstein<T> {
         self.check_axis(axis)?;
         let len = self.degrees[axis] + 1;
         let inner: usize = self.degrees[..axis].iter().map(|d| d + 1).product();
-        let outer: usize = self.degrees[axis + 1..].iter().map(|d| d + 1).product();
         let total = self.coeffs.len();
         let (mut left, mut right) = (Vec::with_capacity(total), Vec::with_capacity(total));
-        if inner == 1 {
-            // Along axis 0 the lines are contiguous, in storage order: split and append.
-            for line in self.coeffs.chunks_exact(len) {
-                let (l, r) = T::split_line(line, t);
-                left.extend(l);
-                right.extend(r);
-            }
-        } else {
-            // Split every line, then move the values out in storage order (axis `axis` before
-            // the axes below it): line (o, i) yields its k-th value at i + inner·(k + len·o).
-            let mut line = Vec::with_capacity(len);
-            let mut lefts = Vec::with_capacity(inner * outer);
-            let mut rights = Vec::with_capacity(inner * outer);
-            for o in 0..outer {
-                for i in 0..inner {
-                    line.clear();
-                    line.extend((0..len).map(|k| self.coeffs[i + inner * (k + len * o)].clone()));
-                    let (l, r) = T::split_line(&line, t);
-                    lefts.push(l.into_iter());
-                    rights.push(r.into_iter());
-                }
-            }
-            for o in 0..outer {
-                for _ in 0..len {
-                    for i in 0..inner {
-                        let at = o * inner + i;
-                        left.extend(lefts[at].next());
-                        right.extend(rights[at].next());
-                    }
-                }
-            }
-        }
+        T::split_lines(&self.coeffs, len, inner, t, &mut left, &mut right);
         Ok((
             Bernstein {
                 degrees: self.degrees.clone(),

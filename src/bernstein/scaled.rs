@@ -216,6 +216,39 @@ impl ScaledBernstein {
         self.combine(other, true)
     }
 
+    /// Whether the polynomial's degree along `axis` can drop: the top forward difference
+    /// `Δ^d b = Σ_k (−1)^{d−k} C(d, k) b_k` (`d ≥ 1` the degree there) vanishes on every line
+    /// along `axis`, decided on the integer numerators. `false` at degree 0 or a bad axis.
+    pub fn top_difference_vanishes(&self, axis: usize) -> bool {
+        let Some(&d) = self.degrees.get(axis) else {
+            return false;
+        };
+        if d == 0 {
+            return false;
+        }
+        let weights: Vec<BigInt> = (0..=d)
+            .map(|k| {
+                let w = binomial(d, k);
+                if (d - k).is_multiple_of(2) {
+                    w
+                } else {
+                    -w
+                }
+            })
+            .collect();
+        let len = d + 1;
+        let inner: usize = self.degrees[..axis].iter().map(|x| x + 1).product();
+        self.num.chunks_exact(len * inner).all(|block| {
+            (0..inner).all(|i| {
+                (0..len)
+                    .fold(BigInt::zero(), |acc, k| {
+                        acc + &weights[k] * &block[i + inner * k]
+                    })
+                    .is_zero()
+            })
+        })
+    }
+
     /// The same polynomial with rational coefficients.
     pub fn to_rational(&self) -> Bernstein<Rational> {
         let coeffs = self

@@ -49,6 +49,55 @@ pub trait Field: Clone + std::fmt::Debug + Send + Sync {
     fn eval_line(line: &[Self], t: &Self) -> Self {
         crate::bernstein::poly::de_casteljau_eval(line, t)
     }
+    /// De Casteljau subdivision at `t` of every line along one axis of a tensor: `coeffs` is
+    /// blocks of `len` slabs of `inner` values (slab `k` of a block holds the `k`-th
+    /// coefficient of `inner` lines). Appends the pieces on `[0, t]` and `[t, 1]` to `left`
+    /// and `right`, in the same layout. A type may do it without gathering each line.
+    fn split_lines(
+        coeffs: &[Self],
+        len: usize,
+        inner: usize,
+        t: &Self,
+        left: &mut Vec<Self>,
+        right: &mut Vec<Self>,
+    ) {
+        let mut line = Vec::with_capacity(len);
+        for block in coeffs.chunks_exact(len * inner) {
+            let (l0, r0) = (left.len(), right.len());
+            left.resize(l0 + block.len(), Self::zero());
+            right.resize(r0 + block.len(), Self::zero());
+            for i in 0..inner {
+                line.clear();
+                line.extend((0..len).map(|k| block[i + inner * k].clone()));
+                let (l, r) = Self::split_line(&line, t);
+                for (k, (l, r)) in l.into_iter().zip(r).enumerate() {
+                    left[l0 + i + inner * k] = l;
+                    right[r0 + i + inner * k] = r;
+                }
+            }
+        }
+    }
+    /// The value at `t` of every line along one axis of a tensor laid out as in
+    /// [`Field::split_lines`]: appends one slab of `inner` values per block to `out`.
+    fn eval_lines(coeffs: &[Self], len: usize, inner: usize, t: &Self, out: &mut Vec<Self>) {
+        let mut line = Vec::with_capacity(len);
+        for block in coeffs.chunks_exact(len * inner) {
+            for i in 0..inner {
+                line.clear();
+                line.extend((0..len).map(|k| block[i + inner * k].clone()));
+                out.push(Self::eval_line(&line, t));
+            }
+        }
+    }
+    /// The coefficient-wise combination `Σ_j w_j v_j[c]` of equally long vectors `v_j`
+    /// (the shorter of `weights` and `vectors` counts): [`Field::dot`] per coefficient unless
+    /// a type does it faster.
+    fn combine(weights: &[Self], vectors: &[&[Self]]) -> Vec<Self> {
+        let count = vectors.first().map_or(0, |v| v.len());
+        (0..count)
+            .map(|c| Self::dot(weights, vectors.iter().map(|v| &v[c])))
+            .collect()
+    }
     /// The linear combination `Σ_j w_j v_j` (the shorter of `weights` and `values` counts). A type
     /// may do it faster than one rounding or reduction per operation.
     fn dot<'v>(weights: &[Self], values: impl IntoIterator<Item = &'v Self>) -> Self
@@ -168,12 +217,314 @@ impl Field for Interval {
             None => crate::bernstein::poly::de_casteljau_split(line, t),
         }
     }
+    /// With point weights (every `f64`, every dyadic preconditioner entry) each end is one
+    /// sum of `n` products rounded to nearest, widened once by the classical bound
+    /// `γₙ·Σ|pⱼ|` of its rounding error (Higham, *Accuracy and Stability of Numerical
+    /// Algorithms*, §3.1) plus `n` subnormal units for underflow, taken with a factor two to
+    /// spare: no rounding mode and no per-term widening. A zero weight adds nothing (it times
+    /// any real is 0). Other weights take the generic interval products.
+    fn dot<'v>(weights: &[Self], values: impl IntoIterator<Item = &'v Self>) -> Self {
+        let values = values.into_iter();
+        if weights.iter().any(|w| w.lo != w.hi) {
+            return weights
+                .iter()
+                .zip(values)
+                .fold(Interval::point(0.0), |s, (w, v)| s + *w * *v);
+        }
+        let (mut lo, mut hi, mut magnitude, mut n) = (0.0f64, 0.0f64, 0.0f64, 0u32);
+        for (w, v) in weights.iter().zip(values) {
+            let x = w.lo;
+            if x == 0.0 {
+                continue;
+            }
+            let (a, b) = if x > 0.0 {
+                (x * v.lo, x * v.hi)
+            } else {
+                (x * v.hi, x * v.lo)
+            };
+            lo += a;
+            hi += b;
+            magnitude += a.abs().max(b.abs());
+            n += 1;
+        }
+        // |error| ≤ γₙ/(1 − γₙ)·(computed Σ|p̂ⱼ|) + n·2⁻¹⁰⁷⁴ < 2(n + 1)u·magnitude + n·2⁻¹⁰⁷⁴.
+        let n = f64::from(n);
+        let bound = (magnitude * ((n + 1.0) * f64::EPSILON) + n * f64::from_bits(1)).next_up();
+        let out = Interval {
+            lo: (lo - bound).next_down(),
+            hi: (hi + bound).next_up(),
+        };
+        if out.lo.is_nan() || out.hi.is_nan() {
+            return Interval {
+                lo: f64::NEG_INFINITY,
+                hi: f64::INFINITY,
+            };
+        }
+        out
+    }
+    /// With point weights, vector by vector over all coefficients (the loops run over
+    /// contiguous memory), with the rounding bound of [`Field::dot`] per coefficient.
+    fn combine(weights: &[Self], vectors: &[&[Self]]) -> Vec<Self> {
+        let count = vectors.first().map_or(0, |v| v.len());
+        if weights.iter().any(|w| w.lo != w.hi) {
+            return (0..count)
+                .map(|c| Self::dot(weights, vectors.iter().map(|v| &v[c])))
+                .collect();
+        }
+        let (mut lo, mut hi, mut magnitude) = (
+            vec![0.0f64; count],
+            vec![0.0f64; count],
+            vec![0.0f64; count],
+        );
+        let mut n = 0u32;
+        for (w, v) in weights.iter().zip(vectors) {
+            let x = w.lo;
+            if x == 0.0 {
+                continue;
+            }
+            n += 1;
+            for (c, v) in v.iter().enumerate() {
+                let (a, b) = if x > 0.0 {
+                    (x * v.lo, x * v.hi)
+                } else {
+                    (x * v.hi, x * v.lo)
+                };
+                lo[c] += a;
+                hi[c] += b;
+                magnitude[c] += a.abs().max(b.abs());
+            }
+        }
+        let n = f64::from(n);
+        (0..count)
+            .map(|c| {
+                let bound =
+                    (magnitude[c] * ((n + 1.0) * f64::EPSILON) + n * f64::from_bits(1)).next_up();
+                let out = Interval {
+                    lo: (lo[c] - bound).next_down(),
+                    hi: (hi[c] + bound).next_up(),
+                };
+                if out.lo.is_nan() || out.hi.is_nan() {
+                    Interval {
+                        lo: f64::NEG_INFINITY,
+                        hi: f64::INFINITY,
+                    }
+                } else {
+                    out
+                }
+            })
+            .collect()
+    }
     fn eval_line(line: &[Self], t: &Self) -> Self {
         match t.exact_weights() {
             _ if t.is_half() => eval_with(line, Interval::midpoint_of),
             Some((s, w)) => eval_with(line, |a, b| Interval::blend(a, b, s, w)),
             None => crate::bernstein::poly::de_casteljau_eval(line, t),
         }
+    }
+    /// Slab by slab, with the steps of [`Field::split_line`] (the same operations on each
+    /// line, so the same enclosures).
+    fn split_lines(
+        coeffs: &[Self],
+        len: usize,
+        inner: usize,
+        t: &Self,
+        left: &mut Vec<Self>,
+        right: &mut Vec<Self>,
+    ) {
+        let s = <Interval as Field>::one().sub(t);
+        match t.exact_weights() {
+            _ if t.is_half() => split_slabs_bounded(
+                coeffs,
+                len,
+                inner,
+                |a, b| 0.5 * (a + b),
+                Interval::midpoint_of,
+                left,
+                right,
+            ),
+            Some((s, w)) if s.min(w) >= MIN_BOUNDED_WEIGHT => split_slabs_bounded(
+                coeffs,
+                len,
+                inner,
+                |a, b| s * a + w * b,
+                |a, b| Interval::blend(a, b, s, w),
+                left,
+                right,
+            ),
+            Some((s, w)) => split_slabs(
+                coeffs,
+                len,
+                inner,
+                |a, b| Interval::blend(a, b, s, w),
+                left,
+                right,
+            ),
+            None => split_slabs(coeffs, len, inner, |a, b| s * a + *t * b, left, right),
+        }
+    }
+    fn eval_lines(coeffs: &[Self], len: usize, inner: usize, t: &Self, out: &mut Vec<Self>) {
+        let s = <Interval as Field>::one().sub(t);
+        match t.exact_weights() {
+            _ if t.is_half() => eval_slabs(coeffs, len, inner, Interval::midpoint_of, out),
+            Some((s, w)) => eval_slabs(coeffs, len, inner, |a, b| Interval::blend(a, b, s, w), out),
+            None => eval_slabs(coeffs, len, inner, |a, b| s * a + *t * b, out),
+        }
+    }
+}
+
+/// The least weight `min(t, 1 − t)` for which [`split_slabs_bounded`] is used (smaller
+/// weights make products underflow more readily; they take the per-step rounding).
+const MIN_BOUNDED_WEIGHT: f64 = 1.0 / (1u64 << 30) as f64;
+
+/// The least non-zero magnitude of a line for which [`split_slabs_bounded`] bounds its
+/// rounding a priori (far above the subnormals).
+const MIN_BOUNDED_MAGNITUDE: f64 = 1e-280;
+
+/// [`split_slabs`] on intervals with each end stepped in plain `f64` (`plain`, on the lower
+/// and the upper ends alike) and widened once per output by an a-priori bound of the
+/// rounding, instead of rounding every step outward.
+///
+/// The bound: each end of every coefficient of the pieces is a convex combination of the
+/// line's ends with the same weights as the exact de Casteljau value (the weights are
+/// non-negative), so only rounding separates them. One step `½(a + b)` or `s·a + t·b` (exact
+/// weights) errs by at most `2u·M + 2η` (`u = 2⁻⁵³`, `M` the line's largest magnitude, `η =
+/// 2⁻¹⁰⁷⁵` for underflow), and a step never enlarges the errors it is given (its weights
+/// sum to 1). An output after `r` levels is therefore within `N = r(2u·M + 2η)` of the exact
+/// value; it is widened by `2N`, which also covers the rounding of the widening itself
+/// while `M ≥ 6N` (any line shorter than 10¹⁴ with `M` above [`MIN_BOUNDED_MAGNITUDE`]).
+/// Outputs copied from the line (level 0) stay as they are. A block holding a line whose
+/// magnitude is not finite, or non-zero below [`MIN_BOUNDED_MAGNITUDE`], takes `rigorous`
+/// (per-step outward rounding) instead.
+fn split_slabs_bounded(
+    coeffs: &[Interval],
+    len: usize,
+    inner: usize,
+    plain: impl Fn(f64, f64) -> f64,
+    rigorous: impl Fn(Interval, Interval) -> Interval + Copy,
+    left: &mut Vec<Interval>,
+    right: &mut Vec<Interval>,
+) {
+    let eta = f64::from_bits(1) / 2.0;
+    let u = f64::EPSILON / 2.0;
+    let mut magnitude = vec![0.0f64; inner];
+    let step = |a: Interval, b: Interval| Interval {
+        lo: plain(a.lo, b.lo),
+        hi: plain(a.hi, b.hi),
+    };
+    for block in coeffs.chunks_exact(len * inner) {
+        magnitude.iter_mut().for_each(|m| *m = 0.0);
+        for slab in block.chunks_exact(inner) {
+            for (m, x) in magnitude.iter_mut().zip(slab) {
+                *m = m.max(x.lo.abs()).max(x.hi.abs());
+            }
+        }
+        let bounded = magnitude
+            .iter()
+            .all(|&m| m.is_finite() && (m == 0.0 || m >= MIN_BOUNDED_MAGNITUDE));
+        if !bounded {
+            split_slabs(block, len, inner, rigorous, left, right);
+            continue;
+        }
+        // 2N per level: 2·(2u·M + 2η) = 4u·M + 4η.
+        let per_level: Vec<f64> = magnitude
+            .iter()
+            .map(|&m| {
+                if m == 0.0 {
+                    0.0
+                } else {
+                    4.0 * u * m + 4.0 * eta
+                }
+            })
+            .collect();
+        let widen = |x: Interval, levels: usize, per_level: f64| {
+            let b = levels as f64 * per_level;
+            Interval {
+                lo: x.lo - b,
+                hi: x.hi + b,
+            }
+        };
+        left.extend_from_slice(&block[..inner]);
+        let r0 = right.len();
+        right.extend_from_slice(block);
+        let work = &mut right[r0..];
+        for r in 1..len {
+            reduce_level(work, len - r, inner, &step);
+            left.extend(
+                work[..inner]
+                    .iter()
+                    .zip(&per_level)
+                    .map(|(&x, &p)| widen(x, r, p)),
+            );
+        }
+        // Right slab k is final after level len − 1 − k.
+        for (k, slab) in work.chunks_exact_mut(inner).enumerate() {
+            let levels = len - 1 - k;
+            if levels > 0 {
+                for (x, &p) in slab.iter_mut().zip(&per_level) {
+                    *x = widen(*x, levels, p);
+                }
+            }
+        }
+    }
+}
+
+/// De Casteljau subdivision of every line of a tensor along one axis at once (layout of
+/// [`Field::split_lines`]) with the step `(a, b) ↦ (1 − t)·a + t·b`: each level updates whole
+/// slabs, and the work is done in place in `right`, whose slab `k` is final after level
+/// `len − 1 − k`; `left` takes slab 0 after every level.
+pub(crate) fn split_slabs<T: Copy>(
+    coeffs: &[T],
+    len: usize,
+    inner: usize,
+    step: impl Fn(T, T) -> T,
+    left: &mut Vec<T>,
+    right: &mut Vec<T>,
+) {
+    for block in coeffs.chunks_exact(len * inner) {
+        left.extend_from_slice(&block[..inner]);
+        let r0 = right.len();
+        right.extend_from_slice(block);
+        let work = &mut right[r0..];
+        for r in 1..len {
+            reduce_level(work, len - r, inner, &step);
+            left.extend_from_slice(&work[..inner]);
+        }
+    }
+}
+
+/// One de Casteljau level on slabs: slab `k ← step(slab k, slab k + 1)` for `k < count`.
+#[inline]
+pub(crate) fn reduce_level<T: Copy>(
+    work: &mut [T],
+    count: usize,
+    inner: usize,
+    step: &impl Fn(T, T) -> T,
+) {
+    for k in 0..count {
+        let (this, next) = work[k * inner..(k + 2) * inner].split_at_mut(inner);
+        for (x, y) in this.iter_mut().zip(next.iter()) {
+            *x = step(*x, *y);
+        }
+    }
+}
+
+/// The values of every line of a tensor along one axis (layout of [`Field::split_lines`]),
+/// slab by slab with the step of [`split_slabs`].
+pub(crate) fn eval_slabs<T: Copy>(
+    coeffs: &[T],
+    len: usize,
+    inner: usize,
+    step: impl Fn(T, T) -> T,
+    out: &mut Vec<T>,
+) {
+    let mut work = Vec::with_capacity(len * inner);
+    for block in coeffs.chunks_exact(len * inner) {
+        work.clear();
+        work.extend_from_slice(block);
+        for r in 1..len {
+            reduce_level(&mut work, len - r, inner, &step);
+        }
+        out.extend_from_slice(&work[..inner]);
     }
 }
 
@@ -253,5 +604,20 @@ impl Field for f64 {
     }
     fn approx(&self) -> f64 {
         *self
+    }
+    fn split_lines(
+        coeffs: &[Self],
+        len: usize,
+        inner: usize,
+        t: &Self,
+        left: &mut Vec<Self>,
+        right: &mut Vec<Self>,
+    ) {
+        let s = 1.0 - t;
+        split_slabs(coeffs, len, inner, |a, b| s * a + t * b, left, right);
+    }
+    fn eval_lines(coeffs: &[Self], len: usize, inner: usize, t: &Self, out: &mut Vec<Self>) {
+        let s = 1.0 - t;
+        eval_slabs(coeffs, len, inner, |a, b| s * a + t * b, out);
     }
 }

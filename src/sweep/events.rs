@@ -137,14 +137,33 @@ fn sub(a: &B, b: &B) -> Result<B, SweepError> {
 }
 
 /// `f_i g_j − f_j g_i` (derivatives along axes `i`, `j`).
+/// Both products have the degrees `deg f + deg g − e_i − e_j` (where `f` and `g` have
+/// positive degrees along `i` and `j`), so the difference is taken in integers over one
+/// denominator and brought to rationals once.
 fn minor(f: &B, g: &B, i: usize, j: usize) -> Result<B, SweepError> {
+    let (f, g) = (
+        ScaledBernstein::from_rational(f),
+        ScaledBernstein::from_rational(g),
+    );
     let (fi, fj, gi, gj) = (
         f.derivative(i)?,
         f.derivative(j)?,
         g.derivative(i)?,
         g.derivative(j)?,
     );
-    Ok(sub(&mul(&fi, &gj)?, &mul(&fj, &gi)?)?.at_exact_degrees())
+    let (p, q) = (fi.product(&gj)?, fj.product(&gi)?);
+    if p.degrees() != q.degrees() {
+        // A derivative along an axis of degree 0 keeps that degree (it is the zero
+        // polynomial): the products' degrees then differ, and the difference is elevated.
+        return Ok(sub(&p.to_rational(), &q.to_rational())?.at_exact_degrees());
+    }
+    let m = p.sub(&q)?;
+    let reducible = (0..m.degrees().len()).any(|k| m.top_difference_vanishes(k));
+    Ok(if reducible {
+        m.to_rational().at_exact_degrees()
+    } else {
+        m.to_rational()
+    })
 }
 
 /// One patch under a moving eye: its equations for the eye at the origin, and `F̃`, `G̃` in

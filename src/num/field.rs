@@ -61,21 +61,7 @@ pub trait Field: Clone + std::fmt::Debug + Send + Sync {
         left: &mut Vec<Self>,
         right: &mut Vec<Self>,
     ) {
-        let mut line = Vec::with_capacity(len);
-        for block in coeffs.chunks_exact(len * inner) {
-            let (l0, r0) = (left.len(), right.len());
-            left.resize(l0 + block.len(), Self::zero());
-            right.resize(r0 + block.len(), Self::zero());
-            for i in 0..inner {
-                line.clear();
-                line.extend((0..len).map(|k| block[i + inner * k].clone()));
-                let (l, r) = Self::split_line(&line, t);
-                for (k, (l, r)) in l.into_iter().zip(r).enumerate() {
-                    left[l0 + i + inner * k] = l;
-                    right[r0 + i + inner * k] = r;
-                }
-            }
-        }
+        split_lines_linewise(coeffs, len, inner, t, left, right);
     }
     /// The value at `t` of every line along one axis of a tensor laid out as in
     /// [`Field::split_lines`]: appends one slab of `inner` values per block to `out`.
@@ -333,24 +319,7 @@ impl Field for Interval {
     ) {
         let s = <Interval as Field>::one().sub(t);
         match t.exact_weights() {
-            _ if t.is_half() => split_slabs_bounded(
-                coeffs,
-                len,
-                inner,
-                |a, b| 0.5 * (a + b),
-                Interval::midpoint_of,
-                left,
-                right,
-            ),
-            Some((s, w)) if s.min(w) >= MIN_BOUNDED_WEIGHT => split_slabs_bounded(
-                coeffs,
-                len,
-                inner,
-                |a, b| s * a + w * b,
-                |a, b| Interval::blend(a, b, s, w),
-                left,
-                right,
-            ),
+            _ if t.is_half() => split_slabs(coeffs, len, inner, Interval::midpoint_of, left, right),
             Some((s, w)) => split_slabs(
                 coeffs,
                 len,
@@ -372,97 +341,28 @@ impl Field for Interval {
     }
 }
 
-/// The least weight `min(t, 1 − t)` for which [`split_slabs_bounded`] is used (smaller
-/// weights make products underflow more readily; they take the per-step rounding).
-const MIN_BOUNDED_WEIGHT: f64 = 1.0 / (1u64 << 30) as f64;
-
-/// The least non-zero magnitude of a line for which [`split_slabs_bounded`] bounds its
-/// rounding a priori (far above the subnormals).
-const MIN_BOUNDED_MAGNITUDE: f64 = 1e-280;
-
-/// [`split_slabs`] on intervals with each end stepped in plain `f64` (`plain`, on the lower
-/// and the upper ends alike) and widened once per output by an a-priori bound of the
-/// rounding, instead of rounding every step outward.
-///
-/// The bound: each end of every coefficient of the pieces is a convex combination of the
-/// line's ends with the same weights as the exact de Casteljau value (the weights are
-/// non-negative), so only rounding separates them. One step `½(a + b)` or `s·a + t·b` (exact
-/// weights) errs by at most `2u·M + 2η` (`u = 2⁻⁵³`, `M` the line's largest magnitude, `η =
-/// 2⁻¹⁰⁷⁵` for underflow), and a step never enlarges the errors it is given (its weights
-/// sum to 1). An output after `r` levels is therefore within `N = r(2u·M + 2η)` of the exact
-/// value; it is widened by `2N`, which also covers the rounding of the widening itself
-/// while `M ≥ 6N` (any line shorter than 10¹⁴ with `M` above [`MIN_BOUNDED_MAGNITUDE`]).
-/// Outputs copied from the line (level 0) stay as they are. A block holding a line whose
-/// magnitude is not finite, or non-zero below [`MIN_BOUNDED_MAGNITUDE`], takes `rigorous`
-/// (per-step outward rounding) instead.
-fn split_slabs_bounded(
-    coeffs: &[Interval],
+/// [`Field::split_lines`] line by line through [`Field::split_line`] (the trait's default; for
+/// intervals, outward rounding at every step).
+pub(crate) fn split_lines_linewise<T: Field>(
+    coeffs: &[T],
     len: usize,
     inner: usize,
-    plain: impl Fn(f64, f64) -> f64,
-    rigorous: impl Fn(Interval, Interval) -> Interval + Copy,
-    left: &mut Vec<Interval>,
-    right: &mut Vec<Interval>,
+    t: &T,
+    left: &mut Vec<T>,
+    right: &mut Vec<T>,
 ) {
-    let eta = f64::from_bits(1) / 2.0;
-    let u = f64::EPSILON / 2.0;
-    let mut magnitude = vec![0.0f64; inner];
-    let step = |a: Interval, b: Interval| Interval {
-        lo: plain(a.lo, b.lo),
-        hi: plain(a.hi, b.hi),
-    };
+    let mut line = Vec::with_capacity(len);
     for block in coeffs.chunks_exact(len * inner) {
-        magnitude.iter_mut().for_each(|m| *m = 0.0);
-        for slab in block.chunks_exact(inner) {
-            for (m, x) in magnitude.iter_mut().zip(slab) {
-                *m = m.max(x.lo.abs()).max(x.hi.abs());
-            }
-        }
-        let bounded = magnitude
-            .iter()
-            .all(|&m| m.is_finite() && (m == 0.0 || m >= MIN_BOUNDED_MAGNITUDE));
-        if !bounded {
-            split_slabs(block, len, inner, rigorous, left, right);
-            continue;
-        }
-        // 2N per level: 2·(2u·M + 2η) = 4u·M + 4η.
-        let per_level: Vec<f64> = magnitude
-            .iter()
-            .map(|&m| {
-                if m == 0.0 {
-                    0.0
-                } else {
-                    4.0 * u * m + 4.0 * eta
-                }
-            })
-            .collect();
-        let widen = |x: Interval, levels: usize, per_level: f64| {
-            let b = levels as f64 * per_level;
-            Interval {
-                lo: x.lo - b,
-                hi: x.hi + b,
-            }
-        };
-        left.extend_from_slice(&block[..inner]);
-        let r0 = right.len();
-        right.extend_from_slice(block);
-        let work = &mut right[r0..];
-        for r in 1..len {
-            reduce_level(work, len - r, inner, &step);
-            left.extend(
-                work[..inner]
-                    .iter()
-                    .zip(&per_level)
-                    .map(|(&x, &p)| widen(x, r, p)),
-            );
-        }
-        // Right slab k is final after level len − 1 − k.
-        for (k, slab) in work.chunks_exact_mut(inner).enumerate() {
-            let levels = len - 1 - k;
-            if levels > 0 {
-                for (x, &p) in slab.iter_mut().zip(&per_level) {
-                    *x = widen(*x, levels, p);
-                }
+        let (l0, r0) = (left.len(), right.len());
+        left.resize(l0 + block.len(), T::zero());
+        right.resize(r0 + block.len(), T::zero());
+        for i in 0..inner {
+            line.clear();
+            line.extend((0..len).map(|k| block[i + inner * k].clone()));
+            let (l, r) = T::split_line(&line, t);
+            for (k, (l, r)) in l.into_iter().zip(r).enumerate() {
+                left[l0 + i + inner * k] = l;
+                right[r0 + i + inner * k] = r;
             }
         }
     }

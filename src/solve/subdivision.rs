@@ -881,31 +881,52 @@ fn refine<T: Coefficient>(
     }
     let mut rho = (0.5 * tolerance / width).max(4.0 * f64::EPSILON);
     let mut first = true;
+    // Interval path: the small box's ends are `f64` numbers in the domain's unit coordinates
+    // (inside the certified box), so that the exact finish restricts the equations to short
+    // dyadic ends, however long the certified box's own ends have grown; the equations on it
+    // are enclosed from the node's by restricting with enclosures of the relative ends. The
+    // exact path keeps dyadic ends relative to the node (exact relative ends).
+    let widths: Vec<f64> = (0..n)
+        .map(|k| rational_to_f64(&(&node.hi[k] - &node.lo[k])))
+        .collect();
+    let lows: Vec<f64> = node.lo.iter().map(rational_to_f64).collect();
     while rho < 0.25 {
-        let mut sub = Vec::with_capacity(n);
-        for &x in &t {
-            let (a, b) = ((x - rho).max(0.0), (x + rho).min(1.0));
-            let (Ok(a), Ok(b)) = (rational_from_f64(a, "box"), rational_from_f64(b, "box")) else {
-                return Ok(keep());
+        let mut lo = Vec::with_capacity(n);
+        let mut hi = Vec::with_capacity(n);
+        let mut tsub: Vec<(T, T)> = Vec::with_capacity(n);
+        for (k, &x) in t.iter().enumerate() {
+            let w = &node.hi[k] - &node.lo[k];
+            let (a, b) = if T::EXACT {
+                let (a, b) = ((x - rho).max(0.0), (x + rho).min(1.0));
+                let (Ok(a), Ok(b)) = (rational_from_f64(a, "box"), rational_from_f64(b, "box"))
+                else {
+                    return Ok(keep());
+                };
+                (&node.lo[k] + &w * a, &node.lo[k] + &w * b)
+            } else {
+                let (centre, half) = (lows[k] + widths[k] * x, widths[k] * rho);
+                let (Ok(a), Ok(b)) = (
+                    rational_from_f64(centre - half, "box"),
+                    rational_from_f64(centre + half, "box"),
+                ) else {
+                    return Ok(keep());
+                };
+                (a.max(node.lo[k].clone()), b.min(node.hi[k].clone()))
             };
-            sub.push((a, b));
+            if a >= b {
+                break;
+            }
+            let (ra, rb) = ((&a - &node.lo[k]) / &w, (&b - &node.lo[k]) / &w);
+            tsub.push((T::from_rational(&ra), T::from_rational(&rb)));
+            lo.push(a);
+            hi.push(b);
         }
-        if sub.iter().all(|(a, b)| a < b) {
-            let tsub: Vec<(T, T)> = sub
-                .iter()
-                .map(|(a, b)| (T::from_rational(a), T::from_rational(b)))
-                .collect();
+        if tsub.len() == n {
             let small: Vec<Bernstein<T>> = node
                 .polys
                 .iter()
                 .map(|p| p.restrict(&tsub))
                 .collect::<Result<_, _>>()?;
-            let lo: Vec<Rational> = (0..n)
-                .map(|k| &node.lo[k] + (&node.hi[k] - &node.lo[k]) * &sub[k].0)
-                .collect();
-            let hi: Vec<Rational> = (0..n)
-                .map(|k| &node.lo[k] + (&node.hi[k] - &node.lo[k]) * &sub[k].1)
-                .collect();
             if let (Decision::Yes, Some(c)) = certify(&small)? {
                 return Ok((lo, hi, c));
             }

@@ -406,24 +406,9 @@ fn diagonally_dominant<T: Coefficient>(g: &[Bernstein<T>]) -> Result<Decision, S
     })
 }
 
-/// The margin by which every reduced interval is widened: far above the few units of
-/// rounding in [`hull_crossing`], far below the grid of [`REDUCTION_GRID`].
+/// The margin by which every projected range is widened: far above the few units of
+/// rounding in [`hull_crossing`].
 const REDUCTION_MARGIN: f64 = 1e-9;
-
-/// Reduced boxes have their sides on multiples of `1/REDUCTION_GRID` of the box (then of the
-/// remaining part): the exact path's coefficients stay short, the interval path's splits
-/// take exact weights.
-const REDUCTION_GRID: i64 = 256;
-
-/// Reduction keeps every side at least this fraction of the box's widest: near a root the
-/// control polygons of the equation that is nearly linear along a side confine it to a
-/// sliver, and a box far thinner than it is wide is one that interval rounding cannot
-/// certify (its variation across the thin side drowns in the rounding of the wide one).
-const REDUCTION_ASPECT: f64 = 16.0;
-
-/// A side is reduced only when it keeps at most this fraction of its width; otherwise the
-/// box is split.
-const REDUCTION_KEEP: f64 = 0.75;
 
 /// Where on `[0, 1]` the convex hull of `points` `(x, y)` meets `y = 0`, or `None` when all
 /// lie strictly on one side. Every crossing of the hull with the axis lies on a segment
@@ -454,13 +439,14 @@ fn hull_crossing(points: &[(f64, f64)]) -> Option<(f64, f64)> {
     (lo <= hi).then_some((lo, hi))
 }
 
-/// Reduction of a box (the projection lemma of Mourrain & Pavone, *Subdivision methods for
-/// solving polynomial equations*, J. Symbolic Comput. 44 (2009), with convex hulls as in the
-/// projected polyhedron of Sherbrooke & Patrikalakis): per unknown `k` and equation `g_i`, the least and greatest coefficient
-/// of each index along `k` bound `g_i` on every line along `k` by two 1-D control polygons,
-/// and every root's `t_k` lies where their convex hull meets zero. Returns, per unknown,
-/// the intersection over the equations of those ranges (each widened by
-/// [`REDUCTION_MARGIN`], inside `[0, 1]`), or `None` when one is empty: the box is root-free.
+/// Projection of a box's equations on each unknown (the projection lemma of Mourrain &
+/// Pavone, *Subdivision methods for solving polynomial equations*, J. Symbolic Comput. 44
+/// (2009), with convex hulls as in the projected polyhedron of Sherbrooke & Patrikalakis):
+/// per unknown `k` and equation `g_i`, the least and greatest coefficient of each index
+/// along `k` bound `g_i` on every line along `k` by two 1-D control polygons, and every
+/// root's `t_k` lies where their convex hull meets zero. Returns, per unknown, the
+/// intersection over the equations of those ranges (each widened by [`REDUCTION_MARGIN`],
+/// inside `[0, 1]`), or `None` when one is empty: the box is root-free.
 fn reduction<T: Coefficient>(g: &[Bernstein<T>]) -> Option<Vec<(f64, f64)>> {
     let n = g.first().map_or(0, Bernstein::dim);
     let mut out = vec![(0.0f64, 1.0f64); n];
@@ -519,73 +505,6 @@ fn reduction<T: Coefficient>(g: &[Bernstein<T>]) -> Option<Vec<(f64, f64)>> {
         }
     }
     Some(out)
-}
-
-/// The box reduced to `ranges` ([`reduction`]) on the sides that shrink to at most
-/// [`REDUCTION_KEEP`] of their width, on the grid of [`REDUCTION_GRID`]: per such side the
-/// lower end rounded down to `A/N`, the upper to `A/N + (S/N)(1 − A/N)` rounded up (both
-/// exact: the second split is at `S/N` of what the first leaves). `None` when no side
-/// shrinks enough.
-fn reduced_node<T: Field>(
-    node: &Node<T>,
-    ranges: &[(f64, f64)],
-) -> Result<Option<Node<T>>, SolveError> {
-    let grid = REDUCTION_GRID;
-    let widths: Vec<f64> = (0..node.lo.len())
-        .map(|k| rational_to_f64(&(&node.hi[k] - &node.lo[k])))
-        .collect();
-    let widest = widths.iter().copied().fold(0.0, f64::max);
-    let mut cuts = Vec::new();
-    for (k, &(lo, hi)) in ranges.iter().enumerate() {
-        // No side narrower than 1/REDUCTION_ASPECT of the widest: grown about its middle.
-        let least = (widest / REDUCTION_ASPECT / widths[k]).min(1.0);
-        let (lo, hi) = if hi - lo < least {
-            let lo = (0.5 * (lo + hi) - 0.5 * least).clamp(0.0, 1.0 - least);
-            (lo, lo + least)
-        } else {
-            (lo, hi)
-        };
-        let a = ((lo * grid as f64).floor() as i64).clamp(0, grid - 1);
-        // The least S with a/N + (S/N)(1 − a/N) ≥ hi, i.e. N·a + S(N − a) ≥ N²·hi (exact in
-        // f64: all terms below 2^17, and N²·hi a power-of-two scaling).
-        let target = hi * (grid * grid) as f64;
-        let mut s =
-            (((target - (grid * a) as f64) / (grid - a) as f64).ceil() as i64).clamp(1, grid);
-        while s < grid && ((grid * a + s * (grid - a)) as f64) < target {
-            s += 1;
-        }
-        let keep = (s as f64 / grid as f64) * (1.0 - a as f64 / grid as f64);
-        if keep <= REDUCTION_KEEP {
-            cuts.push((k, a, s));
-        }
-    }
-    if cuts.is_empty() {
-        return Ok(None);
-    }
-    let mut polys = node.polys.clone();
-    let (mut lo, mut hi) = (node.lo.clone(), node.hi.clone());
-    for &(k, a, s) in &cuts {
-        for p in &mut polys {
-            if a > 0 {
-                *p = p.split(k, &T::from_ratio(a, grid))?.1;
-            }
-            if s < grid {
-                *p = p.split(k, &T::from_ratio(s, grid))?.0;
-            }
-        }
-        let width = &hi[k] - &lo[k];
-        let n2 = grid * grid;
-        let low = Rational::new(a.into(), grid.into());
-        let high = Rational::new((grid * a + s * (grid - a)).into(), n2.into());
-        hi[k] = &lo[k] + &width * high;
-        lo[k] = &lo[k] + &width * low;
-    }
-    Ok(Some(Node {
-        lo,
-        hi,
-        polys,
-        depth: node.depth + 1,
-    }))
 }
 
 /// Existence and uniqueness on a box: the certificate, `No`, or `Uncertain`.
@@ -1189,19 +1108,13 @@ fn run<T: Coefficient>(
             found.clusters.push(cluster(&node, reason));
             continue;
         }
-        // Reduce the box where the equations' control polygons confine the roots; split it
-        // where they do not.
+        // The equations' control polygons, projected on each unknown, may leave no room for a
+        // root: the box is then dropped.
         let g = preconditioned
             .as_ref()
             .map_or(node.polys.as_slice(), |(_, g)| g.as_slice());
-        match reduction(g) {
-            None => continue,
-            Some(ranges) => {
-                if let Some(reduced) = reduced_node(&node, &ranges)? {
-                    stack.push(reduced);
-                    continue;
-                }
-            }
+        if reduction(g).is_none() {
+            continue;
         }
         // Split the widest side (in unit coordinates) at a root-free plane if one is found.
         let axis = widest_axis(&node.lo, &node.hi);

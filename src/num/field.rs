@@ -219,34 +219,16 @@ impl Field for Interval {
         }
         let (mut lo, mut hi, mut magnitude, mut n) = (0.0f64, 0.0f64, 0.0f64, 0u32);
         for (w, v) in weights.iter().zip(values) {
-            let x = w.lo;
-            if x == 0.0 {
+            if w.lo == 0.0 {
                 continue;
             }
-            let (a, b) = if x > 0.0 {
-                (x * v.lo, x * v.hi)
-            } else {
-                (x * v.hi, x * v.lo)
-            };
+            let (a, b) = scaled_ends(w.lo, v);
             lo += a;
             hi += b;
             magnitude += a.abs().max(b.abs());
             n += 1;
         }
-        // |error| ≤ γₙ/(1 − γₙ)·(computed Σ|p̂ⱼ|) + n·2⁻¹⁰⁷⁴ < 2(n + 1)u·magnitude + n·2⁻¹⁰⁷⁴.
-        let n = f64::from(n);
-        let bound = (magnitude * ((n + 1.0) * f64::EPSILON) + n * f64::from_bits(1)).next_up();
-        let out = Interval {
-            lo: (lo - bound).next_down(),
-            hi: (hi + bound).next_up(),
-        };
-        if out.lo.is_nan() || out.hi.is_nan() {
-            return Interval {
-                lo: f64::NEG_INFINITY,
-                hi: f64::INFINITY,
-            };
-        }
-        out
+        widened_sum(lo, hi, magnitude, n)
     }
     /// With point weights, vector by vector over all coefficients (the loops run over
     /// contiguous memory), with the rounding bound of [`Field::dot`] per coefficient.
@@ -270,34 +252,14 @@ impl Field for Interval {
             }
             n += 1;
             for (c, v) in v.iter().enumerate() {
-                let (a, b) = if x > 0.0 {
-                    (x * v.lo, x * v.hi)
-                } else {
-                    (x * v.hi, x * v.lo)
-                };
+                let (a, b) = scaled_ends(x, v);
                 lo[c] += a;
                 hi[c] += b;
                 magnitude[c] += a.abs().max(b.abs());
             }
         }
-        let n = f64::from(n);
         (0..count)
-            .map(|c| {
-                let bound =
-                    (magnitude[c] * ((n + 1.0) * f64::EPSILON) + n * f64::from_bits(1)).next_up();
-                let out = Interval {
-                    lo: (lo[c] - bound).next_down(),
-                    hi: (hi[c] + bound).next_up(),
-                };
-                if out.lo.is_nan() || out.hi.is_nan() {
-                    Interval {
-                        lo: f64::NEG_INFINITY,
-                        hi: f64::INFINITY,
-                    }
-                } else {
-                    out
-                }
-            })
+            .map(|c| widened_sum(lo[c], hi[c], magnitude[c], n))
             .collect()
     }
     fn eval_line(line: &[Self], t: &Self) -> Self {
@@ -338,6 +300,38 @@ impl Field for Interval {
             Some((s, w)) => eval_slabs(coeffs, len, inner, |a, b| Interval::blend(a, b, s, w), out),
             None => eval_slabs(coeffs, len, inner, |a, b| s * a + *t * b, out),
         }
+    }
+}
+
+/// The ends of `x·v` for a point weight `x ≠ 0`, each rounded to nearest: `(lower, upper)`.
+#[inline]
+fn scaled_ends(x: f64, v: &Interval) -> (f64, f64) {
+    if x > 0.0 {
+        (x * v.lo, x * v.hi)
+    } else {
+        (x * v.hi, x * v.lo)
+    }
+}
+
+/// The enclosure of a sum of `n` products whose lower and upper ends were summed to nearest
+/// as `lo` and `hi`, with `magnitude` the computed sum of the larger end magnitudes: each end
+/// widened by `|error| ≤ γₙ/(1 − γₙ)·magnitude + n·2⁻¹⁰⁷⁴ < 2(n + 1)u·magnitude + n·2⁻¹⁰⁷⁴`
+/// (Higham, *Accuracy and Stability of Numerical Algorithms*, §3.1; the last term for
+/// underflow), rounded outward; the whole line when a sum is not a number.
+fn widened_sum(lo: f64, hi: f64, magnitude: f64, n: u32) -> Interval {
+    let n = f64::from(n);
+    let bound = (magnitude * ((n + 1.0) * f64::EPSILON) + n * f64::from_bits(1)).next_up();
+    let out = Interval {
+        lo: (lo - bound).next_down(),
+        hi: (hi + bound).next_up(),
+    };
+    if out.lo.is_nan() || out.hi.is_nan() {
+        Interval {
+            lo: f64::NEG_INFINITY,
+            hi: f64::INFINITY,
+        }
+    } else {
+        out
     }
 }
 

@@ -408,7 +408,7 @@ fn diagonally_dominant<T: Coefficient>(g: &[Bernstein<T>]) -> Result<Decision, S
 
 /// The margin by which every projected range is widened: far above the few units of
 /// rounding in [`hull_crossing`].
-const REDUCTION_MARGIN: f64 = 1e-9;
+const PROJECTION_MARGIN: f64 = 1e-9;
 
 /// Where on `[0, 1]` the convex hull of `points` `(x, y)` meets `y = 0`, or `None` when all
 /// lie strictly on one side. Every crossing of the hull with the axis lies on a segment
@@ -445,9 +445,9 @@ fn hull_crossing(points: &[(f64, f64)]) -> Option<(f64, f64)> {
 /// per unknown `k` and equation `g_i`, the least and greatest coefficient of each index
 /// along `k` bound `g_i` on every line along `k` by two 1-D control polygons, and every
 /// root's `t_k` lies where their convex hull meets zero. Returns, per unknown, the
-/// intersection over the equations of those ranges (each widened by [`REDUCTION_MARGIN`],
+/// intersection over the equations of those ranges (each widened by [`PROJECTION_MARGIN`],
 /// inside `[0, 1]`), or `None` when one is empty: the box is root-free.
-fn reduction<T: Coefficient>(g: &[Bernstein<T>]) -> Option<Vec<(f64, f64)>> {
+fn projection<T: Coefficient>(g: &[Bernstein<T>]) -> Option<Vec<(f64, f64)>> {
     let n = g.first().map_or(0, Bernstein::dim);
     let mut out = vec![(0.0f64, 1.0f64); n];
     let mut index = vec![0usize; n];
@@ -495,8 +495,8 @@ fn reduction<T: Coefficient>(g: &[Bernstein<T>]) -> Option<Vec<(f64, f64)>> {
             }
             let (lo, hi) = hull_crossing(&points)?;
             let (lo, hi) = (
-                (lo - REDUCTION_MARGIN).max(0.0),
-                (hi + REDUCTION_MARGIN).min(1.0),
+                (lo - PROJECTION_MARGIN).max(0.0),
+                (hi + PROJECTION_MARGIN).min(1.0),
             );
             out[k] = (out[k].0.max(lo), out[k].1.min(hi));
             if out[k].0 > out[k].1 {
@@ -840,12 +840,12 @@ fn refine<T: Coefficient>(
             lo.push(a);
             hi.push(b);
         }
-        if tsub.len() == n {
-            let small: Vec<Bernstein<T>> = node
-                .polys
-                .iter()
-                .map(|p| p.restrict(&tsub))
-                .collect::<Result<_, _>>()?;
+        // (Interval ends too close for rounding to order them refuse the restriction: that
+        // box is skipped, as a collapsed one is.)
+        let small: Option<Vec<Bernstein<T>>> = (tsub.len() == n)
+            .then(|| node.polys.iter().map(|p| p.restrict(&tsub).ok()).collect())
+            .flatten();
+        if let Some(small) = small {
             if let (Decision::Yes, Some(c)) = certify(&small)? {
                 return Ok((lo, hi, c));
             }
@@ -1113,7 +1113,7 @@ fn run<T: Coefficient>(
         let g = preconditioned
             .as_ref()
             .map_or(node.polys.as_slice(), |(_, g)| g.as_slice());
-        if reduction(g).is_none() {
+        if projection(g).is_none() {
             continue;
         }
         // Split the widest side (in unit coordinates) at a root-free plane if one is found.

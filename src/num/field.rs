@@ -158,6 +158,28 @@ impl Field for Rational {
     }
 }
 
+/// Evaluates `$body` with `$step` bound to the interval de Casteljau step
+/// `(a, b) ↦ (1 − t)·a + t·b`, chosen once for `t`: at `t = ½` a midpoint
+/// ([`Interval::midpoint_of`], one outward-rounded addition); at a point `t` whose complement
+/// is exact a non-negative blend ([`Interval::blend`]); otherwise the generic interval
+/// products. Each choice monomorphises `$body`, so the step inlines.
+macro_rules! with_interval_step {
+    ($t:expr, $step:ident => $body:expr) => {{
+        let t: &Interval = $t;
+        if t.is_half() {
+            let $step = Interval::midpoint_of;
+            $body
+        } else if let Some((s, w)) = t.exact_weights() {
+            let $step = |a: Interval, b: Interval| Interval::blend(a, b, s, w);
+            $body
+        } else {
+            let s = <Interval as Field>::one().sub(t);
+            let $step = |a: Interval, b: Interval| s * a + *t * b;
+            $body
+        }
+    }};
+}
+
 impl Field for Interval {
     fn zero() -> Self {
         Interval::point(0.0)
@@ -192,16 +214,10 @@ impl Field for Interval {
     fn approx(&self) -> f64 {
         self.mid()
     }
-    /// At `t = ½` each de Casteljau step is a midpoint ([`Interval::midpoint_of`]): one
-    /// outward-rounded addition instead of two interval products and a sum.
-    /// Elsewhere, at a point `t` whose complement is exact, each step is a non-negative
-    /// blend ([`Interval::blend`]); other `t` take the generic recurrence.
+    /// With the step [`with_interval_step!`] chooses for `t` (a midpoint at ½, a blend
+    /// where `1 − t` is exact, the generic recurrence otherwise).
     fn split_line(line: &[Self], t: &Self) -> (Vec<Self>, Vec<Self>) {
-        match t.exact_weights() {
-            _ if t.is_half() => split_with(line, Interval::midpoint_of),
-            Some((s, w)) => split_with(line, |a, b| Interval::blend(a, b, s, w)),
-            None => crate::bernstein::poly::de_casteljau_split(line, t),
-        }
+        with_interval_step!(t, step => split_with(line, step))
     }
     /// With point weights (every `f64`, every dyadic preconditioner entry) each end is one
     /// sum of `n` products rounded to nearest, widened once by the classical bound
@@ -263,11 +279,7 @@ impl Field for Interval {
             .collect()
     }
     fn eval_line(line: &[Self], t: &Self) -> Self {
-        match t.exact_weights() {
-            _ if t.is_half() => eval_with(line, Interval::midpoint_of),
-            Some((s, w)) => eval_with(line, |a, b| Interval::blend(a, b, s, w)),
-            None => crate::bernstein::poly::de_casteljau_eval(line, t),
-        }
+        with_interval_step!(t, step => eval_with(line, step))
     }
     /// Slab by slab, with the steps of [`Field::split_line`] (the same operations on each
     /// line, so the same enclosures).
@@ -279,27 +291,10 @@ impl Field for Interval {
         left: &mut Vec<Self>,
         right: &mut Vec<Self>,
     ) {
-        let s = <Interval as Field>::one().sub(t);
-        match t.exact_weights() {
-            _ if t.is_half() => split_slabs(coeffs, len, inner, Interval::midpoint_of, left, right),
-            Some((s, w)) => split_slabs(
-                coeffs,
-                len,
-                inner,
-                |a, b| Interval::blend(a, b, s, w),
-                left,
-                right,
-            ),
-            None => split_slabs(coeffs, len, inner, |a, b| s * a + *t * b, left, right),
-        }
+        with_interval_step!(t, step => split_slabs(coeffs, len, inner, step, left, right));
     }
     fn eval_lines(coeffs: &[Self], len: usize, inner: usize, t: &Self, out: &mut Vec<Self>) {
-        let s = <Interval as Field>::one().sub(t);
-        match t.exact_weights() {
-            _ if t.is_half() => eval_slabs(coeffs, len, inner, Interval::midpoint_of, out),
-            Some((s, w)) => eval_slabs(coeffs, len, inner, |a, b| Interval::blend(a, b, s, w), out),
-            None => eval_slabs(coeffs, len, inner, |a, b| s * a + *t * b, out),
-        }
+        with_interval_step!(t, step => eval_slabs(coeffs, len, inner, step, out));
     }
 }
 

@@ -279,13 +279,7 @@ mod tests {
     #[test]
     fn interval_splits_enclose_exact_splits() {
         use crate::num::Field;
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
+        let mut next = xorshift(0x9e37_79b9_7f4a_7c15);
         let mut checked = 0;
         for k in 0..3000 {
             // ½, the solver's other split fractions, an arbitrary dyadic, and a t whose
@@ -328,14 +322,9 @@ mod tests {
         assert!(checked > 20_000, "{checked}");
     }
 
-    /// A small deterministic generator for the tests below.
+    /// The tests' deterministic generator ([`crate::num::xorshift`]) from `seed`.
     fn xorshift(mut seed: u64) -> impl FnMut() -> u64 {
-        move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        }
+        move || crate::num::xorshift(&mut seed)
     }
 
     /// The slab-wise routines ([`Field::split_lines`], [`Field::eval_lines`]) give, for every

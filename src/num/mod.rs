@@ -15,6 +15,17 @@ pub(crate) mod interval;
 pub(crate) mod rational;
 pub(crate) mod wide;
 
+/// One step of Marsaglia's xorshift64 (*Xorshift RNGs*, J. Stat. Softw. 8(14), 2003): the
+/// deterministic generator of the tests and of the reports' random campaigns. `state` must
+/// not be zero.
+#[cfg(any(test, feature = "reports"))]
+pub(crate) fn xorshift(state: &mut u64) -> u64 {
+    *state ^= *state << 13;
+    *state ^= *state >> 7;
+    *state ^= *state << 17;
+    *state
+}
+
 pub use field::Field;
 pub use interval::{gamma, Interval, UNIT_ROUNDOFF};
 pub use rational::{

@@ -573,13 +573,7 @@ pub(crate) fn rational_sign(r: &Rational) -> super::Sign {
 mod tests {
     use super::*;
 
-    /// Marsaglia's xorshift64: the tests' deterministic generator.
-    fn xorshift(seed: &mut u64) -> u64 {
-        *seed ^= *seed << 13;
-        *seed ^= *seed >> 7;
-        *seed ^= *seed << 17;
-        *seed
-    }
+    use crate::num::xorshift;
 
     /// A cheap exact conversion is the `f64` the rational denotes (and happens on a good part
     /// of small dyadics); the gcd-free lerp equals the rational formula, dyadic or not.

@@ -4,7 +4,7 @@
 use crate::mc::fe::exact::polygonise_exact;
 use crate::mc::fe::fast::polygonise_fast;
 use crate::mc::fe::{heart, models, FeModel, FeOptions, FeStats, NormalSource};
-use crate::num::rational_from_f64;
+use crate::num::{rational_from_f64, xorshift};
 use std::time::Instant;
 
 /// One model at one sampling.
@@ -334,14 +334,6 @@ pub fn fe_campaign(root: &std::path::Path, runs: usize, random: usize) -> FeCamp
         trilinear,
         random_failures: failures,
     }
-}
-
-/// One step of Marsaglia's xorshift64 (the campaigns' deterministic bytes).
-fn xorshift(state: &mut u64) -> u64 {
-    *state ^= *state << 13;
-    *state ^= *state >> 7;
-    *state ^= *state << 17;
-    *state
 }
 
 /// `CellRule::Trilinear` on `count` warped blocks of 3 × 3 × 2 trilinear elements with

@@ -263,6 +263,106 @@ fn sphere_poles_are_divided_out_not_traced() {
     assert!(s.clusters.is_empty() && s.extreme_clusters.is_empty());
 }
 
+/// The built-in sphere's patches are laid out around an axis through the direction
+/// `n = (−286, −313, 278)/507` (the generic rotation of the meridian plane's normal
+/// `(−12, 5, 0)/13`), so its meridian edges lie in the plane `⟨x, n⟩ = 0`. A translation along
+/// `n` makes that great circle the characteristic curve at every time, along four patch edges;
+/// a roll about `n` on top of it moves the contour points along the circle across patch
+/// corners (`builtin:sphere-edge-roll`).
+const ALONG_EDGES: &str = r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": 1}}], "t": [0, 1],
+ "motion": {"translation": [[0, "-22/13"], [0, "-313/169"], [0, "278/169"]]},
+ "eye": [5, "3/10", "11/10"]}"#;
+/// Silhouettes that run along patch edges (the characteristic curve on a patch edge at every
+/// time) are traced on the edge, once per shared edge, on every path, and lie on the oracle's
+/// contour; before, every cross-section there had an identically zero equation and the tracer
+/// ended in tens of thousands of clusters.
+#[test]
+fn silhouettes_along_patch_edges_are_traced_on_the_edges() {
+    for name in ["translation", "roll"] {
+        let scene = if name == "roll" {
+            builtin_scene("sphere-edge-roll").unwrap()
+        } else {
+            scene_from_json(ALONG_EDGES).unwrap()
+        };
+        let oracle = Oracle::new(scene.clone(), [0.0; 3], [1.0; 3]);
+        let opts = SilhouetteOptions::default().with_caps(false);
+        let s = silhouette(&scene, &opts).unwrap();
+        assert!(
+            s.clusters.is_empty() && s.extreme_clusters.is_empty(),
+            "{name}: {} clusters",
+            s.clusters.len()
+        );
+        // The capsule's two outline lines, t-monotone from t = a to t = b.
+        let t3 = (
+            Some(ComponentType::Monotone),
+            vec![
+                ComponentEnd::Time { upper: false },
+                ComponentEnd::Time { upper: true },
+            ],
+        );
+        assert_eq!(types(&s), vec![t3.clone(), t3], "{name}");
+        for c in &s.components {
+            // Every vertex on a meridian edge (v = 0 or 1), none twice (each shared edge is
+            // traced once).
+            assert!(c.uvt.iter().all(|p| p[1] == 0.0 || p[1] == 1.0), "{name}");
+        }
+        let (c0, c1) = (&s.components[0], &s.components[1]);
+        let overlap = c0
+            .points
+            .iter()
+            .filter(|p| {
+                c1.points
+                    .iter()
+                    .any(|q| (0..3).all(|k| (p[k] - q[k]).abs() < 1e-6))
+            })
+            .count();
+        assert_eq!(overlap, 0, "{name}: the components overlap");
+        let (phi, phi_t, contour, n) = oracle.worst(&s, ComponentKind::Envelope);
+        assert!(
+            phi < 1e-9 && phi_t < 1e-6 && contour < 1e-6,
+            "{name}: residuals {phi:e} {phi_t:e} {contour:e}"
+        );
+        // The roll carries the contour points across patch corners: pieces of several
+        // patches joined.
+        let patches: std::collections::BTreeSet<usize> = s
+            .components
+            .iter()
+            .flat_map(|c| c.patches.clone())
+            .collect();
+        let exact = silhouette(&scene, &opts.with_path(Path::Exact)).unwrap();
+        let fast = silhouette(&scene, &opts.with_path(Path::Fast)).unwrap();
+        assert_eq!(types(&exact), types(&s), "{name}: exact");
+        if fast.clusters.is_empty() {
+            assert_eq!(types(&fast), types(&s), "{name}: fast");
+        }
+        println!(
+            "{name}: {n} vertices on {} patches within {phi:.1e} / {phi_t:.1e} / {contour:.1e} of \
+             the oracle; filtered {:.3} s, exact {:.3} s",
+            patches.len(),
+            s.seconds,
+            exact.seconds
+        );
+        if name == "roll" {
+            assert!(patches.len() > 2, "roll: {patches:?}");
+        }
+    }
+    // With an eye path, the events of such an edge are refused with the edge named.
+    let moving = ALONG_EDGES.replace(
+        r#""eye": [5, "3/10", "11/10"]"#,
+        r#""eye": {"path": [[5], ["3/10", 1], ["11/10"]], "r": [0, 1]}"#,
+    );
+    let scene = scene_from_json(&moving).unwrap();
+    let opts = geocert::solve::SolveOptions::new();
+    match geocert::sweep::events(&scene, &opts) {
+        Err(SweepError::EventsAlongEdge {
+            surface: 0,
+            axis: 1,
+            ..
+        }) => {}
+        other => panic!("{:?}", other.map(|e| e.events.len())),
+    }
+}
+
 #[test]
 fn the_fast_and_exact_paths_agree_with_the_filtered_one() {
     let scene = builtin_scene("sphere-line").unwrap();
@@ -349,6 +449,44 @@ fn bad_scenes_are_refused_with_their_cause() {
     let scene = scene_from_json(&base(&q, line, "[2, -9, 5]")).unwrap();
     let e = silhouette(&scene, &SilhouetteOptions::default()).unwrap_err();
     assert!(e.to_string().contains("eq. 3's H"), "{e}");
+    // A sphere spinning about its centre moves within itself: F ≡ 0.
+    let spin = r#"{"rotation": {"quaternion": [[1], [0], [0], [0, "1/2"]]}}"#;
+    let scene = scene_from_json(&base(sphere, spin, "[5, 1, 1]")).unwrap();
+    let e = silhouette(&scene, &SilhouetteOptions::default()).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            SweepError::CharacteristicPatch {
+                surface: 0,
+                patch: 0
+            }
+        ),
+        "{e}"
+    );
+    // A parabolic-cylinder patch whose straight edge u = 1 (x = 0, y = 1) moves along x: the
+    // edge is characteristic at every time, and from an eye in its tangent plane y = 1 the
+    // whole swept edge is silhouette.
+    let sheet = r#"{"bezier": {"degrees": [2, 1], "points": [[1,0,0,1],[1,1,0,1],[0,1,0,1],[1,0,1,1],[1,1,1,1],[0,1,1,1]]}}"#;
+    let along_x = r#"{"translation": [[0, 1], [0], [0]]}"#;
+    let scene = scene_from_json(&base(sheet, along_x, r#"["1/2", 1, 3]"#)).unwrap();
+    let e = silhouette(&scene, &SilhouetteOptions::default()).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            SweepError::SilhouetteCoversEdge {
+                surface: 0,
+                patch: 0,
+                axis: 0,
+                upper: true
+            }
+        ),
+        "{e}"
+    );
+    // From off the tangent plane the same edge carries no silhouette, and nothing is left
+    // unresolved.
+    let scene = scene_from_json(&base(sheet, along_x, r#"["1/2", 5, 3]"#)).unwrap();
+    let s = silhouette(&scene, &SilhouetteOptions::default()).unwrap();
+    assert!(s.clusters.is_empty() && s.extreme_clusters.is_empty());
     // Degrees and malformed fields name the field.
     let big = r#"{"bezier": {"degrees": [7, 1], "points": []}}"#;
     let e = scene_from_json(&base(big, line, "[0, -9, 0]")).unwrap_err();

@@ -621,8 +621,9 @@ pub fn write_sweep_report(
     occ_markdown(&mut s, &c.occ);
     let _ = writeln!(
         s,
-        "## Not yet here\n\nSilhouettes through patch corners or along patch edges (they would \
-         show as clusters), and the paper's 0.1 s event budget: solving \
+        "## Not yet here\n\nA moving eye's events for silhouettes that run along patch edges \
+         (refused with the edge named; the static silhouette along them is traced, \
+         `sphere-edge-roll` above), and the paper's 0.1 s event budget: solving \
          the events and tracing the frames near them (each traced frame is a whole certified \
          run of Algorithm 1) are the slow parts (see the times above)."
     );

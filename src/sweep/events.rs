@@ -240,6 +240,17 @@ fn patch_event_systems(
     p: usize,
 ) -> Result<Vec<EventSystem>, SweepError> {
     let (_, r) = eye_path(scene)?;
+    // A silhouette along a patch edge (module `edges`) changes topology through events of
+    // the face curve's own surface `{G̃(w, t, r) = 0}`, which these systems do not cover.
+    let (_, faces) = super::edges::characteristic_faces(&me.eq0.f, s, p)?;
+    if let Some(&(axis, upper)) = faces.iter().find(|f| !me.eq0.divided.contains(f)) {
+        return Err(SweepError::EventsAlongEdge {
+            surface: s,
+            patch: p,
+            axis,
+            upper,
+        });
+    }
     let unit = (Rational::zero(), Rational::one());
     let params = [unit.clone(), unit, scene.t.clone()];
     let (f, g) = (&me.f, &me.g);

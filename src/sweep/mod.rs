@@ -29,6 +29,7 @@
 //! Between events, frames are continued from the previous frame ([`frames`]); a traced
 //! silhouette of a scene with an eye path is seen from `P(r₀)`.
 
+mod edges;
 mod equations;
 mod events;
 mod frames;
@@ -179,6 +180,45 @@ pub enum SweepError {
         r: f64,
         /// Its time.
         t: f64,
+    },
+    /// `F` vanishes on the whole patch: the patch moves within itself (a cylinder along its
+    /// axis, a surface of revolution turning about its axis), so the envelope is the swept
+    /// surface itself, not a family of characteristic curves.
+    #[error("surface {surface}, patch {patch}: F vanishes identically (the patch moves within itself, so its characteristic set is the whole patch, not a curve)")]
+    CharacteristicPatch {
+        /// The surface.
+        surface: usize,
+        /// The patch.
+        patch: usize,
+    },
+    /// A patch edge is characteristic at every time and the eye sees it edge-on at every
+    /// time too (`F` and `G` both vanish on that face): the silhouette covers the swept edge,
+    /// a surface rather than a curve.
+    #[error("surface {surface}, patch {patch}: F and G vanish on the whole face {name} = {end} (the silhouette covers that swept edge)", name = ["u", "v"][*axis], end = u8::from(*upper))]
+    SilhouetteCoversEdge {
+        /// The surface.
+        surface: usize,
+        /// The patch.
+        patch: usize,
+        /// The face's parameter (0 = u, 1 = v).
+        axis: usize,
+        /// At its upper end.
+        upper: bool,
+    },
+    /// The moving eye's events of a silhouette that runs along a patch edge (a face of the
+    /// patch on which `F` vanishes at every time) are not computed: they are the critical
+    /// points of the face curve's surface `{G(w, t, r) = 0}`, which the event systems do not
+    /// include. The static silhouette of such a scene is traced.
+    #[error("surface {surface}, patch {patch}: the silhouette runs along the patch edge {name} = {end} (F vanishes there at every time); events for a moving eye are not computed for such edges", name = ["u", "v"][*axis], end = u8::from(*upper))]
+    EventsAlongEdge {
+        /// The surface.
+        surface: usize,
+        /// The patch.
+        patch: usize,
+        /// The face's parameter (0 = u, 1 = v).
+        axis: usize,
+        /// At its upper end.
+        upper: bool,
     },
     /// The Bernstein kernel refused an operation.
     #[error("Bernstein kernel: {0}")]

@@ -16,6 +16,7 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "ellipsoid-turn",
     "tuba",
     "ellipsoid-turn-eye",
+    "sphere-edge-roll",
 ];
 
 /// A rational tensor Bézier patch on the unit square in homogeneous form: `hom[0..3]` are
@@ -771,6 +772,18 @@ pub fn builtin_scene_json(name: &str) -> Option<&'static str> {
                 "motion": {"translation": [[0, 3], [0], [0, "1/2"]],
                            "rotation": {"quaternion": [[1], [0], [0], [0, "1/2"]]}},
                 "eye": {"path": [[-3, 3], [-2], [0, "1/3"]], "r": [0, 3]}}"#
+        }
+        // The silhouette along patch edges: the sphere's meridian edges lie in the plane
+        // through the centre normal to n = (−286, −313, 278)/507 (the generic rotation of
+        // (−12, 5, 0)/13); it rolls about n while moving along n, so that great circle is the
+        // characteristic curve at every time, and the contour points run along it across
+        // patch corners (module `edges`).
+        "sphere-edge-roll" => {
+            r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": 1}}],
+                "t": [0, 1],
+                "motion": {"translation": [[0, "-22/13"], [0, "-313/169"], [0, "278/169"]],
+                           "rotation": {"quaternion": [[1], [0, "-286/507"], [0, "-313/507"], [0, "278/507"]]}},
+                "eye": [5, "3/10", "11/10"]}"#
         }
         _ => return None,
     })

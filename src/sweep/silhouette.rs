@@ -12,9 +12,14 @@
 //! is type 2; a `t`-monotone open component is type 3 (on a closed surface it ends on
 //! `t = a` and `t = b`; on a surface with a border it may end there).
 //!
+//! A patch edge that is a characteristic curve at every time makes `F̃` vanish on that face:
+//! its factor is divided out and the silhouette on the face is traced on its own (module
+//! `edges`).
+//!
 //! The contours of the end positions `A(a)[S]` and `A(b)[S]` — `G̃(u, v, a) = 0`, one equation
 //! in `(u, v)` — are traced the same way and reported as caps.
 
+use super::edges::{characteristic_faces, edge_system, same_edge, EdgeKey};
 use super::equations::{equations, equations_with, motion_forms, Equations};
 use super::scene::Patch;
 use super::{Eye, Scene, SweepError};
@@ -164,10 +169,15 @@ pub struct TExtreme {
     pub surface: usize,
     /// The patch.
     pub patch: usize,
-    /// The certified root in `(u, v, t)`, with its certificate.
+    /// The certified root in `(u, v, t)`, with its certificate; on a characteristic patch
+    /// edge (`edge`), in the face's free parameter and `t`.
     pub root: Root,
     /// The component it lies on, when the tracer could attribute it.
     pub component: Option<usize>,
+    /// The face `(axis, upper)` (`axis` 0 = u, 1 = v) when the point lies on a silhouette
+    /// that runs along a patch edge (module `edges`): the root is then one of the face curve
+    /// `G̃|face = 0`'s `t`-extremes.
+    pub edge: Option<(usize, bool)>,
 }
 
 /// The result of [`silhouette`].
@@ -258,7 +268,37 @@ fn world(scene: &Scene, patch: &Patch, uvt: [f64; 3]) -> [f64; 3] {
     apply_motion(scene, uvt[2], x)
 }
 
-/// Pieces of one trace: `t` is the fixed time of a cap (its domain is 2-D).
+/// Where a traced system lives in `(u, v, t)`.
+#[derive(Clone, Copy)]
+enum Domain {
+    /// `(u, v, t)` itself.
+    Box,
+    /// `(u, v)` at a fixed time (a cap).
+    Cap(f64),
+    /// `(w, t)` on the face `(axis, upper)` (a characteristic patch edge).
+    Edge((usize, bool)),
+}
+
+impl Domain {
+    /// `(u, v, t)` of a point of the traced system.
+    fn uvt(self, c: &[f64]) -> [f64; 3] {
+        match self {
+            Domain::Box => [c[0], c[1], c[2]],
+            Domain::Cap(t) => [c[0], c[1], t],
+            Domain::Edge(face) => super::edges::face_point(face, c[0], c[1]),
+        }
+    }
+    /// The traced system's axis that is `t`, if any.
+    fn time_axis(self) -> Option<usize> {
+        match self {
+            Domain::Box => Some(2),
+            Domain::Cap(_) => None,
+            Domain::Edge(_) => Some(1),
+        }
+    }
+}
+
+/// Pieces of one trace on `domain`.
 #[allow(clippy::too_many_arguments)]
 fn pieces_of(
     scene: &Scene,
@@ -268,15 +308,12 @@ fn pieces_of(
     kind: ComponentKind,
     curves: &Curves,
     chords: &[f64],
-    cap_t: Option<f64>,
+    domain: Domain,
     extreme_offset: usize,
 ) -> Vec<Piece> {
-    let uvt_of = |p: usize| -> [f64; 3] {
-        let c = centre(&curves.points[p].root);
-        [c[0], c[1], cap_t.unwrap_or_else(|| c[2])]
-    };
+    let uvt_of = |p: usize| -> [f64; 3] { domain.uvt(&centre(&curves.points[p].root)) };
     let end = |e: &CurveEnd| match *e {
-        CurveEnd::Face { axis: 2, upper, .. } => End::Time(upper),
+        CurveEnd::Face { axis, upper, .. } if Some(axis) == domain.time_axis() => End::Time(upper),
         CurveEnd::Face { .. } => End::Edge,
         CurveEnd::Cluster { .. } => End::Cluster,
     };
@@ -616,8 +653,11 @@ fn eye_off_surface(
 }
 
 /// Re-checks a `t`-extreme point's certificate: rebuilds `F̃`, `G̃` of its patch from the scene
-/// and checks Miranda's test and the Jacobian's dominance on its box for `F = G = H = 0`
-/// with [`crate::solve::verify_root`], which does not call the solver.
+/// (with the factors of characteristic patch edges divided out of `F̃`, module `edges`) and
+/// checks Miranda's test and the Jacobian's dominance on its box for `F = G = H = 0` with
+/// [`crate::solve::verify_root`], which does not call the solver. A point on a
+/// characteristic edge ([`TExtreme::edge`]) is checked on the face curve's system
+/// `G̃|face = ∂G̃|face/∂w = 0`, after checking exactly that `F̃` vanishes on that face.
 pub fn verify_t_extreme(
     scene: &Scene,
     extreme: &TExtreme,
@@ -634,7 +674,29 @@ pub fn verify_t_extreme(
             )
         })?;
     let eq = equations(scene, patch, &eye_point(scene))?;
-    let system = extreme_system(&patch_system(scene, &eq, printed_eq2)?, 2)?;
+    let (f_hat, faces) = characteristic_faces(&eq.f, extreme.surface, extreme.patch)?;
+    let system = match extreme.edge {
+        None => extreme_system(
+            &patch_system(scene, &Equations { f: f_hat, ..eq }, printed_eq2)?,
+            2,
+        )?,
+        Some(face) => {
+            if !faces.contains(&face) {
+                return Err(SweepError::field(
+                    "t_extreme.edge",
+                    format!(
+                        "F does not vanish on the face {face:?} of surface {} patch {}",
+                        extreme.surface, extreme.patch
+                    ),
+                ));
+            }
+            let g = if printed_eq2 { &eq.g_printed } else { &eq.g };
+            extreme_system(
+                &edge_system(g, face, &scene.t, extreme.surface, extreme.patch)?,
+                1,
+            )?
+        }
+    };
     Ok(verify_root(
         &system,
         &extreme.root.bounds,
@@ -650,9 +712,11 @@ pub fn t_extreme_systems(scene: &Scene) -> Result<Vec<System>, SweepError> {
     let eye = eye_point(scene);
     let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
     let mut out = Vec::new();
-    for surface in &scene.surfaces {
-        for patch in &surface.patches {
+    for (s, surface) in scene.surfaces.iter().enumerate() {
+        for (p, patch) in surface.patches.iter().enumerate() {
             let eq = equations_with(&forms, patch, &eye)?;
+            let (f, _) = characteristic_faces(&eq.f, s, p)?;
+            let eq = Equations { f, ..eq };
             out.push(extreme_system(&patch_system(scene, &eq, false)?, 2)?);
         }
     }
@@ -675,6 +739,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
     let mut clusters = Vec::new();
     let mut extreme_clusters = Vec::new();
     let mut patches = 0;
+    let mut edge_keys = Vec::new();
     // The motion's Bernstein forms and their certified checks, once for every patch.
     let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
     for (s, surface) in scene.surfaces.iter().enumerate() {
@@ -706,6 +771,70 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                 ));
             }
             eye_off_surface(&eq, scene, s, p, opts.path)?;
+            // Patch edges that are characteristic at every time: F̃'s factors divided out,
+            // the silhouette on each such face traced on its own (module `edges`).
+            let (f_hat, faces) = characteristic_faces(&eq.f, s, p)?;
+            let g = if opts.printed_eq2 {
+                &eq.g_printed
+            } else {
+                &eq.g
+            };
+            let mut seen_faces: Vec<(usize, bool)> = Vec::new();
+            for &face in &faces {
+                // A collapsed edge (a pole: `N_h`'s factor was divided there) is one point in
+                // 3-D; the curves through it are the neighbouring edges' and interiors'.
+                if seen_faces.contains(&face) || eq.divided.contains(&face) {
+                    continue;
+                }
+                seen_faces.push(face);
+                let key = EdgeKey::new(s, patch, &eq.normal, face)?;
+                if edge_keys.iter().any(|k| same_edge(k, &key)) {
+                    continue;
+                }
+                edge_keys.push(key);
+                let system = edge_system(g, face, &scene.t, s, p)?;
+                let image: Vec<Bernstein<Interval>> = eq
+                    .image
+                    .iter()
+                    .map(|b| {
+                        b.face(face.0, face.1)
+                            .map(|f| f.map(Interval::from_rational))
+                    })
+                    .collect::<Result<_, _>>()?;
+                let (curves, chords) = trace_to_tolerance(
+                    &system,
+                    &curve_opts.with_extreme_axis(Some(1)),
+                    &image,
+                    opts.tolerance,
+                )?;
+                let offset = t_extreme.len();
+                pieces.extend(pieces_of(
+                    scene,
+                    patch,
+                    s,
+                    p,
+                    ComponentKind::Envelope,
+                    &curves,
+                    &chords,
+                    Domain::Edge(face),
+                    offset,
+                ));
+                t_extreme.extend(curves.extremes.iter().map(|x| TExtreme {
+                    surface: s,
+                    patch: p,
+                    root: x.root.clone(),
+                    component: None,
+                    edge: Some(face),
+                }));
+                clusters.extend(
+                    curves
+                        .clusters
+                        .iter()
+                        .map(|c| (s, p, ComponentKind::Envelope, c.clone())),
+                );
+                extreme_clusters.extend(curves.extreme_clusters.iter().map(|c| (s, p, c.clone())));
+            }
+            let eq = Equations { f: f_hat, ..eq };
             let system = patch_system(scene, &eq, opts.printed_eq2)?;
             let image: Vec<Bernstein<Interval>> = eq
                 .image
@@ -727,7 +856,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                 ComponentKind::Envelope,
                 &curves,
                 &chords,
-                None,
+                Domain::Box,
                 offset,
             ));
             t_extreme.extend(curves.extremes.iter().map(|x| TExtreme {
@@ -735,6 +864,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                 patch: p,
                 root: x.root.clone(),
                 component: None,
+                edge: None,
             }));
             clusters.extend(
                 curves
@@ -769,7 +899,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                         kind,
                         &cap,
                         &chords,
-                        Some(t),
+                        Domain::Cap(t),
                         0,
                     ));
                     clusters.extend(cap.clusters.iter().map(|c| (s, p, kind, c.clone())));

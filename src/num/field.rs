@@ -214,7 +214,7 @@ impl Field for Interval {
     fn approx(&self) -> f64 {
         self.mid()
     }
-    /// With the step [`with_interval_step!`] chooses for `t` (a midpoint at ½, a blend
+    /// With the step `with_interval_step!` chooses for `t` (a midpoint at ½, a blend
     /// where `1 − t` is exact, the generic recurrence otherwise).
     fn split_line(line: &[Self], t: &Self) -> (Vec<Self>, Vec<Self>) {
         with_interval_step!(t, step => split_with(line, step))

@@ -29,6 +29,7 @@
 //! Between events, frames are continued from the previous frame ([`frames`]); a traced
 //! silhouette of a scene with an eye path is seen from `P(r₀)`.
 
+mod corners;
 mod edges;
 mod equations;
 mod events;
@@ -36,6 +37,7 @@ mod frames;
 mod scene;
 mod silhouette;
 
+pub use corners::CornerCrossing;
 pub use equations::{equations, patch_normal, Equations, Normal};
 pub use events::{
     event_groups, event_systems, events, group_of_each, verify_event, verify_events, Event,
@@ -47,8 +49,9 @@ pub use scene::{builtin_scene, builtin_scene_json, scene_from_json, Patch, BUILT
 #[cfg(feature = "reports")]
 pub(crate) use silhouette::{apply_motion, eye_point};
 pub use silhouette::{
-    silhouette, t_extreme_systems, verify_t_extreme, ComponentEnd, ComponentKind, ComponentType,
-    SilhouetteComponent, SilhouetteOptions, Silhouettes, TExtreme, JOIN_TOLERANCE, MIN_RESOLUTION,
+    silhouette, t_extreme_systems, verify_corner_crossing, verify_t_extreme, ComponentEnd,
+    ComponentKind, ComponentType, SilhouetteComponent, SilhouetteOptions, Silhouettes, TExtreme,
+    JOIN_TOLERANCE, MIN_RESOLUTION,
 };
 
 use crate::bernstein::BernsteinError;
@@ -204,6 +207,18 @@ pub enum SweepError {
         axis: usize,
         /// At its upper end.
         upper: bool,
+    },
+    /// `F` and `G` both vanish on a whole corner line `(u, v) = corner` of a patch: the
+    /// silhouette stays on that patch corner at every time (a curve along an edge of the
+    /// `(u, v, t)` box, which is not traced).
+    #[error("surface {surface}, patch {patch}: the silhouette stays on the patch corner (u, v) = ({u}, {v}) at every time", u = u8::from(corner[0]), v = u8::from(corner[1]))]
+    SilhouetteAlongCorner {
+        /// The surface.
+        surface: usize,
+        /// The patch.
+        patch: usize,
+        /// The corner: whether `u = 1`, whether `v = 1`.
+        corner: [bool; 2],
     },
     /// The moving eye's events of a silhouette that runs along a patch edge (a face of the
     /// patch on which `F` vanishes at every time) are not computed: they are the critical

@@ -17,6 +17,7 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "tuba",
     "ellipsoid-turn-eye",
     "sphere-edge-roll",
+    "sphere-corner",
 ];
 
 /// A rational tensor Bézier patch on the unit square in homogeneous form: `hom[0..3]` are
@@ -784,6 +785,17 @@ pub fn builtin_scene_json(name: &str) -> Option<&'static str> {
                 "motion": {"translation": [[0, "-22/13"], [0, "-313/169"], [0, "278/169"]],
                            "rotation": {"quaternion": [[1], [0, "-286/507"], [0, "-313/507"], [0, "278/507"]]}},
                 "eye": [5, "3/10", "11/10"]}"#
+        }
+        // A unit sphere rolling about z while it moves, seen from an eye placed (exactly) so
+        // that at t = 1/2 the silhouette passes through the patch corner
+        // R·(5/13, 12/13, 0) = (−247, 398, 194)/507, where four patches meet (module
+        // `corners`).
+        "sphere-corner" => {
+            r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": 1}}],
+                "t": [0, 1],
+                "motion": {"translation": [[0, "1356725/1456611"], [0, "3880141/1456611"], [0, "-219413/171366"]],
+                           "rotation": {"quaternion": [[1], [0], [0], [0, "1/2"]]}},
+                "eye": ["-5096479/971074", "125027/971074", "-16518687/1942148"]}"#
         }
         _ => return None,
     })

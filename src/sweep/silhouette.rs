@@ -14,11 +14,15 @@
 //!
 //! A patch edge that is a characteristic curve at every time makes `F̃` vanish on that face:
 //! its factor is divided out and the silhouette on the face is traced on its own (module
-//! `edges`).
+//! `edges`). A component through a patch corner leaves the tracer a cluster there, which is
+//! certified as a passage through the corner when it is one (module `corners`).
 //!
 //! The contours of the end positions `A(a)[S]` and `A(b)[S]` — `G̃(u, v, a) = 0`, one equation
 //! in `(u, v)` — are traced the same way and reported as caps.
 
+use super::corners::{
+    certify_corner_box, check_corner_lines, corner_times, resolve_corners, CornerCrossing,
+};
 use super::edges::{characteristic_faces, edge_system, same_edge, EdgeKey};
 use super::equations::{equations, equations_with, motion_forms, Equations};
 use super::scene::Patch;
@@ -187,6 +191,9 @@ pub struct Silhouettes {
     pub components: Vec<SilhouetteComponent>,
     /// `Z₀`.
     pub t_extreme: Vec<TExtreme>,
+    /// Certified passages through patch corners, where the pieces of neighbouring patches
+    /// are joined (module `corners`; re-checked by [`verify_corner_crossing`]).
+    pub corner_crossings: Vec<CornerCrossing>,
     /// Boxes the tracer could not resolve: `(surface, patch, kind, cluster)`.
     pub clusters: Vec<(usize, usize, ComponentKind, Cluster)>,
     /// `t`-extreme candidates the solver could not certify (singular points of `Z₁` among
@@ -310,8 +317,15 @@ fn pieces_of(
     chords: &[f64],
     domain: Domain,
     extreme_offset: usize,
+    corners: &[(usize, [f64; 3])],
 ) -> Vec<Piece> {
     let uvt_of = |p: usize| -> [f64; 3] { domain.uvt(&centre(&curves.points[p].root)) };
+    // The corner point `(u, v, t)` a piece continues to when it ends in a cluster group
+    // certified as a passage through a patch corner (module `corners`).
+    let corner_of = |e: &CurveEnd| match e {
+        CurveEnd::Cluster { group, .. } => corners.iter().find(|(g, _)| g == group).map(|c| c.1),
+        CurveEnd::Face { .. } => None,
+    };
     let end = |e: &CurveEnd| match *e {
         CurveEnd::Face { axis, upper, .. } if Some(axis) == domain.time_axis() => End::Time(upper),
         CurveEnd::Face { .. } => End::Edge,
@@ -322,9 +336,9 @@ fn pieces_of(
         .iter()
         .enumerate()
         .map(|(c, comp)| {
-            let uvt: Vec<[f64; 3]> = comp.points.iter().map(|&p| uvt_of(p)).collect();
-            let world = uvt.iter().map(|&q| world(scene, patch, q)).collect();
-            // Each end by its point (an end the tracer could not place counts as a cluster).
+            let mut uvt: Vec<[f64; 3]> = comp.points.iter().map(|&p| uvt_of(p)).collect();
+            // Each end by its point (an end the tracer could not place counts as a cluster);
+            // an end in a certified corner passage continues to the corner, on the edge.
             let end_at = |p: Option<&usize>| {
                 comp.ends
                     .iter()
@@ -333,13 +347,25 @@ fn pieces_of(
                             Some(point) == p
                         }
                     })
-                    .map_or(End::Cluster, end)
+                    .map_or((End::Cluster, None), |e| match corner_of(e) {
+                        Some(x) => (End::Edge, Some(x)),
+                        None => (end(e), None),
+                    })
             };
             let ends = if comp.closed {
                 [End::Edge, End::Edge]
             } else {
-                [end_at(comp.points.first()), end_at(comp.points.last())]
+                let (first, to_first) = end_at(comp.points.first());
+                let (last, to_last) = end_at(comp.points.last());
+                if let Some(x) = to_first {
+                    uvt.insert(0, x);
+                }
+                if let Some(x) = to_last {
+                    uvt.push(x);
+                }
+                [first, last]
             };
+            let world = uvt.iter().map(|&q| world(scene, patch, q)).collect();
             Piece {
                 surface,
                 patch: patch_index,
@@ -704,6 +730,50 @@ pub fn verify_t_extreme(
     ))
 }
 
+/// Re-checks a passage through a patch corner ([`Silhouettes::corner_crossings`]) from the
+/// scene, without the tracer: rebuilds `F̂` (characteristic edges divided out) and `G̃` of its
+/// patch, checks that its time interval holds one of the corner line's crossing times (the
+/// roots of `gcd(F̂(c, t), G̃(c, t))`), and certifies its box again (regular along its axis,
+/// the crossings on the inner faces counted, the corner point alone on the border faces).
+/// `Ok(true)` when everything holds and gives the same arc count.
+pub fn verify_corner_crossing(
+    scene: &Scene,
+    crossing: &CornerCrossing,
+    printed_eq2: bool,
+) -> Result<bool, SweepError> {
+    let (s, p) = (crossing.surface, crossing.patch);
+    let patch = scene
+        .surfaces
+        .get(s)
+        .and_then(|x| x.patches.get(p))
+        .ok_or_else(|| {
+            SweepError::field("corner_crossing", format!("no patch {p} on surface {s}"))
+        })?;
+    let eq = equations(scene, patch, &eye_point(scene))?;
+    let (f_hat, _) = characteristic_faces(&eq.f, s, p)?;
+    let system = patch_system(scene, &Equations { f: f_hat, ..eq }, printed_eq2)?;
+    if crossing.bounds.len() != 3 {
+        return Ok(false);
+    }
+    let unit: Vec<(Rational, Rational)> = crossing
+        .bounds
+        .iter()
+        .enumerate()
+        .map(|(k, (lo, hi))| (system.to_unit(k, lo), system.to_unit(k, hi)))
+        .collect();
+    let t = (
+        system.to_unit(2, &crossing.t.0),
+        system.to_unit(2, &crossing.t.1),
+    );
+    let (f, g) = (&system.equations[0], &system.equations[1]);
+    let times = corner_times(f, g, crossing.corner, s, p)?;
+    if !times.iter().any(|(lo, hi)| t.0 <= *lo && *hi <= t.1) {
+        return Ok(false);
+    }
+    Ok(certify_corner_box(f, g, crossing.corner, &t, &unit)?
+        == Some((crossing.monotone_axis, crossing.arcs)))
+}
+
 /// Per patch of every surface (in order), the square system `Z₀ = {F̃ = G̃ = H = 0}` of
 /// eq. 3 on `[0,1]² × [a, b]` (`H` the Jacobian minor `F_u G_v − F_v G_u`): its roots are the
 /// silhouette's `t`-extreme points. These are the solver's silhouette systems;
@@ -740,6 +810,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
     let mut extreme_clusters = Vec::new();
     let mut patches = 0;
     let mut edge_keys = Vec::new();
+    let mut corner_crossings = Vec::new();
     // The motion's Bernstein forms and their certified checks, once for every patch.
     let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
     for (s, surface) in scene.surfaces.iter().enumerate() {
@@ -818,6 +889,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                     &chords,
                     Domain::Edge(face),
                     offset,
+                    &[],
                 ));
                 t_extreme.extend(curves.extremes.iter().map(|x| TExtreme {
                     surface: s,
@@ -836,6 +908,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
             }
             let eq = Equations { f: f_hat, ..eq };
             let system = patch_system(scene, &eq, opts.printed_eq2)?;
+            check_corner_lines(&system.equations[0], &system.equations[1], s, p)?;
             let image: Vec<Bernstein<Interval>> = eq
                 .image
                 .iter()
@@ -847,6 +920,17 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                 &image,
                 opts.tolerance,
             )?;
+            // Cluster groups on patch corners certified as passages through the corner.
+            let passages = resolve_corners(&system, &curves, s, p)?;
+            let corner_points: Vec<(usize, [f64; 3])> = passages
+                .iter()
+                .map(|(group, cc)| {
+                    let t =
+                        rational_to_f64(&((&cc.t.0 + &cc.t.1) / Rational::from_integer(2.into())));
+                    let at = |upper: bool| if upper { 1.0 } else { 0.0 };
+                    (*group, [at(cc.corner[0]), at(cc.corner[1]), t])
+                })
+                .collect();
             let offset = t_extreme.len();
             pieces.extend(pieces_of(
                 scene,
@@ -858,6 +942,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                 &chords,
                 Domain::Box,
                 offset,
+                &corner_points,
             ));
             t_extreme.extend(curves.extremes.iter().map(|x| TExtreme {
                 surface: s,
@@ -866,12 +951,19 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                 component: None,
                 edge: None,
             }));
+            let resolved: Vec<usize> = passages
+                .iter()
+                .flat_map(|(group, _)| curves.cluster_groups[*group].iter().copied())
+                .collect();
             clusters.extend(
                 curves
                     .clusters
                     .iter()
-                    .map(|c| (s, p, ComponentKind::Envelope, c.clone())),
+                    .enumerate()
+                    .filter(|(i, _)| !resolved.contains(i))
+                    .map(|(_, c)| (s, p, ComponentKind::Envelope, c.clone())),
             );
+            corner_crossings.extend(passages.into_iter().map(|(_, cc)| cc));
             extreme_clusters.extend(curves.extreme_clusters.iter().map(|c| (s, p, c.clone())));
             if opts.caps {
                 let g = if opts.printed_eq2 {
@@ -901,6 +993,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                         &chords,
                         Domain::Cap(t),
                         0,
+                        &[],
                     ));
                     clusters.extend(cap.clusters.iter().map(|c| (s, p, kind, c.clone())));
                 }
@@ -911,6 +1004,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
     Ok(Silhouettes {
         components,
         t_extreme,
+        corner_crossings,
         clusters,
         extreme_clusters,
         patches,

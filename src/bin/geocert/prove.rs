@@ -476,8 +476,8 @@ fn prove_sweep(out: PathBuf, json: bool) -> Result<ExitCode, String> {
     } else {
         for r in &c.rows {
             println!(
-                "{} ({}): {} envelope components, {} t-extreme ({} re-checked), {} clusters, max |F| {:.1e}, max |G| {:.1e}, {:.3} s",
-                r.scene, r.path, r.envelope, r.t_extreme, r.t_extreme_verified, r.clusters, r.max_f, r.max_g, r.median_seconds
+                "{} ({}): {} envelope components, {} t-extreme ({} re-checked), {} corner passages ({} re-checked), {} clusters, max |F| {:.1e}, max |G| {:.1e}, {:.3} s",
+                r.scene, r.path, r.envelope, r.t_extreme, r.t_extreme_verified, r.corners, r.corners_verified, r.clusters, r.max_f, r.max_g, r.median_seconds
             );
         }
         println!("wrote {}", written.display());

@@ -444,6 +444,16 @@ fn to_json(s: &Silhouettes) -> Value {
             "box": boxed(&x.root.bounds),
             "approx": x.root.approx,
             "certificate": x.root.certificate,
+            "edge": x.edge.map(|(axis, upper)| { let name = ["u", "v"][axis]; json!({"axis": name, "upper": upper}) }),
+        })).collect::<Vec<_>>(),
+        "corner_crossings": s.corner_crossings.iter().map(|c| json!({
+            "surface": c.surface,
+            "patch": c.patch,
+            "corner": [u8::from(c.corner[0]), u8::from(c.corner[1])],
+            "t": [c.t.0.to_string(), c.t.1.to_string()],
+            "box": boxed(&c.bounds),
+            "monotone_axis": c.monotone_axis,
+            "arcs": c.arcs,
         })).collect::<Vec<_>>(),
         "clusters": s.clusters.iter().map(|(surface, patch, kind, c)| json!({
             "surface": surface,
@@ -460,10 +470,11 @@ fn to_json(s: &Silhouettes) -> Value {
 
 fn print_summary(s: &Silhouettes) {
     println!(
-        "{} patches, {} components, {} certified t-extreme points, {} clusters ({} path, {:.3} s)",
+        "{} patches, {} components, {} certified t-extreme points, {} passages through patch corners, {} clusters ({} path, {:.3} s)",
         s.patches,
         s.components.len(),
         s.t_extreme.len(),
+        s.corner_crossings.len(),
         s.clusters.len() + s.extreme_clusters.len(),
         s.path,
         s.seconds

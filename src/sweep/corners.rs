@@ -1,0 +1,479 @@
+//! Silhouettes through patch corners.
+//!
+//! A component of `Z₁ = {F̂ = G̃ = 0}` that passes through a corner line `(u, v) = c` of the
+//! `(u, v, t)` box crosses the box's boundary on an edge, where two faces meet. The tracer
+//! finds curve points on faces by solving each face's two equations, and a root on the
+//! face's own border cannot be certified there: the tracer leaves a small cluster at the
+//! corner, and the component arrives in pieces that end in clusters on the patches meeting
+//! there.
+//!
+//! Such a crossing is found and certified exactly here:
+//!
+//! * **where:** the times at which `Z₁` meets the corner line are the common roots of the
+//!   univariate `F̂(c, t)` and `G̃(c, t)`, the roots of their gcd (exact, over the
+//!   rationals), isolated by the solver on its square-free part;
+//! * **what is near it:** the cluster box `B` around the corner point `P` is *regular* (one
+//!   Jacobian minor of `F̂, G̃` of one strict sign on `B`: `Z₁ ∩ B` is a union of arcs with
+//!   ends on `∂B`, no loops); on each face of `B` inside the patch the certified crossings are
+//!   counted, and on the two faces on the patch border (`u = c_u`, `v = c_v`) `P` is the only
+//!   curve point: the face's two equations, extended across the border to a box twice as
+//!   wide with `P` in its middle, have exactly one certified root there, and `P` is a root.
+//!   With one inner crossing `Q`, `Z₁ ∩ B` is one arc from `Q` to `P` (the piece ending in
+//!   the cluster continues to the corner); with none it is `P` alone (the curve only touches
+//!   this patch at its corner).
+//!
+//! The pieces then end on the patch edge at `P` and are joined across the patches like any
+//! other edge crossing. [`verify_corner_crossing`](super::verify_corner_crossing) redoes the
+//! certification from the scene.
+
+use super::SweepError;
+use crate::bernstein::Bernstein;
+#[cfg(test)]
+use crate::num::Sign;
+use crate::num::{Interval, Rational};
+use crate::solve::{solve, CurveEnd, Curves, RationalBox, SolveOptions, System};
+use crate::Path;
+use num_traits::{One, Signed, Zero};
+
+type B = Bernstein<Rational>;
+
+/// An interval of the unit time `s`.
+type Interval01 = (Rational, Rational);
+
+/// A certified passage of the silhouette through a patch corner (module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CornerCrossing {
+    /// The surface.
+    pub surface: usize,
+    /// The patch.
+    pub patch: usize,
+    /// The corner: `u = 1` when `corner[0]`, else `u = 0`; `v` likewise.
+    pub corner: [bool; 2],
+    /// An isolating interval (in the scene's `t`) of the time at which `Z₁` passes through
+    /// the corner: it holds exactly one root of `gcd(F̂(c, t), G̃(c, t))`.
+    pub t: (Rational, Rational),
+    /// The box `B` in `(u, v, t)` (the scene's `t`) in which `Z₁` is certified.
+    pub bounds: RationalBox,
+    /// The unknown (0 = u, 1 = v, 2 = t) along which the curve's tangent has one strict sign
+    /// on `B`.
+    pub monotone_axis: usize,
+    /// `Z₁ ∩ B`: one arc from an inner face of `B` to the corner point (1), or the corner
+    /// point alone (0).
+    pub arcs: usize,
+}
+
+/// The univariate restriction of a 3-D polynomial in `(u, v, s)` to the corner line
+/// `(u, v) = corner`, as power-basis coefficients in `s`.
+fn on_corner_line(p: &B, corner: [bool; 2]) -> Result<Vec<Rational>, SweepError> {
+    Ok(p.face(0, corner[0])?.face(0, corner[1])?.to_power())
+}
+
+/// `p` without its zero leading coefficients.
+fn trimmed(mut p: Vec<Rational>) -> Vec<Rational> {
+    while p.last().is_some_and(Zero::is_zero) {
+        p.pop();
+    }
+    p
+}
+
+/// The remainder of `a` divided by `b` (`b` trimmed and non-zero), trimmed.
+fn remainder(a: &[Rational], b: &[Rational]) -> Vec<Rational> {
+    let mut r = trimmed(a.to_vec());
+    let lead = b.last().expect("non-zero divisor");
+    while r.len() >= b.len() {
+        let shift = r.len() - b.len();
+        let q = r.last().expect("non-empty") / lead;
+        for (k, c) in b.iter().enumerate() {
+            r[shift + k] -= &q * c;
+        }
+        r.pop();
+        r = trimmed(r);
+    }
+    r
+}
+
+/// The monic gcd of two univariate polynomials (power basis; not both zero), by Euclid's
+/// algorithm in exact rationals.
+fn gcd(a: &[Rational], b: &[Rational]) -> Vec<Rational> {
+    let (mut a, mut b) = (trimmed(a.to_vec()), trimmed(b.to_vec()));
+    while !b.is_empty() {
+        let r = remainder(&a, &b);
+        a = b;
+        b = r;
+    }
+    let lead = a.last().cloned().unwrap_or_else(Rational::one);
+    a.iter().map(|c| c / &lead).collect()
+}
+
+/// The exact quotient `a / b` (`b` divides `a`).
+fn quotient(a: &[Rational], b: &[Rational]) -> Vec<Rational> {
+    let mut r = trimmed(a.to_vec());
+    let lead = b.last().expect("non-zero divisor");
+    let mut q = vec![Rational::zero(); r.len().saturating_sub(b.len()) + 1];
+    while r.len() >= b.len() && !r.is_empty() {
+        let shift = r.len() - b.len();
+        let c = r.last().expect("non-empty") / lead;
+        for (k, x) in b.iter().enumerate() {
+            r[shift + k] -= &c * x;
+        }
+        q[shift] = c;
+        r.pop();
+        r = trimmed(r);
+    }
+    q
+}
+
+/// Refuses a patch on one of whose corner lines `F̂` and `G̃` both vanish identically (the
+/// silhouette stays on that corner at every time), before any tracing.
+pub(crate) fn check_corner_lines(
+    f: &B,
+    g: &B,
+    surface: usize,
+    patch: usize,
+) -> Result<(), SweepError> {
+    for corner in [[false, false], [true, false], [false, true], [true, true]] {
+        let zero = |p: &B| -> Result<bool, SweepError> {
+            Ok(p.face(0, corner[0])?
+                .face(0, corner[1])?
+                .coeffs()
+                .iter()
+                .all(Zero::is_zero))
+        };
+        if zero(f)? && zero(g)? {
+            return Err(SweepError::SilhouetteAlongCorner {
+                surface,
+                patch,
+                corner,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Isolating intervals, in the unit time `s ∈ (0, 1)`, of the times at which `Z₁` meets the
+/// corner line `corner`: the roots of `gcd(F̂(c, s), G̃(c, s))` (module docs). Refused when both
+/// vanish on the whole line (the silhouette runs along the corner).
+pub(crate) fn corner_times(
+    f: &B,
+    g: &B,
+    corner: [bool; 2],
+    surface: usize,
+    patch: usize,
+) -> Result<Vec<(Rational, Rational)>, SweepError> {
+    let (p, q) = (
+        trimmed(on_corner_line(f, corner)?),
+        trimmed(on_corner_line(g, corner)?),
+    );
+    if p.is_empty() && q.is_empty() {
+        return Err(SweepError::SilhouetteAlongCorner {
+            surface,
+            patch,
+            corner,
+        });
+    }
+    let common = gcd(&p, &q);
+    if common.len() <= 1 {
+        return Ok(Vec::new());
+    }
+    let derivative: Vec<Rational> = common
+        .iter()
+        .enumerate()
+        .skip(1)
+        .map(|(k, c)| c * Rational::from_integer(k.into()))
+        .collect();
+    let square_free = quotient(&common, &gcd(&common, &derivative));
+    let degree = square_free.len() - 1;
+    let unit = (Rational::zero(), Rational::one());
+    let system = System::new(
+        vec![unit],
+        vec![Bernstein::from_power(vec![degree], square_free)?],
+    )?;
+    let solution = solve(
+        &system,
+        &SolveOptions::new()
+            .with_path(Path::Exact)
+            .with_tolerance(1e-12),
+    )?;
+    // A root at s = 0 or 1 (on the start or end position) is not certified by the 1-D solve
+    // and is left to the tracer.
+    Ok(solution
+        .roots
+        .into_iter()
+        .map(|r| r.bounds[0].clone())
+        .filter(|(lo, hi)| lo.is_positive() && hi < &Rational::one())
+        .collect())
+}
+
+/// `p` along `axis` re-expressed over `[lo, hi]` (any `lo < hi`, also beyond `[0, 1]`): de
+/// Casteljau's algorithm extrapolates exactly.
+fn reframed(p: &B, axis: usize, lo: &Rational, hi: &Rational) -> Result<B, SweepError> {
+    let left = p.split(axis, hi)?.0;
+    Ok(left.split(axis, &(lo / hi))?.1)
+}
+
+/// Whether every coefficient has one strict sign.
+fn strictly_signed(p: &B) -> bool {
+    let c = p.coeffs();
+    c.iter().all(Signed::is_positive) || c.iter().all(Signed::is_negative)
+}
+
+/// The certified roots of the square system `eqs` on the unit box, or `None` when the solve
+/// left a cluster.
+fn roots_on_unit_box(eqs: Vec<B>) -> Result<Option<usize>, SweepError> {
+    let n = eqs.first().map_or(0, B::dim);
+    let unit = (Rational::zero(), Rational::one());
+    let system = System::new(vec![unit; n], eqs)?;
+    let sol = solve(&system, &SolveOptions::new().with_path(Path::Filtered))?;
+    Ok(sol.clusters.is_empty().then_some(sol.roots.len()))
+}
+
+/// The axis along which the curve's tangent (the minor of `F̂, G̃`'s Jacobian without that
+/// column) has one strict sign on the box `bounds` (unit coordinates): decided in rigorous
+/// intervals, and in exact integers over one denominator where those do not decide.
+fn regular_axis(
+    f: &B,
+    g: &B,
+    bounds: &[(Rational, Rational)],
+) -> Result<Option<usize>, SweepError> {
+    use crate::bernstein::ScaledBernstein;
+    let iv: Vec<(Interval, Interval)> = bounds
+        .iter()
+        .map(|(a, b)| (Interval::from_rational(a), Interval::from_rational(b)))
+        .collect();
+    let (fi, gi) = (
+        f.map(Interval::from_rational).restrict(&iv)?,
+        g.map(Interval::from_rational).restrict(&iv)?,
+    );
+    let minor_iv = |k: usize| -> Result<Bernstein<Interval>, SweepError> {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        let p = fi.derivative(i)?.product(&gi.derivative(j)?)?;
+        let q = fi.derivative(j)?.product(&gi.derivative(i)?)?;
+        Ok(p.add_elevated(&q.scale(&Interval::point(-1.0)))?)
+    };
+    for k in 0..3 {
+        let c = minor_iv(k)?;
+        if c.coeffs().iter().all(|x| x.lo > 0.0) || c.coeffs().iter().all(|x| x.hi < 0.0) {
+            return Ok(Some(k));
+        }
+    }
+    let (fe, ge) = (
+        ScaledBernstein::from_rational(&f.restrict(bounds)?),
+        ScaledBernstein::from_rational(&g.restrict(bounds)?),
+    );
+    for k in 0..3 {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        let p = fe.derivative(i)?.product(&ge.derivative(j)?)?;
+        let q = fe.derivative(j)?.product(&ge.derivative(i)?)?;
+        let minor = if p.degrees() == q.degrees() {
+            p.sub(&q)?.to_rational()
+        } else {
+            p.to_rational()
+                .add_elevated(&q.to_rational().scale(&-Rational::one()))?
+        };
+        if strictly_signed(&minor) {
+            return Ok(Some(k));
+        }
+    }
+    Ok(None)
+}
+
+/// Certifies `Z₁ ∩ B` for the box `bounds` (unit `(u, v, s)`) at the corner `corner`, whose
+/// crossing time lies in `t` (unit `s`, strictly inside `bounds[2]`): `Some((monotone axis,
+/// arcs))` (module docs), or `None` when a step does not hold.
+pub(crate) fn certify_corner_box(
+    f: &B,
+    g: &B,
+    corner: [bool; 2],
+    t: &(Rational, Rational),
+    bounds: &[(Rational, Rational)],
+) -> Result<Option<(usize, usize)>, SweepError> {
+    let end = |upper: bool| {
+        if upper {
+            Rational::one()
+        } else {
+            Rational::zero()
+        }
+    };
+    // The corner line is an edge of B, and the crossing time inside B's time range.
+    for axis in 0..2 {
+        let (lo, hi) = &bounds[axis];
+        let c = end(corner[axis]);
+        if !(lo < hi && (if corner[axis] { hi == &c } else { lo == &c })) {
+            return Ok(None);
+        }
+    }
+    if !(bounds[2].0 < t.0 && t.1 < bounds[2].1) {
+        return Ok(None);
+    }
+    let Some(monotone) = regular_axis(f, g, bounds)? else {
+        return Ok(None);
+    };
+    // Crossings on B's faces inside the patch: the faces opposite the corner in u and v, and
+    // both time faces; each face's equations over the face's rectangle.
+    let mut inner = 0;
+    for (axis, upper) in [(0, !corner[0]), (1, !corner[1]), (2, false), (2, true)] {
+        let x = if upper {
+            &bounds[axis].1
+        } else {
+            &bounds[axis].0
+        };
+        let rest: Vec<(Rational, Rational)> = (0..3)
+            .filter(|&k| k != axis)
+            .map(|k| bounds[k].clone())
+            .collect();
+        let plane = |p: &B| -> Result<B, SweepError> {
+            Ok(p.eval_axis(axis, x)?.face(axis, false)?.restrict(&rest)?)
+        };
+        let Some(n) = roots_on_unit_box(vec![plane(f)?, plane(g)?])? else {
+            return Ok(None);
+        };
+        inner += n;
+    }
+    // On the two faces on the patch border the corner point is the only curve point: each
+    // face's equations over a box twice B's width across the border, the corner in its
+    // middle, have exactly one root.
+    for axis in 0..2 {
+        let other = 1 - axis;
+        let (f2, g2) = (f.face(axis, corner[axis])?, g.face(axis, corner[axis])?);
+        let (lo, hi) = &bounds[other];
+        let w = hi - lo;
+        let c = end(corner[other]);
+        let (a, b) = (&c - &w, &c + &w);
+        // The face polynomials are in (other, s): `other` is axis 0 there.
+        let s = &bounds[2];
+        let frame =
+            |p: &B| -> Result<B, SweepError> { reframed(&reframed(p, 0, &a, &b)?, 1, &s.0, &s.1) };
+        if roots_on_unit_box(vec![frame(&f2)?, frame(&g2)?])? != Some(1) {
+            return Ok(None);
+        }
+    }
+    Ok((inner <= 1).then_some((monotone, inner)))
+}
+
+/// The cluster groups of a patch's trace (`system`: `F̂, G̃` on `[0,1]² × [a, b]`) that sit on a
+/// corner line and are certified as a passage through the corner there: `(group,
+/// crossing)`. A group qualifies when its boxes' hull has the corner line as an edge, exactly
+/// one corner time lies strictly inside its time range, the hull is certified
+/// ([`certify_corner_box`]) and the pieces of the trace that end in the group are as many as
+/// the arcs certified.
+pub(crate) fn resolve_corners(
+    system: &System,
+    curves: &Curves,
+    surface: usize,
+    patch: usize,
+) -> Result<Vec<(usize, CornerCrossing)>, SweepError> {
+    let (f, g) = (&system.equations[0], &system.equations[1]);
+    let mut times: Vec<([bool; 2], Vec<Interval01>)> = Vec::new();
+    let mut out = Vec::new();
+    for (group, members) in curves.cluster_groups.iter().enumerate() {
+        // The hull in unit coordinates.
+        let mut hull: Vec<(Rational, Rational)> = Vec::new();
+        for &m in members {
+            for (k, (lo, hi)) in curves.clusters[m].bounds.iter().enumerate() {
+                let (lo, hi) = (system.to_unit(k, lo), system.to_unit(k, hi));
+                match hull.get_mut(k) {
+                    None => hull.push((lo, hi)),
+                    Some(h) => {
+                        if lo < h.0 {
+                            h.0 = lo;
+                        }
+                        if hi > h.1 {
+                            h.1 = hi;
+                        }
+                    }
+                }
+            }
+        }
+        let at_end = |k: usize| -> Option<bool> {
+            let (lo, hi) = &hull[k];
+            match (lo.is_zero(), hi.is_one()) {
+                (true, false) => Some(false),
+                (false, true) => Some(true),
+                _ => None,
+            }
+        };
+        let (Some(cu), Some(cv)) = (at_end(0), at_end(1)) else {
+            continue;
+        };
+        let corner = [cu, cv];
+        if !times.iter().any(|(c, _)| *c == corner) {
+            times.push((corner, corner_times(f, g, corner, surface, patch)?));
+        }
+        let all = &times.iter().find(|(c, _)| *c == corner).expect("cached").1;
+        let inside: Vec<&(Rational, Rational)> = all
+            .iter()
+            .filter(|(lo, hi)| hull[2].0 < *lo && *hi < hull[2].1)
+            .collect();
+        let [t] = inside.as_slice() else { continue };
+        let Some((monotone_axis, arcs)) = certify_corner_box(f, g, corner, t, &hull)? else {
+            continue;
+        };
+        let entering = curves
+            .components
+            .iter()
+            .flat_map(|c| &c.ends)
+            .filter(|e| matches!(e, CurveEnd::Cluster { group: g, .. } if *g == group))
+            .count();
+        if entering != arcs {
+            continue;
+        }
+        let domain_t =
+            |x: &Rational| crate::num::rational::lerp(&system.domain[2].0, &system.domain[2].1, x);
+        out.push((
+            group,
+            CornerCrossing {
+                surface,
+                patch,
+                corner,
+                t: (domain_t(&t.0), domain_t(&t.1)),
+                bounds: {
+                    let (lo, hi): (Vec<Rational>, Vec<Rational>) = hull.iter().cloned().unzip();
+                    system.domain_box(&lo, &hi)
+                },
+                monotone_axis,
+                arcs,
+            },
+        ));
+    }
+    Ok(out)
+}
+
+/// The sign of `x − y` as a [`Sign`] (for the tests).
+#[cfg(test)]
+fn cmp_sign(x: &Rational, y: &Rational) -> Sign {
+    match x.cmp(y) {
+        std::cmp::Ordering::Less => Sign::Negative,
+        std::cmp::Ordering::Equal => Sign::Zero,
+        std::cmp::Ordering::Greater => Sign::Positive,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn r(n: i64, d: i64) -> Rational {
+        Rational::new(n.into(), d.into())
+    }
+
+    /// The gcd of `(s − ½)(s − ⅓)` and `(s − ½)(s + 2)` is `s − ½`; the square-free part of a
+    /// square keeps one root; an extrapolated re-framing evaluates like the original.
+    #[test]
+    fn gcd_quotient_and_reframing_are_exact() {
+        let a = vec![r(1, 6), r(-5, 6), r(1, 1)];
+        let b = vec![r(-1, 1), r(3, 2), r(1, 1)];
+        assert_eq!(gcd(&a, &b), vec![r(-1, 2), r(1, 1)]);
+        let square = vec![r(1, 4), r(-1, 1), r(1, 1)];
+        let d = vec![r(-1, 1), r(2, 1)];
+        assert_eq!(
+            quotient(&square, &gcd(&square, &d)),
+            vec![r(-1, 2), r(1, 1)]
+        );
+        let p = Bernstein::from_power(vec![3], vec![r(1, 1), r(-2, 1), r(0, 1), r(5, 1)]).unwrap();
+        let q = reframed(&p, 0, &r(-1, 2), &r(3, 2)).unwrap();
+        for (x, y) in [(r(0, 1), r(-1, 2)), (r(1, 2), r(1, 2)), (r(1, 1), r(3, 2))] {
+            let px = p.eval(&[y]).unwrap();
+            assert_eq!(cmp_sign(&q.eval(&[x]).unwrap(), &px), Sign::Zero);
+        }
+    }
+}

@@ -296,7 +296,7 @@ fn moving_eye_run(name: &str, dir: &FsPath) -> MovingEyeRun {
 /// `G = ⟨x − P, ∂_u x × ∂_v x⟩ / (|x − P||∂_u x × ∂_v x|)` (the moved point's own derivatives:
 /// their cross product is the true normal `cof(M) N`). Both are NaN at a parametric
 /// singularity (a sphere's pole: one parameter's difference vanishes to rounding), where the
-/// differences give no normal; [`worst_at`] leaves such vertices out of its maxima and its
+/// differences give no normal; the report leaves such vertices out of its maxima and its
 /// count.
 pub fn residuals(
     scene: &Scene,

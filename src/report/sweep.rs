@@ -257,6 +257,7 @@ fn moving_eye_run(name: &str, dir: &FsPath) -> MovingEyeRun {
                 crate::sweep::EventKind::Interior => "interior",
                 crate::sweep::EventKind::Face { .. } => "face",
                 crate::sweep::EventKind::Edge { .. } => "edge",
+                crate::sweep::EventKind::AlongEdge { .. } => "along an edge",
             }
             .into(),
             on_patch_border: e.kind.on_patch_border(),
@@ -657,9 +658,7 @@ pub fn write_sweep_report(
     occ_markdown(&mut s, &c.occ);
     let _ = writeln!(
         s,
-        "## Not yet here\n\nA moving eye's events for silhouettes that run along patch edges \
-         (refused with the edge named; the static silhouette along them is traced, \
-         `sphere-edge-roll` above), and the paper's 0.1 s event budget: solving \
+        "## Not yet here\n\nThe paper's 0.1 s event budget: solving \
          the events and tracing the frames near them (each traced frame is a whole certified \
          run of Algorithm 1) are the slow parts (see the times above)."
     );

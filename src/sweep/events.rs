@@ -25,6 +25,13 @@
 //! * **on an edge** ([`EventKind::Edge`]): `M` meets the edge, where a component's end runs
 //!   over a corner of the domain — `F = G = 0` in the edge's parameter and `r`.
 //!
+//! * **along a characteristic patch edge** ([`EventKind::AlongEdge`]; module `edges`): where
+//!   the silhouette runs along a patch edge, `F̃` has that face's factor (divided out for the
+//!   systems above) and the silhouettes of all eye positions there form the surface
+//!   `{G̃(w, t, r) = 0}` over the face; its `r`-critical points are `G̃ = G̃_w = G̃_t = 0`
+//!   inside the face, `G̃ = G̃_t = 0` or `G̃ = G̃_w = 0` on its ends in `w` or `t`, and `G̃ = 0`
+//!   at its corners (one equation: the paper's condition is right for a single equation).
+//!
 //! Faces and edges at `u, v ∈ {0, 1}` are the patch's borders: on a closed surface made of
 //! several patches, events there mark where a component crosses into the neighbouring patch
 //! at a tangency, not a change of the whole silhouette's topology; they are kept and labelled.
@@ -67,6 +74,16 @@ pub enum EventKind {
         /// The two fixed parameters, each with whether it is at its upper end.
         fixed: [(usize, bool); 2],
     },
+    /// On a silhouette that runs along the patch edge `edge` (`(axis, upper)`, `axis` 0 = u,
+    /// 1 = v; module `edges`): a critical point of the face curve's surface
+    /// `{G̃(w, t, r) = 0}` — inside the face (`fixed` empty), on its ends in `w` or `t`
+    /// (one fixed parameter), or at its corners (two).
+    AlongEdge {
+        /// The characteristic face.
+        edge: (usize, bool),
+        /// Further parameters at their ends (numbered as u, v, t).
+        fixed: [Option<(usize, bool)>; 2],
+    },
 }
 
 impl EventKind {
@@ -76,6 +93,7 @@ impl EventKind {
             EventKind::Interior => false,
             EventKind::Face { axis, .. } => *axis < 2,
             EventKind::Edge { fixed } => fixed.iter().any(|&(a, _)| a < 2),
+            EventKind::AlongEdge { fixed, .. } => fixed.iter().flatten().any(|&(a, _)| a < 2),
         }
     }
 }
@@ -240,21 +258,75 @@ fn patch_event_systems(
     p: usize,
 ) -> Result<Vec<EventSystem>, SweepError> {
     let (_, r) = eye_path(scene)?;
-    // A silhouette along a patch edge (module `edges`) changes topology through events of
-    // the face curve's own surface `{G̃(w, t, r) = 0}`, which these systems do not cover.
-    let (_, faces) = super::edges::characteristic_faces(&me.eq0.f, s, p)?;
-    if let Some(&(axis, upper)) = faces.iter().find(|f| !me.eq0.divided.contains(f)) {
-        return Err(SweepError::EventsAlongEdge {
-            surface: s,
-            patch: p,
-            axis,
-            upper,
-        });
-    }
     let unit = (Rational::zero(), Rational::one());
     let params = [unit.clone(), unit, scene.t.clone()];
-    let (f, g) = (&me.f, &me.g);
+    // Characteristic patch edges (module `edges`): their factors divided out of F̃, and the
+    // face curve's surface {G̃(w, t, r) = 0} given its own critical points below.
+    let (f_hat, faces) = super::edges::characteristic_faces(&me.f, s, p)?;
+    let (f, g) = (&f_hat, &me.g);
     let mut out = Vec::new();
+    let mut along: Vec<(usize, bool)> = Vec::new();
+    for &face in &faces {
+        if along.contains(&face) || me.eq0.divided.contains(&face) {
+            continue;
+        }
+        along.push(face);
+        let (axis, upper) = face;
+        let gf = g.face(axis, upper)?;
+        if gf.coeffs().iter().all(Zero::is_zero) {
+            return Err(SweepError::SilhouetteCoversEdge {
+                surface: s,
+                patch: p,
+                axis,
+                upper,
+            });
+        }
+        // The face's parameters: w (the other of u, v), t, then r.
+        let w_axis = 1 - axis;
+        let mut push_along = |fixed: [Option<(usize, bool)>; 2],
+                              free: &[usize],
+                              eqs: Vec<B>|
+         -> Result<(), SweepError> {
+            let mut domain: Vec<(Rational, Rational)> =
+                free.iter().map(|&k| params[k].clone()).collect();
+            domain.push(r.clone());
+            out.push(EventSystem {
+                surface: s,
+                patch: p,
+                kind: EventKind::AlongEdge { edge: face, fixed },
+                system: System::new(domain, eqs)?,
+            });
+            Ok(())
+        };
+        push_along(
+            [None, None],
+            &[w_axis, 2],
+            vec![gf.clone(), gf.derivative(0)?, gf.derivative(1)?],
+        )?;
+        for end in [false, true] {
+            // w at an end (a patch corner line): the curve's end there turns back in r.
+            let gw = gf.face(0, end)?;
+            push_along(
+                [Some((w_axis, end)), None],
+                &[2],
+                vec![gw.clone(), gw.derivative(0)?],
+            )?;
+            // t at an end (the start or end position).
+            let gt = gf.face(1, end)?;
+            push_along(
+                [Some((2, end)), None],
+                &[w_axis],
+                vec![gt.clone(), gt.derivative(0)?],
+            )?;
+            for t_end in [false, true] {
+                push_along(
+                    [Some((w_axis, end)), Some((2, t_end))],
+                    &[],
+                    vec![gw.face(0, t_end)?],
+                )?;
+            }
+        }
+    }
     let mut push = |kind: EventKind, free: &[usize], eqs: Vec<B>| -> Result<(), SweepError> {
         let mut domain: Vec<(Rational, Rational)> =
             free.iter().map(|&k| params[k].clone()).collect();
@@ -430,6 +502,9 @@ pub fn events(scene: &Scene, opts: &SolveOptions) -> Result<Events, SweepError> 
                 EventKind::Edge { fixed } => (0..3)
                     .filter(|&k| k != fixed[0].0 && k != fixed[1].0)
                     .collect(),
+                EventKind::AlongEdge { edge, fixed } => (0..3)
+                    .filter(|&k| k != edge.0 && fixed.iter().flatten().all(|f| f.0 != k))
+                    .collect(),
             };
             let mut uvt = [0.0; 3];
             for (j, &k) in free.iter().enumerate() {
@@ -448,6 +523,11 @@ pub fn events(scene: &Scene, opts: &SolveOptions) -> Result<Events, SweepError> 
                 EventKind::Face { axis, upper } => uvt[axis] = ends(axis, upper),
                 EventKind::Edge { fixed } => {
                     for (axis, upper) in fixed {
+                        uvt[axis] = ends(axis, upper);
+                    }
+                }
+                EventKind::AlongEdge { edge, fixed } => {
+                    for (axis, upper) in fixed.iter().flatten().copied().chain([edge]) {
                         uvt[axis] = ends(axis, upper);
                     }
                 }

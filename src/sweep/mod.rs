@@ -220,21 +220,6 @@ pub enum SweepError {
         /// The corner: whether `u = 1`, whether `v = 1`.
         corner: [bool; 2],
     },
-    /// The moving eye's events of a silhouette that runs along a patch edge (a face of the
-    /// patch on which `F` vanishes at every time) are not computed: they are the critical
-    /// points of the face curve's surface `{G(w, t, r) = 0}`, which the event systems do not
-    /// include. The static silhouette of such a scene is traced.
-    #[error("surface {surface}, patch {patch}: the silhouette runs along the patch edge {name} = {end} (F vanishes there at every time); events for a moving eye are not computed for such edges", name = ["u", "v"][*axis], end = u8::from(*upper))]
-    EventsAlongEdge {
-        /// The surface.
-        surface: usize,
-        /// The patch.
-        patch: usize,
-        /// The face's parameter (0 = u, 1 = v).
-        axis: usize,
-        /// At its upper end.
-        upper: bool,
-    },
     /// The Bernstein kernel refused an operation.
     #[error("Bernstein kernel: {0}")]
     Bernstein(#[from] BernsteinError),

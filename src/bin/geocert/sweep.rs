@@ -278,6 +278,13 @@ fn kind_json(k: &EventKind) -> Value {
             .iter()
             .map(|(a, u)| json!([axis(*a), if *u { 1 } else { 0 }]))
             .collect::<Vec<_>>()}),
+        EventKind::AlongEdge { edge, fixed } => json!({"where": "along_edge",
+            "edge": [axis(edge.0), if edge.1 { 1 } else { 0 }],
+            "fixed": fixed
+            .iter()
+            .flatten()
+            .map(|(a, u)| json!([axis(*a), if *u { 1 } else { 0 }]))
+            .collect::<Vec<_>>()}),
     }
 }
 

@@ -564,12 +564,18 @@ pub fn events(scene: &Scene, opts: &SolveOptions) -> Result<Events, SweepError> 
 /// Events that are one geometric event seen from several patches, as groups of indices into
 /// `events` (in order; every event in exactly one group). A silhouette crossing the border
 /// between two patches of a surface at a tangency yields the same event on both patches (and
-/// at a corner on up to four). Two border events ([`EventKind::on_patch_border`]) are joined
+/// at a corner on up to four), and an event along a characteristic edge on both patches that
+/// share it. Two such events (border events, [`EventKind::on_patch_border`], or
+/// [`EventKind::AlongEdge`]) are joined
 /// when they lie on the same surface and on different patches, their certified `r`
 /// intervals overlap (each widened by `1e-9` of the eye path's interval), and their points
 /// `A(t)S(u, v)` agree to `1e-6 · (1 + |x|)`. This groups by geometry to count distinct
 /// events; each member keeps its own certificate.
 pub fn event_groups(scene: &Scene, events: &[Event]) -> Vec<Vec<usize>> {
+    // Border events, and every event along a characteristic edge (both patches of a shared
+    // edge solve its face curve's systems).
+    let seen_by_neighbours =
+        |k: &EventKind| k.on_patch_border() || matches!(k, EventKind::AlongEdge { .. });
     let n = events.len();
     let widen = match &scene.eye {
         Eye::Path { r, .. } => 1e-9 * crate::num::rational_to_f64(&(&r.1 - &r.0)).abs(),
@@ -605,7 +611,7 @@ pub fn event_groups(scene: &Scene, events: &[Event]) -> Vec<Vec<usize>> {
     }
     for i in 0..n {
         let (ei, (lo_i, hi_i)) = (&events[i], r_range(&events[i]));
-        if !ei.kind.on_patch_border() {
+        if !seen_by_neighbours(&ei.kind) {
             continue;
         }
         for j in i + 1..n {
@@ -613,7 +619,7 @@ pub fn event_groups(scene: &Scene, events: &[Event]) -> Vec<Vec<usize>> {
             let (ej, (lo_j, hi_j)) = (&events[j], r_range(&events[j]));
             if lo_j > hi_i
                 || hi_j < lo_i
-                || !ej.kind.on_patch_border()
+                || !seen_by_neighbours(&ej.kind)
                 || ej.surface != ei.surface
                 || ej.patch == ei.patch
             {

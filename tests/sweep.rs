@@ -263,6 +263,18 @@ fn sphere_poles_are_divided_out_not_traced() {
     assert!(s.clusters.is_empty() && s.extreme_clusters.is_empty());
 }
 
+/// [`types`] of two `t`-monotone components from `t = a` to `t = b` (a capsule's outline).
+fn two_monotone() -> Vec<(Option<ComponentType>, Vec<ComponentEnd>)> {
+    let t3 = (
+        Some(ComponentType::Monotone),
+        vec![
+            ComponentEnd::Time { upper: false },
+            ComponentEnd::Time { upper: true },
+        ],
+    );
+    vec![t3.clone(), t3]
+}
+
 /// The built-in sphere's patches are laid out around an axis through the direction
 /// `n = (−286, −313, 278)/507` (the generic rotation of the meridian plane's normal
 /// `(−12, 5, 0)/13`), so its meridian edges lie in the plane `⟨x, n⟩ = 0`. A translation along
@@ -293,14 +305,7 @@ fn silhouettes_along_patch_edges_are_traced_on_the_edges() {
             s.clusters.len()
         );
         // The capsule's two outline lines, t-monotone from t = a to t = b.
-        let t3 = (
-            Some(ComponentType::Monotone),
-            vec![
-                ComponentEnd::Time { upper: false },
-                ComponentEnd::Time { upper: true },
-            ],
-        );
-        assert_eq!(types(&s), vec![t3.clone(), t3], "{name}");
+        assert_eq!(types(&s), two_monotone(), "{name}");
         for c in &s.components {
             // Every vertex on a meridian edge (v = 0 or 1), none twice (each shared edge is
             // traced once).
@@ -397,14 +402,7 @@ fn a_silhouette_through_a_patch_corner_is_certified_and_joined_there() {
             "{path:?}: {} clusters",
             s.clusters.len()
         );
-        let t3 = (
-            Some(ComponentType::Monotone),
-            vec![
-                ComponentEnd::Time { upper: false },
-                ComponentEnd::Time { upper: true },
-            ],
-        );
-        assert_eq!(types(&s), vec![t3.clone(), t3], "{path:?}");
+        assert_eq!(types(&s), two_monotone(), "{path:?}");
         // Four patches meet at the corner: the curve passes from one into the opposite one
         // (one arc in each) and touches the other two only there.
         assert_eq!(s.corner_crossings.len(), 4, "{path:?}");

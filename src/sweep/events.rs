@@ -265,6 +265,18 @@ fn patch_event_systems(
     let (f_hat, faces) = super::edges::characteristic_faces(&me.f, s, p)?;
     let (f, g) = (&f_hat, &me.g);
     let mut out = Vec::new();
+    let mut push = |kind: EventKind, free: &[usize], eqs: Vec<B>| -> Result<(), SweepError> {
+        let mut domain: Vec<(Rational, Rational)> =
+            free.iter().map(|&k| params[k].clone()).collect();
+        domain.push(r.clone());
+        out.push(EventSystem {
+            surface: s,
+            patch: p,
+            kind,
+            system: System::new(domain, eqs)?,
+        });
+        Ok(())
+    };
     let mut along: Vec<(usize, bool)> = Vec::new();
     for &face in &faces {
         if along.contains(&face) || me.eq0.divided.contains(&face) {
@@ -283,62 +295,47 @@ fn patch_event_systems(
         }
         // The face's parameters: w (the other of u, v), t, then r.
         let w_axis = 1 - axis;
-        let mut push_along = |fixed: [Option<(usize, bool)>; 2],
-                              free: &[usize],
-                              eqs: Vec<B>|
-         -> Result<(), SweepError> {
-            let mut domain: Vec<(Rational, Rational)> =
-                free.iter().map(|&k| params[k].clone()).collect();
-            domain.push(r.clone());
-            out.push(EventSystem {
-                surface: s,
-                patch: p,
-                kind: EventKind::AlongEdge { edge: face, fixed },
-                system: System::new(domain, eqs)?,
-            });
-            Ok(())
-        };
-        push_along(
-            [None, None],
+        push(
+            EventKind::AlongEdge {
+                edge: face,
+                fixed: [None, None],
+            },
             &[w_axis, 2],
             vec![gf.clone(), gf.derivative(0)?, gf.derivative(1)?],
         )?;
         for end in [false, true] {
             // w at an end (a patch corner line): the curve's end there turns back in r.
             let gw = gf.face(0, end)?;
-            push_along(
-                [Some((w_axis, end)), None],
+            push(
+                EventKind::AlongEdge {
+                    edge: face,
+                    fixed: [Some((w_axis, end)), None],
+                },
                 &[2],
                 vec![gw.clone(), gw.derivative(0)?],
             )?;
             // t at an end (the start or end position).
             let gt = gf.face(1, end)?;
-            push_along(
-                [Some((2, end)), None],
+            push(
+                EventKind::AlongEdge {
+                    edge: face,
+                    fixed: [Some((2, end)), None],
+                },
                 &[w_axis],
                 vec![gt.clone(), gt.derivative(0)?],
             )?;
             for t_end in [false, true] {
-                push_along(
-                    [Some((w_axis, end)), Some((2, t_end))],
+                push(
+                    EventKind::AlongEdge {
+                        edge: face,
+                        fixed: [Some((w_axis, end)), Some((2, t_end))],
+                    },
                     &[],
                     vec![gw.face(0, t_end)?],
                 )?;
             }
         }
     }
-    let mut push = |kind: EventKind, free: &[usize], eqs: Vec<B>| -> Result<(), SweepError> {
-        let mut domain: Vec<(Rational, Rational)> =
-            free.iter().map(|&k| params[k].clone()).collect();
-        domain.push(r.clone());
-        out.push(EventSystem {
-            surface: s,
-            patch: p,
-            kind,
-            system: System::new(domain, eqs)?,
-        });
-        Ok(())
-    };
     // Interior: F, G and the two minors with the u column.
     push(
         EventKind::Interior,

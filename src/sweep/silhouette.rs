@@ -793,6 +793,72 @@ pub fn t_extreme_systems(scene: &Scene) -> Result<Vec<System>, SweepError> {
     Ok(out)
 }
 
+/// What the traces of a scene add up to, before the pieces are joined.
+#[derive(Default)]
+struct Collected {
+    pieces: Vec<Piece>,
+    t_extreme: Vec<TExtreme>,
+    clusters: Vec<(usize, usize, ComponentKind, Cluster)>,
+    extreme_clusters: Vec<(usize, usize, Cluster)>,
+}
+
+impl Collected {
+    /// Adds one envelope trace of patch `p` of surface `s` on `domain`: its pieces (ends in
+    /// the cluster groups of `corners` continued to their corner points), its `t`-extreme
+    /// points, and its clusters (those of the groups in `corners` left out).
+    #[allow(clippy::too_many_arguments)]
+    fn add_envelope(
+        &mut self,
+        scene: &Scene,
+        patch: &Patch,
+        (s, p): (usize, usize),
+        curves: &Curves,
+        chords: &[f64],
+        domain: Domain,
+        corners: &[(usize, [f64; 3])],
+    ) {
+        let offset = self.t_extreme.len();
+        self.pieces.extend(pieces_of(
+            scene,
+            patch,
+            s,
+            p,
+            ComponentKind::Envelope,
+            curves,
+            chords,
+            domain,
+            offset,
+            corners,
+        ));
+        let edge = match domain {
+            Domain::Edge(face) => Some(face),
+            _ => None,
+        };
+        self.t_extreme
+            .extend(curves.extremes.iter().map(|x| TExtreme {
+                surface: s,
+                patch: p,
+                root: x.root.clone(),
+                component: None,
+                edge,
+            }));
+        let resolved: Vec<usize> = corners
+            .iter()
+            .flat_map(|(group, _)| curves.cluster_groups[*group].iter().copied())
+            .collect();
+        self.clusters.extend(
+            curves
+                .clusters
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| !resolved.contains(i))
+                .map(|(_, c)| (s, p, ComponentKind::Envelope, c.clone())),
+        );
+        self.extreme_clusters
+            .extend(curves.extreme_clusters.iter().map(|c| (s, p, c.clone())));
+    }
+}
+
 /// Algorithm 1 on every patch of every surface: the envelope's silhouette components with
 /// their types, the certified `t`-extreme points, and (optionally) the end positions'
 /// contours.
@@ -804,10 +870,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
         .with_path(opts.path)
         .with_limits(opts.limits)
         .with_resolution(opts.resolution);
-    let mut pieces = Vec::new();
-    let mut t_extreme = Vec::new();
-    let mut clusters = Vec::new();
-    let mut extreme_clusters = Vec::new();
+    let mut acc = Collected::default();
     let mut patches = 0;
     let mut edge_keys = Vec::new();
     let mut corner_crossings = Vec::new();
@@ -878,33 +941,15 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                     &image,
                     opts.tolerance,
                 )?;
-                let offset = t_extreme.len();
-                pieces.extend(pieces_of(
+                acc.add_envelope(
                     scene,
                     patch,
-                    s,
-                    p,
-                    ComponentKind::Envelope,
+                    (s, p),
                     &curves,
                     &chords,
                     Domain::Edge(face),
-                    offset,
                     &[],
-                ));
-                t_extreme.extend(curves.extremes.iter().map(|x| TExtreme {
-                    surface: s,
-                    patch: p,
-                    root: x.root.clone(),
-                    component: None,
-                    edge: Some(face),
-                }));
-                clusters.extend(
-                    curves
-                        .clusters
-                        .iter()
-                        .map(|c| (s, p, ComponentKind::Envelope, c.clone())),
                 );
-                extreme_clusters.extend(curves.extreme_clusters.iter().map(|c| (s, p, c.clone())));
             }
             let eq = Equations { f: f_hat, ..eq };
             let system = patch_system(scene, &eq, opts.printed_eq2)?;
@@ -931,40 +976,16 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                     (*group, [at(cc.corner[0]), at(cc.corner[1]), t])
                 })
                 .collect();
-            let offset = t_extreme.len();
-            pieces.extend(pieces_of(
+            acc.add_envelope(
                 scene,
                 patch,
-                s,
-                p,
-                ComponentKind::Envelope,
+                (s, p),
                 &curves,
                 &chords,
                 Domain::Box,
-                offset,
                 &corner_points,
-            ));
-            t_extreme.extend(curves.extremes.iter().map(|x| TExtreme {
-                surface: s,
-                patch: p,
-                root: x.root.clone(),
-                component: None,
-                edge: None,
-            }));
-            let resolved: Vec<usize> = passages
-                .iter()
-                .flat_map(|(group, _)| curves.cluster_groups[*group].iter().copied())
-                .collect();
-            clusters.extend(
-                curves
-                    .clusters
-                    .iter()
-                    .enumerate()
-                    .filter(|(i, _)| !resolved.contains(i))
-                    .map(|(_, c)| (s, p, ComponentKind::Envelope, c.clone())),
             );
             corner_crossings.extend(passages.into_iter().map(|(_, cc)| cc));
-            extreme_clusters.extend(curves.extreme_clusters.iter().map(|c| (s, p, c.clone())));
             if opts.caps {
                 let g = if opts.printed_eq2 {
                     &eq.g_printed
@@ -983,7 +1004,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                         .collect::<Result<_, _>>()?;
                     let (cap, chords) =
                         trace_to_tolerance(&system, &curve_opts, &face, opts.tolerance)?;
-                    pieces.extend(pieces_of(
+                    acc.pieces.extend(pieces_of(
                         scene,
                         patch,
                         s,
@@ -995,11 +1016,18 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                         0,
                         &[],
                     ));
-                    clusters.extend(cap.clusters.iter().map(|c| (s, p, kind, c.clone())));
+                    acc.clusters
+                        .extend(cap.clusters.iter().map(|c| (s, p, kind, c.clone())));
                 }
             }
         }
     }
+    let Collected {
+        pieces,
+        mut t_extreme,
+        clusters,
+        extreme_clusters,
+    } = acc;
     let components = join(pieces, &mut t_extreme);
     Ok(Silhouettes {
         components,

@@ -380,6 +380,30 @@ fn silhouettes_along_patch_edges_are_traced_on_the_edges() {
         ev.events.len(),
         groups.len()
     );
+    // Between its events the frames are continued along the edges (G alone there, F ≡ 0),
+    // and the continued points lie on the oracle's contour from each frame's eye.
+    let rs = [0.0, 0.1, 0.2, 0.3];
+    let fr = geocert::sweep::frames(&scene, &rs, &SilhouetteOptions::default(), &opts).unwrap();
+    let continued: Vec<_> = fr.frames.iter().filter(|f| !f.traced).collect();
+    assert_eq!(continued.len(), 3, "continued frames");
+    let mut worst = (0.0f64, 0.0f64, 0.0f64);
+    for f in &continued {
+        let mut fixed = scene.clone();
+        fixed.eye = Eye::Point(
+            [0, 1, 2].map(|k| geocert::num::rational_from_f64(f.eye[k], "eye").unwrap()),
+        );
+        let oracle = Oracle::new(fixed, [0.0; 3], [1.0; 3]);
+        for c in &f.components {
+            for (x, uvt) in c.points.iter().zip(&c.uvt) {
+                let (a, b, d) = oracle.residuals(*x, uvt[2]);
+                worst = (worst.0.max(a), worst.1.max(b), worst.2.max(d));
+            }
+        }
+    }
+    assert!(
+        worst.0 < 1e-9 && worst.1 < 1e-6 && worst.2 < 1e-6,
+        "continued frames off the contour: {worst:?}"
+    );
 }
 
 /// `builtin:sphere-corner`: the silhouette passes through a patch corner at t = 1/2. Before,

@@ -579,9 +579,9 @@ pub fn write_sweep_report(
          tracer could not resolve (*clusters*, must be 0). *max F*, *max G*: the largest \
          normalised `|F|` and `|G|` over the envelope's traced vertices (*vertices*: those \
          measured; a vertex on a sphere's pole, where the parametrisation has no normal, is \
-         left out: `sphere-edge-roll` passes two), computed by central \
-         differences of `A(t)S(u, v)` — not from the library's polynomials (the \
-         differences' own error is about 1e-7 relative). Time: median of {RUNS} runs of the \
+         left out: `sphere-edge-roll` passes two), computed by differences of `A(t)S(u, v)` \
+         (central inside a patch, second-order one-sided at its borders) — not from the \
+         library's polynomials (the differences' own error is about 1e-10 relative, more next to a pole). Time: median of {RUNS} runs of the \
          whole algorithm (equations, tracing, extremes, caps), one thread.\n\n\
          | scene | path | patches | envelope components | types 1/2/3 | caps | t-extreme (re-checked) | corner passages (re-checked) | clusters | vertices | max F | max G | median s |\n\
          |---|---|---:|---:|---|---:|---|---|---:|---:|---:|---:|---:|"

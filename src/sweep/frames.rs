@@ -110,6 +110,10 @@ impl Power {
 /// One patch's equations for continuation: `F̃(u, v, s)` and `G̃(u, v, s, ρ)`, and its
 /// homogeneous coordinates.
 struct PatchForms {
+    /// The faces on which `F ≡ 0` (characteristic patch edges, module `edges`).
+    characteristic: Vec<(usize, bool)>,
+    /// `F` with those faces' factors divided out.
+    f_hat: Power,
     f: Power,
     g: Power,
     hom: [Power; 4],
@@ -132,7 +136,10 @@ fn patch_forms(
 ) -> Result<PatchForms, SweepError> {
     let me = moving_eye(scene, forms, s, p)?;
     let hom = &scene.surfaces[s].patches[p].hom;
+    let (f_hat, characteristic) = super::edges::characteristic_faces(&me.eq0.f, s, p)?;
     Ok(PatchForms {
+        characteristic,
+        f_hat: Power::of(&f_hat),
         f: Power::of(&me.eq0.f),
         g: Power::of(&me.g),
         hom: std::array::from_fn(|k| Power::of(&hom[k])),
@@ -300,7 +307,21 @@ fn continue_frame(
             let s0 = (x[2] - a) / (b - a);
             let y0 = [x[0], x[1], s0];
             let fixed = y0.map(|c| c <= 1e-12 || c >= 1.0 - 1e-12);
-            let y = newton(y0, &forms.f, g, fixed)?;
+            // On a characteristic patch edge F vanishes identically (module `edges`): a point
+            // of the edge's own curve follows G alone along the edge, the end of another
+            // characteristic curve there (F̂ = 0 at it) follows F̂ and G.
+            let on_characteristic =
+                (0..2).any(|k| fixed[k] && forms.characteristic.contains(&(k, y0[k] >= 0.5)));
+            let f = if !on_characteristic {
+                Some(&forms.f)
+            } else if forms.f_hat.eval_grad(y0).0.abs()
+                <= CONTINUATION_TOLERANCE * forms.f_hat.scale
+            {
+                Some(&forms.f_hat)
+            } else {
+                None
+            };
+            let y = newton(y0, f, g, fixed)?;
             let t = a + (b - a) * y[2];
             let world = forms.point(y[0], y[1])?;
             uvt.push([y[0], y[1], t]);
@@ -318,31 +339,40 @@ fn continue_frame(
 }
 
 /// Newton's method for `F = G = 0` from `x` (minimum-norm steps; the `fixed` coordinates do
-/// not move); `None` when it does not reach [`CONTINUATION_TOLERANCE`] in eight steps, more
-/// than one coordinate is fixed, or a point leaves the unit box.
-fn newton(mut x: [f64; 3], f: &Power, g: &Power, fixed: [bool; 3]) -> Option<[f64; 3]> {
-    if fixed.iter().filter(|&&b| b).count() > 1 {
+/// not move), or for `G = 0` alone when `f` is `None` (on a face where `F ≡ 0`); `None` when
+/// it does not reach [`CONTINUATION_TOLERANCE`] in eight steps, no coordinate is left for
+/// each equation, or a point leaves the unit box.
+fn newton(mut x: [f64; 3], f: Option<&Power>, g: &Power, fixed: [bool; 3]) -> Option<[f64; 3]> {
+    let equations = if f.is_some() { 2 } else { 1 };
+    if fixed.iter().filter(|&&b| b).count() > 3 - equations {
         return None;
     }
     for _ in 0..8 {
-        let (fv, fg) = f.eval_grad(x);
+        let (fv, fg) = f.map_or((0.0, [0.0; 3]), |f| f.eval_grad(x));
         let (gv, gg) = g.eval_grad(x);
-        if fv.abs() <= CONTINUATION_TOLERANCE * f.scale
+        if f.is_none_or(|f| fv.abs() <= CONTINUATION_TOLERANCE * f.scale)
             && gv.abs() <= CONTINUATION_TOLERANCE * g.scale
         {
             return Some(x);
         }
         let free = |v: [f64; 3]| std::array::from_fn(|k| if fixed[k] { 0.0 } else { v[k] });
         let (fg, gg): ([f64; 3], [f64; 3]) = (free(fg), free(gg));
-        // dx = −Jᵀ (J Jᵀ)⁻¹ R with J = [∇F; ∇G].
+        // dx = −Jᵀ (J Jᵀ)⁻¹ R with J = [∇F; ∇G] (J = ∇G alone without F).
         let dot = |p: [f64; 3], q: [f64; 3]| p[0] * q[0] + p[1] * q[1] + p[2] * q[2];
-        let (m00, m01, m11) = (dot(fg, fg), dot(fg, gg), dot(gg, gg));
-        let det = m00 * m11 - m01 * m01;
-        if det == 0.0 || !det.is_finite() {
-            return None;
-        }
-        let l0 = (m11 * fv - m01 * gv) / det;
-        let l1 = (m00 * gv - m01 * fv) / det;
+        let (l0, l1) = if f.is_some() {
+            let (m00, m01, m11) = (dot(fg, fg), dot(fg, gg), dot(gg, gg));
+            let det = m00 * m11 - m01 * m01;
+            if det == 0.0 || !det.is_finite() {
+                return None;
+            }
+            ((m11 * fv - m01 * gv) / det, (m00 * gv - m01 * fv) / det)
+        } else {
+            let m11 = dot(gg, gg);
+            if m11 == 0.0 || !m11.is_finite() {
+                return None;
+            }
+            (0.0, gv / m11)
+        };
         for k in 0..3 {
             x[k] -= l0 * fg[k] + l1 * gg[k];
         }

@@ -437,14 +437,19 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(400))]
 
     /// Ear cutting of star-shaped holes (a fan's ring around its removed node) with many
-    /// reflex and straight angles: every triangle is positive, no polygon vertex lies in a
-    /// closed triangle except at its corners, and the areas sum to the polygon's.
+    /// reflex and straight angles, and the same cut after the quadric criterion's diagonal
+    /// flips towards the fan: every triangle is positive, no polygon vertex lies in a closed
+    /// triangle except at its corners, and the areas sum to the polygon's; the flipped cut
+    /// in ear order packs and unpacks to itself.
     #[test]
     fn ear_cutting_tiles_star_shaped_holes(
         radii in proptest::collection::vec(1i32..=12, 3..24),
         offsets in proptest::collection::vec(0i32..=2, 24),
+        heights in proptest::collection::vec(-8i32..=8, 25),
     ) {
-        use geocert::internals::earcut::{orient2d, EarCutter, RobustOrient};
+        use geocert::internals::earcut::{
+            ear_order, orient2d, pack_cut, unpack_cut, EarCutter, RobustOrient,
+        };
         use std::cmp::Ordering;
         let l = radii.len();
         // Points on rays at increasing angles (lattice directions around a 16-gon), scaled.
@@ -467,13 +472,28 @@ proptest! {
         // The star around the origin must turn left at every fan triangle.
         let n = pts.len();
         prop_assume!((0..n).all(|i| orient2d([0.0, 0.0], pts[i], pts[(i + 1) % n]) == Ordering::Greater));
-        let mut out = Vec::new();
-        prop_assert!(EarCutter::default().cut(&pts, &RobustOrient(&pts), &mut out));
-        prop_assert_eq!(out.len(), n - 2);
+        let mut cut = Vec::new();
+        prop_assert!(EarCutter::default().cut(&pts, &RobustOrient(&pts), &mut cut));
+        prop_assert_eq!(cut.len(), n - 2);
+        // The quadric criterion's flips towards the fan (the node at the origin, heights from
+        // the strategy) keep a valid cut; back in ear order it packs to itself.
+        let ring3: Vec<[f64; 3]> = pts.iter().zip(&heights).map(|(q, &h)| [q[0], q[1], h as f64]).collect();
+        let node = [0.0, 0.0, heights[24] as f64];
+        let mut flipped = cut.clone();
+        let f = geocert::decimate::flip_toward_fan(node, [0.0, 0.0], &ring3, &pts, &mut flipped, 2, false, &RobustOrient(&pts));
+        prop_assert_eq!(f.crossing, geocert::decimate::crossing_deviation(node, [0.0, 0.0], &ring3, &pts, &flipped, 2, false));
+        prop_assert!(f.flipped || flipped == cut);
+        prop_assert!(ear_order(n, &mut flipped));
+        if n <= 16 {
+            let mut back = Vec::new();
+            unpack_cut(pack_cut(n, &flipped).unwrap(), &mut back);
+            prop_assert_eq!(&back, &flipped);
+        }
         let area = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
         let polygon: f64 = (0..n).map(|i| area([0.0, 0.0], pts[i], pts[(i + 1) % n])).sum();
+        for out in [&cut, &flipped] {
         let mut total = 0.0;
-        for t in &out {
+        for t in out {
             let [a, b, c] = t.map(|p| pts[p as usize]);
             prop_assert!(area(a, b, c) > 0.0);
             total += area(a, b, c);
@@ -488,6 +508,7 @@ proptest! {
             }
         }
         prop_assert_eq!(total, polygon);
+        }
     }
 }
 

@@ -485,6 +485,60 @@ pub fn unpack_cut(bits: u64, out: &mut Vec<[u8; 3]>) -> usize {
     l
 }
 
+/// Puts a cut of the polygon `0..l` (any triangulation into `l − 2` counter-clockwise
+/// triangles, e.g. after diagonal flips) back into the cutter's ear order, which
+/// [`pack_cut`] relies on: repeatedly the ear with the lowest tip, written `(prev, tip,
+/// next)`, then the last triangle from its lowest vertex. Every triangulation of a polygon
+/// with more than three vertices has an ear, so this always succeeds on a valid cut; returns
+/// false (leaving `tris` in some order) when `tris` is not one.
+pub fn ear_order(l: usize, tris: &mut [[u8; 3]]) -> bool {
+    if !(3..=255).contains(&l) || tris.len() != l - 2 {
+        return false;
+    }
+    let (mut next, mut prev) = ([0u8; 256], [0u8; 256]);
+    for i in 0..l {
+        next[i] = if i + 1 == l { 0 } else { i as u8 + 1 };
+        prev[i] = if i == 0 { (l - 1) as u8 } else { i as u8 - 1 };
+    }
+    for k in 0..tris.len() {
+        let last = k + 1 == tris.len();
+        let rest = &tris[k..];
+        // The lowest tip among the remaining triangles that are ears now (for the last
+        // triangle, its lowest vertex).
+        let best = rest
+            .iter()
+            .enumerate()
+            .flat_map(|(j, t)| (0..3).map(move |f| (j, t, f)))
+            .filter(|&(_, t, f)| {
+                let (a, b, c) = (t[(f + 2) % 3], t[f], t[(f + 1) % 3]);
+                next[a as usize] == b && next[b as usize] == c
+            })
+            .map(|(j, t, f)| {
+                let tip = if last {
+                    *t.iter().min().expect("three")
+                } else {
+                    t[f]
+                };
+                (tip, j)
+            })
+            .min();
+        let Some((tip, j)) = best else {
+            return false;
+        };
+        tris.swap(k, k + j);
+        let (a, c) = (prev[tip as usize], next[tip as usize]);
+        if last {
+            let b = next[tip as usize];
+            tris[k] = [tip, b, next[b as usize]];
+        } else {
+            tris[k] = [a, tip, c];
+            next[a as usize] = c;
+            prev[c as usize] = a;
+        }
+    }
+    true
+}
+
 /// True when vertex `p` lies in the closed counter-clockwise triangle `t`.
 #[inline(always)]
 fn in_closed_triangle(orient: &impl Orient, [a, b, c]: [usize; 3], p: usize) -> bool {

@@ -3,12 +3,12 @@
 //! exact arithmetic (rounded once to `f64` to file the node in the queue).
 
 use super::driver::{self, Engine};
-use super::earcut::{simple_ccw, EarCutter, Orient};
+use super::earcut::{ear_order, simple_ccw, EarCutter, Orient};
 use super::history::History;
 use super::{
-    canonical_start, check_options, edge_angle, fallback_planes, fan_normal, global_plane,
-    initial_quadrics, quadric_removal, BorderPolicy, Carried, Criterion, DecimateError, Options,
-    Outcome, Plane, Quadric, QuadricRemoval,
+    canonical_start, check_options, edge_angle, fallback_planes, fan_normal, flip_toward_fan,
+    global_plane, initial_quadrics, quadric_removal, BorderPolicy, Carried, Criterion,
+    DecimateError, Options, Outcome, Plane, Quadric, QuadricRemoval,
 };
 use crate::mesh::{Mesh, Scalars};
 use crate::num::{rational_from_f64, rational_to_f64, Rational};
@@ -43,6 +43,8 @@ struct Hole {
     plane: Plane,
     projected: Vec<[Rational; 2]>,
     triangles: Vec<[u8; 3]>,
+    /// The cut's crossing deviation ([`flip_toward_fan`]; the quadric criterion only).
+    crossing: f64,
 }
 
 pub(crate) struct ExactEngine {
@@ -234,7 +236,7 @@ impl ExactEngine {
             &ring3,
             &pts,
             &hole.triangles,
-            hole.plane.drop,
+            hole.crossing,
             hole.fan.border,
             &ring_normals,
         )
@@ -324,17 +326,35 @@ impl ExactEngine {
             .map(|&w| plane.project(self.float[w as usize]))
             .collect();
         let mut triangles = Vec::new();
-        if !self
-            .cutter
-            .cut(&float, &ExactOrient(&projected), &mut triangles)
-        {
+        let mut crossing = 0.0;
+        let orient = ExactOrient(&projected);
+        if !self.cutter.cut(&float, &orient, &mut triangles) {
             return None;
+        }
+        if self.criterion == Criterion::Quadric {
+            let ring3: Vec<[f64; 3]> = fan.ring.iter().map(|&w| self.float[w as usize]).collect();
+            let p = self.float[v as usize];
+            let f = flip_toward_fan(
+                p,
+                plane.project(p),
+                &ring3,
+                &float,
+                &mut triangles,
+                plane.drop,
+                fan.border,
+                &orient,
+            );
+            if f.flipped && !ear_order(fan.ring.len(), &mut triangles) {
+                return None;
+            }
+            crossing = f.crossing;
         }
         Some(Hole {
             fan,
             plane,
             projected,
             triangles,
+            crossing,
         })
     }
 

@@ -19,7 +19,9 @@
 use super::ahead::{self, Evaluated, Job, Lookahead, Planned};
 use super::bucket::Scale;
 use super::driver::{self, Engine};
-use super::earcut::{orient2d, pack_cut, simple_ccw, unpack_cut, EarCutter, RobustOrient};
+use super::earcut::{
+    ear_order, orient2d, pack_cut, simple_ccw, unpack_cut, EarCutter, RobustOrient,
+};
 use super::fans::{CopiedList, Entry, FanLists, Lists, NO_TRIANGLE};
 use super::history::History;
 use super::{
@@ -131,6 +133,10 @@ struct Scratch {
     /// The ring's original vertex normals (the quadric criterion's fold test).
     ring_normals: Vec<[f64; 3]>,
     tris: Vec<[u8; 3]>,
+    /// The node whose cut `tris` holds, cut here, and the cut's crossing deviation (the
+    /// quadric criterion, [`flip_toward_fan`](super::flip_toward_fan)); `None` after a cut
+    /// was unpacked from a plan (the deviation is then computed again).
+    crossing: Option<(u32, f64)>,
     cutter: EarCutter,
     /// The new triangles' corners by ring positions, `succ[at · l + from] = (to, triangle)`
     /// ([`State::apply`]).
@@ -291,7 +297,7 @@ impl Scratch {
             return (None, simple);
         };
         let ev = if geo.criterion.plans() {
-            self.cut_projected(v, border, plane, simple)
+            self.cut_projected(geo, v, border, plane, simple)
                 .and_then(|plan| self.removal_value(geo, v, plan, carried))
         } else {
             self.mean_value(geo, v, plane)
@@ -490,7 +496,7 @@ impl Scratch {
             for &other in &planes[1..] {
                 let pv = self.project_fan(geo, v, other);
                 if star_is_simple(pv, &self.pts, border) {
-                    return self.cut_projected(v, border, other, true);
+                    return self.cut_projected(geo, v, border, other, true);
                 }
             }
             // The quadric criterion (an estimate anyway) accepts a ring that is a simple
@@ -504,26 +510,51 @@ impl Scratch {
                             == Some(Ordering::Less)
                     };
                     if simple_ccw(pts.len(), &RobustOrient(pts), lower) {
-                        return self.cut_projected(v, border, other, true);
+                        return self.cut_projected(geo, v, border, other, true);
                     }
                 }
             }
             return None;
         }
-        self.cut_projected(v, border, plane, simple)
+        self.cut_projected(geo, v, border, plane, simple)
     }
 
     /// Cuts the ears of `v`'s loaded and projected hole, unless its fan is not a `simple`
     /// star ([`plan`](Self::plan) after the projection).
-    fn cut_projected(&mut self, v: u32, border: bool, plane: Plane, simple: bool) -> Option<Plan> {
+    fn cut_projected(
+        &mut self,
+        geo: &Geometry,
+        v: u32,
+        border: bool,
+        plane: Plane,
+        simple: bool,
+    ) -> Option<Plan> {
         if self.ring.len() < 3 || !simple {
             return None;
         }
-        if !self
-            .cutter
-            .cut(&self.pts, &RobustOrient(&self.pts), &mut self.tris)
-        {
+        let orient = RobustOrient(&self.pts);
+        if !self.cutter.cut(&self.pts, &orient, &mut self.tris) {
             return None;
+        }
+        if geo.criterion == Criterion::Quadric {
+            self.ring3.clear();
+            self.ring3
+                .extend(self.ring.iter().map(|&w| geo.pos[w as usize]));
+            let p = geo.pos[v as usize];
+            let f = super::flip_toward_fan(
+                p,
+                plane.project(p),
+                &self.ring3,
+                &self.pts,
+                &mut self.tris,
+                plane.drop,
+                border,
+                &orient,
+            );
+            if f.flipped && !ear_order(self.ring.len(), &mut self.tris) {
+                return None;
+            }
+            self.crossing = Some((v, f.crossing));
         }
         let plan = Plan { border, plane };
         self.planned = Some((v, plan));
@@ -583,14 +614,27 @@ impl Scratch {
             self.ring_normals
                 .extend(self.ring.iter().map(|&w| geo.normals[w as usize]));
             let p = geo.pos[v as usize];
+            let pv = plan.plane.project(p);
+            let crossing = match self.crossing {
+                Some((u, c)) if u == v => c,
+                _ => super::crossing_deviation(
+                    p,
+                    pv,
+                    &self.ring3,
+                    &self.pts,
+                    &self.tris,
+                    plan.plane.drop,
+                    plan.border,
+                ),
+            };
             let Some(r) = super::quadric_removal(
                 carried,
                 p,
-                plan.plane.project(p),
+                pv,
                 &self.ring3,
                 &self.pts,
                 &self.tris,
-                plan.plane.drop,
+                crossing,
                 plan.border,
                 &self.ring_normals,
             ) else {
@@ -935,6 +979,7 @@ impl Engine for FastEngine {
                 self.remembered += from_memo as usize;
                 sc.load_fan(&st.lists, v, usize::MAX);
                 unpack_cut(cut, &mut sc.tris);
+                sc.crossing = None;
                 Plan { border, plane }
             }
             _ => match sc.plan(&st.geo, &st.lists, v) {

@@ -70,8 +70,8 @@ use thiserror::Error;
 
 pub use history::{History, HistoryError, Stage};
 pub use quadric::{
-    crossing_deviation, folds, initial_quadrics, landing, quadric_removal, quadric_value,
-    removal_bound, vertex_normals, Carried, Quadric, QuadricRemoval,
+    crossing_deviation, flip_toward_fan, folds, initial_quadrics, landing, quadric_removal,
+    quadric_value, removal_bound, vertex_normals, Carried, Quadric, QuadricRemoval,
 };
 
 /// How a node is evaluated (Section 1.1); the node with the lowest value goes first.
@@ -96,7 +96,8 @@ pub enum Criterion {
     /// quadric's root mean square distance `√(Q(p)/W)` at the landing point and that bound.
     /// In per-fan projection a node whose fan is a simple star in no axis plane may still go
     /// when its ring is a simple polygon in one (the hole is then a disc on the ring; the
-    /// bound becomes an estimate there).
+    /// bound becomes an estimate there). The ear-cut hole is retriangulated towards the fan
+    /// by diagonal flips ([`flip_toward_fan`]).
     Quadric,
     /// [`Quadric`](Criterion::Quadric) when holes are cut in per-fan planes (surfaces in
     /// 3-D), [`Error`](Criterion::Error) when in the global xy plane (height fields, planar

@@ -6,6 +6,7 @@
 
 use super::fan_normal;
 use crate::mesh::Mesh;
+use std::cmp::Ordering;
 
 /// A symmetric 4×4 quadric `Q(p) = Σ wᵢ (nᵢ·p + dᵢ)²` over weighted planes (Garland and
 /// Heckbert 1997, eq. 2), stored as its ten distinct entries `[aa, ab, ac, ad, bb, bc, bd,
@@ -160,45 +161,247 @@ pub fn crossing_deviation(
     drop: usize,
     border: bool,
 ) -> f64 {
-    let l = pts.len();
-    let cross2 = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
-        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-    };
-    let mut worst = 0.0f64;
-    for t in tris {
-        for e in 0..3 {
-            let (a, c) = (t[e] as usize, t[(e + 1) % 3] as usize);
-            // Each diagonal once (a < c); link edges and a border node's closing edge have
-            // no spoke crossing them inside.
-            if a > c || c == a + 1 || (a == 0 && c == l - 1) {
+    Spokes::new(p, pv, ring3, pts, drop, border).crossing(tris)
+}
+
+/// A node's fan seen from its projection `pv` (the quadric criterion's gaps between the fan
+/// and a cut of its hole, both engines, `f64`), through the spoke products
+/// `(qᵢ − pv) × (qⱼ − pv)` of its projected ring. Every crossing test below is a sum of
+/// these: `det[c − a, v − a]` is
+/// `(a − v) × (c − v)`, `det[c − a, q − a]` is `(a × c) + (c × q) + (q × a)` with each
+/// product taken about `v`, and `det[q − v, a − v]` is `q × a`.
+struct Spokes<'a> {
+    p: [f64; 3],
+    pv: [f64; 2],
+    ring3: &'a [[f64; 3]],
+    pts: &'a [[f64; 2]],
+    drop: usize,
+    border: bool,
+}
+
+impl<'a> Spokes<'a> {
+    fn new(
+        p: [f64; 3],
+        pv: [f64; 2],
+        ring3: &'a [[f64; 3]],
+        pts: &'a [[f64; 2]],
+        drop: usize,
+        border: bool,
+    ) -> Spokes<'a> {
+        Spokes {
+            p,
+            pv,
+            ring3,
+            pts,
+            drop,
+            border,
+        }
+    }
+
+    /// `(qᵢ − pv) × (qⱼ − pv)`.
+    #[inline]
+    fn m(&self, i: usize, j: usize) -> f64 {
+        let (a, b, v) = (self.pts[i], self.pts[j], self.pv);
+        (a[0] - v[0]) * (b[1] - v[1]) - (a[1] - v[1]) * (b[0] - v[0])
+    }
+
+    /// How far the fan lies from the new diagonal `a–c` (ring positions) along `drop`: the
+    /// largest difference at a point where a spoke `(v, qᵢ)` properly crosses it in the
+    /// projection (0 when none does).
+    fn gap(&self, a: usize, c: usize) -> f64 {
+        let l = self.pts.len();
+        let (ha, hc, hv) = (
+            self.ring3[a][self.drop],
+            self.ring3[c][self.drop],
+            self.p[self.drop],
+        );
+        let d1 = self.m(a, c);
+        let mut worst = 0.0f64;
+        for i in 0..l {
+            if i == a || i == c || (self.border && (i == 0 || i == l - 1)) {
                 continue;
             }
-            let (pa, pc) = (pts[a], pts[c]);
-            let (ha, hc) = (ring3[a][drop], ring3[c][drop]);
-            for (i, &q) in pts.iter().enumerate() {
-                if i == a || i == c || (border && (i == 0 || i == l - 1)) {
-                    continue;
+            // v and qᵢ on opposite sides of a–c, and a, c on opposite sides of v–qᵢ.
+            let (d3, d4) = (self.m(i, a), self.m(i, c));
+            let d2 = d1 - d4 + d3;
+            if d1 == d2 || (d1 > 0.0) == (d2 > 0.0) || d3 == d4 || (d3 > 0.0) == (d4 > 0.0) {
+                continue;
+            }
+            let (u, s) = (d1 / (d1 - d2), d3 / (d3 - d4));
+            let h_new = ha + s * (hc - ha);
+            let h_fan = hv + u * (self.ring3[i][self.drop] - hv);
+            worst = worst.max((h_new - h_fan).abs());
+        }
+        worst
+    }
+
+    /// The largest [`gap`](Self::gap) over the interior diagonals of the cut `tris`.
+    fn crossing(&self, tris: &[[u8; 3]]) -> f64 {
+        let l = self.pts.len();
+        let mut worst = 0.0f64;
+        for t in tris {
+            for e in 0..3 {
+                let (a, c) = (t[e] as usize, t[(e + 1) % 3] as usize);
+                // Each diagonal once (a < c); link edges and a border node's closing edge
+                // have no spoke crossing them inside.
+                if a < c && is_diagonal(l, a, c) {
+                    worst = worst.max(self.gap(a, c));
                 }
-                // Proper crossing of a–c with v–q: parameters s on a–c, u on v–q.
-                let d1 = cross2(pa, pc, pv);
-                let d2 = cross2(pa, pc, q);
-                if d1 == d2 || (d1 > 0.0) == (d2 > 0.0) {
-                    continue;
+            }
+        }
+        worst
+    }
+
+    /// The barycentric weights of the node's projection in triangle `t` (twice the areas of
+    /// `(v, b, c)`, `(v, c, a)`, `(v, a, b)`) and their sum.
+    #[inline]
+    fn weights(&self, t: [u8; 3]) -> ([f64; 3], f64) {
+        let [a, b, c] = t.map(usize::from);
+        let w = [self.m(b, c), self.m(c, a), self.m(a, b)];
+        (w, w[0] + w[1] + w[2])
+    }
+
+    /// Whether the node's projection lies in `t`'s closed projection (by [`weights`](Self::weights)).
+    #[inline]
+    fn holds(&self, t: [u8; 3]) -> bool {
+        let (w, area) = self.weights(t);
+        area > 0.0 && w.iter().all(|&x| x >= 0.0)
+    }
+
+    /// How far the node lies from the new triangle `t` along `drop` when its projection lies
+    /// in it ([`holds`](Self::holds)), else 0.
+    fn point(&self, t: [u8; 3]) -> f64 {
+        if !self.holds(t) {
+            return 0.0;
+        }
+        let (w, area) = self.weights(t);
+        let [ha, hb, hc] = t.map(|k| self.ring3[k as usize][self.drop]);
+        (self.p[self.drop] - (w[0] * ha + w[1] * hb + w[2] * hc) / area).abs()
+    }
+}
+
+/// Whether `a < c` are the ends of a diagonal of the hole `0..l` (not a side).
+#[inline]
+fn is_diagonal(l: usize, a: usize, c: usize) -> bool {
+    c != a + 1 && !(a == 0 && c == l - 1)
+}
+
+/// Diagonal flips of a cut hole towards its fan (the quadric criterion's retriangulation,
+/// both engines; Lawson-style flips with the fan's deviation as the measure). An interior
+/// diagonal `x–y` of two new triangles is replaced by the other diagonal of their
+/// quadrilateral when
+/// - the fan lies closer to the new pair: the diagonal's gap (how far the fan lies from it
+///   along `drop` where spokes cross it, as in [`crossing_deviation`]), plus, for the
+///   quadrilateral the node's projection `pv` lies in, the node's gap to the triangle it
+///   falls in, strictly decreases; and
+/// - both new triangles turn counter-clockwise (signs from `orient`, exact in both engines).
+///
+/// The quadrilateral is then strictly convex, so the new triangles are positive and hold no
+/// other polygon vertex: the cut stays valid. Sweeps repeat until nothing flips (at most
+/// `l²` flips). The ear cutter chooses by shape alone, blind to heights; on the dragon scan
+/// about 1.5 flips per hole follow. Returns whether anything flipped (the order of `tris` is
+/// then not an ear order: [`ear_order`](super::earcut::ear_order) restores one) and the
+/// cut's crossing deviation.
+#[allow(clippy::too_many_arguments)]
+pub fn flip_toward_fan(
+    p: [f64; 3],
+    pv: [f64; 2],
+    ring3: &[[f64; 3]],
+    pts: &[[f64; 2]],
+    tris: &mut [[u8; 3]],
+    drop: usize,
+    border: bool,
+    orient: &impl super::earcut::Orient,
+) -> Flipped {
+    let l = pts.len();
+    let spokes = Spokes::new(p, pv, ring3, pts, drop, border);
+    let (mut flipped, mut crossing) = (false, 0.0f64);
+    if l >= 4 {
+        // Gaps by diagonal, each computed once for holes of up to 8 vertices.
+        let (mut known, mut cache) = (0u64, [0.0f64; 64]);
+        let mut gap = |x: u8, y: u8| {
+            let (x, y) = (x.min(y) as usize, x.max(y) as usize);
+            if y >= 8 {
+                return spokes.gap(x, y);
+            }
+            let k = 8 * x + y;
+            if known & 1 << k == 0 {
+                cache[k] = spokes.gap(x, y);
+                known |= 1 << k;
+            }
+            cache[k]
+        };
+        // The triangle the node's projection lies in: only its quadrilaterals see the
+        // node's own gap.
+        let mut holder = tris.iter().position(|&t| spokes.holds(t));
+        let mut flips = 0;
+        'sweep: loop {
+            let mut changed = false;
+            for i in 0..tris.len() {
+                for e in 0..3 {
+                    let (x, y, z1) = (tris[i][e], tris[i][(e + 1) % 3], tris[i][(e + 2) % 3]);
+                    // Each diagonal once, from its triangle with x < y.
+                    if x > y || !is_diagonal(l, x as usize, y as usize) {
+                        continue;
+                    }
+                    let Some((j, z2)) = tris.iter().enumerate().find_map(|(j, t)| {
+                        (0..3)
+                            .find(|&f| t[f] == y && t[(f + 1) % 3] == x)
+                            .map(|f| (j, t[(f + 2) % 3]))
+                    }) else {
+                        continue;
+                    };
+                    let (n1, n2) = ([z2, y, z1], [z1, x, z2]);
+                    let held = holder == Some(i) || holder == Some(j);
+                    let (mut before, mut after) = (gap(x, y), gap(z1, z2));
+                    if held {
+                        before += spokes.point(tris[i]) + spokes.point(tris[j]);
+                        after += spokes.point(n1) + spokes.point(n2);
+                    }
+                    if after.partial_cmp(&before) != Some(Ordering::Less)
+                        || orient.orient(z2 as usize, y as usize, z1 as usize) != Ordering::Greater
+                        || orient.orient(z1 as usize, x as usize, z2 as usize) != Ordering::Greater
+                    {
+                        continue;
+                    }
+                    (tris[i], tris[j]) = (n1, n2);
+                    if held {
+                        holder = [(i, n1), (j, n2)]
+                            .into_iter()
+                            .find_map(|(k, t)| spokes.holds(t).then_some(k));
+                    }
+                    (flipped, changed) = (true, true);
+                    flips += 1;
+                    if flips >= l * l {
+                        break 'sweep;
+                    }
+                    // Triangle i changed: on to the next one.
+                    break;
                 }
-                let u = d1 / (d1 - d2);
-                let d3 = cross2(pv, q, pa);
-                let d4 = cross2(pv, q, pc);
-                if d3 == d4 || (d3 > 0.0) == (d4 > 0.0) {
-                    continue;
+            }
+            if !changed {
+                break;
+            }
+        }
+        for t in tris.iter() {
+            for e in 0..3 {
+                let (a, c) = (t[e], t[(e + 1) % 3]);
+                if a < c && is_diagonal(l, a as usize, c as usize) {
+                    crossing = crossing.max(gap(a, c));
                 }
-                let s = d3 / (d3 - d4);
-                let h_new = ha + s * (hc - ha);
-                let h_fan = p[drop] + u * (ring3[i][drop] - p[drop]);
-                worst = worst.max((h_new - h_fan).abs());
             }
         }
     }
-    worst
+    Flipped { flipped, crossing }
+}
+
+/// What [`flip_toward_fan`] did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Flipped {
+    /// Whether any diagonal was flipped (the cut is then not in ear order).
+    pub flipped: bool,
+    /// The cut's [`crossing_deviation`] after the flips.
+    pub crossing: f64,
 }
 
 /// The bound on how far the original points a removal's new triangles cover lie from them:
@@ -358,9 +561,9 @@ pub struct QuadricRemoval {
 
 /// The quadric criterion on one planned hole, as both engines compute it: where the node `p`
 /// (projected `pv`) lands, `None` when the new triangles fold the surface over ([`folds`],
-/// with the ring's original `normals`), else the crossing deviation along axis `drop`, the
-/// bound and the value for a node carrying `c`. `ring3`/`pts` are the ring and its
-/// projection, `tris` the cut.
+/// with the ring's original `normals`), else the bound from the cut's `crossing` deviation
+/// ([`crossing_deviation`], as [`flip_toward_fan`] returns it) and the value for a node
+/// carrying `c`. `ring3`/`pts` are the ring and its projection, `tris` the cut.
 #[allow(clippy::too_many_arguments)]
 pub fn quadric_removal(
     c: &Carried,
@@ -369,7 +572,7 @@ pub fn quadric_removal(
     ring3: &[[f64; 3]],
     pts: &[[f64; 2]],
     tris: &[[u8; 3]],
-    drop: usize,
+    crossing: f64,
     border: bool,
     normals: &[[f64; 3]],
 ) -> Option<QuadricRemoval> {
@@ -377,11 +580,77 @@ pub fn quadric_removal(
     if folds(p, ring3, tris, border, normals) {
         return None;
     }
-    let crossing = crossing_deviation(p, pv, ring3, pts, tris, drop, border);
     let bound = removal_bound(c, p, landed, crossing);
     Some(QuadricRemoval {
         value: quadric_value(c, landed, bound),
         bound,
         corners,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::decimate::earcut::{ear_order, pack_cut, unpack_cut, EarCutter, RobustOrient};
+
+    /// A square hole around a node on a ridge: the ring's corners 0 and 2 lie on the ridge
+    /// (height 1), 1 and 3 below it (height 0), the node near the centre on the ridge. The
+    /// ear cutter sees a square (all ears alike) and cuts across the ridge; the flip puts the
+    /// diagonal along it, where the fan stays close, and the crossing deviation it returns is
+    /// the cut's.
+    #[test]
+    fn flips_turn_the_diagonal_along_a_ridge() {
+        let ring3 = [
+            [1.0, 0.0, 1.0],
+            [0.0, 1.0, 0.0],
+            [-1.0, 0.0, 1.0],
+            [0.0, -1.0, 0.0],
+        ];
+        let pts: Vec<[f64; 2]> = ring3.iter().map(|q| [q[0], q[1]]).collect();
+        let (p, pv) = ([0.1, 0.05, 1.0], [0.1, 0.05]);
+        let mut tris = Vec::new();
+        let orient = RobustOrient(&pts);
+        assert!(EarCutter::default().cut(&pts, &orient, &mut tris));
+        let diagonal = |tris: &[[u8; 3]]| {
+            let mut d: Vec<(u8, u8)> = tris
+                .iter()
+                .flat_map(|t| (0..3).map(move |e| (t[e], t[(e + 1) % 3])))
+                .filter(|&(a, c)| a < c && is_diagonal(4, a as usize, c as usize))
+                .collect();
+            d.dedup();
+            d
+        };
+        assert_eq!(
+            diagonal(&tris),
+            vec![(1, 3)],
+            "the cutter crosses the ridge"
+        );
+        let before = crossing_deviation(p, pv, &ring3, &pts, &tris, 2, false);
+        let f = flip_toward_fan(p, pv, &ring3, &pts, &mut tris, 2, false, &orient);
+        assert!(f.flipped);
+        assert_eq!(diagonal(&tris), vec![(0, 2)], "the flip follows it");
+        let after = crossing_deviation(p, pv, &ring3, &pts, &tris, 2, false);
+        assert_eq!(f.crossing, after);
+        assert!(after < 0.2 && before > 0.8, "{before} → {after}");
+        // Back in ear order, the cut packs and unpacks to itself.
+        assert!(ear_order(4, &mut tris));
+        let mut back = Vec::new();
+        unpack_cut(pack_cut(4, &tris).unwrap(), &mut back);
+        assert_eq!(back, tris);
+        // Flat: nothing to gain, nothing flips.
+        let flat: Vec<[f64; 3]> = ring3.iter().map(|q| [q[0], q[1], 0.0]).collect();
+        let mut tris = Vec::new();
+        EarCutter::default().cut(&pts, &orient, &mut tris);
+        let g = flip_toward_fan(
+            [0.1, 0.05, 0.0],
+            pv,
+            &flat,
+            &pts,
+            &mut tris,
+            2,
+            false,
+            &orient,
+        );
+        assert!(!g.flipped && g.crossing == 0.0);
+    }
 }

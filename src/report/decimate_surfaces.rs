@@ -400,7 +400,10 @@ pub fn markdown(c: &SurfaceCampaign) -> String {
          original planes it stands for; removing it costs the quadric's RMS distance at the \
          point where it lands on the new triangles, and the quadric passes to that triangle's \
          corners; a removal is refused when a new triangle would face against the removed \
-         fan or against its corners' original vertex normals), border simplification (border \
+         fan or against its corners' original vertex normals; each ear-cut hole is \
+         retriangulated towards its fan by diagonal flips, a flip taken when the other \
+         diagonal lies closer to the fan and both new triangles stay positive by exact \
+         signs), border simplification (border \
          nodes removed like interior ones, their error measured through border-edge planes; \
          no border loop closes) and the fit (after the last removal, two rounds of moving the \
          kept nodes to the least-squares fit of the original vertices, each move taken only \

@@ -319,6 +319,12 @@ impl<'a> ClosestPoints<'a> {
 
     /// The closest point of the surface to `p` (the first triangle found on ties).
     pub fn query(&self, p: [f64; 3]) -> Closest {
+        self.query_where(p, |_| true)
+    }
+
+    /// The closest point to `p` on the triangles `accept` admits (by index in the mesh; the
+    /// first found on ties); distance infinite when it admits none.
+    pub fn query_where(&self, p: [f64; 3], accept: impl Fn(u32) -> bool) -> Closest {
         let mut best = Closest {
             distance: f64::INFINITY,
             triangle: 0,
@@ -339,6 +345,9 @@ impl<'a> ClosestPoints<'a> {
                 if node.count > 0 {
                     let s = node.start as usize;
                     for j in s..s + node.count as usize {
+                        if !accept(self.ids[j]) {
+                            continue;
+                        }
                         let [a, b, c] = self.corners[j];
                         let q = closest_point_on_triangle(p, a, b, c);
                         let e2 =
@@ -367,7 +376,7 @@ impl<'a> ClosestPoints<'a> {
                 } else if df < best2 {
                     // A hierarchy deeper than the stack (not built by `new`): search the far
                     // side now, which is correct, only slower.
-                    let sub = self.query_from(p, far, best2);
+                    let sub = self.query_from(p, far, best2, &accept);
                     if let Some(s) = sub {
                         best2 = s.distance * s.distance;
                         best = s;
@@ -383,9 +392,15 @@ impl<'a> ClosestPoints<'a> {
         best
     }
 
-    /// [`query`](Self::query) restricted to the subtree at `n`, only answers closer than
-    /// `bound2` (squared); a slow linear scan of the subtree's triangles.
-    fn query_from(&self, p: [f64; 3], n: u32, bound2: f64) -> Option<Closest> {
+    /// [`query_where`](Self::query_where) restricted to the subtree at `n`, only answers
+    /// closer than `bound2` (squared); a slow linear scan of the subtree's triangles.
+    fn query_from(
+        &self,
+        p: [f64; 3],
+        n: u32,
+        bound2: f64,
+        accept: &impl Fn(u32) -> bool,
+    ) -> Option<Closest> {
         let mut last = n as usize;
         // The subtree occupies nodes n..end in depth-first order; its leaves' corners are
         // contiguous: find their range from the leftmost and rightmost leaves.
@@ -401,6 +416,9 @@ impl<'a> ClosestPoints<'a> {
         let mut found: Option<Closest> = None;
         let mut best2 = bound2;
         for j in from..to {
+            if !accept(self.ids[j]) {
+                continue;
+            }
             let [a, b, c] = self.corners[j];
             let q = closest_point_on_triangle(p, a, b, c);
             let e2 = (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
@@ -509,8 +527,12 @@ pub struct Deviation {
     pub backward_rms: f64,
     /// `max(forward_max, backward_max)`: the symmetric Hausdorff distance at the samples.
     pub hausdorff: f64,
-    /// Simplified triangles whose normal points against the normal of the original triangle
-    /// closest to their centroid (negative dot product); degenerate ones are not counted.
+    /// Simplified triangles whose normal points against the original surface nearest their
+    /// centroid: against the normal of the closest original triangle (negative dot product)
+    /// while every original triangle facing along it (positive dot product) lies farther, by
+    /// more than [`FLIP_TIE`] of the diagonal. The closest point is often an edge or vertex
+    /// shared by triangles facing both ways (folds of a scan, thin parts); such a tie goes to
+    /// agreement. Degenerate triangles are not counted.
     pub flipped: usize,
     /// Points measured: original vertices and simplified-surface samples.
     pub samples: usize,
@@ -522,6 +544,11 @@ impl Deviation {
         100.0 * x / self.diagonal
     }
 }
+
+/// How much farther (in units of the diagonal) the nearest original triangle facing along a
+/// simplified triangle must lie than the nearest one facing against it for the triangle to
+/// count as flipped ([`Deviation::flipped`]).
+pub const FLIP_TIE: f64 = 1e-9;
 
 /// Barycentric steps per edge of the simplified triangles' samples in [`deviation`].
 pub const SAMPLE_STEPS: usize = 3;
@@ -583,9 +610,19 @@ pub fn deviation(original: &Mesh, simplified: &Mesh) -> Deviation {
             }
             let centroid = std::array::from_fn(|k| (a[k] + b[k] + c[k]) / 3.0);
             let own = normal(simplified, t);
-            let near = normal(original, to_original.query(centroid).triangle);
-            let dot = own[0] * near[0] + own[1] * near[1] + own[2] * near[2];
-            (max, sum, count, dot < 0.0)
+            let facing = |o: u32| {
+                let m = normal(original, o);
+                own[0] * m[0] + own[1] * m[1] + own[2] * m[2]
+            };
+            let near = to_original.query(centroid);
+            // Against the nearest original triangle, and no triangle facing along lies as
+            // near (a tie at an edge or vertex shared by both kinds goes to agreement).
+            let flipped = facing(near.triangle) < 0.0
+                && to_original
+                    .query_where(centroid, |o| facing(o) > 0.0)
+                    .distance
+                    > near.distance + FLIP_TIE * diagonal;
+            (max, sum, count, flipped)
         })
         .collect();
     let rms = |sum: f64, count: usize| (sum / count.max(1) as f64).sqrt();
@@ -635,6 +672,30 @@ mod tests {
             ..Default::default()
         };
         assert!((hausdorff_at_vertices(&square(0.0), &square(0.25)) - 0.25).abs() < 1e-15);
+    }
+
+    /// The flipped count: a reversed triangle counts; where the original folds onto itself
+    /// (two coincident triangles facing both ways, as in scans), a triangle facing along one
+    /// of them does not, whichever of the two the search meets first.
+    #[test]
+    fn flipped_triangles_and_ties_at_folds() {
+        let (a, b, c) = ([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+        let one = |t: [u32; 3]| Mesh {
+            vertices: vec![a, b, c],
+            triangles: vec![t],
+            ..Default::default()
+        };
+        assert_eq!(deviation(&one([0, 1, 2]), &one([0, 2, 1])).flipped, 1);
+        assert_eq!(deviation(&one([0, 1, 2]), &one([0, 1, 2])).flipped, 0);
+        let folded = Mesh {
+            vertices: vec![a, b, c, a, b, c],
+            triangles: vec![[0, 1, 2], [3, 5, 4]],
+            ..Default::default()
+        };
+        for t in [[0, 1, 2], [0, 2, 1]] {
+            assert_eq!(deviation(&folded, &one(t)).flipped, 0, "{t:?}");
+        }
+        assert_eq!(deviation(&folded, &folded).flipped, 0);
     }
 
     #[test]

@@ -415,8 +415,12 @@ pub fn markdown(c: &SurfaceCampaign) -> String {
          `deviation` (the same for all): distances from every original vertex to the result \
          (→) and from 10 barycentric samples per result triangle back to the original (←), \
          in % of the original's bounding-box diagonal; Hausdorff is the larger maximum; \
-         flipped counts result triangles whose normal points against the original triangle \
-         nearest their centroid.\n"
+         flipped counts result triangles whose normal points against the original surface \
+         nearest their centroid: against the nearest original triangle while every original \
+         triangle facing along lies farther (by more than 1e-9 of the diagonal; a tie at an \
+         edge or vertex shared by triangles facing both ways, common at a scan's folds and \
+         thin parts, goes to agreement; the nearest-triangle test alone let the search order \
+         decide such ties).\n"
     );
     for case in &c.cases {
         let _ = write!(

@@ -520,7 +520,9 @@ impl Scratch {
     }
 
     /// Cuts the ears of `v`'s loaded and projected hole, unless its fan is not a `simple`
-    /// star ([`plan`](Self::plan) after the projection).
+    /// star ([`plan`](Self::plan) after the projection); under the quadric criterion the cut
+    /// is then flipped towards the fan ([`flip_toward_fan`](super::flip_toward_fan)) and put
+    /// back in ear order.
     fn cut_projected(
         &mut self,
         geo: &Geometry,

@@ -161,15 +161,23 @@ pub fn crossing_deviation(
     drop: usize,
     border: bool,
 ) -> f64 {
-    Spokes::new(p, pv, ring3, pts, drop, border).crossing(tris)
+    Spokes {
+        p,
+        pv,
+        ring3,
+        pts,
+        drop,
+        border,
+    }
+    .crossing(tris)
 }
 
 /// A node's fan seen from its projection `pv` (the quadric criterion's gaps between the fan
 /// and a cut of its hole, both engines, `f64`), through the spoke products
 /// `(qᵢ − pv) × (qⱼ − pv)` of its projected ring. Every crossing test below is a sum of
-/// these: `det[c − a, v − a]` is
-/// `(a − v) × (c − v)`, `det[c − a, q − a]` is `(a × c) + (c × q) + (q × a)` with each
-/// product taken about `v`, and `det[q − v, a − v]` is `q × a`.
+/// these: `det[c − a, v − a]` is `(a − v) × (c − v)`, `det[c − a, q − a]` is
+/// `(a × c) + (c × q) + (q × a)` with each product taken about `v`, and `det[q − v, a − v]`
+/// is `q × a`.
 struct Spokes<'a> {
     p: [f64; 3],
     pv: [f64; 2],
@@ -179,25 +187,7 @@ struct Spokes<'a> {
     border: bool,
 }
 
-impl<'a> Spokes<'a> {
-    fn new(
-        p: [f64; 3],
-        pv: [f64; 2],
-        ring3: &'a [[f64; 3]],
-        pts: &'a [[f64; 2]],
-        drop: usize,
-        border: bool,
-    ) -> Spokes<'a> {
-        Spokes {
-            p,
-            pv,
-            ring3,
-            pts,
-            drop,
-            border,
-        }
-    }
-
+impl Spokes<'_> {
     /// `(qᵢ − pv) × (qⱼ − pv)`.
     #[inline]
     fn m(&self, i: usize, j: usize) -> f64 {
@@ -314,7 +304,14 @@ pub fn flip_toward_fan(
     orient: &impl super::earcut::Orient,
 ) -> Flipped {
     let l = pts.len();
-    let spokes = Spokes::new(p, pv, ring3, pts, drop, border);
+    let spokes = Spokes {
+        p,
+        pv,
+        ring3,
+        pts,
+        drop,
+        border,
+    };
     let (mut flipped, mut crossing) = (false, 0.0f64);
     if l >= 4 {
         // Gaps by diagonal, each computed once for holes of up to 8 vertices.

@@ -576,36 +576,15 @@ struct Tracer<'a> {
 }
 
 impl Tracer<'_> {
-    /// The unit coordinate of the domain coordinate `x` on `axis`.
-    fn to_unit(&self, axis: usize, x: &Rational) -> Rational {
-        let (a, b) = &self.system.domain()[axis];
-        if a.is_zero() && b.is_one() {
-            return x.clone();
-        }
-        (x - a) / (b - a)
-    }
-
     /// The domain box of unit bounds.
     fn domain_box(&self, lo: &[Rational], hi: &[Rational]) -> RationalBox {
-        self.system
-            .domain()
-            .iter()
-            .zip(lo.iter().zip(hi))
-            .map(|((a, b), (l, h))| {
-                (
-                    crate::num::rational::lerp(a, b, l),
-                    crate::num::rational::lerp(a, b, h),
-                )
-            })
-            .collect()
+        super::domain_bounds(self.system.domain(), lo, hi)
     }
 
     /// A domain box in unit coordinates.
     fn unit_box(&self, bounds: &RationalBox) -> UnitBox {
-        let (lo, hi) = bounds
-            .iter()
-            .enumerate()
-            .map(|(k, (a, b))| (self.to_unit(k, a), self.to_unit(k, b)))
+        let (lo, hi) = super::unit_bounds(self.system.domain(), bounds)
+            .into_iter()
             .unzip();
         UnitBox { lo, hi }
     }

@@ -98,12 +98,7 @@ pub fn verify_curves(system: &System, curves: &Curves) -> Result<CurveCheck, Cur
                 .map_err(Some)
         },
         |arc| {
-            let sub: Vec<(Rational, Rational)> = arc
-                .bounds
-                .iter()
-                .enumerate()
-                .map(|(k, (lo, hi))| (system.to_unit(k, lo), system.to_unit(k, hi)))
-                .collect();
+            let sub = system.unit_bounds(&arc.bounds);
             let f: Vec<Bernstein<Rational>> = system
                 .equations
                 .iter()

@@ -146,22 +146,65 @@ impl System {
             .collect()
     }
 
-    /// The unit-box parameter of the domain coordinate `x` on `axis`: `(x − a)/(b − a)`.
+    /// The unit-box parameter of the domain coordinate `x` on `axis` ([`unit_coordinate`]).
     pub(crate) fn to_unit(&self, axis: usize, x: &Rational) -> Rational {
-        let (a, b) = &self.domain[axis];
-        if num_traits::Zero::is_zero(a) && num_traits::One::is_one(b) {
-            return x.clone();
-        }
-        (x - a) / (b - a)
+        unit_coordinate(&self.domain, axis, x)
     }
 
-    /// The domain box of the unit-box bounds `lo`, `hi`.
-    pub(crate) fn domain_box(&self, lo: &[Rational], hi: &[Rational]) -> RationalBox {
-        self.to_domain(lo)
-            .into_iter()
-            .zip(self.to_domain(hi))
-            .collect()
+    /// A box of the domain in unit-box coordinates ([`unit_bounds`]).
+    pub(crate) fn unit_bounds(&self, bounds: &RationalBox) -> RationalBox {
+        unit_bounds(&self.domain, bounds)
     }
+
+    /// The domain box of the unit-box bounds `lo`, `hi` ([`domain_bounds`]).
+    pub(crate) fn domain_box(&self, lo: &[Rational], hi: &[Rational]) -> RationalBox {
+        domain_bounds(&self.domain, lo, hi)
+    }
+}
+
+/// The unit-box parameter of the coordinate `x` on `axis` of `domain`: `(x − a)/(b − a)`.
+pub(crate) fn unit_coordinate(
+    domain: &[(Rational, Rational)],
+    axis: usize,
+    x: &Rational,
+) -> Rational {
+    let (a, b) = &domain[axis];
+    if num_traits::Zero::is_zero(a) && num_traits::One::is_one(b) {
+        return x.clone();
+    }
+    (x - a) / (b - a)
+}
+
+/// A box of `domain` (per axis `(lo, hi)`) in unit-box coordinates.
+pub(crate) fn unit_bounds(domain: &[(Rational, Rational)], bounds: &RationalBox) -> RationalBox {
+    bounds
+        .iter()
+        .enumerate()
+        .map(|(k, (lo, hi))| {
+            (
+                unit_coordinate(domain, k, lo),
+                unit_coordinate(domain, k, hi),
+            )
+        })
+        .collect()
+}
+
+/// The box of `domain` whose unit-box bounds are `lo`, `hi`: `a + (b − a) t` per axis.
+pub(crate) fn domain_bounds(
+    domain: &[(Rational, Rational)],
+    lo: &[Rational],
+    hi: &[Rational],
+) -> RationalBox {
+    domain
+        .iter()
+        .zip(lo.iter().zip(hi))
+        .map(|((a, b), (l, h))| {
+            (
+                crate::num::rational::lerp(a, b, l),
+                crate::num::rational::lerp(a, b, h),
+            )
+        })
+        .collect()
 }
 
 /// 1…[`MAX_UNKNOWNS`] unknowns, each interval non-empty.

@@ -755,12 +755,7 @@ pub fn verify_corner_crossing(
     if crossing.bounds.len() != 3 {
         return Ok(false);
     }
-    let unit: Vec<(Rational, Rational)> = crossing
-        .bounds
-        .iter()
-        .enumerate()
-        .map(|(k, (lo, hi))| (system.to_unit(k, lo), system.to_unit(k, hi)))
-        .collect();
+    let unit = system.unit_bounds(&crossing.bounds);
     let t = (
         system.to_unit(2, &crossing.t.0),
         system.to_unit(2, &crossing.t.1),

@@ -1090,3 +1090,90 @@ fn frames_continue_between_events_and_are_traced_across_them() {
     );
     assert!(worst < 0.1, "{worst}");
 }
+
+/// The closed-form event: a unit sphere translated along x (a sweep invariant in t)
+/// seen from `P(r) = (5, r, 3/5)`. The envelope's contour is the cylinder's two lines where
+/// `1 − r·y − (3/5)·z = 0` meets `y² + z² = 1`; they merge where the eye enters the infinite
+/// cylinder, at `r = −4/5` exactly, and are gone after.
+#[test]
+fn a_translated_sphere_loses_its_contour_lines_where_the_eye_enters_the_cylinder() {
+    use geocert::num::Rational;
+    use geocert::solve::SolveOptions;
+    use geocert::sweep::{events, frames, verify_event, EventKind};
+    let scene = builtin_scene("sphere-line-eye").unwrap();
+    let clock = std::time::Instant::now();
+    let ev = events(&scene, &SolveOptions::new()).unwrap();
+    let seconds = clock.elapsed().as_secs_f64();
+    let merge = Rational::new((-4).into(), 5.into());
+    let at_merge: Vec<_> = ev
+        .events
+        .iter()
+        .filter(|e| {
+            let (lo, hi) = e.root.bounds.last().unwrap();
+            *lo <= merge && merge <= *hi
+        })
+        .collect();
+    println!(
+        "sphere-line-eye: {} systems, {} events in {seconds:.3} s, {} clusters; at r = -4/5: {:?}",
+        ev.systems,
+        ev.events.len(),
+        ev.clusters.len(),
+        at_merge.iter().map(|e| e.kind).collect::<Vec<_>>()
+    );
+    assert!(ev.clusters.is_empty());
+    // The merge, seen at both ends of the rulings (the start and end positions).
+    let t_faces: Vec<bool> = at_merge
+        .iter()
+        .filter_map(|e| match e.kind {
+            EventKind::Face { axis: 2, upper } => Some(upper),
+            _ => None,
+        })
+        .collect();
+    assert!(
+        t_faces.contains(&false) && t_faces.contains(&true),
+        "{t_faces:?}"
+    );
+    for e in &ev.events {
+        // Systems with t free have t-segments of roots here; they are not solved.
+        assert!(
+            matches!(e.kind, EventKind::Face { axis: 2, .. })
+                || matches!(e.kind, EventKind::Edge { fixed } if fixed[1].0 == 2),
+            "{:?}",
+            e.kind
+        );
+        assert!(verify_event(&scene, e).unwrap().is_ok(), "{e:?}");
+        // On the characteristic circle of the unit sphere and on the contour from P(r).
+        let [u, v, _] = e.uvt;
+        let x = scene.surfaces[e.surface].patches[e.patch]
+            .point(u, v)
+            .unwrap();
+        let tangency = 1.0 - e.r * x[1] - 0.6 * x[2];
+        assert!(x[0].abs() < 1e-8, "{x:?}");
+        assert!((x[1] * x[1] + x[2] * x[2] - 1.0).abs() < 1e-8, "{x:?}");
+        assert!(tangency.abs() < 1e-8, "{e:?}: {tangency}");
+    }
+    // The exact path finds the same events.
+    let exact = events(&scene, &SolveOptions::new().with_path(Path::Exact)).unwrap();
+    assert_eq!(exact.events.len(), ev.events.len());
+    for (a, b) in exact.events.iter().zip(&ev.events) {
+        assert_eq!(a.kind, b.kind);
+        assert!((a.r - b.r).abs() < 1e-9);
+    }
+    // Frames: two lines before the merge, none after, every frame resolved.
+    let rs: Vec<f64> = (0..8).map(|i| -2.0 + 1.9 * i as f64 / 7.0).collect();
+    let opts = SilhouetteOptions::new().with_caps(false);
+    let f = frames(&scene, &rs, &opts, &SolveOptions::new()).unwrap();
+    for x in &f.frames {
+        println!(
+            "r = {:.3}: {} components ({}), {} clusters",
+            x.r,
+            x.components.len(),
+            if x.traced { "traced" } else { "continued" },
+            x.clusters
+        );
+        assert_eq!(x.clusters, 0);
+        assert_eq!(x.components.len(), if x.r < -0.8 { 2 } else { 0 });
+    }
+    let first_after = f.frames.iter().find(|x| x.r > -0.8).unwrap();
+    assert!(first_after.traced, "re-traced after the merge");
+}

@@ -32,6 +32,15 @@
 //!   inside the face, `G̃ = G̃_t = 0` or `G̃ = G̃_w = 0` on its ends in `w` or `t`, and `G̃ = 0`
 //!   at its corners (one equation: the paper's condition is right for a single equation).
 //!
+//! **Sweeps invariant in `t`** (`t_invariant`: a translation along a fixed direction, the
+//! simplest sweep and the cylinder oracle). There `F̃` does not depend on `t` and
+//! `G̃_t = c·F̃`, so every system with `t` among its unknowns has whole `t`-segments of roots:
+//! the silhouette is a set of rulings, and an event moves a whole ruling at once (the
+//! cylinder's two contour lines merge along their length when the eye enters it). Those
+//! systems are not solved (their subdivision would run to its limits along the segments);
+//! each segment's ends are the isolated roots of the systems on the faces and edges at
+//! `t = a` and `t = b`, which are.
+//!
 //! Faces and edges at `u, v ∈ {0, 1}` are the patch's borders: on a closed surface made of
 //! several patches, events there mark where a component crosses into the neighbouring patch
 //! at a tangency, not a change of the whole silhouette's topology; they are kept and labelled.
@@ -184,6 +193,36 @@ fn minor(f: &B, g: &B, i: usize, j: usize) -> Result<B, SweepError> {
     })
 }
 
+/// Whether a patch's sweep is invariant in `t` (module docs): `F̃` does not depend on `t` (nor,
+/// as always, on `r`), and `G̃_t = c(t, r)·F̃` for some polynomial `c`. Then `G̃(t) − G̃(a)`,
+/// and with it every equation's difference between `t` and `a`, vanishes wherever `F̃` does,
+/// so each event system with `t` among its unknowns has whole `t`-segments of roots. A
+/// translation along a fixed direction (`F̃ = det[d, S_u, S_v]`, `G̃_t = ⟨d, N⟩ = F̃`) is the
+/// common case. Decided exactly: `F̃` at its exact degrees has degree 0 in `t`, and each
+/// slice of `G̃_t`'s coefficients at one `(t, r)` index is one multiple of `F̃`'s.
+fn t_invariant(f: &B, g: &B) -> Result<bool, SweepError> {
+    let f = f.at_exact_degrees();
+    if f.degrees()[2] != 0 || f.degrees()[3] != 0 {
+        return Ok(false);
+    }
+    let gt = g.derivative(2)?.at_exact_degrees();
+    if gt.coeffs().iter().all(Zero::is_zero) {
+        return Ok(true);
+    }
+    let Some(j0) = f.coeffs().iter().position(|c| !c.is_zero()) else {
+        // `F̃ ≡ 0`: the patch moves within itself, refused elsewhere.
+        return Ok(false);
+    };
+    if gt.degrees()[..2] != f.degrees()[..2] {
+        return Ok(false);
+    }
+    let m = f.coeffs().len();
+    Ok(gt.coeffs().chunks(m).all(|slice| {
+        let c = &slice[j0] / &f.coeffs()[j0];
+        slice.iter().zip(f.coeffs()).all(|(x, y)| *x == &c * y)
+    }))
+}
+
 /// One patch under a moving eye: its equations for the eye at the origin, and `F̃`, `G̃` in
 /// `(u, v, s, ρ)` (`t = a + (b − a)s`, `r = r₀ + (r₁ − r₀)ρ`).
 pub(super) struct MovingEye {
@@ -264,8 +303,14 @@ fn patch_event_systems(
     // face curve's surface {G̃(w, t, r) = 0} given its own critical points below.
     let (f_hat, faces) = super::edges::characteristic_faces(&me.f, s, p)?;
     let (f, g) = (&f_hat, &me.g);
+    // A sweep invariant in t: systems with t free have t-segments of roots, whose ends are
+    // the roots of the systems on the faces t = a, b (module docs).
+    let invariant = t_invariant(&me.f, g)?;
     let mut out = Vec::new();
     let mut push = |kind: EventKind, free: &[usize], eqs: Vec<B>| -> Result<(), SweepError> {
+        if invariant && free.contains(&2) {
+            return Ok(());
+        }
         let mut domain: Vec<(Rational, Rational)> =
             free.iter().map(|&k| params[k].clone()).collect();
         domain.push(r.clone());

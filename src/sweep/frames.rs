@@ -158,6 +158,9 @@ pub struct Frame {
     pub components: Vec<FrameCurve>,
     /// Traced afresh by the certified tracer (else continued from the previous frame).
     pub traced: bool,
+    /// The boxes the tracer could not resolve in a traced frame (its components may then be
+    /// incomplete; an eye at an event's `r` makes the silhouette singular); 0 when continued.
+    pub clusters: usize,
 }
 
 /// One component of a frame.
@@ -259,6 +262,7 @@ pub fn frames(
                 eye,
                 components,
                 traced: false,
+                clusters: 0,
             },
             None => {
                 let mut fixed = scene.clone();
@@ -269,6 +273,7 @@ pub fn frames(
                     eye,
                     components: from_components(&s.components),
                     traced: true,
+                    clusters: s.clusters.len(),
                 }
             }
         };

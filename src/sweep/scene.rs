@@ -16,6 +16,7 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "ellipsoid-turn",
     "tuba",
     "ellipsoid-turn-eye",
+    "sphere-line-eye",
     "sphere-edge-roll",
     "sphere-corner",
 ];
@@ -773,6 +774,17 @@ pub fn builtin_scene_json(name: &str) -> Option<&'static str> {
                 "motion": {"translation": [[0, 3], [0], [0, "1/2"]],
                            "rotation": {"quaternion": [[1], [0], [0], [0, "1/2"]]}},
                 "eye": {"path": [[-3, 3], [-2], [0, "1/3"]], "r": [0, 3]}}"#
+        }
+        // A closed-form event (a sweep invariant in t, module `events`): a unit sphere
+        // translated along x, seen from an eye moving along y past the capsule's end. The
+        // envelope's two contour lines from P(r) = (5, r, 3/5) exist while the eye is outside
+        // the infinite cylinder y² + z² = 1 and merge where it enters, at r = −4/5; the eye
+        // stays at least 2 from the capsule.
+        "sphere-line-eye" => {
+            r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": 1}}],
+                "t": [0, 1],
+                "motion": {"translation": [[0, 2], [0], [0]]},
+                "eye": {"path": [[5], [0, 1], ["3/5"]], "r": [-2, 0]}}"#
         }
         // The silhouette along patch edges: the sphere's meridian edges lie in the plane
         // through the centre normal to n = (−286, −313, 278)/507 (the generic rotation of

@@ -222,6 +222,7 @@ fn run_animate(a: AnimateArgs) -> Result<ExitCode, String> {
                 "r": x.r,
                 "eye": x.eye,
                 "traced": x.traced,
+                "clusters": x.clusters,
                 "components": x.components.iter().map(|c| json!({
                     "surface": c.surface,
                     "closed": c.closed,
@@ -254,16 +255,21 @@ fn run_animate(a: AnimateArgs) -> Result<ExitCode, String> {
         );
         for x in &f.frames {
             println!(
-                "r = {:.6}  {} component(s), {} points  {}",
+                "r = {:.6}  {} component(s), {} points  {}{}",
                 x.r,
                 x.components.len(),
                 x.components.iter().map(|c| c.points.len()).sum::<usize>(),
-                if x.traced { "traced" } else { "continued" }
+                if x.traced { "traced" } else { "continued" },
+                if x.clusters > 0 {
+                    format!(", {} unresolved boxes (incomplete)", x.clusters)
+                } else {
+                    String::new()
+                }
             );
         }
     }
     Ok(crate::out::status(
-        all_verified && f.events.clusters.is_empty(),
+        all_verified && f.events.clusters.is_empty() && f.frames.iter().all(|x| x.clusters == 0),
     ))
 }
 

@@ -1177,3 +1177,50 @@ fn a_translated_sphere_loses_its_contour_lines_where_the_eye_enters_the_cylinder
     let first_after = f.frames.iter().find(|x| x.r > -0.8).unwrap();
     assert!(first_after.traced, "re-traced after the merge");
 }
+
+/// A sphere translated and uniformly scaled along x sweeps a cone (apex at x = −6, half-angle
+/// `sin α = 1/6`), an invariant sweep with the scale `λ = s(t)²`. From `P(r) = (12, r, 1/3)`
+/// its two contour lines merge where the eye enters the infinite cone,
+/// `r² + 1/9 = 18² tan² α = 324/35`: `r = √(2881/315)`.
+#[test]
+fn a_scaled_sphere_loses_its_contour_lines_where_the_eye_enters_the_cone() {
+    use geocert::num::Rational;
+    use geocert::solve::SolveOptions;
+    use geocert::sweep::{events, verify_event, EventKind};
+    let scene = scene_from_json(
+        r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": 1}}],
+            "t": [0, 2],
+            "motion": {"translation": [[0, 3], [0], [0]],
+                       "linear": [[[1, "1/2"], [0], [0]], [[0], [1, "1/2"], [0]], [[0], [0], [1, "1/2"]]]},
+            "eye": {"path": [[12], [0, 1], ["1/3"]], "r": [0, 6]}}"#,
+    )
+    .unwrap();
+    let ev = events(&scene, &SolveOptions::new()).unwrap();
+    assert!(ev.clusters.is_empty());
+    let square = Rational::new(2881.into(), 315.into());
+    let at_merge: Vec<EventKind> = ev
+        .events
+        .iter()
+        .filter(|e| {
+            let (lo, hi) = e.root.bounds.last().unwrap();
+            *lo > Rational::from_integer(0.into()) && lo * lo <= square && square <= hi * hi
+        })
+        .map(|e| e.kind)
+        .collect();
+    println!(
+        "cone: {} events, at r = √(2881/315): {at_merge:?}",
+        ev.events.len()
+    );
+    assert!(at_merge.contains(&EventKind::Face {
+        axis: 2,
+        upper: false
+    }));
+    assert!(at_merge.contains(&EventKind::Face {
+        axis: 2,
+        upper: true
+    }));
+    for e in &ev.events {
+        assert!(!matches!(e.kind, EventKind::Interior));
+        assert!(verify_event(&scene, e).unwrap().is_ok(), "{e:?}");
+    }
+}

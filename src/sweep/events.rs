@@ -32,14 +32,16 @@
 //!   inside the face, `G̃ = G̃_t = 0` or `G̃ = G̃_w = 0` on its ends in `w` or `t`, and `G̃ = 0`
 //!   at its corners (one equation: the paper's condition is right for a single equation).
 //!
-//! **Sweeps invariant in `t`** (`t_invariant`: a translation along a fixed direction, the
-//! simplest sweep and the cylinder oracle). There `F̃` does not depend on `t` and
-//! `G̃_t = c·F̃`, so every system with `t` among its unknowns has whole `t`-segments of roots:
-//! the silhouette is a set of rulings, and an event moves a whole ruling at once (the
-//! cylinder's two contour lines merge along their length when the eye enters it). Those
-//! systems are not solved (their subdivision would run to its limits along the segments);
-//! each segment's ends are the isolated roots of the systems on the faces and edges at
-//! `t = a` and `t = b`, which are.
+//! **Sweeps invariant in `t`** (`t_invariant`): the characteristic curve is the same curve
+//! `F̂(u, v) = 0` of the patch at every time (`F̃ = φ(t)·F̂`), and so is the contour on it from
+//! any eye (`G̃/λ(t)` does not change along it). A translation along a fixed direction (the
+//! cylinder) and a similarity with a fixed rotation moving along a line (the cone) are such
+//! sweeps. Every system with `t` among its unknowns then has whole `t`-segments of roots: the
+//! silhouette is made of rulings, and an event moves a whole ruling at once (the cylinder's
+//! two contour lines merge along their length when the eye enters it). Those systems are not
+//! solved (their subdivision would run to its limits along the segments); each segment's ends
+//! are the isolated roots of the systems on the faces and edges at `t = a` and `t = b`, which
+//! are.
 //!
 //! Faces and edges at `u, v ∈ {0, 1}` are the patch's borders: on a closed surface made of
 //! several patches, events there mark where a component crosses into the neighbouring patch
@@ -193,34 +195,85 @@ fn minor(f: &B, g: &B, i: usize, j: usize) -> Result<B, SweepError> {
     })
 }
 
-/// Whether a patch's sweep is invariant in `t` (module docs): `F̃` does not depend on `t` (nor,
-/// as always, on `r`), and `G̃_t = c(t, r)·F̃` for some polynomial `c`. Then `G̃(t) − G̃(a)`,
-/// and with it every equation's difference between `t` and `a`, vanishes wherever `F̃` does,
-/// so each event system with `t` among its unknowns has whole `t`-segments of roots. A
-/// translation along a fixed direction (`F̃ = det[d, S_u, S_v]`, `G̃_t = ⟨d, N⟩ = F̃`) is the
-/// common case. Decided exactly: `F̃` at its exact degrees has degree 0 in `t`, and each
-/// slice of `G̃_t`'s coefficients at one `(t, r)` index is one multiple of `F̃`'s.
-fn t_invariant(f: &B, g: &B) -> Result<bool, SweepError> {
+/// Whether a patch's sweep is invariant in `t` (module docs): `F̃ = φ(t)·F̂(u, v)` with `φ`
+/// of one strict sign, and for one of the `scales` `λ(t)` (of one strict sign; the constant
+/// `1` is always tried) `λ G̃_t − λ′ G̃ = c(t, r)·F̂`. Then `(G̃/λ)_t` vanishes wherever `F̃`
+/// does, so on `F̃ = 0` each equation of the event systems is its value at `t = a` times a
+/// power of `λ(t)/λ(a)` (the minors are products of the two), and every system with `t`
+/// among its unknowns has whole `t`-segments of roots. A translation along a fixed direction
+/// (`λ = 1`: `G̃_t = ⟨d, N⟩ = F̃`) and a similarity `s(t)R` with a fixed rotation moving along
+/// a line (`λ = s²`, an entry of `cof(M̂)`: the cone) are such sweeps. Decided exactly on
+/// Bernstein coefficients: the slices of `F̃` at one `t` index are multiples of one slice `F̂`
+/// (their factors are `φ`'s coefficients, all of one strict sign), and each slice of the
+/// difference at one `(t, r)` index is a multiple of `F̂`.
+fn t_invariant(f: &B, g: &B, scales: &[B]) -> Result<bool, SweepError> {
     let f = f.at_exact_degrees();
-    if f.degrees()[2] != 0 || f.degrees()[3] != 0 {
+    if f.degrees()[3] != 0 {
         return Ok(false);
     }
-    let gt = g.derivative(2)?.at_exact_degrees();
-    if gt.coeffs().iter().all(Zero::is_zero) {
-        return Ok(true);
-    }
-    let Some(j0) = f.coeffs().iter().position(|c| !c.is_zero()) else {
+    let m = (f.degrees()[0] + 1) * (f.degrees()[1] + 1);
+    // F̂: the slice with the first non-zero coefficient.
+    let Some(first) = f.coeffs().iter().position(|c| !c.is_zero()) else {
         // `F̃ ≡ 0`: the patch moves within itself, refused elsewhere.
         return Ok(false);
     };
-    if gt.degrees()[..2] != f.degrees()[..2] {
-        return Ok(false);
+    let f_hat = &f.coeffs()[first / m * m..(first / m + 1) * m];
+    let j0 = first % m;
+    // Every slice of `coeffs` (length `m`) as `c·F̂`: the factors, or `None`.
+    let factors = |coeffs: &[Rational]| -> Option<Vec<Rational>> {
+        coeffs
+            .chunks(m)
+            .map(|slice| {
+                let c = &slice[j0] / &f_hat[j0];
+                slice
+                    .iter()
+                    .zip(f_hat)
+                    .all(|(x, y)| *x == &c * y)
+                    .then_some(c)
+            })
+            .collect()
+    };
+    let one_sign =
+        |c: &[Rational]| c.iter().all(Signed::is_positive) || c.iter().all(Signed::is_negative);
+    match factors(f.coeffs()) {
+        Some(phi) if one_sign(&phi) => {}
+        _ => return Ok(false),
     }
-    let m = f.coeffs().len();
-    Ok(gt.coeffs().chunks(m).all(|slice| {
-        let c = &slice[j0] / &f.coeffs()[j0];
-        slice.iter().zip(f.coeffs()).all(|(x, y)| *x == &c * y)
-    }))
+    let one = B::constant(vec![0], Rational::one());
+    for lambda in std::iter::once(&one).chain(scales) {
+        let lambda = lambda.at_exact_degrees();
+        if !one_sign(lambda.coeffs()) {
+            continue;
+        }
+        let l4 = lambda.embed(&[2], 4)?;
+        let dl4 = lambda.derivative(0)?.embed(&[2], 4)?;
+        let e = sub(&mul(&l4, &g.derivative(2)?)?, &mul(&dl4, g)?)?.at_exact_degrees();
+        if e.coeffs().iter().all(Zero::is_zero) {
+            return Ok(true);
+        }
+        if e.degrees()[..2] == f.degrees()[..2] && factors(e.coeffs()).is_some() {
+            return Ok(true);
+        }
+    }
+    Ok(false)
+}
+
+/// The entries of `cof(M̂)` that are not identically zero, as candidate scales `λ(t)` of
+/// [`t_invariant`] (in `s`).
+fn cofactor_scales(forms: &MotionForms) -> Result<Vec<B>, SweepError> {
+    let m = &forms.m;
+    let mut out: Vec<B> = Vec::new();
+    for i in 0..3 {
+        for j in 0..3 {
+            let (i1, i2, j1, j2) = ((i + 1) % 3, (i + 2) % 3, (j + 1) % 3, (j + 2) % 3);
+            let c = sub(&mul(&m[i1][j1], &m[i2][j2])?, &mul(&m[i1][j2], &m[i2][j1])?)?
+                .at_exact_degrees();
+            if c.coeffs().iter().any(|x| !x.is_zero()) && !out.contains(&c) {
+                out.push(c);
+            }
+        }
+    }
+    Ok(out)
 }
 
 /// One patch under a moving eye: its equations for the eye at the origin, and `F̃`, `G̃` in
@@ -232,6 +285,8 @@ pub(super) struct MovingEye {
     pub(super) f: B,
     /// `G̃ = G̃₀ − Σᵢ Pᵢ(r) Kᵢ`.
     pub(super) g: B,
+    /// Whether the sweep is invariant in `t` ([`t_invariant`]).
+    pub(super) invariant: bool,
 }
 
 /// [`MovingEye`] of patch `p` of surface `s` (the eye must move along a path).
@@ -256,10 +311,13 @@ pub(super) fn moving_eye(
         let pi = on_interval(poly, &r.0, &r.1).embed(&[3], 4)?;
         g = sub(&g, &mul(&k, &pi)?)?;
     }
+    let g = g.at_exact_degrees();
+    let invariant = t_invariant(&f, &g, &cofactor_scales(forms)?)?;
     Ok(MovingEye {
         eq0,
         f,
-        g: g.at_exact_degrees(),
+        g,
+        invariant,
     })
 }
 
@@ -305,7 +363,7 @@ fn patch_event_systems(
     let (f, g) = (&f_hat, &me.g);
     // A sweep invariant in t: systems with t free have t-segments of roots, whose ends are
     // the roots of the systems on the faces t = a, b (module docs).
-    let invariant = t_invariant(&me.f, g)?;
+    let invariant = me.invariant;
     let mut out = Vec::new();
     let mut push = |kind: EventKind, free: &[usize], eqs: Vec<B>| -> Result<(), SweepError> {
         if invariant && free.contains(&2) {

@@ -1224,3 +1224,104 @@ fn a_scaled_sphere_loses_its_contour_lines_where_the_eye_enters_the_cone() {
         assert!(verify_event(&scene, e).unwrap().is_ok(), "{e:?}");
     }
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(16))]
+
+    /// A unit sphere translated along a random integer direction `d` (a sweep invariant in
+    /// t), its eye on a random line `P(r) = E + r D` through the point `3d` of the axis beyond
+    /// the capsule (`E = 3d − D`, at r = 1): the contour lines merge where the eye
+    /// crosses the infinite cylinder around the axis, the roots of the integer quadratic
+    /// `q(r) = |P|²|d|² − (P·d)² − |d|²`. Every event lies on the characteristic circle and on
+    /// the contour from its eye; every event inside a start or end position has `q` changing
+    /// sign in its certified `r` interval, exactly; every simple root of `q` inside the path's
+    /// interval is seen at both t = 0 and t = 1.
+    #[test]
+    fn random_translations_of_a_sphere_merge_their_lines_where_the_eye_enters_the_cylinder(
+        d in proptest::collection::vec(-3i64..=3, 3),
+        dir in proptest::collection::vec(-4i64..=4, 3),
+    ) {
+        use geocert::num::Rational;
+        use geocert::solve::SolveOptions;
+        use geocert::sweep::{events, EventKind};
+        proptest::prop_assume!(d.iter().any(|&x| x != 0) && dir.iter().any(|&x| x != 0));
+        let e: Vec<i64> = (0..3).map(|k| 3 * d[k] - dir[k]).collect();
+        let text = format!(
+            r#"{{"surfaces": [{{"sphere": {{"center": [0, 0, 0], "radius": 1}}}}],
+                "t": [0, 1],
+                "motion": {{"translation": [[0, {}], [0, {}], [0, {}]]}},
+                "eye": {{"path": [[{}, {}], [{}, {}], [{}, {}]], "r": [0, 2]}}}}"#,
+            d[0], d[1], d[2], e[0], dir[0], e[1], dir[1], e[2], dir[2]
+        );
+        let scene = scene_from_json(&text).unwrap();
+        let ev = match events(&scene, &SolveOptions::new()) {
+            Ok(ev) => ev,
+            // An eye path through the swept sphere is refused.
+            Err(SweepError::EyePathOnSurface { .. }) => return Ok(()),
+            Err(err) => panic!("{err}"),
+        };
+        // q(r) = A r² + B r + C in integers.
+        let dot = |a: &[i64], b: &[i64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<i64>();
+        let dd = dot(&d, &d);
+        let (a, b, c) = (
+            dot(&dir, &dir) * dd - dot(&dir, &d).pow(2),
+            2 * (dot(&e, &dir) * dd - dot(&e, &d) * dot(&dir, &d)),
+            dot(&e, &e) * dd - dot(&e, &d).pow(2) - dd,
+        );
+        let disc = b * b - 4 * a * c;
+        proptest::prop_assume!(a != 0 && disc != 0);
+        let q = |r: &Rational| -> Rational {
+            let int = |k: i64| Rational::from_integer(k.into());
+            int(a) * r * r + int(b) * r + int(c)
+        };
+        proptest::prop_assert!(ev.clusters.is_empty());
+        let at_ends: Vec<_> = ev
+            .events
+            .iter()
+            .filter(|x| match x.kind {
+                EventKind::Face { axis, .. } => axis == 2,
+                EventKind::Edge { fixed } => fixed[1].0 == 2,
+                _ => false,
+            })
+            .collect();
+        for x in &ev.events {
+            // On the characteristic circle (d·X = 0) and on the contour from P(r)
+            // (1 − P(r)·X = 0; X the unit sphere's point, its own normal).
+            let [u, v, _] = x.uvt;
+            let p = scene.surfaces[x.surface].patches[x.patch].point(u, v).unwrap();
+            let eye: Vec<f64> = (0..3).map(|k| (e[k] as f64) + x.r * dir[k] as f64).collect();
+            let along = (0..3).map(|k| d[k] as f64 * p[k]).sum::<f64>();
+            let contour = 1.0 - (0..3).map(|k| eye[k] * p[k]).sum::<f64>();
+            proptest::prop_assert!(along.abs() < 1e-8 && contour.abs() < 1e-8,
+                "{:?} at r = {}: {along:e} {contour:e}", x.kind, x.r);
+        }
+        for x in at_ends.iter().filter(|x| matches!(x.kind, EventKind::Face { .. })) {
+            let (lo, hi) = x.root.bounds.last().unwrap();
+            let (ql, qh) = (q(lo), q(hi));
+            let zero = Rational::from_integer(0.into());
+            proptest::prop_assert!(
+                (ql <= zero && qh >= zero) || (ql >= zero && qh <= zero),
+                "{:?} at r = {}: q does not change sign", x.kind, x.r
+            );
+        }
+        if disc > 0 {
+            let s = (disc as f64).sqrt();
+            for root in [(-(b as f64) - s) / (2.0 * a as f64), (-(b as f64) + s) / (2.0 * a as f64)] {
+                if !(1e-6..=2.0 - 1e-6).contains(&root) {
+                    continue;
+                }
+                for t_end in [false, true] {
+                    let seen = at_ends.iter().any(|x| {
+                        (x.r - root).abs() < 1e-8
+                            && match x.kind {
+                                EventKind::Face { upper, .. } => upper == t_end,
+                                EventKind::Edge { fixed } => fixed[1].1 == t_end,
+                                _ => false,
+                            }
+                    });
+                    proptest::prop_assert!(seen, "merge at r = {root} not seen at t = {}", u8::from(t_end));
+                }
+            }
+        }
+    }
+}

@@ -1143,10 +1143,7 @@ fn a_translated_sphere_loses_its_contour_lines_where_the_eye_enters_the_cylinder
         );
         assert!(verify_event(&scene, e).unwrap().is_ok(), "{e:?}");
         // On the characteristic circle of the unit sphere and on the contour from P(r).
-        let [u, v, _] = e.uvt;
-        let x = scene.surfaces[e.surface].patches[e.patch]
-            .point(u, v)
-            .unwrap();
+        let x = e.patch_point(&scene).unwrap();
         let tangency = 1.0 - e.r * x[1] - 0.6 * x[2];
         assert!(x[0].abs() < 1e-8, "{x:?}");
         assert!((x[1] * x[1] + x[2] * x[2] - 1.0).abs() < 1e-8, "{x:?}");
@@ -1287,8 +1284,7 @@ proptest::proptest! {
         for x in &ev.events {
             // On the characteristic circle (d·X = 0) and on the contour from P(r)
             // (1 − P(r)·X = 0; X the unit sphere's point, its own normal).
-            let [u, v, _] = x.uvt;
-            let p = scene.surfaces[x.surface].patches[x.patch].point(u, v).unwrap();
+            let p = x.patch_point(&scene).unwrap();
             let eye: Vec<f64> = (0..3).map(|k| (e[k] as f64) + x.r * dir[k] as f64).collect();
             let along = (0..3).map(|k| d[k] as f64 * p[k]).sum::<f64>();
             let contour = 1.0 - (0..3).map(|k| eye[k] * p[k]).sum::<f64>();

@@ -347,17 +347,11 @@ fn merge_oracle(scene: &Scene, events: &[crate::sweep::Event], frames: &[FrameRo
     let worst = events
         .iter()
         .map(|e| {
-            let [u, v, _] = e.uvt;
-            scene
-                .surfaces
-                .get(e.surface)
-                .and_then(|s| s.patches.get(e.patch))
-                .and_then(|p| p.point(u, v))
-                .map_or(f64::INFINITY, |x| {
-                    let on_circle = (x[1] * x[1] + x[2] * x[2] - 1.0).abs();
-                    let tangent = (1.0 - e.r * x[1] - 0.6 * x[2]).abs();
-                    x[0].abs().max(on_circle).max(tangent)
-                })
+            e.patch_point(scene).map_or(f64::INFINITY, |x| {
+                let on_circle = (x[1] * x[1] + x[2] * x[2] - 1.0).abs();
+                let tangent = (1.0 - e.r * x[1] - 0.6 * x[2]).abs();
+                x[0].abs().max(on_circle).max(tangent)
+            })
         })
         .fold(0.0, f64::max);
     let frames_as_closed_form = frames

@@ -143,6 +143,19 @@ pub struct Event {
     pub pivot: Option<bool>,
 }
 
+impl Event {
+    /// The event's point on its patch, `S(u, v)` in `f64`, before the motion (`None` when
+    /// the scene has no such patch).
+    pub fn patch_point(&self, scene: &Scene) -> Option<[f64; 3]> {
+        let [u, v, _] = self.uvt;
+        scene
+            .surfaces
+            .get(self.surface)
+            .and_then(|s| s.patches.get(self.patch))
+            .and_then(|p| p.point(u, v))
+    }
+}
+
 /// The events of a scene with a moving eye, sorted by `r`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Events {
@@ -691,13 +704,8 @@ pub fn event_groups(scene: &Scene, events: &[Event]) -> Vec<Vec<usize>> {
         (lo - widen, hi + widen)
     };
     let point = |e: &Event| {
-        let [u, v, t] = e.uvt;
-        scene
-            .surfaces
-            .get(e.surface)
-            .and_then(|s| s.patches.get(e.patch))
-            .and_then(|p| p.point(u, v))
-            .map(|x| super::silhouette::apply_motion(scene, t, x))
+        e.patch_point(scene)
+            .map(|x| super::silhouette::apply_motion(scene, e.uvt[2], x))
     };
     let points: Vec<Option<[f64; 3]>> = events.iter().map(point).collect();
     // Union-find over the joined pairs.

@@ -843,3 +843,75 @@ fn check_event(
         &event.root.certificate,
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sweep::scene_from_json;
+
+    /// Whether every patch of the scene (`motion` JSON, `t` interval) is an invariant sweep.
+    fn invariant(t: &str, motion: &str) -> Vec<bool> {
+        let scene = scene_from_json(&format!(
+            r#"{{"surfaces": [{{"sphere": {{"center": [0, 0, 0], "radius": 1}}}}],
+                "t": {t}, "motion": {motion}, "eye": {{"path": [[9], [0, 1], [2]], "r": [0, 1]}}}}"#
+        ))
+        .unwrap();
+        let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1).unwrap();
+        (0..scene.surfaces[0].patches.len())
+            .map(|p| moving_eye(&scene, &forms, 0, p).unwrap().invariant)
+            .collect()
+    }
+
+    #[test]
+    fn invariant_sweeps_are_recognised_exactly() {
+        let all = |v: Vec<bool>, want: bool| {
+            assert_eq!(v.len(), 8);
+            assert!(v.iter().all(|&x| x == want), "{v:?}, want {want}");
+        };
+        // A translation along a fixed direction (λ = 1), also at a varying speed where the
+        // speed keeps its sign (x = 2t² on [1, 2]).
+        all(
+            invariant("[0, 1]", r#"{"translation": [[0, 2], [0, 1], [0]]}"#),
+            true,
+        );
+        all(
+            invariant("[1, 2]", r#"{"translation": [[0, 0, 2], [0], [0]]}"#),
+            true,
+        );
+        // The same speed through zero (the sphere stops at t = 0: φ = 4t changes sign).
+        all(
+            invariant("[0, 1]", r#"{"translation": [[0, 0, 2], [0], [0]]}"#),
+            false,
+        );
+        // A uniform scale along a line (the cone, λ = s²).
+        all(
+            invariant(
+                "[0, 2]",
+                r#"{"translation": [[0, 3], [0], [0]],
+                    "linear": [[[1, "1/2"], [0], [0]], [[0], [1, "1/2"], [0]], [[0], [0], [1, "1/2"]]]}"#,
+            ),
+            true,
+        );
+        // A curved path, a non-uniform scale, a rotation: the characteristic curve moves.
+        all(
+            invariant("[0, 1]", r#"{"translation": [[0, 4], [0, 0, 1], [0]]}"#),
+            false,
+        );
+        all(
+            invariant(
+                "[0, 1]",
+                r#"{"translation": [[0, 4], [0, 1], [0]],
+                    "linear": [[[1, 1], [0], [0]], [[0], [1], [0]], [[0], [0], [1, "1/2"]]]}"#,
+            ),
+            false,
+        );
+        all(
+            invariant(
+                "[0, 1]",
+                r#"{"translation": [[0, 3], [0], [0]],
+                    "rotation": {"quaternion": [[1], [0], [0], [0, "1/2"]]}}"#,
+            ),
+            false,
+        );
+    }
+}

@@ -1184,14 +1184,7 @@ fn a_scaled_sphere_loses_its_contour_lines_where_the_eye_enters_the_cone() {
     use geocert::num::Rational;
     use geocert::solve::SolveOptions;
     use geocert::sweep::{events, verify_event, EventKind};
-    let scene = scene_from_json(
-        r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": 1}}],
-            "t": [0, 2],
-            "motion": {"translation": [[0, 3], [0], [0]],
-                       "linear": [[[1, "1/2"], [0], [0]], [[0], [1, "1/2"], [0]], [[0], [0], [1, "1/2"]]]},
-            "eye": {"path": [[12], [0, 1], ["1/3"]], "r": [0, 6]}}"#,
-    )
-    .unwrap();
+    let scene = builtin_scene("sphere-cone-eye").unwrap();
     let ev = events(&scene, &SolveOptions::new()).unwrap();
     assert!(ev.clusters.is_empty());
     let square = Rational::new(2881.into(), 315.into());

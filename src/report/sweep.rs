@@ -104,17 +104,21 @@ pub struct MovingEyeRun {
     pub error: Option<String>,
 }
 
-/// `sphere-line-eye` against its closed form: the unit sphere translated along x, the eye
-/// at `P(r) = (5, r, 3/5)`; the envelope's contour lines are where `1 − r·y − (3/5)·z = 0`
-/// meets `y² + z² = 1` on the characteristic circle `x = 0` of the sphere, and they merge at
-/// `r = −4/5`.
+/// A scene with a closed-form event ([`MERGE_SCENES`]) against it: the unit sphere swept
+/// along x into a cylinder or a cone, the eye on a line that crosses its surface; the two
+/// contour lines exist exactly where `r² > c` and merge at `r² = c`.
 #[derive(Clone, Debug, Serialize)]
 pub struct MergeOracle {
-    /// The events whose certified `r` interval holds `−4/5` (`face t=0`, …).
+    /// The merge's `r` in words (`−4/5`, `√(2881/315)`) and in `f64`.
+    pub closed_form: String,
+    pub r: f64,
+    /// The events whose certified `r` interval holds the merge (`face t=0`, …), decided
+    /// exactly by the sign of `r² − c` at its ends.
     pub at_merge: Vec<String>,
-    /// The largest `|x|`, `|y² + z² − 1|` and `|1 − r·y − (3/5)·z|` over every event's point.
-    pub worst: f64,
-    /// Frames before the merge with two components, after it with none.
+    /// For the cylinder: the largest `|x|`, `|y² + z² − 1|` and `|1 − r·y − (3/5)·z|` over
+    /// every event's point (on the characteristic circle and on the contour from `P(r)`).
+    pub worst: Option<f64>,
+    /// Frames with two components where `r² > c` and none elsewhere.
     pub frames_as_closed_form: usize,
 }
 
@@ -202,9 +206,10 @@ fn occ_peer(root: &FsPath, scene: &Scene, s: &Silhouettes, seconds: f64) -> Resu
 
 /// The moving eye's scenes, and the frames drawn (from, to, how many): around the turning
 /// ellipsoid's interior event, and across the cylinder's merge.
-const MOVING: [(&str, (f64, f64), usize); 2] = [
+const MOVING: [(&str, (f64, f64), usize); 3] = [
     ("ellipsoid-turn-eye", (1.55, 1.75), 13),
     ("sphere-line-eye", (-2.0, -0.1), 8),
+    ("sphere-cone-eye", (0.0, 6.0), 9),
 ];
 /// Solves of the events timed; the report quotes their median.
 const EVENT_RUNS: usize = 3;
@@ -316,26 +321,60 @@ fn moving_eye_run(name: &str, range: (f64, f64), count: usize, dir: &FsPath) -> 
             frame_svg(frame),
         );
     }
-    if name == MERGE_SCENE {
-        run.oracle = Some(merge_oracle(&scene, &f.events.events, &run.frames));
+    if let Some(&(_, c, words, _)) = MERGE_SCENES.iter().find(|m| m.0 == name) {
+        run.oracle = Some(merge_oracle(
+            &scene,
+            c,
+            words,
+            &f.events.events,
+            &run.frames,
+        ));
     }
     run
 }
 
-/// The scene with the closed-form event ([`MergeOracle`]).
-const MERGE_SCENE: &str = "sphere-line-eye";
+/// The scenes with a closed-form event ([`MergeOracle`]): name, `c = (num, den)` (the lines
+/// exist where `r² > c`), the merge in words, and the closed form's description.
+const MERGE_SCENES: [(&str, (i64, i64), &str, &str); 2] = [
+    (
+        "sphere-line-eye",
+        (16, 25),
+        "−4/5",
+        "The unit sphere translated along x sweeps a cylinder. From `P(r) = (5, r, 3/5)` the \
+         contour lines are where `1 − r·y − (3/5)·z = 0` meets `y² + z² = 1` on the \
+         characteristic circle `x = 0`; they merge where the eye enters the infinite cylinder, \
+         `r² + 9/25 = 1`: r = −4/5.",
+    ),
+    (
+        "sphere-cone-eye",
+        (2881, 315),
+        "√(2881/315)",
+        "The unit sphere translated along x while scaled by `1 + t/2` sweeps a cone (apex at \
+         x = −6, `sin α = 1/6`). From `P(r) = (12, r, 1/3)` the contour lines appear where the \
+         eye leaves the infinite cone, `r² + 1/9 = 18² tan² α = 324/35`: r = √(2881/315).",
+    ),
+];
 
-/// [`MergeOracle`] of `events` and `frames` of [`MERGE_SCENE`].
-fn merge_oracle(scene: &Scene, events: &[crate::sweep::Event], frames: &[FrameRow]) -> MergeOracle {
-    let merge = crate::num::Rational::new((-4).into(), 5.into());
+/// [`MergeOracle`] of a scene of [`MERGE_SCENES`] (`c` its merge, `words` in words).
+fn merge_oracle(
+    scene: &Scene,
+    c: (i64, i64),
+    words: &str,
+    events: &[crate::sweep::Event],
+    frames: &[FrameRow],
+) -> MergeOracle {
+    use crate::num::Rational;
+    let c_q = Rational::new(c.0.into(), c.1.into());
+    let q = |r: &Rational| r * r - &c_q;
+    let zero = Rational::from_integer(0.into());
     let axis = |a: usize| ["u", "v", "t"][a.min(2)];
     let at_merge = events
         .iter()
         .filter(|e| {
-            e.root
-                .bounds
-                .last()
-                .is_some_and(|(lo, hi)| *lo <= merge && merge <= *hi)
+            e.root.bounds.last().is_some_and(|(lo, hi)| {
+                let (a, b) = (q(lo), q(hi));
+                (a <= zero && b >= zero) || (a >= zero && b <= zero)
+            })
         })
         .map(|e| match e.kind {
             crate::sweep::EventKind::Face { axis: a, upper } => {
@@ -344,21 +383,28 @@ fn merge_oracle(scene: &Scene, events: &[crate::sweep::Event], frames: &[FrameRo
             k => format!("{k:?}"),
         })
         .collect();
-    let worst = events
-        .iter()
-        .map(|e| {
-            e.patch_point(scene).map_or(f64::INFINITY, |x| {
-                let on_circle = (x[1] * x[1] + x[2] * x[2] - 1.0).abs();
-                let tangent = (1.0 - e.r * x[1] - 0.6 * x[2]).abs();
-                x[0].abs().max(on_circle).max(tangent)
+    // The cylinder's events against its closed form point by point.
+    let worst = (c == MERGE_SCENES[0].1).then(|| {
+        events
+            .iter()
+            .map(|e| {
+                e.patch_point(scene).map_or(f64::INFINITY, |x| {
+                    let on_circle = (x[1] * x[1] + x[2] * x[2] - 1.0).abs();
+                    let tangent = (1.0 - e.r * x[1] - 0.6 * x[2]).abs();
+                    x[0].abs().max(on_circle).max(tangent)
+                })
             })
-        })
-        .fold(0.0, f64::max);
+            .fold(0.0, f64::max)
+    });
+    let c_f = c.0 as f64 / c.1 as f64;
     let frames_as_closed_form = frames
         .iter()
-        .filter(|f| f.components == if f.r < -0.8 { 2 } else { 0 })
+        .filter(|f| f.components == if f.r * f.r > c_f { 2 } else { 0 })
         .count();
+    let r = c_f.sqrt() * if words.starts_with('−') { -1.0 } else { 1.0 };
     MergeOracle {
+        closed_form: words.into(),
+        r,
         at_merge,
         worst,
         frames_as_closed_form,
@@ -625,7 +671,7 @@ pub fn campaign_ok(c: &SweepCampaign) -> bool {
                     .all(|f| f.clusters == 0 && f.max_f < 1e-6 && f.max_g < 1e-6)
                 && m.oracle.as_ref().is_none_or(|o| {
                     o.at_merge.len() >= 2
-                        && o.worst < 1e-8
+                        && o.worst.is_none_or(|w| w < 1e-8)
                         && o.frames_as_closed_form == m.frames.len()
                 })
         })
@@ -745,7 +791,7 @@ pub fn write_sweep_report(
         "## Not yet here\n\nThe paper's 0.1 s event budget on the turning ellipsoid: solving \
          its events (the 4-unknown interior systems take most of the time) and tracing the \
          frames near them (each traced frame is a whole certified run of Algorithm 1) are the \
-         slow parts (see the times above); the cylinder's events are well inside it."
+         slow parts (see the times above); the cylinder's and the cone's events are well inside it."
     );
     std::fs::create_dir_all(dir)?;
     let path = dir.join("sweep.md");
@@ -893,21 +939,27 @@ fn moving_markdown(s: &mut String, m: &MovingEyeRun) {
     }
     s.push('\n');
     if let Some(o) = &m.oracle {
+        let description = MERGE_SCENES
+            .iter()
+            .find(|x| x.0 == m.scene)
+            .map_or("", |x| x.3);
         let _ = writeln!(
             s,
-            "**Closed form.** The unit sphere translated along x is a sweep invariant in t: \
-             the characteristic circle `x = 0` is the same at every time, the silhouette is \
-             made of rulings, and an event moves a whole ruling (the systems with t free \
-             have segments of roots and are not solved; the segments' ends are the events \
-             on the faces t = 0 and t = 1). From `P(r) = (5, r, 3/5)` the contour lines are \
-             where `1 − r·y − (3/5)·z = 0` meets `y² + z² = 1`; they merge where the eye \
-             enters the infinite cylinder, at r = −4/5 exactly. Certified intervals holding \
-             −4/5: {} ({}). Every event's point against the closed form (its `|x|`, `|y² + \
-             z² − 1|`, `|1 − r·y − (3/5)·z|`): at most {:.1e}. Frames with two lines before \
-             −4/5 and none after: {} of {}.\n",
+            "**Closed form.** {description} The sweep is invariant in t (the characteristic \
+             circle is the same circle of the sphere at every time): the silhouette is made of \
+             rulings, an event moves a whole ruling, and the systems with t free, which have \
+             segments of roots, are not solved; the segments' ends are the events on the faces \
+             t = 0 and t = 1. Certified intervals holding {} ≈ {:.9}, decided exactly by the \
+             sign of `r² − c` at their ends: {} ({}).{} Frames with two lines where the eye is \
+             outside and none inside: {} of {}.\n",
+            o.closed_form,
+            o.r,
             o.at_merge.len(),
             o.at_merge.join(", "),
-            o.worst,
+            o.worst.map_or(String::new(), |w| format!(
+                " Every event's point against the closed form (its `|x|`, `|y² + z² − 1|`, \
+                 `|1 − r·y − (3/5)·z|`): at most {w:.1e}."
+            )),
             o.frames_as_closed_form,
             m.frames.len()
         );

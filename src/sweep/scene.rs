@@ -17,6 +17,7 @@ pub const BUILTIN_SCENES: &[&str] = &[
     "tuba",
     "ellipsoid-turn-eye",
     "sphere-line-eye",
+    "sphere-cone-eye",
     "sphere-edge-roll",
     "sphere-corner",
 ];
@@ -785,6 +786,17 @@ pub fn builtin_scene_json(name: &str) -> Option<&'static str> {
                 "t": [0, 1],
                 "motion": {"translation": [[0, 2], [0], [0]]},
                 "eye": {"path": [[5], [0, 1], ["3/5"]], "r": [-2, 0]}}"#
+        }
+        // A closed-form event through a scale (module `events`): a unit sphere translated
+        // along x while scaled by 1 + t/2 sweeps a cone (apex at x = −6, sin α = 1/6); from
+        // P(r) = (12, r, 1/3) its contour lines appear where the eye leaves the infinite
+        // cone, r² + 1/9 = 324/35, r = √(2881/315).
+        "sphere-cone-eye" => {
+            r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": 1}}],
+                "t": [0, 2],
+                "motion": {"translation": [[0, 3], [0], [0]],
+                           "linear": [[[1, "1/2"], [0], [0]], [[0], [1, "1/2"], [0]], [[0], [0], [1, "1/2"]]]},
+                "eye": {"path": [[12], [0, 1], ["1/3"]], "r": [0, 6]}}"#
         }
         // The silhouette along patch edges: the sphere's meridian edges lie in the plane
         // through the centre normal to n = (−286, −313, 278)/507 (the generic rotation of

@@ -38,7 +38,7 @@ pub(crate) enum Command {
 #[derive(clap::Args)]
 pub(crate) struct AnimateArgs {
     /// A scene JSON file whose eye is `{"path": [px, py, pz], "r": [r0, r1]}`, or
-    /// `builtin:ellipsoid-turn-eye`, `builtin:sphere-line-eye`.
+    /// `builtin:ellipsoid-turn-eye`, `builtin:sphere-line-eye`, `builtin:sphere-cone-eye`.
     scene: String,
     /// Frames, evenly spaced from --from to --to (both included).
     #[arg(long, default_value_t = 24)]
@@ -85,7 +85,7 @@ pub(crate) struct EventsArgs {
 pub(crate) struct SilhouetteArgs {
     /// A scene JSON file (`{"surfaces": [...], "t": [a, b], "motion": {...}, "eye": ...}`), or
     /// `builtin:NAME` (sphere-line, sphere-cone, ellipsoid-line, ellipsoid-turn, tuba,
-    /// ellipsoid-turn-eye, sphere-line-eye, sphere-edge-roll, sphere-corner).
+    /// ellipsoid-turn-eye, sphere-line-eye, sphere-cone-eye, sphere-edge-roll, sphere-corner).
     scene: String,
     #[arg(long, default_value_t = Path::Filtered, value_parser = choice::<Path>(Path::NAMES))]
     path: Path,

@@ -104,7 +104,7 @@ pub struct MovingEyeRun {
     pub error: Option<String>,
 }
 
-/// A scene with a closed-form event ([`MERGE_SCENES`]) against it: the unit sphere swept
+/// A scene with a closed-form event (the cylinder, the cone) against it: the unit sphere swept
 /// along x into a cylinder or a cone, the eye on a line that crosses its surface; the two
 /// contour lines exist exactly where `r² > c` and merge at `r² = c`.
 #[derive(Clone, Debug, Serialize)]

@@ -199,13 +199,8 @@ fn minor(f: &B, g: &B, i: usize, j: usize) -> Result<B, SweepError> {
         // polynomial): the products' degrees then differ, and the difference is elevated.
         return Ok(sub(&p.to_rational(), &q.to_rational())?.at_exact_degrees());
     }
-    let m = p.sub(&q)?;
-    let reducible = (0..m.degrees().len()).any(|k| m.top_difference_vanishes(k));
-    Ok(if reducible {
-        m.to_rational().at_exact_degrees()
-    } else {
-        m.to_rational()
-    })
+    // At exact degrees in integers, then brought to rationals once.
+    Ok(p.sub(&q)?.at_exact_degrees().to_rational())
 }
 
 /// Whether a patch's sweep is invariant in `t` (module docs): `F̃ = φ(t)·F̂(u, v)` with `φ`

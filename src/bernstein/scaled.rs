@@ -94,20 +94,11 @@ impl ScaledBernstein {
             return Ok(z);
         }
         let factor = BigInt::from(d);
-        let num = map_lines(
-            &self.degrees,
-            &self.num,
-            axis,
-            d,
-            &BigInt::zero(),
-            |line, out| {
-                for i in 0..d {
-                    out[i] = &factor * (&line[i + 1] - &line[i]);
-                }
-            },
-        );
-        let mut degrees = self.degrees.clone();
-        degrees[axis] = d - 1;
+        let (degrees, num) = self.lines_one_lower(axis, |line, out| {
+            for i in 0..d {
+                out[i] = &factor * (&line[i + 1] - &line[i]);
+            }
+        });
         Ok(ScaledBernstein {
             degrees,
             num,
@@ -269,27 +260,32 @@ impl ScaledBernstein {
     fn reduced(&self, axis: usize) -> ScaledBernstein {
         let d = self.degrees[axis];
         let scale: BigInt = (1..d).fold(BigInt::one(), |acc, j| acc * j);
-        let num = map_lines(
-            &self.degrees,
-            &self.num,
-            axis,
-            d,
-            &BigInt::zero(),
-            |line, out| {
-                out[0] = &line[0] * &scale;
-                for i in 1..d {
-                    let n = &line[i] * &scale * BigInt::from(d) - &out[i - 1] * BigInt::from(i);
-                    out[i] = n / BigInt::from(d - i);
-                }
-            },
-        );
-        let mut degrees = self.degrees.clone();
-        degrees[axis] = d - 1;
+        let (degrees, num) = self.lines_one_lower(axis, |line, out| {
+            out[0] = &line[0] * &scale;
+            for i in 1..d {
+                let n = &line[i] * &scale * BigInt::from(d) - &out[i - 1] * BigInt::from(i);
+                out[i] = n / BigInt::from(d - i);
+            }
+        });
         ScaledBernstein {
             degrees,
             num,
             den: &self.den * &scale,
         }
+    }
+
+    /// Every line along `axis` (degree `d ≥ 1` there) mapped by `f` to `d` numerators: the
+    /// degrees and numerators of a polynomial one degree lower along `axis`.
+    fn lines_one_lower(
+        &self,
+        axis: usize,
+        f: impl FnMut(&[BigInt], &mut [BigInt]),
+    ) -> (Vec<usize>, Vec<BigInt>) {
+        let d = self.degrees[axis];
+        let num = map_lines(&self.degrees, &self.num, axis, d, &BigInt::zero(), f);
+        let mut degrees = self.degrees.clone();
+        degrees[axis] = d - 1;
+        (degrees, num)
     }
 
     /// The same polynomial with rational coefficients.

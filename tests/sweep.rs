@@ -1216,7 +1216,7 @@ fn a_scaled_sphere_loses_its_contour_lines_where_the_eye_enters_the_cone() {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(16))]
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(32))]
 
     /// A unit sphere translated along a random integer direction `d` (a sweep invariant in
     /// t), its eye on a random line `P(r) = E + r D` through the point `3d` of the axis beyond
@@ -1243,13 +1243,6 @@ proptest::proptest! {
                 "eye": {{"path": [[{}, {}], [{}, {}], [{}, {}]], "r": [0, 2]}}}}"#,
             d[0], d[1], d[2], e[0], dir[0], e[1], dir[1], e[2], dir[2]
         );
-        let scene = scene_from_json(&text).unwrap();
-        let ev = match events(&scene, &SolveOptions::new()) {
-            Ok(ev) => ev,
-            // An eye path through the swept sphere is refused.
-            Err(SweepError::EyePathOnSurface { .. }) => return Ok(()),
-            Err(err) => panic!("{err}"),
-        };
         // q(r) = A r² + B r + C in integers.
         let dot = |a: &[i64], b: &[i64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<i64>();
         let dd = dot(&d, &d);
@@ -1259,7 +1252,16 @@ proptest::proptest! {
             dot(&e, &e) * dd - dot(&e, &d).pow(2) - dd,
         );
         let disc = b * b - 4 * a * c;
-        proptest::prop_assume!(a != 0 && disc != 0);
+        // A tangent path (a double root) and an eye on the cylinder at an end of its interval
+        // (an event on the domain's boundary, reported as a cluster) are left out.
+        proptest::prop_assume!(a != 0 && disc != 0 && c != 0 && 4 * a + 2 * b + c != 0);
+        let scene = scene_from_json(&text).unwrap();
+        let ev = match events(&scene, &SolveOptions::new()) {
+            Ok(ev) => ev,
+            // An eye path through the swept sphere is refused.
+            Err(SweepError::EyePathOnSurface { .. }) => return Ok(()),
+            Err(err) => panic!("{err}"),
+        };
         let q = |r: &Rational| -> Rational {
             let int = |k: i64| Rational::from_integer(k.into());
             int(a) * r * r + int(b) * r + int(c)

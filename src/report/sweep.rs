@@ -321,48 +321,61 @@ fn moving_eye_run(name: &str, range: (f64, f64), count: usize, dir: &FsPath) -> 
             frame_svg(frame),
         );
     }
-    if let Some(&(_, c, words, _)) = MERGE_SCENES.iter().find(|m| m.0 == name) {
-        run.oracle = Some(merge_oracle(
-            &scene,
-            c,
-            words,
-            &f.events.events,
-            &run.frames,
-        ));
+    if let Some(m) = MERGE_SCENES.iter().find(|m| m.name == name) {
+        run.oracle = Some(merge_oracle(&scene, m, &f.events.events, &run.frames));
     }
     run
 }
 
-/// The scenes with a closed-form event ([`MergeOracle`]): name, `c = (num, den)` (the lines
-/// exist where `r² > c`), the merge in words, and the closed form's description.
-const MERGE_SCENES: [(&str, (i64, i64), &str, &str); 2] = [
-    (
-        "sphere-line-eye",
-        (16, 25),
-        "−4/5",
-        "The unit sphere translated along x sweeps a cylinder. From `P(r) = (5, r, 3/5)` the \
-         contour lines are where `1 − r·y − (3/5)·z = 0` meets `y² + z² = 1` on the \
-         characteristic circle `x = 0`; they merge where the eye enters the infinite cylinder, \
-         `r² + 9/25 = 1`: r = −4/5.",
-    ),
-    (
-        "sphere-cone-eye",
-        (2881, 315),
-        "√(2881/315)",
-        "The unit sphere translated along x while scaled by `1 + t/2` sweeps a cone (apex at \
-         x = −6, `sin α = 1/6`). From `P(r) = (12, r, 1/3)` the contour lines appear where the \
-         eye leaves the infinite cone, `r² + 1/9 = 18² tan² α = 324/35`: r = √(2881/315).",
-    ),
+/// A scene with a closed-form event ([`MergeOracle`]).
+struct MergeScene {
+    name: &'static str,
+    /// `c = (num, den)`: the lines exist where `r² > c` and merge at `r² = c`.
+    c: (i64, i64),
+    /// The merge's `r` is `−√c` (else `√c`).
+    negative: bool,
+    /// The merge in words.
+    words: &'static str,
+    /// The closed form, for the report.
+    description: &'static str,
+    /// Whether every event point is checked on the cylinder's contour (`sphere-line-eye`).
+    cylinder: bool,
+}
+
+/// The scenes with a closed-form event.
+const MERGE_SCENES: [MergeScene; 2] = [
+    MergeScene {
+        name: "sphere-line-eye",
+        c: (16, 25),
+        negative: true,
+        words: "−4/5",
+        description: "The unit sphere translated along x sweeps a cylinder. From \
+         `P(r) = (5, r, 3/5)` the contour lines are where `1 − r·y − (3/5)·z = 0` meets \
+         `y² + z² = 1` on the characteristic circle `x = 0`; they merge where the eye enters \
+         the infinite cylinder, `r² + 9/25 = 1`: r = −4/5.",
+        cylinder: true,
+    },
+    MergeScene {
+        name: "sphere-cone-eye",
+        c: (2881, 315),
+        negative: false,
+        words: "√(2881/315)",
+        description: "The unit sphere translated along x while scaled by `1 + t/2` sweeps a \
+         cone (apex at x = −6, `sin α = 1/6`). From `P(r) = (12, r, 1/3)` the contour lines \
+         appear where the eye leaves the infinite cone, `r² + 1/9 = 18² tan² α = 324/35`: \
+         r = √(2881/315).",
+        cylinder: false,
+    },
 ];
 
-/// [`MergeOracle`] of a scene of [`MERGE_SCENES`] (`c` its merge, `words` in words).
+/// [`MergeOracle`] of the events and frames of a [`MergeScene`].
 fn merge_oracle(
     scene: &Scene,
-    c: (i64, i64),
-    words: &str,
+    m: &MergeScene,
     events: &[crate::sweep::Event],
     frames: &[FrameRow],
 ) -> MergeOracle {
+    let c = m.c;
     use crate::num::Rational;
     let c_q = Rational::new(c.0.into(), c.1.into());
     let q = |r: &Rational| r * r - &c_q;
@@ -384,7 +397,7 @@ fn merge_oracle(
         })
         .collect();
     // The cylinder's events against its closed form point by point.
-    let worst = (c == MERGE_SCENES[0].1).then(|| {
+    let worst = m.cylinder.then(|| {
         events
             .iter()
             .map(|e| {
@@ -401,9 +414,9 @@ fn merge_oracle(
         .iter()
         .filter(|f| f.components == if f.r * f.r > c_f { 2 } else { 0 })
         .count();
-    let r = c_f.sqrt() * if words.starts_with('−') { -1.0 } else { 1.0 };
+    let r = if m.negative { -c_f.sqrt() } else { c_f.sqrt() };
     MergeOracle {
-        closed_form: words.into(),
+        closed_form: m.words.into(),
         r,
         at_merge,
         worst,
@@ -941,8 +954,8 @@ fn moving_markdown(s: &mut String, m: &MovingEyeRun) {
     if let Some(o) = &m.oracle {
         let description = MERGE_SCENES
             .iter()
-            .find(|x| x.0 == m.scene)
-            .map_or("", |x| x.3);
+            .find(|x| x.name == m.scene)
+            .map_or("", |x| x.description);
         let _ = writeln!(
             s,
             "**Closed form.** {description} The sweep is invariant in t (the characteristic \

@@ -4,8 +4,8 @@
 //! original mesh bit for bit; undo and redo of any number of steps are inverse.
 
 use geocert::decimate::{
-    check, data, decimate, BorderPolicy, Criterion, History, Options, ProjectionChoice, Stage,
-    Target,
+    check, data, decimate, quality, BorderPolicy, Criterion, History, Options, ProjectionChoice,
+    Stage, Target,
 };
 use geocert::mesh::Mesh;
 use geocert::strategies::height_field_mesh;
@@ -198,10 +198,60 @@ proptest! {
         prop_assert_eq!(fast.stats.criterion.as_str(), "quadric");
         let v = check::verify(&mesh, &fast.history, false, 1).map_err(|e| TestCaseError::fail(e.to_string()))?;
         prop_assert_eq!(v.euler, 2);
+        prop_assert_eq!(quality::deviation(&mesh, &fast.mesh).flipped, 0, "no triangle faces against the original");
         let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
         prop_assert_eq!(&exact.history, &fast.history);
         round_trip(&mesh, &fast.mesh, &fast.history, 5);
     }
+}
+
+/// A thin spherical shell (an outer sphere and, 2 % of the radius inside it, an inner one
+/// facing inwards) decimated hard: the outer sphere's large triangles are chords that pass
+/// nearer the inner sphere than the outer one, so without the facing test triangles face
+/// against the original surface nearest them; with it (the default) none does, both engines
+/// refuse the same removals, and the result verifies and undoes exactly.
+#[test]
+fn a_thin_shell_keeps_every_triangle_facing_along_the_original() {
+    let outer = unit_sphere(3);
+    let mut mesh = outer.clone();
+    let n = outer.vertices.len() as u32;
+    mesh.vertices
+        .extend(outer.vertices.iter().map(|p| p.map(|x| 0.98 * x)));
+    mesh.triangles.extend(
+        outer
+            .triangles
+            .iter()
+            .map(|t| [t[0] + n, t[2] + n, t[1] + n]),
+    );
+    let opts = Options::new().with_target(Target::Keep(0.05)).with_k(3);
+    let unchecked = decimate(&mesh, &opts.clone().with_facing(false)).unwrap();
+    let against = quality::deviation(&mesh, &unchecked.mesh).flipped;
+    assert!(
+        against > 0,
+        "the shell must provoke flipped triangles without the test"
+    );
+    let fast = decimate(&mesh, &opts).unwrap();
+    let d = quality::deviation(&mesh, &fast.mesh);
+    assert_eq!(d.flipped, 0);
+    assert!(fast.stats.refused > unchecked.stats.refused);
+    let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
+    assert_eq!(exact.history, fast.history);
+    check::verify(&mesh, &fast.history, false, 1).unwrap();
+    round_trip(&mesh, &fast.mesh, &fast.history, 5);
+    println!(
+        "thin shell: {} triangles face against the original without the test, 0 with it ({} → {} triangles)",
+        against, unchecked.stats.triangles_out, fast.stats.triangles_out
+    );
+}
+
+/// A unit sphere: the octahedron subdivided `level` times, its vertices put on the sphere.
+fn unit_sphere(level: u32) -> Mesh {
+    let mut m = sphere(level, &[]);
+    for p in &mut m.vertices {
+        let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+        *p = p.map(|x| x / r);
+    }
+    m
 }
 
 /// On a surface with a hole, simplifying the border removes border nodes that the outline

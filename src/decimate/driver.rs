@@ -13,6 +13,7 @@
 
 use super::bucket::{interval_count, BucketQueue, Scale};
 use super::history::fingerprint;
+use super::quality::OriginalSurface;
 use super::{History, Options, Outcome, Stats, Target};
 use crate::mesh::Mesh;
 
@@ -79,6 +80,12 @@ pub(crate) trait Engine {
     /// cannot be re-triangulated validly. Called right after `evaluate(v)`, an engine may
     /// reuse what that evaluation planned.
     fn try_remove(&mut self, v: u32, history: &mut History) -> bool;
+    /// The original surface the removals were checked against
+    /// ([`faces_against_original`](super::quadric::faces_against_original)), when they were:
+    /// the fit keeps its moves to the same rule.
+    fn original_surface(&self) -> Option<std::sync::Arc<OriginalSurface>> {
+        None
+    }
 }
 
 /// The loop's counts.
@@ -282,6 +289,7 @@ pub(crate) fn decimate_with<E: Engine>(
     );
     let counts = run(&mut engine, options, &mut history, clock);
     let (mut out, projection_xy) = finish(&engine);
+    let original = engine.original_surface();
     drop(engine);
     let fit_clock = std::time::Instant::now();
     let fit_rounds = if history.is_empty() {
@@ -298,7 +306,7 @@ pub(crate) fn decimate_with<E: Engine>(
         let kept: Vec<u32> = (0..mesh.vertices.len() as u32)
             .filter(|&v| !removed[v as usize])
             .collect();
-        history.fit = super::fit::fit(mesh, &mut out, &kept, fit_rounds);
+        history.fit = super::fit::fit(mesh, &mut out, &kept, fit_rounds, original.as_deref());
     }
     let fit_seconds = fit_clock.elapsed().as_secs_f64();
     let seconds = clock.elapsed().as_secs_f64();

@@ -5,6 +5,7 @@
 use super::driver::{self, Engine};
 use super::earcut::{ear_order, simple_ccw, EarCutter, Orient};
 use super::history::History;
+use super::quality::OriginalSurface;
 use super::{
     canonical_start, check_options, edge_angle, fallback_planes, fan_normal, flip_toward_fan,
     global_plane, initial_quadrics, quadric_removal, BorderPolicy, Carried, Criterion,
@@ -15,6 +16,7 @@ use crate::num::{rational_from_f64, rational_to_f64, Rational};
 use num_traits::{Signed, Zero};
 use std::cmp::Ordering;
 use std::collections::{BTreeMap, BTreeSet};
+use std::sync::Arc;
 
 /// `det[b − a, c − a]`, exactly.
 fn orient(a: &[Rational; 2], b: &[Rational; 2], c: &[Rational; 2]) -> Ordering {
@@ -53,6 +55,10 @@ pub(crate) struct ExactEngine {
     /// The original surface's vertex normals ([`vertex_normals`](super::vertex_normals);
     /// [`Criterion::Quadric`] only, else empty).
     normals: Vec<[f64; 3]>,
+    /// The original surface for the facing test at removals
+    /// ([`faces_against_original`](super::quadric::faces_against_original);
+    /// [`Criterion::Quadric`] only).
+    original: Option<Arc<OriginalSurface>>,
     coords: Vec<[Rational; 3]>,
     values: Option<Vec<Rational>>,
     slots: Vec<Option<[u32; 3]>>,
@@ -99,6 +105,11 @@ impl ExactEngine {
                 super::vertex_normals(mesh)
             } else {
                 Vec::new()
+            },
+            original: if criterion == Criterion::Quadric && options.facing {
+                OriginalSurface::new(mesh).map(Arc::new)
+            } else {
+                None
             },
             coords,
             values: mesh
@@ -501,12 +512,32 @@ impl Engine for ExactEngine {
         }
     }
 
+    fn original_surface(&self) -> Option<Arc<OriginalSurface>> {
+        self.original.clone()
+    }
+
     fn try_remove(&mut self, v: u32, history: &mut History) -> bool {
         let Some(hole) = self.hole(v) else {
             return false;
         };
         if !self.topology_ok(&hole) {
             return false;
+        }
+        if let Some(original) = &self.original {
+            let ring3: Vec<[f64; 3]> = hole
+                .fan
+                .ring
+                .iter()
+                .map(|&w| self.float[w as usize])
+                .collect();
+            if super::quadric::faces_against_original(
+                original,
+                &hole.fan.ring,
+                &ring3,
+                &hole.triangles,
+            ) {
+                return false;
+            }
         }
         if !self.quadrics.is_empty() {
             // The removed node's quadric passes to the corners of the triangle it lands in;

@@ -24,6 +24,7 @@ use super::earcut::{
 };
 use super::fans::{CopiedList, Entry, FanLists, Lists, NO_TRIANGLE};
 use super::history::History;
+use super::quality::OriginalSurface;
 use super::{
     check_options, edge_angle, fallback_planes, fan_normal, global_plane, initial_quadrics,
     BorderPolicy, Carried, Criterion, DecimateError, Options, Outcome, Plane, Quadric,
@@ -82,6 +83,10 @@ struct Geometry {
     /// [`Criterion::Quadric`] only, else empty).
     normals: Vec<[f64; 3]>,
     values: Option<Vec<f64>>,
+    /// The original surface for the facing test at removals
+    /// ([`faces_against_original`](super::quadric::faces_against_original);
+    /// [`Criterion::Quadric`] only).
+    original: Option<Arc<OriginalSurface>>,
     global: Option<Plane>,
     criterion: Criterion,
     border_policy: BorderPolicy,
@@ -224,6 +229,11 @@ impl FastEngine {
                 Vec::new()
             },
             values: mesh.scalars.as_ref().map(|s| s.values.clone()),
+            original: if criterion == Criterion::Quadric && options.facing {
+                OriginalSurface::new(mesh).map(Arc::new)
+            } else {
+                None
+            },
             global,
             criterion,
             border_policy: options.border.resolve(global.is_some()),
@@ -961,6 +971,10 @@ impl Engine for FastEngine {
         });
     }
 
+    fn original_surface(&self) -> Option<Arc<OriginalSurface>> {
+        self.st.geo.original.clone()
+    }
+
     fn try_remove(&mut self, v: u32, history: &mut History) -> bool {
         let (st, sc) = (&mut self.st, &mut self.sc);
         let recalled = self
@@ -991,6 +1005,14 @@ impl Engine for FastEngine {
         };
         if !st.geo.embedded && !sc.topology_ok(st, plan.border) {
             return false;
+        }
+        if let Some(original) = &st.geo.original {
+            sc.ring3.clear();
+            sc.ring3
+                .extend(sc.ring.iter().map(|&w| st.geo.pos[w as usize]));
+            if super::quadric::faces_against_original(original, &sc.ring, &sc.ring3, &sc.tris) {
+                return false;
+            }
         }
         if !st.quadrics.is_empty() {
             // The removed node's quadric passes to the corners of the triangle it lands in.

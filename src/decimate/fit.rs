@@ -11,16 +11,18 @@
 //! regulariser holds a node near its start `x_v⁰` along directions its points do not
 //! constrain; `d_v = Σᵢ bᵢᵥ²`). A move is taken only when every triangle around the node
 //! keeps a normal within about 72° of its normal before the fit ([`MIN_COS`]) and, if it
-//! faced along its corners' original vertex normals, still does; the first is decided with
-//! `f64` only where it provably gets the sign right ([`normals_agree`]), so the fit flips no triangle
-//! and [`check`](super::check) re-verifies that exactly.
+//! faced along its corners' original vertex normals, still does, and (when the decimation
+//! ran the facing test, [`Options::facing`](super::Options::facing)) no triangle around it
+//! faces against the original surface nearest it; the first is decided with `f64` only where
+//! it provably gets the sign right ([`normals_agree`]), so the fit flips no triangle and
+//! [`check`](super::check) re-verifies that exactly.
 //!
 //! Everything is `f64` and runs alike after either engine (the closest points on all cores,
 //! each a function of its point alone; the sweeps in node order), so both paths move the
 //! same nodes to the same places. The history records every move (from, to) bit for bit, so
 //! undecimation still restores the original exactly.
 
-use super::quality::ClosestPoints;
+use super::quality::{ClosestPoints, OriginalSurface};
 use crate::mesh::{area_vector, Mesh};
 use crate::num::rational::f64s_over_shared_power;
 use num_bigint::BigInt;
@@ -50,8 +52,17 @@ pub const MIN_COS: f64 = 0.3;
 /// Fits the nodes of `decimated` (whose vertex `k` is node `kept[k]` of `original`) to the
 /// original vertices in `rounds` rounds (module docs) and returns the moves, in node order;
 /// `decimated`'s vertices are updated. Nothing moves when `rounds` is 0 or either mesh has
-/// no triangles. Non-finite results are never taken.
-pub fn fit(original: &Mesh, decimated: &mut Mesh, kept: &[u32], rounds: usize) -> Vec<Moved> {
+/// no triangles. Non-finite results are never taken. With `surface` (the original's, as the
+/// decimation checked its removals against it), a move is also refused when a triangle
+/// around the node would face against it
+/// ([`OriginalSurface::faces_against`]).
+pub fn fit(
+    original: &Mesh,
+    decimated: &mut Mesh,
+    kept: &[u32],
+    rounds: usize,
+    surface: Option<&OriginalSurface>,
+) -> Vec<Moved> {
     let n = decimated.vertices.len();
     if rounds == 0 || decimated.triangles.is_empty() || original.triangles.is_empty() {
         return Vec::new();
@@ -128,6 +139,18 @@ pub fn fit(original: &Mesh, decimated: &mut Mesh, kept: &[u32], rounds: usize) -
                     before[t as usize].is_some_and(|n| normals_agree(n, c))
                         && (!facing[t as usize]
                             || dot(area_vector(c[0], c[1], c[2]), corner_normal(tri)) > 0.0)
+                }) && surface.is_none_or(|s| {
+                    triangles.iter().all(|&t| {
+                        let tri = decimated.triangles[t as usize];
+                        let c = tri.map(|i| {
+                            if i as usize == v {
+                                target
+                            } else {
+                                decimated.vertices[i as usize]
+                            }
+                        });
+                        !s.faces_against(c, kept[v])
+                    })
                 });
                 if ok {
                     decimated.vertices[v] = target;
@@ -434,7 +457,7 @@ mod tests {
         let rms = |m: &Mesh| crate::decimate::quality::deviation(&original, m).forward_rms;
         let before_mesh = coarse.clone();
         let before = rms(&coarse);
-        let moves = fit(&original, &mut coarse, &kept, 2);
+        let moves = fit(&original, &mut coarse, &kept, 2, None);
         let after = rms(&coarse);
         println!(
             "chord fit: {} moves, RMS {before:.5} → {after:.5}",

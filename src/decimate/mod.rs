@@ -70,8 +70,9 @@ use thiserror::Error;
 
 pub use history::{History, HistoryError, Stage};
 pub use quadric::{
-    crossing_deviation, flip_toward_fan, folds, initial_quadrics, landing, quadric_removal,
-    quadric_value, removal_bound, vertex_normals, Carried, Quadric, QuadricRemoval,
+    crossing_deviation, faces_against_original, flip_toward_fan, folds, initial_quadrics, landing,
+    quadric_removal, quadric_value, removal_bound, vertex_normals, Carried, Quadric,
+    QuadricRemoval,
 };
 
 /// How a node is evaluated (Section 1.1); the node with the lowest value goes first.
@@ -396,6 +397,12 @@ pub struct Options {
     /// ([`Fit::Auto`] by default: two on surfaces in 3-D, none on height fields and planar
     /// meshes).
     pub fit: Fit,
+    /// Under the quadric criterion, refuse every removal (and fit move) that would leave a
+    /// triangle facing against the original surface nearest its centroid
+    /// ([`faces_against_original`]; the count [`quality::deviation`] reports as flipped), so
+    /// that the result has none. Costs a closest-point search per new triangle; `true` by
+    /// default.
+    pub facing: bool,
     /// The constant `k` of eq. (1): `m = ⌊n/k⌋` intervals.
     pub k: usize,
     /// Nodes with more neighbours than this are not removed (the history stores ring
@@ -422,6 +429,7 @@ crate::choice::setters!(Options {
     with_border => border: BorderPolicy,
     with_projection => projection: ProjectionChoice,
     with_fit => fit: Fit,
+    with_facing => facing: bool,
     with_k => k: usize,
     with_max_valence => max_valence: usize,
     with_rebin => rebin: bool,
@@ -438,6 +446,7 @@ impl Default for Options {
             border: BorderPolicy::Auto,
             projection: ProjectionChoice::Auto,
             fit: Fit::Auto,
+            facing: true,
             k: 10,
             max_valence: 64,
             rebin: true,

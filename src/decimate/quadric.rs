@@ -468,6 +468,22 @@ pub fn folds(
     })
 }
 
+/// Whether some triangle of a planned hole faces against the original surface nearest its
+/// centroid ([`OriginalSurface::faces_against`](super::quality::OriginalSurface::faces_against);
+/// both engines, in `f64`, when a removal is taken): the quadric criterion refuses such
+/// removals, so that no triangle of the result faces against the original surface where it
+/// lies (the count [`deviation`](super::quality::deviation) reports). `ring` is the ring
+/// (node ids, where the searches start), `ring3` its points, `tris` the cut.
+pub fn faces_against_original(
+    original: &super::quality::OriginalSurface,
+    ring: &[u32],
+    ring3: &[[f64; 3]],
+    tris: &[[u8; 3]],
+) -> bool {
+    tris.iter()
+        .any(|t| original.faces_against(t.map(|k| ring3[k as usize]), ring[t[0] as usize]))
+}
+
 /// Where a removed node lands on its re-triangulated hole (both engines, in `f64`): for an
 /// interior node, in the new triangle whose smallest barycentric coordinate at the node's
 /// projection `pv` is largest (`pts` the ring's projection, `tris` the cut), the 3-D point

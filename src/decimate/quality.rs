@@ -195,9 +195,12 @@ pub fn closest_point_on_triangle(p: [f64; 3], a: [f64; 3], b: [f64; 3], c: [f64;
 /// triangles in flat arrays (median splits along the longest axis, at most four
 /// triangles per leaf, the leaves' corners stored in leaf order), searched nearest box
 /// first with pruning by the best distance found.
-pub struct ClosestPoints<'a> {
-    mesh: &'a Mesh,
+pub struct ClosestPoints {
     nodes: Vec<BvhNode>,
+    /// Every node's parent (0 for the root).
+    parents: Vec<u32>,
+    /// Per mesh vertex, the leaf holding one of its triangles (`u32::MAX` for none).
+    vertex_leaf: Vec<u32>,
     /// The triangles' corners in leaf order.
     corners: Vec<[[f64; 3]; 3]>,
     /// The mesh's triangle index of each entry of `corners`.
@@ -241,9 +244,9 @@ pub struct Closest {
     pub point: [f64; 3],
 }
 
-impl<'a> ClosestPoints<'a> {
+impl ClosestPoints {
     /// The hierarchy over `mesh`'s triangles; `None` when `mesh` has no triangles.
-    pub fn new(mesh: &'a Mesh) -> Option<ClosestPoints<'a>> {
+    pub fn new(mesh: &Mesh) -> Option<ClosestPoints> {
         let (pv, tris) = (&mesh.vertices, &mesh.triangles);
         if tris.is_empty() {
             return None;
@@ -260,18 +263,20 @@ impl<'a> ClosestPoints<'a> {
             })
             .collect();
         let mut cp = ClosestPoints {
-            mesh,
             nodes: Vec::with_capacity(2 * tris.len() / LEAF + 1),
+            parents: Vec::with_capacity(2 * tris.len() / LEAF + 1),
+            vertex_leaf: vec![u32::MAX; pv.len()],
             corners: Vec::with_capacity(tris.len()),
             ids: Vec::with_capacity(tris.len()),
         };
-        cp.build(&mut items);
+        cp.build(mesh, &mut items, 0);
         Some(cp)
     }
 
-    /// Appends the subtree over `items` (triangle, centroid × 3) in depth-first order.
-    fn build(&mut self, items: &mut [(u32, [f64; 3])]) {
-        let (pv, tris) = (&self.mesh.vertices, &self.mesh.triangles);
+    /// Appends the subtree over `items` (triangle of `mesh`, centroid × 3) in depth-first
+    /// order, under node `parent`.
+    fn build(&mut self, mesh: &Mesh, items: &mut [(u32, [f64; 3])], parent: u32) {
+        let (pv, tris) = (&mesh.vertices, &mesh.triangles);
         let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
         let (mut clo, mut chi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
         for &(t, c) in items.iter() {
@@ -294,8 +299,12 @@ impl<'a> ClosestPoints<'a> {
             start: self.corners.len() as u32,
             count: items.len() as u32,
         });
+        self.parents.push(parent);
         if items.len() <= LEAF {
             for &(t, _) in items.iter() {
+                for &i in &tris[t as usize] {
+                    self.vertex_leaf[i as usize] = at as u32;
+                }
                 self.corners.push(tris[t as usize].map(|i| pv[i as usize]));
                 self.ids.push(t);
             }
@@ -310,9 +319,9 @@ impl<'a> ClosestPoints<'a> {
         let mid = items.len() / 2;
         items.select_nth_unstable_by(mid, |a, b| a.1[axis].total_cmp(&b.1[axis]));
         let (first, second) = items.split_at_mut(mid);
-        self.build(first);
+        self.build(mesh, first, at as u32);
         let right = self.nodes.len() as u32;
-        self.build(second);
+        self.build(mesh, second, at as u32);
         self.nodes[at].start = right;
         self.nodes[at].count = 0;
     }
@@ -325,39 +334,135 @@ impl<'a> ClosestPoints<'a> {
     /// The closest point to `p` on the triangles `accept` admits (by index in the mesh; the
     /// first found on ties); distance infinite when it admits none.
     pub fn query_where(&self, p: [f64; 3], accept: impl Fn(u32) -> bool) -> Closest {
-        let mut best = Closest {
-            distance: f64::INFINITY,
-            triangle: 0,
-            point: p,
+        self.search(p, |j| accept(self.ids[j])).0
+    }
+
+    /// Whether a triangle with area vector `normal` and centroid `centroid` faces against this
+    /// surface: the surface's nearest triangle to the centroid faces against it (negative dot
+    /// product of the area vectors) and every triangle facing along it (positive) lies farther
+    /// by more than `tie`. A tie at an edge or vertex shared by triangles facing both ways, as
+    /// at a scan's folds, goes to agreement; so the answer does not depend on the order of the
+    /// search. [`deviation`] counts flipped triangles by it.
+    pub fn faces_against(&self, centroid: [f64; 3], normal: [f64; 3], tie: f64) -> bool {
+        self.faces_against_near(centroid, normal, tie, None)
+    }
+
+    /// [`faces_against`](Self::faces_against), the nearest triangle searched from the leaf of
+    /// a triangle at vertex `seed` of the mesh (any vertex; one near `centroid` makes the
+    /// search shorter: it starts with a close bound where the hierarchy's lower boxes lie
+    /// together in memory). The same answer for every seed.
+    pub fn faces_against_from(
+        &self,
+        centroid: [f64; 3],
+        normal: [f64; 3],
+        tie: f64,
+        seed: u32,
+    ) -> bool {
+        let leaf = self.vertex_leaf.get(seed as usize).copied();
+        self.faces_against_near(centroid, normal, tie, leaf.filter(|&l| l != u32::MAX))
+    }
+
+    /// [`faces_against`](Self::faces_against) with the nearest-triangle search started at
+    /// `leaf` when given.
+    fn faces_against_near(
+        &self,
+        centroid: [f64; 3],
+        normal: [f64; 3],
+        tie: f64,
+        leaf: Option<u32>,
+    ) -> bool {
+        let facing = |j: usize| {
+            let [a, b, c] = self.corners[j];
+            let m = crate::mesh::area_vector(a, b, c);
+            normal[0] * m[0] + normal[1] * m[1] + normal[2] * m[2]
         };
-        let mut best2 = f64::INFINITY;
+        let mut near = Best::new(centroid);
+        match leaf {
+            Some(l) => self.climb(centroid, l, &mut near),
+            None => self.descend(centroid, 0, &mut near, &|_| true),
+        }
+        if !near.found() || facing(near.entry) >= 0.0 {
+            return false;
+        }
+        let along = self.search(centroid, |j| facing(j) > 0.0).0;
+        along.distance > near.best2.sqrt() + tie
+    }
+
+    /// [`query_where`](Self::query_where) with `accept` on entries of `corners`; also the
+    /// closest entry (0 when none is accepted).
+    fn search(&self, p: [f64; 3], accept: impl Fn(usize) -> bool) -> (Closest, usize) {
+        let mut best = Best::new(p);
+        self.descend(p, 0, &mut best, &accept);
+        let closest = Closest {
+            distance: best.best2.sqrt(),
+            triangle: if best.found() {
+                self.ids[best.entry]
+            } else {
+                0
+            },
+            point: best.point,
+        };
+        (closest, best.entry)
+    }
+
+    /// The nearest triangle from leaf `leaf` up: its triangles first, then at every ancestor
+    /// the subtree on the other side, searched only where its box lies nearer than the best
+    /// found (every triangle outside the leaf lies in exactly one such subtree, so nothing
+    /// nearer is missed).
+    fn climb(&self, p: [f64; 3], leaf: u32, best: &mut Best) {
+        self.scan_leaf(p, leaf, best, &|_| true);
+        let mut n = leaf;
+        while n != 0 {
+            let parent = self.parents[n as usize];
+            let sibling = if n == parent + 1 {
+                self.nodes[parent as usize].start
+            } else {
+                parent + 1
+            };
+            if self.nodes[sibling as usize].distance2(p) < best.best2 {
+                self.descend(p, sibling, best, &|_| true);
+            }
+            n = parent;
+        }
+    }
+
+    /// Tests the triangles of leaf `n` that `accept` admits against `best`.
+    #[inline]
+    fn scan_leaf(&self, p: [f64; 3], n: u32, best: &mut Best, accept: &impl Fn(usize) -> bool) {
+        let node = self.nodes[n as usize];
+        let s = node.start as usize;
+        for j in s..s + node.count as usize {
+            if !accept(j) {
+                continue;
+            }
+            let [a, b, c] = self.corners[j];
+            let q = closest_point_on_triangle(p, a, b, c);
+            let e2 = (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
+            if e2 < best.best2 {
+                best.best2 = e2;
+                best.entry = j;
+                best.point = q;
+            }
+        }
+    }
+
+    /// Searches the subtree at `root` for triangles `accept` admits nearer than `best`,
+    /// nearest box first with pruning by the best distance found.
+    fn descend(&self, p: [f64; 3], root: u32, best: &mut Best, accept: &impl Fn(usize) -> bool) {
         // Pending subtrees with their boxes' squared distances.
         let mut stack: [(u32, f64); 128] = [(0, 0.0); 128];
+        stack[0] = (root, 0.0);
         let mut top = 1;
         while top > 0 {
             top -= 1;
             let (mut n, d2) = stack[top];
-            if d2 >= best2 {
+            if d2 >= best.best2 {
                 continue;
             }
             loop {
                 let node = self.nodes[n as usize];
                 if node.count > 0 {
-                    let s = node.start as usize;
-                    for j in s..s + node.count as usize {
-                        if !accept(self.ids[j]) {
-                            continue;
-                        }
-                        let [a, b, c] = self.corners[j];
-                        let q = closest_point_on_triangle(p, a, b, c);
-                        let e2 =
-                            (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
-                        if e2 < best2 {
-                            best2 = e2;
-                            best.triangle = self.ids[j];
-                            best.point = q;
-                        }
-                    }
+                    self.scan_leaf(p, n, best, accept);
                     break;
                 }
                 let (l, r) = (n + 1, node.start);
@@ -370,68 +475,44 @@ impl<'a> ClosestPoints<'a> {
                 } else {
                     (r, dr, l, dl)
                 };
-                if df < best2 && top < stack.len() {
+                if df < best.best2 && top < stack.len() {
                     stack[top] = (far, df);
                     top += 1;
-                } else if df < best2 {
+                } else if df < best.best2 {
                     // A hierarchy deeper than the stack (not built by `new`): search the far
                     // side now, which is correct, only slower.
-                    let sub = self.query_from(p, far, best2, &accept);
-                    if let Some(s) = sub {
-                        best2 = s.distance * s.distance;
-                        best = s;
-                    }
+                    self.descend(p, far, best, accept);
                 }
-                if dn >= best2 {
+                if dn >= best.best2 {
                     break;
                 }
                 n = near;
             }
         }
-        best.distance = best2.sqrt();
-        best
+    }
+}
+
+/// The best answer of a search so far.
+struct Best {
+    /// Squared distance (infinite before the first triangle).
+    best2: f64,
+    /// The entry of `corners` it was found at (0 before).
+    entry: usize,
+    point: [f64; 3],
+}
+
+impl Best {
+    /// Nothing found yet, for the point `p`.
+    fn new(p: [f64; 3]) -> Best {
+        Best {
+            best2: f64::INFINITY,
+            entry: 0,
+            point: p,
+        }
     }
 
-    /// [`query_where`](Self::query_where) restricted to the subtree at `n`, only answers
-    /// closer than `bound2` (squared); a slow linear scan of the subtree's triangles.
-    fn query_from(
-        &self,
-        p: [f64; 3],
-        n: u32,
-        bound2: f64,
-        accept: &impl Fn(u32) -> bool,
-    ) -> Option<Closest> {
-        let mut last = n as usize;
-        // The subtree occupies nodes n..end in depth-first order; its leaves' corners are
-        // contiguous: find their range from the leftmost and rightmost leaves.
-        let mut first = n as usize;
-        while self.nodes[first].count == 0 {
-            first += 1;
-        }
-        while self.nodes[last].count == 0 {
-            last = self.nodes[last].start as usize;
-        }
-        let from = self.nodes[first].start as usize;
-        let to = (self.nodes[last].start + self.nodes[last].count) as usize;
-        let mut found: Option<Closest> = None;
-        let mut best2 = bound2;
-        for j in from..to {
-            if !accept(self.ids[j]) {
-                continue;
-            }
-            let [a, b, c] = self.corners[j];
-            let q = closest_point_on_triangle(p, a, b, c);
-            let e2 = (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2);
-            if e2 < best2 {
-                best2 = e2;
-                found = Some(Closest {
-                    distance: e2.sqrt(),
-                    triangle: self.ids[j],
-                    point: q,
-                });
-            }
-        }
-        found
+    fn found(&self) -> bool {
+        self.best2.is_finite()
     }
 }
 
@@ -550,6 +631,52 @@ impl Deviation {
 /// count as flipped ([`Deviation::flipped`]).
 pub const FLIP_TIE: f64 = 1e-9;
 
+/// An original surface as the facing test sees it: its closest-point structure and the tie
+/// distance ([`FLIP_TIE`] of its bounding-box diagonal), as [`deviation`] counts flipped
+/// triangles.
+pub struct OriginalSurface {
+    /// The closest-point structure over its triangles.
+    pub closest: ClosestPoints,
+    /// The tie distance of [`ClosestPoints::faces_against`].
+    pub tie: f64,
+}
+
+impl OriginalSurface {
+    /// The surface of `mesh`; `None` when it has no triangles.
+    pub fn new(mesh: &Mesh) -> Option<OriginalSurface> {
+        let closest = ClosestPoints::new(mesh)?;
+        Some(OriginalSurface {
+            closest,
+            tie: FLIP_TIE * bounding_diagonal(mesh),
+        })
+    }
+
+    /// Whether the triangle `(a, b, c)` faces against this surface
+    /// ([`ClosestPoints::faces_against`] at its centroid), the search started at mesh vertex
+    /// `seed` ([`ClosestPoints::faces_against_from`]).
+    pub fn faces_against(&self, [a, b, c]: [[f64; 3]; 3], seed: u32) -> bool {
+        let centroid = std::array::from_fn(|k| (a[k] + b[k] + c[k]) / 3.0);
+        let normal = crate::mesh::area_vector(a, b, c);
+        self.closest
+            .faces_against_from(centroid, normal, self.tie, seed)
+    }
+}
+
+/// The length of `mesh`'s bounding-box diagonal (0 without vertices).
+pub fn bounding_diagonal(mesh: &Mesh) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in &mesh.vertices {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    if mesh.vertices.is_empty() {
+        return 0.0;
+    }
+    (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
+}
+
 /// Barycentric steps per edge of the simplified triangles' samples in [`deviation`].
 pub const SAMPLE_STEPS: usize = 3;
 
@@ -558,14 +685,7 @@ pub const SAMPLE_STEPS: usize = 3;
 /// Meshes without triangles give NaN distances.
 pub fn deviation(original: &Mesh, simplified: &Mesh) -> Deviation {
     use crate::par::prelude::*;
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in &original.vertices {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    let diagonal = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+    let diagonal = bounding_diagonal(original);
     let (Some(to_simplified), Some(to_original)) =
         (ClosestPoints::new(simplified), ClosestPoints::new(original))
     else {
@@ -609,19 +729,8 @@ pub fn deviation(original: &Mesh, simplified: &Mesh) -> Deviation {
                 }
             }
             let centroid = std::array::from_fn(|k| (a[k] + b[k] + c[k]) / 3.0);
-            let own = normal(simplified, t);
-            let facing = |o: u32| {
-                let m = normal(original, o);
-                own[0] * m[0] + own[1] * m[1] + own[2] * m[2]
-            };
-            let near = to_original.query(centroid);
-            // Against the nearest original triangle, and no triangle facing along lies as
-            // near (a tie at an edge or vertex shared by both kinds goes to agreement).
-            let flipped = facing(near.triangle) < 0.0
-                && to_original
-                    .query_where(centroid, |o| facing(o) > 0.0)
-                    .distance
-                    > near.distance + FLIP_TIE * diagonal;
+            let flipped =
+                to_original.faces_against(centroid, normal(simplified, t), FLIP_TIE * diagonal);
             (max, sum, count, flipped)
         })
         .collect();
@@ -696,6 +805,91 @@ mod tests {
             assert_eq!(deviation(&folded, &one(t)).flipped, 0, "{t:?}");
         }
         assert_eq!(deviation(&folded, &folded).flipped, 0);
+    }
+
+    /// The facing test searched from any seed vertex's leaf gives the answer of the search
+    /// from the root: on a bumpy closed shell of two sheets (a thin slab whose top folds
+    /// down), for 2,000 pseudo-random triangles and every fifth vertex as the seed.
+    #[test]
+    fn facing_from_any_seed_agrees_with_the_search_from_the_root() {
+        let n = 24;
+        let mut mesh = Mesh::default();
+        for sheet in 0..2 {
+            for j in 0..n {
+                for i in 0..n {
+                    let (x, y) = (i as f64 / n as f64, j as f64 / n as f64);
+                    let bump = 0.2 * (6.0 * x).sin() * (5.0 * y).cos();
+                    let z = if sheet == 0 {
+                        0.0
+                    } else {
+                        0.05 + bump.max(0.0)
+                    };
+                    mesh.vertices.push([x, y, z]);
+                }
+            }
+        }
+        let at = |s: usize, i: usize, j: usize| (s * n * n + j * n + i) as u32;
+        for s in 0..2 {
+            for j in 0..n - 1 {
+                for i in 0..n - 1 {
+                    let (a, b, c, d) = (
+                        at(s, i, j),
+                        at(s, i + 1, j),
+                        at(s, i + 1, j + 1),
+                        at(s, i, j + 1),
+                    );
+                    // The bottom sheet faces down, the top one up.
+                    if s == 0 {
+                        mesh.triangles.extend([[a, c, b], [a, d, c]]);
+                    } else {
+                        mesh.triangles.extend([[a, b, c], [a, c, d]]);
+                    }
+                }
+            }
+        }
+        let original = OriginalSurface::new(&mesh).unwrap();
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let (mut against, mut along) = (0, 0);
+        for _ in 0..2000 {
+            let tri: [[f64; 3]; 3] = std::array::from_fn(|_| {
+                std::array::from_fn(|k| {
+                    let r = (next() % 10_000) as f64 / 10_000.0;
+                    if k == 2 {
+                        0.3 * r - 0.05
+                    } else {
+                        r
+                    }
+                })
+            });
+            let [a, b, c] = tri;
+            let centroid = std::array::from_fn(|k| (a[k] + b[k] + c[k]) / 3.0);
+            let normal = crate::mesh::area_vector(a, b, c);
+            let root = original
+                .closest
+                .faces_against(centroid, normal, original.tie);
+            for seed in (0..mesh.vertices.len() as u32).step_by(5) {
+                assert_eq!(
+                    original.faces_against(tri, seed),
+                    root,
+                    "{tri:?} from {seed}"
+                );
+            }
+            if root {
+                against += 1;
+            } else {
+                along += 1;
+            }
+        }
+        assert!(
+            against > 100 && along > 100,
+            "{against} against, {along} along"
+        );
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! The decimation report's section on surfaces in 3-D: scans and isosurfaces decimated by
-//! geocert (the quadric criterion, border simplification and the fit; the same without the
-//! fit; and the earlier error criterion with the outline kept) and by the quadric simplifiers people use (fast-simplification,
+//! geocert (the quadric criterion, border simplification, the facing test and the fit; the
+//! same without the fit; without the facing test; and the earlier error criterion with the
+//! outline kept) and by the quadric simplifiers people use (fast-simplification,
 //! vtkQuadricDecimation, vtkDecimatePro) at the same triangle count, every result measured
 //! by [`quality::deviation`] (symmetric Hausdorff and RMS distances, flipped normals).
 
@@ -340,8 +341,14 @@ pub fn surface_campaign(root: &FsPath) -> SurfaceCampaign {
             &unfitted,
             "geocert (quadric, border simplified, no fit)",
         );
+        let unchecked = default.clone().with_facing(false);
+        let (free, _) = geocert_row(
+            &mesh,
+            &unchecked,
+            "geocert (quadric, border simplified, fitted, no facing test)",
+        );
         let triangles = ours.triangles;
-        let mut rows = vec![ours, plain, before];
+        let mut rows = vec![ours, plain, free, before];
         rows.extend(peer_rows(root, &mesh, triangles, &mut notes));
         cases.push(SurfaceCase {
             name,
@@ -400,16 +407,21 @@ pub fn markdown(c: &SurfaceCampaign) -> String {
          original planes it stands for; removing it costs the quadric's RMS distance at the \
          point where it lands on the new triangles, and the quadric passes to that triangle's \
          corners; a removal is refused when a new triangle would face against the removed \
-         fan or against its corners' original vertex normals; each ear-cut hole is \
+         fan, against its corners' original vertex normals, or against the original surface \
+         nearest its centroid — the facing test, one closest-point search per new triangle, \
+         the same test the flipped count below makes, so no result triangle counts as \
+         flipped; each ear-cut hole is \
          retriangulated towards its fan by diagonal flips, a flip taken when the other \
          diagonal lies closer to the fan and both new triangles stay positive by exact \
          signs), border simplification (border \
          nodes removed like interior ones, their error measured through border-edge planes; \
          no border loop closes) and the fit (after the last removal, two rounds of moving the \
          kept nodes to the least-squares fit of the original vertices, each move taken only \
-         when no triangle turns by more than about 72°; the moves are in the history, so \
+         when no triangle turns by more than about 72° or comes to face against the original \
+         surface; the moves are in the history, so \
          undecimation stays exact, and the checker confirms exactly that no triangle \
-         flipped). The second row is the same without the fit, the third the earlier \
+         flipped). The second row is the same without the fit, the third without the facing \
+         test (`--allow-facing-against`), the fourth the earlier \
          behaviour (error criterion, border outline kept, no fit). Peers run at \
          geocert's triangle count on one thread. Every result is measured by geocert's own \
          `deviation` (the same for all): distances from every original vertex to the result \

@@ -52,6 +52,11 @@ pub(crate) struct Args {
     /// meshes (their nodes stay where they are).
     #[arg(long, default_value_t = Fit::Auto, value_parser = |s: &str| s.parse::<Fit>().map_err(|e| e.to_string()))]
     fit: Fit,
+    /// Allow triangles that face against the original surface nearest them (by default the
+    /// quadric criterion refuses removals and fit moves that make one, at the cost of a
+    /// closest-point search per new triangle).
+    #[arg(long)]
+    allow_facing_against: bool,
     /// Skip measuring the result against the input (the JSON's error fields are then null).
     #[arg(long)]
     no_measure: bool,
@@ -115,6 +120,7 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
         })
         .with_projection(a.projection)
         .with_fit(a.fit)
+        .with_facing(!a.allow_facing_against)
         .with_k(a.k)
         .with_rebin(!a.fixed_intervals)
         .with_lazy(!a.eager)

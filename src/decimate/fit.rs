@@ -97,6 +97,18 @@ pub fn fit(
     let samples = &original.vertices;
     for _ in 0..rounds {
         let attached = attach(samples, decimated);
+        // Per triangle, the original vertex attached nearest its middle (the largest
+        // smallest barycentric coordinate): where the facing test's search starts.
+        let mut seeds: Vec<(f64, u32)> =
+            vec![(f64::NEG_INFINITY, u32::MAX); decimated.triangles.len()];
+        if surface.is_some() {
+            for (i, &(t, b)) in attached.iter().enumerate() {
+                let depth = b[0].min(b[1]).min(b[2]);
+                if depth > seeds[t as usize].0 {
+                    seeds[t as usize] = (depth, i as u32);
+                }
+            }
+        }
         // Per node, the attached points whose triangle it is a corner of (CSR, in point order).
         let mut first = vec![0u32; n + 1];
         for &(t, _) in &attached {
@@ -149,7 +161,11 @@ pub fn fit(
                                 decimated.vertices[i as usize]
                             }
                         });
-                        !s.faces_against(c, kept[v])
+                        let seed = match seeds[t as usize].1 {
+                            u32::MAX => kept[v],
+                            i => i,
+                        };
+                        !s.faces_against(c, seed)
                     })
                 });
                 if ok {

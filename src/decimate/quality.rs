@@ -194,11 +194,13 @@ pub fn closest_point_on_triangle(p: [f64; 3], a: [f64; 3], b: [f64; 3], c: [f64;
 /// Closest-point queries on a triangle surface: a bounding-volume hierarchy over its
 /// triangles in flat arrays (median splits along the longest axis, at most four
 /// triangles per leaf, the leaves' corners stored in leaf order), searched nearest box
-/// first with pruning by the best distance found.
+/// first with pruning by the best distance found; every box also holds the cone of its
+/// triangles' normals, so that searches for triangles facing one way skip boxes facing the
+/// other ([`faces_against`](Self::faces_against)).
 pub struct ClosestPoints {
     nodes: Vec<BvhNode>,
-    /// Every node's parent (0 for the root).
-    parents: Vec<u32>,
+    /// Every node's cone of unit triangle normals ([`Cone`]).
+    cones: Vec<Cone>,
     /// Per mesh vertex, the leaf holding one of its triangles (`u32::MAX` for none).
     vertex_leaf: Vec<u32>,
     /// The triangles' corners in leaf order.
@@ -264,18 +266,22 @@ impl ClosestPoints {
             .collect();
         let mut cp = ClosestPoints {
             nodes: Vec::with_capacity(2 * tris.len() / LEAF + 1),
-            parents: Vec::with_capacity(2 * tris.len() / LEAF + 1),
+            cones: Vec::with_capacity(2 * tris.len() / LEAF + 1),
             vertex_leaf: vec![u32::MAX; pv.len()],
             corners: Vec::with_capacity(tris.len()),
             ids: Vec::with_capacity(tris.len()),
         };
-        cp.build(mesh, &mut items, 0);
+        let units: Vec<Option<[f64; 3]>> = tris
+            .iter()
+            .map(|t| unit_normal(t.map(|i| pv[i as usize])))
+            .collect();
+        cp.build(mesh, &units, &mut items);
         Some(cp)
     }
 
     /// Appends the subtree over `items` (triangle of `mesh`, centroid × 3) in depth-first
-    /// order, under node `parent`.
-    fn build(&mut self, mesh: &Mesh, items: &mut [(u32, [f64; 3])], parent: u32) {
+    /// order; `units` are the triangles' unit normals ([`unit_normal`]).
+    fn build(&mut self, mesh: &Mesh, units: &[Option<[f64; 3]>], items: &mut [(u32, [f64; 3])]) {
         let (pv, tris) = (&mesh.vertices, &mesh.triangles);
         let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
         let (mut clo, mut chi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
@@ -299,7 +305,9 @@ impl ClosestPoints {
             start: self.corners.len() as u32,
             count: items.len() as u32,
         });
-        self.parents.push(parent);
+        self.cones.push(Cone::of(
+            items.iter().filter_map(|&(t, _)| units[t as usize]),
+        ));
         if items.len() <= LEAF {
             for &(t, _) in items.iter() {
                 for &i in &tris[t as usize] {
@@ -319,9 +327,9 @@ impl ClosestPoints {
         let mid = items.len() / 2;
         items.select_nth_unstable_by(mid, |a, b| a.1[axis].total_cmp(&b.1[axis]));
         let (first, second) = items.split_at_mut(mid);
-        self.build(mesh, first, at as u32);
+        self.build(mesh, units, first);
         let right = self.nodes.len() as u32;
-        self.build(mesh, second, at as u32);
+        self.build(mesh, units, second);
         self.nodes[at].start = right;
         self.nodes[at].count = 0;
     }
@@ -334,23 +342,25 @@ impl ClosestPoints {
     /// The closest point to `p` on the triangles `accept` admits (by index in the mesh; the
     /// first found on ties); distance infinite when it admits none.
     pub fn query_where(&self, p: [f64; 3], accept: impl Fn(u32) -> bool) -> Closest {
-        self.search(p, |j| accept(self.ids[j])).0
+        self.search(p, |j| accept(self.ids[j]))
     }
 
     /// Whether a triangle with area vector `normal` and centroid `centroid` faces against this
-    /// surface: the surface's nearest triangle to the centroid faces against it (negative dot
-    /// product of the area vectors) and every triangle facing along it (positive) lies farther
-    /// by more than `tie`. A tie at an edge or vertex shared by triangles facing both ways, as
-    /// at a scan's folds, goes to agreement; so the answer does not depend on the order of the
-    /// search. [`deviation`] counts flipped triangles by it.
+    /// surface: the nearest of its triangles facing against it (negative dot product of the
+    /// area vectors) lies nearer than the nearest facing along it (positive) by more than
+    /// `tie`, or none faces along. Triangles at right angles or without area take no side. A
+    /// tie at an edge or vertex shared by triangles facing both ways, as at a scan's folds,
+    /// goes to agreement. Both distances are minima, so the answer does not depend on the
+    /// order of any search. [`deviation`] counts flipped triangles by it.
     pub fn faces_against(&self, centroid: [f64; 3], normal: [f64; 3], tie: f64) -> bool {
         self.faces_against_near(centroid, normal, tie, None)
     }
 
-    /// [`faces_against`](Self::faces_against), the nearest triangle searched from the leaf of
-    /// a triangle at vertex `seed` of the mesh (any vertex; one near `centroid` makes the
-    /// search shorter: it starts with a close bound where the hierarchy's lower boxes lie
-    /// together in memory). The same answer for every seed.
+    /// [`faces_against`](Self::faces_against), with the triangles of the leaf holding one of
+    /// vertex `seed`'s triangles (any vertex of the mesh) tried first: when one of them faces
+    /// along at distance `d`, a search for a triangle facing against within `d − tie`, which
+    /// skips every box whose normals all face along (their cones), usually settles it. The
+    /// same answer for every seed.
     pub fn faces_against_from(
         &self,
         centroid: [f64; 3],
@@ -362,8 +372,7 @@ impl ClosestPoints {
         self.faces_against_near(centroid, normal, tie, leaf.filter(|&l| l != u32::MAX))
     }
 
-    /// [`faces_against`](Self::faces_against) with the nearest-triangle search started at
-    /// `leaf` when given.
+    /// [`faces_against`](Self::faces_against) with the seed leaf `leaf` when given.
     fn faces_against_near(
         &self,
         centroid: [f64; 3],
@@ -371,29 +380,59 @@ impl ClosestPoints {
         tie: f64,
         leaf: Option<u32>,
     ) -> bool {
+        let length = (normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]).sqrt();
+        if !(length > 0.0 && length.is_finite()) {
+            return false;
+        }
+        let unit = normal.map(|x| x / length);
         let facing = |j: usize| {
             let [a, b, c] = self.corners[j];
             let m = crate::mesh::area_vector(a, b, c);
             normal[0] * m[0] + normal[1] * m[1] + normal[2] * m[2]
         };
-        let mut near = Best::new(centroid);
-        match leaf {
-            Some(l) => self.climb(centroid, l, &mut near),
-            None => self.descend(centroid, 0, &mut near, &|_| true),
+        let along = |j: usize| facing(j) > 0.0;
+        let against = |j: usize| facing(j) < 0.0;
+        // Boxes that may hold a triangle facing along (against): not all of their normals
+        // certainly face the other way.
+        let may_along = |n: u32| !self.cones[n as usize].all_against(unit);
+        let may_against = |n: u32| !self.cones[n as usize].all_against(unit.map(|x| -x));
+        if let Some(leaf) = leaf {
+            let mut seeded = Best::new(centroid);
+            self.scan_leaf(centroid, leaf, &mut seeded, &along);
+            let reach = seeded.best2.sqrt() - tie;
+            if seeded.found() && reach <= 0.0 {
+                return false;
+            }
+            if seeded.found() {
+                // Flipped needs a triangle facing against nearer than `reach`.
+                let mut opposed = Best::new(centroid);
+                opposed.best2 = reach * reach;
+                self.descend_where(centroid, &mut opposed, &against, &may_against);
+                if !opposed.found_below(reach * reach) {
+                    return false;
+                }
+            }
         }
-        if !near.found() || facing(near.entry) >= 0.0 {
+        let mut nearest_along = Best::new(centroid);
+        self.descend_where(centroid, &mut nearest_along, &along, &may_along);
+        let d_along = nearest_along.best2.sqrt();
+        let reach = d_along - tie;
+        if reach <= 0.0 {
             return false;
         }
-        let along = self.search(centroid, |j| facing(j) > 0.0).0;
-        along.distance > near.best2.sqrt() + tie
+        let mut opposed = Best::new(centroid);
+        if reach.is_finite() {
+            opposed.best2 = reach * reach;
+        }
+        self.descend_where(centroid, &mut opposed, &against, &may_against);
+        opposed.entry != usize::MAX && opposed.best2.sqrt() + tie < d_along
     }
 
-    /// [`query_where`](Self::query_where) with `accept` on entries of `corners`; also the
-    /// closest entry (0 when none is accepted).
-    fn search(&self, p: [f64; 3], accept: impl Fn(usize) -> bool) -> (Closest, usize) {
+    /// [`query_where`](Self::query_where) with `accept` on entries of `corners`.
+    fn search(&self, p: [f64; 3], accept: impl Fn(usize) -> bool) -> Closest {
         let mut best = Best::new(p);
         self.descend(p, 0, &mut best, &accept);
-        let closest = Closest {
+        Closest {
             distance: best.best2.sqrt(),
             triangle: if best.found() {
                 self.ids[best.entry]
@@ -401,28 +440,6 @@ impl ClosestPoints {
                 0
             },
             point: best.point,
-        };
-        (closest, best.entry)
-    }
-
-    /// The nearest triangle from leaf `leaf` up: its triangles first, then at every ancestor
-    /// the subtree on the other side, searched only where its box lies nearer than the best
-    /// found (every triangle outside the leaf lies in exactly one such subtree, so nothing
-    /// nearer is missed).
-    fn climb(&self, p: [f64; 3], leaf: u32, best: &mut Best) {
-        self.scan_leaf(p, leaf, best, &|_| true);
-        let mut n = leaf;
-        while n != 0 {
-            let parent = self.parents[n as usize];
-            let sibling = if n == parent + 1 {
-                self.nodes[parent as usize].start
-            } else {
-                parent + 1
-            };
-            if self.nodes[sibling as usize].distance2(p) < best.best2 {
-                self.descend(p, sibling, best, &|_| true);
-            }
-            n = parent;
         }
     }
 
@@ -449,6 +466,33 @@ impl ClosestPoints {
     /// Searches the subtree at `root` for triangles `accept` admits nearer than `best`,
     /// nearest box first with pruning by the best distance found.
     fn descend(&self, p: [f64; 3], root: u32, best: &mut Best, accept: &impl Fn(usize) -> bool) {
+        self.descend_from(p, root, best, accept, &|_| true);
+    }
+
+    /// [`descend`](Self::descend) from the root, skipping the boxes `keep` rejects.
+    fn descend_where(
+        &self,
+        p: [f64; 3],
+        best: &mut Best,
+        accept: &impl Fn(usize) -> bool,
+        keep: &impl Fn(u32) -> bool,
+    ) {
+        self.descend_from(p, 0, best, accept, keep);
+    }
+
+    /// [`descend`](Self::descend), skipping the boxes `keep` rejects (no triangle `accept`
+    /// admits lies in them).
+    fn descend_from(
+        &self,
+        p: [f64; 3],
+        root: u32,
+        best: &mut Best,
+        accept: &impl Fn(usize) -> bool,
+        keep: &impl Fn(u32) -> bool,
+    ) {
+        if !keep(root) {
+            return;
+        }
         // Pending subtrees with their boxes' squared distances.
         let mut stack: [(u32, f64); 128] = [(0, 0.0); 128];
         stack[0] = (root, 0.0);
@@ -466,10 +510,14 @@ impl ClosestPoints {
                     break;
                 }
                 let (l, r) = (n + 1, node.start);
-                let (dl, dr) = (
-                    self.nodes[l as usize].distance2(p),
-                    self.nodes[r as usize].distance2(p),
-                );
+                let box2 = |c: u32| {
+                    if keep(c) {
+                        self.nodes[c as usize].distance2(p)
+                    } else {
+                        f64::INFINITY
+                    }
+                };
+                let (dl, dr) = (box2(l), box2(r));
                 let (near, dn, far, df) = if dl <= dr {
                     (l, dl, r, dr)
                 } else {
@@ -481,7 +529,7 @@ impl ClosestPoints {
                 } else if df < best.best2 {
                     // A hierarchy deeper than the stack (not built by `new`): search the far
                     // side now, which is correct, only slower.
-                    self.descend(p, far, best, accept);
+                    self.descend_from(p, far, best, accept, keep);
                 }
                 if dn >= best.best2 {
                     break;
@@ -496,7 +544,7 @@ impl ClosestPoints {
 struct Best {
     /// Squared distance (infinite before the first triangle).
     best2: f64,
-    /// The entry of `corners` it was found at (0 before).
+    /// The entry of `corners` it was found at (`usize::MAX` before).
     entry: usize,
     point: [f64; 3],
 }
@@ -506,13 +554,101 @@ impl Best {
     fn new(p: [f64; 3]) -> Best {
         Best {
             best2: f64::INFINITY,
-            entry: 0,
+            entry: usize::MAX,
             point: p,
         }
     }
 
     fn found(&self) -> bool {
-        self.best2.is_finite()
+        self.entry != usize::MAX
+    }
+
+    /// Whether a triangle was found nearer than `bound2` (squared).
+    fn found_below(&self, bound2: f64) -> bool {
+        self.found() && self.best2 < bound2
+    }
+}
+
+/// A cone holding the unit normals of a box's triangles: every one lies within the angle
+/// `acos(cos)` of `axis` (a unit vector). Triangles whose area vector is zero face no way
+/// and are left out (a box with only such has an empty cone, `cos` > 1); one whose normal
+/// cannot be normalised makes the cone the whole sphere.
+#[derive(Clone, Copy)]
+struct Cone {
+    axis: [f64; 3],
+    cos: f64,
+}
+
+/// `m / |m|` when `|m|` is positive and finite (and not so small that its square underflows).
+fn unit_vector(m: [f64; 3]) -> Option<[f64; 3]> {
+    let l = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
+    (l > 1e-150 && l.is_finite()).then(|| m.map(|x| x / l))
+}
+
+/// The unit normal of the triangle `t` ([`unit_vector`] of its area vector): `None` when
+/// its area vector is exactly zero (it faces no way), NaNs when it cannot be normalised.
+fn unit_normal([a, b, c]: [[f64; 3]; 3]) -> Option<[f64; 3]> {
+    let m = crate::mesh::area_vector(a, b, c);
+    if m == [0.0; 3] {
+        return None;
+    }
+    Some(unit_vector(m).unwrap_or([f64::NAN; 3]))
+}
+
+/// The margin by which [`Cone::all_against`] must hold: far above the rounding of unit
+/// vectors and their dot products (about 1e-15).
+const CONE_MARGIN: f64 = 1e-9;
+
+impl Cone {
+    /// The cone of the unit normals `units`; the whole sphere when one is NaN.
+    fn of(units: impl Iterator<Item = [f64; 3]> + Clone) -> Cone {
+        let whole = Cone {
+            axis: [1.0, 0.0, 0.0],
+            cos: -1.0,
+        };
+        let mut sum = [0.0; 3];
+        let mut any = false;
+        for u in units.clone() {
+            if u.iter().any(|x| x.is_nan()) {
+                return whole;
+            }
+            any = true;
+            for k in 0..3 {
+                sum[k] += u[k];
+            }
+        }
+        if !any {
+            return Cone {
+                axis: [0.0; 3],
+                cos: 2.0,
+            };
+        }
+        let Some(axis) = unit_vector(sum) else {
+            return whole;
+        };
+        let cos = units
+            .map(|u| u[0] * axis[0] + u[1] * axis[1] + u[2] * axis[2])
+            .fold(1.0f64, f64::min)
+            .clamp(-1.0, 1.0);
+        Cone { axis, cos }
+    }
+
+    /// Whether every normal in the cone certainly faces against the unit vector `n`
+    /// (negative dot product): the cone lies within 90° of `−n`, by [`CONE_MARGIN`]. True
+    /// for an empty cone.
+    fn all_against(&self, n: [f64; 3]) -> bool {
+        if self.cos > 1.0 {
+            return true;
+        }
+        // cos of the angle between the axis and −n, and the cone's half-angle.
+        let c_phi = -(self.axis[0] * n[0] + self.axis[1] * n[1] + self.axis[2] * n[2]);
+        if self.cos <= 0.0 || c_phi <= 0.0 {
+            return false;
+        }
+        let c_phi = c_phi.min(1.0);
+        let sin = |c: f64| (1.0 - c * c).max(0.0).sqrt();
+        // cos(θ + φ) > margin, both angles below 90°.
+        self.cos * c_phi - sin(self.cos) * sin(c_phi) > CONE_MARGIN
     }
 }
 
@@ -609,11 +745,12 @@ pub struct Deviation {
     /// `max(forward_max, backward_max)`: the symmetric Hausdorff distance at the samples.
     pub hausdorff: f64,
     /// Simplified triangles whose normal points against the original surface nearest their
-    /// centroid: against the normal of the closest original triangle (negative dot product)
-    /// while every original triangle facing along it (positive dot product) lies farther, by
-    /// more than [`FLIP_TIE`] of the diagonal. The closest point is often an edge or vertex
-    /// shared by triangles facing both ways (folds of a scan, thin parts); such a tie goes to
-    /// agreement. Degenerate triangles are not counted.
+    /// centroid ([`ClosestPoints::faces_against`]): the nearest original triangle facing
+    /// against it (negative dot product) lies nearer than the nearest facing along it
+    /// (positive), by more than [`FLIP_TIE`] of the diagonal. The closest point is often an
+    /// edge or vertex shared by triangles facing both ways (folds of a scan, thin parts); such
+    /// a tie goes to agreement. Original triangles at right angles or without area take no
+    /// side; degenerate simplified triangles are not counted.
     pub flipped: usize,
     /// Points measured: original vertices and simplified-surface samples.
     pub samples: usize,

@@ -428,11 +428,11 @@ pub fn markdown(c: &SurfaceCampaign) -> String {
          (→) and from 10 barycentric samples per result triangle back to the original (←), \
          in % of the original's bounding-box diagonal; Hausdorff is the larger maximum; \
          flipped counts result triangles whose normal points against the original surface \
-         nearest their centroid: against the nearest original triangle while every original \
-         triangle facing along lies farther (by more than 1e-9 of the diagonal; a tie at an \
+         nearest their centroid: the nearest original triangle facing against it lies nearer \
+         than the nearest facing along (by more than 1e-9 of the diagonal; a tie at an \
          edge or vertex shared by triangles facing both ways, common at a scan's folds and \
-         thin parts, goes to agreement; the nearest-triangle test alone let the search order \
-         decide such ties).\n"
+         thin parts, goes to agreement; both are minimum distances, so no search order \
+         decides).\n"
     );
     for case in &c.cases {
         let _ = write!(

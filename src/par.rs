@@ -95,3 +95,15 @@ pub(crate) mod prelude {
         }
     }
 }
+
+/// `rayon::join` with the `parallel` feature (both closures possibly on two threads), else
+/// `(a(), b())` in order.
+pub(crate) fn join<A: Send, B: Send>(
+    a: impl FnOnce() -> A + Send,
+    b: impl FnOnce() -> B + Send,
+) -> (A, B) {
+    #[cfg(feature = "parallel")]
+    return rayon::join(a, b);
+    #[cfg(not(feature = "parallel"))]
+    return (a(), b());
+}

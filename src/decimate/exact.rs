@@ -211,16 +211,20 @@ impl ExactEngine {
             }
     }
 
+    /// The `f64` input coordinates of `hole`'s ring, as the fast path reads them.
+    fn ring_points(&self, hole: &Hole) -> Vec<[f64; 3]> {
+        hole.fan
+            .ring
+            .iter()
+            .map(|&w| self.float[w as usize])
+            .collect()
+    }
+
     /// The quadric criterion on `v`'s `hole` ([`quadric_removal`]), from the `f64` input
     /// coordinates as the fast path computes it, with the bounds kept per triangle slot;
     /// `None` when the new triangles would fold the surface over.
     fn quadric_cost(&self, v: u32, hole: &Hole) -> Option<QuadricRemoval> {
-        let ring3: Vec<[f64; 3]> = hole
-            .fan
-            .ring
-            .iter()
-            .map(|&w| self.float[w as usize])
-            .collect();
+        let ring3 = self.ring_points(hole);
         let pts: Vec<[f64; 2]> = ring3.iter().map(|&q| hole.plane.project(q)).collect();
         let ring_normals: Vec<[f64; 3]> = hole
             .fan
@@ -524,12 +528,7 @@ impl Engine for ExactEngine {
             return false;
         }
         if let Some(original) = &self.original {
-            let ring3: Vec<[f64; 3]> = hole
-                .fan
-                .ring
-                .iter()
-                .map(|&w| self.float[w as usize])
-                .collect();
+            let ring3 = self.ring_points(&hole);
             if super::quadric::faces_against_original(
                 original,
                 &hole.fan.ring,

@@ -139,28 +139,27 @@ pub fn fit(
                     continue;
                 }
                 let triangles = &around.1[around.0[v] as usize..around.0[v + 1] as usize];
-                let ok = triangles.iter().all(|&t| {
-                    let tri = decimated.triangles[t as usize];
-                    let c = tri.map(|i| {
+                // Triangle `t`'s corners with `v` at its target.
+                let moved = |t: u32| {
+                    decimated.triangles[t as usize].map(|i| {
                         if i as usize == v {
                             target
                         } else {
                             decimated.vertices[i as usize]
                         }
-                    });
+                    })
+                };
+                let ok = triangles.iter().all(|&t| {
+                    let c = moved(t);
                     before[t as usize].is_some_and(|n| normals_agree(n, c))
                         && (!facing[t as usize]
-                            || dot(area_vector(c[0], c[1], c[2]), corner_normal(tri)) > 0.0)
+                            || dot(
+                                area_vector(c[0], c[1], c[2]),
+                                corner_normal(decimated.triangles[t as usize]),
+                            ) > 0.0)
                 }) && surface.is_none_or(|s| {
                     triangles.iter().all(|&t| {
-                        let tri = decimated.triangles[t as usize];
-                        let c = tri.map(|i| {
-                            if i as usize == v {
-                                target
-                            } else {
-                                decimated.vertices[i as usize]
-                            }
-                        });
+                        let c = moved(t);
                         let seed = match seeds[t as usize].1 {
                             u32::MAX => kept[v],
                             i => i,

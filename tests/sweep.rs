@@ -1231,88 +1231,150 @@ proptest::proptest! {
         d in proptest::collection::vec(-3i64..=3, 3),
         dir in proptest::collection::vec(-4i64..=4, 3),
     ) {
-        use geocert::num::Rational;
-        use geocert::solve::SolveOptions;
-        use geocert::sweep::{events, EventKind};
-        proptest::prop_assume!(d.iter().any(|&x| x != 0) && dir.iter().any(|&x| x != 0));
-        let e: Vec<i64> = (0..3).map(|k| 3 * d[k] - dir[k]).collect();
-        let text = format!(
-            r#"{{"surfaces": [{{"sphere": {{"center": [0, 0, 0], "radius": 1}}}}],
-                "t": [0, 1],
-                "motion": {{"translation": [[0, {}], [0, {}], [0, {}]]}},
-                "eye": {{"path": [[{}, {}], [{}, {}], [{}, {}]], "r": [0, 2]}}}}"#,
-            d[0], d[1], d[2], e[0], dir[0], e[1], dir[1], e[2], dir[2]
-        );
-        // q(r) = A r² + B r + C in integers.
-        let dot = |a: &[i64], b: &[i64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<i64>();
-        let dd = dot(&d, &d);
-        let (a, b, c) = (
-            dot(&dir, &dir) * dd - dot(&dir, &d).pow(2),
-            2 * (dot(&e, &dir) * dd - dot(&e, &d) * dot(&dir, &d)),
-            dot(&e, &e) * dd - dot(&e, &d).pow(2) - dd,
-        );
-        let disc = b * b - 4 * a * c;
-        // A tangent path (a double root) and an eye on the cylinder at an end of its interval
-        // (an event on the domain's boundary, reported as a cluster) are left out.
-        proptest::prop_assume!(a != 0 && disc != 0 && c != 0 && 4 * a + 2 * b + c != 0);
-        let scene = scene_from_json(&text).unwrap();
-        let ev = match events(&scene, &SolveOptions::new()) {
-            Ok(ev) => ev,
-            // An eye path through the swept sphere is refused.
-            Err(SweepError::EyePathOnSurface { .. }) => return Ok(()),
-            Err(err) => panic!("{err}"),
+        translation_merges(&d, &dir)?;
+    }
+}
+
+/// The body of the random-translation property for one direction `d` and eye-path
+/// direction `dir` (its doc comment says what is checked).
+fn translation_merges(d: &[i64], dir: &[i64]) -> Result<(), proptest::test_runner::TestCaseError> {
+    use geocert::num::Rational;
+    use geocert::solve::{ClusterReason, SolveOptions};
+    use geocert::sweep::{events, EventKind};
+    proptest::prop_assume!(d.iter().any(|&x| x != 0) && dir.iter().any(|&x| x != 0));
+    let e: Vec<i64> = (0..3).map(|k| 3 * d[k] - dir[k]).collect();
+    let text = format!(
+        r#"{{"surfaces": [{{"sphere": {{"center": [0, 0, 0], "radius": 1}}}}],
+            "t": [0, 1],
+            "motion": {{"translation": [[0, {}], [0, {}], [0, {}]]}},
+            "eye": {{"path": [[{}, {}], [{}, {}], [{}, {}]], "r": [0, 2]}}}}"#,
+        d[0], d[1], d[2], e[0], dir[0], e[1], dir[1], e[2], dir[2]
+    );
+    // q(r) = A r² + B r + C in integers.
+    let dot = |a: &[i64], b: &[i64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<i64>();
+    let dd = dot(d, d);
+    let (a, b, c) = (
+        dot(dir, dir) * dd - dot(dir, d).pow(2),
+        2 * (dot(&e, dir) * dd - dot(&e, d) * dot(dir, d)),
+        dot(&e, &e) * dd - dot(&e, d).pow(2) - dd,
+    );
+    let disc = b * b - 4 * a * c;
+    // A tangent path (a double root) and an eye on the cylinder at an end of its interval
+    // (an event on the domain's boundary, reported as a cluster) are left out.
+    proptest::prop_assume!(a != 0 && disc != 0 && c != 0 && 4 * a + 2 * b + c != 0);
+    let scene = scene_from_json(&text).unwrap();
+    let ev = match events(&scene, &SolveOptions::new()) {
+        Ok(ev) => ev,
+        // An eye path through the swept sphere is refused.
+        Err(SweepError::EyePathOnSurface { .. }) => return Ok(()),
+        Err(err) => panic!("{err}"),
+    };
+    let q = |r: &Rational| -> Rational {
+        let int = |k: i64| Rational::from_integer(k.into());
+        int(a) * r * r + int(b) * r + int(c)
+    };
+    // A merge exactly on a patch border (the characteristic circle meets the eye's
+    // contour on a border meridian, as for d = (2, 0, 2)) is a root on the boundary of
+    // the two patches' t-face systems, which report it as a domain-boundary cluster; the
+    // edge systems on that border certify it. Every cluster must be such a one: on the
+    // domain's boundary, holding a certified edge event of the same patch at the same
+    // end of t.
+    for (_, patch, kind, c) in &ev.clusters {
+        let EventKind::Face { axis: 2, upper } = *kind else {
+            return Err(proptest::test_runner::TestCaseError::fail(format!(
+                "cluster of {kind:?}"
+            )));
         };
-        let q = |r: &Rational| -> Rational {
-            let int = |k: i64| Rational::from_integer(k.into());
-            int(a) * r * r + int(b) * r + int(c)
-        };
-        proptest::prop_assert!(ev.clusters.is_empty());
-        let at_ends: Vec<_> = ev
-            .events
-            .iter()
-            .filter(|x| match x.kind {
-                EventKind::Face { axis, .. } => axis == 2,
-                EventKind::Edge { fixed } => fixed[1].0 == 2,
-                _ => false,
-            })
+        proptest::prop_assert_eq!(c.reason, ClusterReason::DomainBoundary);
+        let f = |x: &Rational| rational_to_f64(x);
+        let holds =
+            |k: usize, x: f64| f(&c.bounds[k].0) - 1e-9 <= x && x <= f(&c.bounds[k].1) + 1e-9;
+        let certified = ev.events.iter().any(|x| {
+            x.patch == *patch
+                && matches!(x.kind, EventKind::Edge { fixed } if fixed[1] == (2, upper))
+                && holds(0, x.uvt[0])
+                && holds(1, x.uvt[1])
+                && holds(2, x.r)
+        });
+        proptest::prop_assert!(
+            certified,
+            "cluster of patch {} not on a certified edge event: {:?}",
+            patch,
+            c
+        );
+    }
+    let at_ends: Vec<_> = ev
+        .events
+        .iter()
+        .filter(|x| match x.kind {
+            EventKind::Face { axis, .. } => axis == 2,
+            EventKind::Edge { fixed } => fixed[1].0 == 2,
+            _ => false,
+        })
+        .collect();
+    for x in &ev.events {
+        // On the characteristic circle (d·X = 0) and on the contour from P(r)
+        // (1 − P(r)·X = 0; X the unit sphere's point, its own normal).
+        let p = x.patch_point(&scene).unwrap();
+        let eye: Vec<f64> = (0..3)
+            .map(|k| (e[k] as f64) + x.r * dir[k] as f64)
             .collect();
-        for x in &ev.events {
-            // On the characteristic circle (d·X = 0) and on the contour from P(r)
-            // (1 − P(r)·X = 0; X the unit sphere's point, its own normal).
-            let p = x.patch_point(&scene).unwrap();
-            let eye: Vec<f64> = (0..3).map(|k| (e[k] as f64) + x.r * dir[k] as f64).collect();
-            let along = (0..3).map(|k| d[k] as f64 * p[k]).sum::<f64>();
-            let contour = 1.0 - (0..3).map(|k| eye[k] * p[k]).sum::<f64>();
-            proptest::prop_assert!(along.abs() < 1e-8 && contour.abs() < 1e-8,
-                "{:?} at r = {}: {along:e} {contour:e}", x.kind, x.r);
-        }
-        for x in at_ends.iter().filter(|x| matches!(x.kind, EventKind::Face { .. })) {
-            let (lo, hi) = x.root.bounds.last().unwrap();
-            let (ql, qh) = (q(lo), q(hi));
-            let zero = Rational::from_integer(0.into());
-            proptest::prop_assert!(
-                (ql <= zero && qh >= zero) || (ql >= zero && qh <= zero),
-                "{:?} at r = {}: q does not change sign", x.kind, x.r
-            );
-        }
-        if disc > 0 {
-            let s = (disc as f64).sqrt();
-            for root in [(-(b as f64) - s) / (2.0 * a as f64), (-(b as f64) + s) / (2.0 * a as f64)] {
-                if !(1e-6..=2.0 - 1e-6).contains(&root) {
-                    continue;
-                }
-                for t_end in [false, true] {
-                    let seen = at_ends.iter().any(|x| {
-                        (x.r - root).abs() < 1e-8
-                            && match x.kind {
-                                EventKind::Face { upper, .. } => upper == t_end,
-                                EventKind::Edge { fixed } => fixed[1].1 == t_end,
-                                _ => false,
-                            }
-                    });
-                    proptest::prop_assert!(seen, "merge at r = {root} not seen at t = {}", u8::from(t_end));
-                }
+        let along = (0..3).map(|k| d[k] as f64 * p[k]).sum::<f64>();
+        let contour = 1.0 - (0..3).map(|k| eye[k] * p[k]).sum::<f64>();
+        proptest::prop_assert!(
+            along.abs() < 1e-8 && contour.abs() < 1e-8,
+            "{:?} at r = {}: {along:e} {contour:e}",
+            x.kind,
+            x.r
+        );
+    }
+    for x in at_ends
+        .iter()
+        .filter(|x| matches!(x.kind, EventKind::Face { .. }))
+    {
+        let (lo, hi) = x.root.bounds.last().unwrap();
+        let (ql, qh) = (q(lo), q(hi));
+        let zero = Rational::from_integer(0.into());
+        proptest::prop_assert!(
+            (ql <= zero && qh >= zero) || (ql >= zero && qh <= zero),
+            "{:?} at r = {}: q does not change sign",
+            x.kind,
+            x.r
+        );
+    }
+    if disc > 0 {
+        let s = (disc as f64).sqrt();
+        for root in [
+            (-(b as f64) - s) / (2.0 * a as f64),
+            (-(b as f64) + s) / (2.0 * a as f64),
+        ] {
+            if !(1e-6..=2.0 - 1e-6).contains(&root) {
+                continue;
+            }
+            for t_end in [false, true] {
+                let seen = at_ends.iter().any(|x| {
+                    (x.r - root).abs() < 1e-8
+                        && match x.kind {
+                            EventKind::Face { upper, .. } => upper == t_end,
+                            EventKind::Edge { fixed } => fixed[1].1 == t_end,
+                            _ => false,
+                        }
+                });
+                proptest::prop_assert!(
+                    seen,
+                    "merge at r = {root} not seen at t = {}",
+                    u8::from(t_end)
+                );
             }
         }
     }
+    Ok(())
+}
+
+/// A merge exactly on a patch border (found by CI): for `d = (2, 0, 2)` the characteristic
+/// circle meets the eye's contour on a border meridian of the sphere's patches; the t-face
+/// systems report domain-boundary clusters there and the edge systems certify the events.
+#[test]
+fn a_merge_on_a_patch_border_is_certified_by_the_edge_systems() {
+    translation_merges(&[2, 0, 2], &[4, 3, 0]).unwrap();
 }

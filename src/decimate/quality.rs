@@ -1012,6 +1012,16 @@ mod tests {
         assert_eq!(deviation(&folded, &folded).flipped, 0);
     }
 
+    /// A xorshift generator from `state` (not zero): the tests' pseudo-random points.
+    fn xorshift(mut state: u64) -> impl FnMut() -> u64 {
+        move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        }
+    }
+
     /// A hierarchy large enough to be built in two halves side by side
     /// ([`PARALLEL_BUILD`]) answers like a scan of every triangle: closest distances for 300
     /// pseudo-random points around a bumpy 190 × 190 grid (71,442 triangles), and every
@@ -1037,13 +1047,8 @@ mod tests {
         }
         assert!(mesh.triangles.len() > PARALLEL_BUILD);
         let cp = ClosestPoints::new(&mesh).unwrap();
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state % 100_000) as f64 / 100_000.0
-        };
+        let mut bits = xorshift(0x9e37_79b9_7f4a_7c15);
+        let mut next = || (bits() % 100_000) as f64 / 100_000.0;
         for _ in 0..300 {
             let p = [1.2 * next() - 0.1, 1.2 * next() - 0.1, 0.4 * next() - 0.2];
             let brute = mesh
@@ -1108,13 +1113,7 @@ mod tests {
             }
         }
         let original = OriginalSurface::new(&mesh).unwrap();
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = xorshift(0x2545_f491_4f6c_dd1d);
         let (mut against, mut along) = (0, 0);
         for _ in 0..2000 {
             let tri: [[f64; 3]; 3] = std::array::from_fn(|_| {

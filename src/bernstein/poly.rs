@@ -621,6 +621,24 @@ impl<T: Field> Bernstein<T> {
         coeffs
     }
 
+    /// An enclosure of the cross-section `x_axis = t` (the axis removed, as in
+    /// [`Bernstein::face`]): exact for exact types, [`Field::enclose_lines`] otherwise (a
+    /// cheap test of a split plane before splitting there).
+    pub fn section_enclosure(&self, axis: usize, t: &T) -> Result<Self, BernsteinError> {
+        self.check_axis(axis)?;
+        let len = self.degrees[axis] + 1;
+        let inner: usize = self.degrees[..axis].iter().map(|d| d + 1).product();
+        let mut coeffs = Vec::with_capacity(self.coeffs.len() / len);
+        T::enclose_lines(&self.coeffs, len, inner, t, &mut coeffs);
+        let mut degrees = self.degrees.clone();
+        if self.dim() == 1 {
+            degrees[0] = 0;
+        } else {
+            degrees.remove(axis);
+        }
+        Ok(Bernstein { degrees, coeffs })
+    }
+
     /// The boundary slice `t_axis = 0` (`upper = false`) or `t_axis = 1`: an (n−1)-variate
     /// polynomial whose coefficients are the face's coefficients. For a 1-D polynomial the
     /// result is the 1-D constant at that end (degree 0).

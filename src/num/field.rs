@@ -75,6 +75,11 @@ pub trait Field: Clone + std::fmt::Debug + Send + Sync {
             }
         }
     }
+    /// [`Field::eval_lines`] where any enclosure of the values will do (the cheap test of a
+    /// split plane): the same values unless a type has a cheaper, possibly wider, enclosure.
+    fn enclose_lines(coeffs: &[Self], len: usize, inner: usize, t: &Self, out: &mut Vec<Self>) {
+        Self::eval_lines(coeffs, len, inner, t, out);
+    }
     /// The coefficient-wise combination `Σ_j w_j v_j[c]` of equally long vectors `v_j`
     /// (the shorter of `weights` and `vectors` counts): [`Field::dot`] per coefficient unless
     /// a type does it faster.
@@ -295,6 +300,41 @@ impl Field for Interval {
     }
     fn eval_lines(coeffs: &[Self], len: usize, inner: usize, t: &Self, out: &mut Vec<Self>) {
         with_interval_step!(t, step => eval_slabs(coeffs, len, inner, step, out));
+    }
+    /// Horner's rule in `q = t/(1 − t)`, slab by slab: `(1 − t)^d Σₖ C(d, k) qᵏ bₖ`, `d + 1`
+    /// interval steps per value instead of de Casteljau's `d(d + 1)/2` (every operation
+    /// rounded outward, so the result encloses the exact value). For `t` outside `(0, 1)`
+    /// (no such `q`), de Casteljau.
+    fn enclose_lines(coeffs: &[Self], len: usize, inner: usize, t: &Self, out: &mut Vec<Self>) {
+        let s = <Interval as Field>::one() - *t;
+        if !(t.lo > 0.0 && s.lo > 0.0) {
+            return Self::eval_lines(coeffs, len, inner, t, out);
+        }
+        let q = *t / s;
+        let d = len - 1;
+        let scale = (0..d).fold(<Interval as Field>::one(), |acc, _| acc * s);
+        // C(d, k) exactly in integers (below 2^53 up to d = 56, so exact in f64 too).
+        if d > 56 {
+            return Self::eval_lines(coeffs, len, inner, t, out);
+        }
+        let mut binom = vec![1u64; len];
+        for k in 1..len {
+            binom[k] = binom[k - 1] * (d + 1 - k) as u64 / k as u64;
+        }
+        let weight = |k: usize| Interval::point(binom[k] as f64);
+        let mut acc = vec![Interval::point(0.0); inner];
+        for block in coeffs.chunks_exact(len * inner) {
+            for (i, a) in acc.iter_mut().enumerate() {
+                *a = weight(d) * block[i + inner * d];
+            }
+            for k in (0..d).rev() {
+                let w = weight(k);
+                for (i, a) in acc.iter_mut().enumerate() {
+                    *a = *a * q + w * block[i + inner * k];
+                }
+            }
+            out.extend(acc.iter().map(|a| *a * scale));
+        }
     }
 }
 

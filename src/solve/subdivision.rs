@@ -883,8 +883,9 @@ pub(super) const SPLITS: [(i64, i64); 5] = [(1, 2), (7, 16), (9, 16), (3, 8), (5
 /// is of one strict sign on, else at ½; returns the parameter and the two halves. Below depth
 /// [`MOVED_SPLITS_DEPTH`] only ½ is used: a root on such a plane (a dyadic coordinate with a
 /// long expansion) leaves two touching clusters rather than a certified root, and the exact
-/// path's coefficients stay short. The plane's coefficients are read off the split itself
-/// (the left halves' upper faces), so the common case costs one split and no evaluation.
+/// path's coefficients stay short. ½'s plane is read off its split; the other planes are
+/// tested on [`Bernstein::section_enclosure`] (Horner's rule in intervals, `d + 1` steps per
+/// value) and split at only when root-free.
 #[allow(clippy::type_complexity)]
 fn split_polys<T: Field>(
     polys: &[Bernstein<T>],
@@ -897,31 +898,48 @@ fn split_polys<T: Field>(
     } else {
         1
     };
-    let mut first = None;
-    for &(p, q) in &SPLITS[..tried] {
-        let s = T::from_ratio(p, q);
+    let plane_free = |faces: &[Bernstein<T>]| -> Result<bool, SolveError> {
+        Ok(root_free(faces) == Decision::Yes
+            || match a {
+                Some(a) => root_free(&precondition(a, faces)?) == Decision::Yes,
+                None => false,
+            })
+    };
+    let split_at = |s: &T| -> Result<(Vec<Bernstein<T>>, Vec<Bernstein<T>>), SolveError> {
         let mut left = Vec::with_capacity(polys.len());
         let mut right = Vec::with_capacity(polys.len());
-        let mut faces = Vec::with_capacity(polys.len());
         for f in polys {
-            let (l, r) = f.split(axis, &s)?;
-            // The last coefficients of the left half along `axis` are the plane's.
-            faces.push(l.face(axis, true)?);
+            let (l, r) = f.split(axis, s)?;
             left.push(l);
             right.push(r);
         }
-        let plane_free = root_free(&faces) == Decision::Yes
-            || match a {
-                Some(a) => root_free(&precondition(a, &faces)?) == Decision::Yes,
-                None => false,
-            };
-        let halves = (Rational::new(p.into(), q.into()), left, right);
-        if plane_free {
-            return Ok(halves);
-        }
-        first.get_or_insert(halves);
+        Ok((left, right))
+    };
+    // ½ first: its plane's coefficients are read off the split itself (the left halves'
+    // upper faces), so the common case costs one split and no evaluation.
+    let half = Rational::new(1.into(), 2.into());
+    let (left, right) = split_at(&T::from_ratio(1, 2))?;
+    let faces = left
+        .iter()
+        .map(|l| l.face(axis, true))
+        .collect::<Result<Vec<_>, _>>()?;
+    if tried == 1 || plane_free(&faces)? {
+        return Ok((half, left, right));
     }
-    Ok(first.expect("SPLITS starts with 1/2"))
+    // The other planes are tested on a cheap enclosure of their cross-sections and split
+    // at only when proved root-free.
+    for &(p, q) in &SPLITS[1..tried] {
+        let s = T::from_ratio(p, q);
+        let faces = polys
+            .iter()
+            .map(|f| f.section_enclosure(axis, &s))
+            .collect::<Result<Vec<_>, _>>()?;
+        if plane_free(&faces)? {
+            let (l, r) = split_at(&s)?;
+            return Ok((Rational::new(p.into(), q.into()), l, r));
+        }
+    }
+    Ok((half, left, right))
 }
 
 /// Whether the box touches a face of the domain on which the system may vanish.

@@ -1052,6 +1052,17 @@ fn frames_continue_between_events_and_are_traced_across_them() {
     // A continued frame against a fresh certified trace from the same eye point: the same
     // number of components, and every continued point close to the traced polylines.
     let frame = f.frames.iter().rev().find(|x| !x.traced).unwrap();
+    let worst = farthest_from_a_fresh_trace(&scene, frame, &opts);
+    assert!(worst < 0.1, "{worst}");
+}
+
+/// The largest distance of a continued frame's points from the polylines of a fresh
+/// certified trace from the same eye point, which has as many envelope components.
+fn farthest_from_a_fresh_trace(
+    scene: &geocert::sweep::Scene,
+    frame: &geocert::sweep::Frame,
+    opts: &SilhouetteOptions,
+) -> f64 {
     let Eye::Path { path, .. } = &scene.eye else {
         unreachable!()
     };
@@ -1064,7 +1075,7 @@ fn frames_continue_between_events_and_are_traced_across_them() {
                 acc * &rq + c
             })
     }));
-    let fresh = silhouette(&fixed, &opts).unwrap();
+    let fresh = silhouette(&fixed, opts).unwrap();
     let fresh_env: Vec<_> = fresh
         .components
         .iter()
@@ -1088,6 +1099,34 @@ fn frames_continue_between_events_and_are_traced_across_them() {
         "continued frame at r = {:.3}: farthest point {worst:.4} from the traced polylines",
         frame.r
     );
+    worst
+}
+
+/// A component's piece on one patch shrinks as the eye moves (the border point joining it to
+/// the next patch slides along the border): the inner point that converges across the
+/// border is dropped, and the frame is continued, not traced afresh; its points stay on the
+/// silhouette of a fresh trace.
+#[test]
+fn a_continued_frame_drops_a_point_that_crossed_a_patch_border() {
+    use geocert::solve::SolveOptions;
+    use geocert::sweep::frames;
+    let scene = scene_from_json(TURN_EYE).unwrap();
+    let rs = [3.0 * 3.0 / 39.0, 3.0 * 4.0 / 39.0];
+    let opts = SilhouetteOptions::new();
+    let f = frames(&scene, &rs, &opts, &SolveOptions::new()).unwrap();
+    let (first, second) = (&f.frames[0], &f.frames[1]);
+    assert!(first.traced && !second.traced);
+    let count = |x: &geocert::sweep::Frame| -> Vec<usize> {
+        x.components.iter().map(|c| c.uvt.len()).collect()
+    };
+    println!(
+        "points per component: {:?} → {:?}",
+        count(first),
+        count(second)
+    );
+    assert_eq!(first.components.len(), second.components.len());
+    assert!(count(first).iter().sum::<usize>() > count(second).iter().sum::<usize>());
+    let worst = farthest_from_a_fresh_trace(&scene, second, &opts);
     assert!(worst < 0.1, "{worst}");
 }
 

@@ -4,7 +4,10 @@
 //! silhouette by Newton's method in `(u, v, t)` (the minimum-norm step for the two equations
 //! `F = 0`, `G(·, r) = 0`; a component's end on a time face keeps its `t`). A frame is traced
 //! afresh by the certified tracer ([`super::silhouette`]) when it is the first, when an event
-//! lies between it and the previous frame, or when a point does not converge.
+//! lies between it and the previous frame, or when a point does not converge. An inner point
+//! of a component that converges across a patch border (a component's piece on one patch
+//! shrinks as the border point joining it to the next patch slides) is dropped, a few per
+//! component and frame.
 //!
 //! Continued frames are drawings, not certificates: the topology between events is what the
 //! events certify, and every continued point is checked to satisfy both equations to within
@@ -29,6 +32,15 @@ pub const CONTINUATION_TOLERANCE: f64 = 1e-9;
 /// running along a patch border crosses it back and forth; the patch's polynomials extend
 /// past it (for the primitives, onto the same quadric).
 pub const OVERSHOOT: f64 = 0.02;
+
+/// How far (in parameter units) Newton's iterates may wander outside the patch's box before
+/// the point counts as lost; a converged point beyond [`OVERSHOOT`] has crossed into the
+/// neighbouring patch.
+const WANDER: f64 = 0.25;
+
+/// Inner points a continued component may lose across patch borders per frame (or an eighth
+/// of its points, if more).
+const MAX_DROPPED: usize = 2;
 
 /// A polynomial in the power basis in up to four variables (axis 0 fastest), in `f64`.
 #[derive(Clone, Debug)]
@@ -304,6 +316,8 @@ fn continue_frame(
     for c in &prev.components {
         let mut uvt = Vec::with_capacity(c.uvt.len());
         let mut points = Vec::with_capacity(c.uvt.len());
+        let mut kept = Vec::with_capacity(c.uvt.len());
+        let mut dropped = 0;
         for (&x, &p) in c.uvt.iter().zip(&c.patches) {
             let forms = &patch[c.surface][p];
             let g = &g_here[c.surface][p];
@@ -327,14 +341,34 @@ fn continue_frame(
                 None
             };
             let y = newton(y0, f, g, fixed)?;
+            let outside = |c: f64| !(-OVERSHOOT..=1.0 + OVERSHOOT).contains(&c);
+            if outside(y[2]) {
+                // The time interval's ends are the component's real ends.
+                return None;
+            }
+            if outside(y[0]) || outside(y[1]) {
+                // An inner point that crossed a patch border: the neighbouring patch's piece
+                // of the component now holds it, and the border point that joins the two
+                // pieces moved with it; the point is dropped (a border point must stay).
+                if fixed.iter().any(|&k| k) {
+                    return None;
+                }
+                dropped += 1;
+                continue;
+            }
             let t = a + (b - a) * y[2];
             let world = forms.point(y[0], y[1])?;
             uvt.push([y[0], y[1], t]);
             points.push(apply_motion(scene, t, world));
+            kept.push(p);
+        }
+        // More than a few points across borders, or too few left: traced afresh instead.
+        if uvt.len() < 2 || dropped > MAX_DROPPED.max(c.uvt.len() / 8) {
+            return None;
         }
         comps.push(FrameCurve {
             surface: c.surface,
-            patches: c.patches.clone(),
+            patches: kept,
             uvt,
             points,
             closed: c.closed,
@@ -346,7 +380,7 @@ fn continue_frame(
 /// Newton's method for `F = G = 0` from `x` (minimum-norm steps; the `fixed` coordinates do
 /// not move), or for `G = 0` alone when `f` is `None` (on a face where `F ≡ 0`); `None` when
 /// it does not reach [`CONTINUATION_TOLERANCE`] in eight steps, no coordinate is left for
-/// each equation, or a point leaves the unit box.
+/// each equation, or an iterate wanders more than [`WANDER`] outside the unit box.
 fn newton(mut x: [f64; 3], f: Option<&Power>, g: &Power, fixed: [bool; 3]) -> Option<[f64; 3]> {
     let equations = if f.is_some() { 2 } else { 1 };
     if fixed.iter().filter(|&&b| b).count() > 3 - equations {
@@ -382,7 +416,7 @@ fn newton(mut x: [f64; 3], f: Option<&Power>, g: &Power, fixed: [bool; 3]) -> Op
             x[k] -= l0 * fg[k] + l1 * gg[k];
         }
         if x.iter()
-            .any(|c| !(c.is_finite() && (-OVERSHOOT..=1.0 + OVERSHOOT).contains(c)))
+            .any(|c| !(c.is_finite() && (-WANDER..=1.0 + WANDER).contains(c)))
         {
             return None;
         }

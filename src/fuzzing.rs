@@ -491,8 +491,8 @@ pub fn check_mc_table(data: &[u8]) -> Result<(), String> {
 /// from the next byte. Decimation must succeed or refuse with an error; what succeeds must
 /// pass the independent checker at every step and undecimate to the input bit for bit,
 /// through the history file; under the angle and quadric criteria (and every border policy)
-/// the exact engine writes the same history, and under the quadric one with the facing test
-/// no result triangle faces against the original. The history parser sees the raw bytes too: no panic, and what
+/// the exact engine writes the same history, and with the facing test in per-fan planes (any
+/// criterion) no result triangle faces against the original. The history parser sees the raw bytes too: no panic, and what
 /// it accepts re-serialises to the same bytes.
 pub fn check_decimate(data: &[u8]) -> Result<(), String> {
     use crate::decimate::{
@@ -573,8 +573,9 @@ pub fn check_decimate(data: &[u8]) -> Result<(), String> {
         return Ok(());
     };
     check::verify(&mesh, &out.history, out.stats.projection_xy, 1).map_err(|e| e.to_string())?;
-    // With the facing test on, no triangle of a quadric result faces against the original.
-    if options.facing && out.stats.criterion == "quadric" {
+    // With the facing test on, no triangle of a result cut in per-fan planes faces against
+    // the original, whatever the criterion.
+    if options.facing && !out.stats.projection_xy {
         let flipped = crate::decimate::quality::deviation(&mesh, &out.mesh).flipped;
         if flipped > 0 {
             return Err(format!("{flipped} triangles face against the original"));

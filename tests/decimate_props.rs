@@ -209,7 +209,8 @@ proptest! {
 /// facing inwards) decimated hard: the outer sphere's large triangles are chords that pass
 /// nearer the inner sphere than the outer one, so without the facing test triangles face
 /// against the original surface nearest them; with it (the default) none does, both engines
-/// refuse the same removals, and the result verifies and undoes exactly.
+/// refuse the same removals, and the result verifies and undoes exactly — under the quadric,
+/// error and angle criteria alike.
 #[test]
 fn a_thin_shell_keeps_every_triangle_facing_along_the_original() {
     let outer = unit_sphere(3);
@@ -223,25 +224,31 @@ fn a_thin_shell_keeps_every_triangle_facing_along_the_original() {
             .iter()
             .map(|t| [t[0] + n, t[2] + n, t[1] + n]),
     );
-    let opts = Options::new().with_target(Target::Keep(0.05)).with_k(3);
-    let unchecked = decimate(&mesh, &opts.clone().with_facing(false)).unwrap();
-    let against = quality::deviation(&mesh, &unchecked.mesh).flipped;
-    assert!(
-        against > 0,
-        "the shell must provoke flipped triangles without the test"
-    );
-    let fast = decimate(&mesh, &opts).unwrap();
-    let d = quality::deviation(&mesh, &fast.mesh);
-    assert_eq!(d.flipped, 0);
-    assert!(fast.stats.refused > unchecked.stats.refused);
-    let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
-    assert_eq!(exact.history, fast.history);
-    check::verify(&mesh, &fast.history, false, 1).unwrap();
-    round_trip(&mesh, &fast.mesh, &fast.history, 5);
-    println!(
-        "thin shell: {} triangles face against the original without the test, 0 with it ({} → {} triangles)",
-        against, unchecked.stats.triangles_out, fast.stats.triangles_out
-    );
+    // Every criterion runs the test on a surface in 3-D (per-fan planes).
+    for criterion in [Criterion::Quadric, Criterion::Error, Criterion::Angle] {
+        let opts = Options::new()
+            .with_target(Target::Keep(0.05))
+            .with_k(3)
+            .with_criterion(criterion);
+        let unchecked = decimate(&mesh, &opts.clone().with_facing(false)).unwrap();
+        let against = quality::deviation(&mesh, &unchecked.mesh).flipped;
+        assert!(
+            against > 0,
+            "{criterion:?}: the shell must provoke flipped triangles without the test"
+        );
+        let fast = decimate(&mesh, &opts).unwrap();
+        let d = quality::deviation(&mesh, &fast.mesh);
+        assert_eq!(d.flipped, 0, "{criterion:?}");
+        assert!(fast.stats.refused > unchecked.stats.refused);
+        let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
+        assert_eq!(exact.history, fast.history, "{criterion:?}");
+        check::verify(&mesh, &fast.history, false, 1).unwrap();
+        round_trip(&mesh, &fast.mesh, &fast.history, 5);
+        println!(
+            "thin shell, {criterion:?}: {} triangles face against the original without the test, 0 with it ({} → {} triangles)",
+            against, unchecked.stats.triangles_out, fast.stats.triangles_out
+        );
+    }
 }
 
 /// A unit sphere: the octahedron subdivided `level` times, its vertices put on the sphere.

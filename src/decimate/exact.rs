@@ -106,7 +106,7 @@ impl ExactEngine {
             } else {
                 Vec::new()
             },
-            original: if criterion == Criterion::Quadric && options.facing {
+            original: if global.is_none() && options.facing {
                 OriginalSurface::new(mesh).map(Arc::new)
             } else {
                 None

@@ -229,7 +229,7 @@ impl FastEngine {
                 Vec::new()
             },
             values: mesh.scalars.as_ref().map(|s| s.values.clone()),
-            original: if criterion == Criterion::Quadric && options.facing {
+            original: if global.is_none() && options.facing {
                 OriginalSurface::new(mesh).map(Arc::new)
             } else {
                 None

@@ -397,11 +397,13 @@ pub struct Options {
     /// ([`Fit::Auto`] by default: two on surfaces in 3-D, none on height fields and planar
     /// meshes).
     pub fit: Fit,
-    /// Under the quadric criterion, refuse every removal (and fit move) that would leave a
-    /// triangle facing against the original surface nearest its centroid
-    /// ([`faces_against_original`]; the count [`quality::deviation`] reports as flipped), so
-    /// that the result has none. Costs a closest-point search per new triangle; `true` by
-    /// default.
+    /// On surfaces in 3-D (holes cut in per-fan planes), under every criterion, refuse every
+    /// removal (and fit move) that would leave a triangle facing against the original surface
+    /// nearest its centroid ([`faces_against_original`]; the count [`quality::deviation`]
+    /// reports as flipped), so that the result has none. In the global xy plane (height
+    /// fields, planar meshes) the test is not run: every triangle stays counter-clockwise in
+    /// that plane, facing the same side of it as the original. Costs a closest-point search
+    /// per new triangle; `true` by default.
     pub facing: bool,
     /// The constant `k` of eq. (1): `m = ⌊n/k⌋` intervals.
     pub k: usize,

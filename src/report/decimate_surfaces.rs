@@ -333,7 +333,8 @@ pub fn surface_campaign(root: &FsPath) -> SurfaceCampaign {
             .clone()
             .with_criterion(Criterion::Error)
             .with_border(BorderPolicy::Intact)
-            .with_fit(Fit::Rounds(0));
+            .with_fit(Fit::Rounds(0))
+            .with_facing(false);
         let (before, _) = geocert_row(&mesh, &earlier, "geocert (error criterion, outline kept)");
         let unfitted = default.clone().with_fit(Fit::Rounds(0));
         let (plain, _) = geocert_row(
@@ -422,7 +423,8 @@ pub fn markdown(c: &SurfaceCampaign) -> String {
          undecimation stays exact, and the checker confirms exactly that no triangle \
          flipped). The second row is the same without the fit, the third without the facing \
          test (`--allow-facing-against`), the fourth the earlier \
-         behaviour (error criterion, border outline kept, no fit). Peers run at \
+         behaviour (error criterion, border outline kept, no fit, no facing test; the \
+         facing test now runs under every criterion on surfaces in 3-D). Peers run at \
          geocert's triangle count on one thread. Every result is measured by geocert's own \
          `deviation` (the same for all): distances from every original vertex to the result \
          (→) and from 10 barycentric samples per result triangle back to the original (←), \

@@ -52,9 +52,9 @@ pub(crate) struct Args {
     /// meshes (their nodes stay where they are).
     #[arg(long, default_value_t = Fit::Auto, value_parser = |s: &str| s.parse::<Fit>().map_err(|e| e.to_string()))]
     fit: Fit,
-    /// Allow triangles that face against the original surface nearest them (by default the
-    /// quadric criterion refuses removals and fit moves that make one, at the cost of a
-    /// closest-point search per new triangle).
+    /// Allow triangles that face against the original surface nearest them (by default, on
+    /// surfaces in 3-D, every criterion refuses removals and fit moves that make one, at the
+    /// cost of a closest-point search per new triangle).
     #[arg(long)]
     allow_facing_against: bool,
     /// Skip measuring the result against the input (the JSON's error fields are then null).

@@ -284,8 +284,19 @@ fn cofactor_scales(forms: &MotionForms) -> Result<Vec<B>, SweepError> {
     Ok(out)
 }
 
+/// The eye interval the event systems are solved on: the path's `[r₀, r₁]` widened at both
+/// ends by `2⁻²⁰` of its length, so that an event at an end of the path (where the
+/// silhouette changes exactly at the first or last eye position) is an inner root the solver
+/// certifies, not a root on its domain's boundary; [`events`] keeps the roots and clusters
+/// whose `r` box meets `[r₀, r₁]`.
+pub(super) fn solved_interval(r: &(Rational, Rational)) -> (Rational, Rational) {
+    let margin = (&r.1 - &r.0) / Rational::from_integer((1i64 << 20).into());
+    (&r.0 - &margin, &r.1 + &margin)
+}
+
 /// One patch under a moving eye: its equations for the eye at the origin, and `F̃`, `G̃` in
-/// `(u, v, s, ρ)` (`t = a + (b − a)s`, `r = r₀ + (r₁ − r₀)ρ`).
+/// `(u, v, s, ρ)` (`t = a + (b − a)s`, `r = r̂₀ + (r̂₁ − r̂₀)ρ` over the widened interval
+/// [`solved_interval`]).
 pub(super) struct MovingEye {
     /// The patch's equations with the eye at the origin (`G̃₀`, `Kᵢ`'s parts, the image).
     pub(super) eq0: Equations,
@@ -295,6 +306,8 @@ pub(super) struct MovingEye {
     pub(super) g: B,
     /// Whether the sweep is invariant in `t` ([`t_invariant`]).
     pub(super) invariant: bool,
+    /// The eye interval `ρ` spans ([`solved_interval`]).
+    pub(super) r: (Rational, Rational),
 }
 
 /// [`MovingEye`] of patch `p` of surface `s` (the eye must move along a path).
@@ -304,7 +317,8 @@ pub(super) fn moving_eye(
     s: usize,
     p: usize,
 ) -> Result<MovingEye, SweepError> {
-    let (path, r) = eye_path(scene)?;
+    let (path, path_r) = eye_path(scene)?;
+    let r = solved_interval(path_r);
     let patch = scene
         .surfaces
         .get(s)
@@ -326,6 +340,7 @@ pub(super) fn moving_eye(
         f,
         g,
         invariant,
+        r,
     })
 }
 
@@ -362,7 +377,7 @@ fn patch_event_systems(
     s: usize,
     p: usize,
 ) -> Result<Vec<EventSystem>, SweepError> {
-    let (_, r) = eye_path(scene)?;
+    let r = &me.r;
     let unit = (Rational::zero(), Rational::one());
     let params = [unit.clone(), unit, scene.t.clone()];
     // Characteristic patch edges (module `edges`): their factors divided out of F̃, and the
@@ -569,7 +584,10 @@ fn unit_box(system: &System, root: &Root) -> Vec<(Rational, Rational)> {
 /// Solves every event system ([`event_systems`], on all cores) and returns the certified
 /// events sorted by `r`, with what could not be certified. First certifies that the eye path
 /// never meets the moving surface ([`SweepError::EyePathOnSurface`] otherwise): there the
-/// silhouette degenerates and `∇G` vanishes with `G`.
+/// silhouette degenerates and `∇G` vanishes with `G`. The systems are solved with `r` over
+/// the path's interval widened by `2⁻²⁰` of its length at both ends, so that an event exactly
+/// at an end is an inner, certified root; the events and clusters kept are those whose `r`
+/// box meets the path's interval (an event at an end may have a box reaching past it).
 pub fn events(scene: &Scene, opts: &SolveOptions) -> Result<Events, SweepError> {
     use crate::par::prelude::*;
     let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
@@ -600,10 +618,16 @@ pub fn events(scene: &Scene, opts: &SolveOptions) -> Result<Events, SweepError> 
         .par_iter()
         .map(|es| solve(&es.system, opts))
         .collect();
+    // Roots and clusters of the widened eye interval that meet the path's own.
+    let (_, path_r) = eye_path(scene)?;
+    let meets_path = |b: &crate::solve::RationalBox| {
+        b.last()
+            .is_some_and(|(lo, hi)| lo <= &path_r.1 && hi >= &path_r.0)
+    };
     for (es, sol) in systems.iter().zip(solutions) {
         let sol = sol?;
         let n = es.system.unknowns();
-        for root in sol.roots {
+        for root in sol.roots.into_iter().filter(|x| meets_path(&x.bounds)) {
             let free: Vec<usize> = match es.kind {
                 EventKind::Interior => vec![0, 1, 2],
                 EventKind::Face { axis, .. } => (0..3).filter(|&k| k != axis).collect(),
@@ -657,7 +681,7 @@ pub fn events(scene: &Scene, opts: &SolveOptions) -> Result<Events, SweepError> 
                 pivot,
             });
         }
-        for c in sol.clusters {
+        for c in sol.clusters.into_iter().filter(|c| meets_path(&c.bounds)) {
             clusters.push((es.surface, es.patch, es.kind, c));
         }
     }

@@ -229,6 +229,8 @@ pub fn frames(
         return Err(SweepError::field("eye", "frames need an eye path"));
     };
     let (r0, r1) = (rational_to_f64(&r.0), rational_to_f64(&r.1));
+    let solved = super::events::solved_interval(r);
+    let solved = (rational_to_f64(&solved.0), rational_to_f64(&solved.1));
     let increasing = rs.windows(2).all(|w| w[0] < w[1]);
     if !increasing || rs.iter().any(|x| !(r0..=r1).contains(x)) {
         return Err(SweepError::field(
@@ -255,7 +257,9 @@ pub fn frames(
                 .events
                 .iter()
                 .any(|e| !e.kind.on_patch_border() && e.r > rs[k - 1] && e.r <= rk);
-        let rho = (rk - r0) / (r1 - r0);
+        // The patches' G is in the unit parameter of the widened eye interval the events
+        // are solved on.
+        let rho = (rk - solved.0) / (solved.1 - solved.0);
         let continued = if k == 0 || crosses {
             None
         } else {

@@ -217,7 +217,7 @@ fn run_animate(a: AnimateArgs) -> Result<ExitCode, String> {
                 "verified": ok,
             })).collect::<Vec<_>>(),
             "distinct_events": groups.len(),
-            "clusters": f.events.clusters.len(),
+            "clusters": event_clusters_json(&f.events.clusters),
             "frames": f.frames.iter().map(|x| json!({
                 "r": x.r,
                 "eye": x.eye,
@@ -334,7 +334,7 @@ fn run_events(a: EventsArgs) -> Result<ExitCode, String> {
         let v = json!({
             "events": rows,
             "distinct": groups.len(),
-            "clusters": ev.clusters.len(),
+            "clusters": event_clusters_json(&ev.clusters),
             "systems": ev.systems,
             "seconds": seconds,
         });
@@ -429,12 +429,33 @@ fn end_name(e: &ComponentEnd) -> &'static str {
     }
 }
 
+/// A box as `[[lo, hi], …]` of exact rationals.
+fn boxed(b: &[(geocert::num::Rational, geocert::num::Rational)]) -> Value {
+    b.iter()
+        .map(|(lo, hi)| json!([rational_to_string(lo), rational_to_string(hi)]))
+        .collect()
+}
+
+/// The events' clusters: where (surface, patch, kind), why, and the box over the system's
+/// unknowns (the free parameters among u, v, t, then r).
+fn event_clusters_json(
+    clusters: &[(usize, usize, EventKind, geocert::solve::Cluster)],
+) -> Vec<Value> {
+    clusters
+        .iter()
+        .map(|(surface, patch, kind, c)| {
+            json!({
+                "surface": surface,
+                "patch": patch,
+                "kind": kind_json(kind),
+                "reason": c.reason,
+                "box": boxed(&c.bounds),
+            })
+        })
+        .collect()
+}
+
 fn to_json(s: &Silhouettes) -> Value {
-    let boxed = |b: &[(geocert::num::Rational, geocert::num::Rational)]| -> Value {
-        b.iter()
-            .map(|(lo, hi)| json!([rational_to_string(lo), rational_to_string(hi)]))
-            .collect()
-    };
     json!({
         "path": s.path.to_string(),
         "components": s.components.iter().map(|c| json!({

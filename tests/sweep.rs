@@ -1130,6 +1130,20 @@ fn a_continued_frame_drops_a_point_that_crossed_a_patch_border() {
     assert!(worst < 0.1, "{worst}");
 }
 
+/// The events whose certified `r` interval holds `r`.
+fn holding_r<'a>(
+    events: &'a [geocert::sweep::Event],
+    r: &geocert::num::Rational,
+) -> Vec<&'a geocert::sweep::Event> {
+    events
+        .iter()
+        .filter(|e| {
+            let (lo, hi) = e.root.bounds.last().unwrap();
+            lo <= r && r <= hi
+        })
+        .collect()
+}
+
 /// The closed-form event: a unit sphere translated along x (a sweep invariant in t)
 /// seen from `P(r) = (5, r, 3/5)`. The envelope's contour is the cylinder's two lines where
 /// `1 − r·y − (3/5)·z = 0` meets `y² + z² = 1`; they merge where the eye enters the infinite
@@ -1144,14 +1158,7 @@ fn a_translated_sphere_loses_its_contour_lines_where_the_eye_enters_the_cylinder
     let ev = events(&scene, &SolveOptions::new()).unwrap();
     let seconds = clock.elapsed().as_secs_f64();
     let merge = Rational::new((-4).into(), 5.into());
-    let at_merge: Vec<_> = ev
-        .events
-        .iter()
-        .filter(|e| {
-            let (lo, hi) = e.root.bounds.last().unwrap();
-            *lo <= merge && merge <= *hi
-        })
-        .collect();
+    let at_merge = holding_r(&ev.events, &merge);
     println!(
         "sphere-line-eye: {} systems, {} events in {seconds:.3} s, {} clusters; at r = -4/5: {:?}",
         ev.systems,
@@ -1243,15 +1250,10 @@ fn an_event_at_an_end_of_the_eye_path_is_certified() {
         for path in [Path::Filtered, Path::Exact] {
             let ev = events(&scene, &SolveOptions::new().with_path(path)).unwrap();
             assert!(ev.clusters.is_empty(), "{r:?} {path:?}: {:?}", ev.clusters);
-            let at_merge: Vec<_> = ev
-                .events
+            let faces: Vec<EventKind> = holding_r(&ev.events, &merge)
                 .iter()
-                .filter(|e| {
-                    let (lo, hi) = e.root.bounds.last().unwrap();
-                    *lo <= merge && merge <= *hi
-                })
+                .map(|e| e.kind)
                 .collect();
-            let faces: Vec<EventKind> = at_merge.iter().map(|e| e.kind).collect();
             println!(
                 "r in {r:?} ({path:?}): {} events, at -4/5: {faces:?}",
                 ev.events.len()

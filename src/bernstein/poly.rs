@@ -630,13 +630,19 @@ impl<T: Field> Bernstein<T> {
         let inner: usize = self.degrees[..axis].iter().map(|d| d + 1).product();
         let mut coeffs = Vec::with_capacity(self.coeffs.len() / len);
         T::enclose_lines(&self.coeffs, len, inner, t, &mut coeffs);
+        Ok(self.without_axis(axis, coeffs))
+    }
+
+    /// A polynomial of `coeffs` over this one's degrees with `axis` removed (a 1-D
+    /// polynomial becomes the constant of degree 0): a face's or a cross-section's.
+    fn without_axis(&self, axis: usize, coeffs: Vec<T>) -> Self {
         let mut degrees = self.degrees.clone();
         if self.dim() == 1 {
             degrees[0] = 0;
         } else {
             degrees.remove(axis);
         }
-        Ok(Bernstein { degrees, coeffs })
+        Bernstein { degrees, coeffs }
     }
 
     /// The boundary slice `t_axis = 0` (`upper = false`) or `t_axis = 1`: an (n−1)-variate
@@ -659,13 +665,7 @@ impl<T: Field> Bernstein<T> {
                 };
             },
         );
-        let mut degrees = self.degrees.clone();
-        if self.dim() == 1 {
-            degrees[0] = 0;
-        } else {
-            degrees.remove(axis);
-        }
-        Ok(Bernstein { degrees, coeffs })
+        Ok(self.without_axis(axis, coeffs))
     }
 
     /// The coefficient at a vertex of the box: it equals the polynomial's value there.

@@ -310,13 +310,13 @@ impl Field for Interval {
         if !(t.lo > 0.0 && s.lo > 0.0) {
             return Self::eval_lines(coeffs, len, inner, t, out);
         }
-        let q = *t / s;
         let d = len - 1;
-        let scale = (0..d).fold(<Interval as Field>::one(), |acc, _| acc * s);
         // C(d, k) exactly in integers (below 2^53 up to d = 56, so exact in f64 too).
         if d > 56 {
             return Self::eval_lines(coeffs, len, inner, t, out);
         }
+        let q = *t / s;
+        let scale = (0..d).fold(<Interval as Field>::one(), |acc, _| acc * s);
         let mut binom = vec![1u64; len];
         for k in 1..len {
             binom[k] = binom[k - 1] * (d + 1 - k) as u64 / k as u64;

@@ -115,18 +115,46 @@ impl EdgeKey {
 
 /// Whether two characteristic edges are the same curve of the same surface with parallel
 /// normals along it, exactly: homogeneous control points proportional (in the same or the
-/// opposite parameter direction) and the normals' cross product identically zero. Edges that
-/// agree only after a reparametrisation of another degree are not recognised (then the curve
-/// is reported by both patches).
+/// opposite parameter direction, after raising both to their common degree, so that a
+/// degree-elevated copy of an edge is recognised) and the normals' cross product identically
+/// zero. Edges that agree only after a rational reparametrisation are not recognised (then
+/// the curve is reported by both patches).
 pub(crate) fn same_edge(a: &EdgeKey, b: &EdgeKey) -> bool {
     if a.surface != b.surface {
         return false;
     }
+    let (a_curve, b_curve) = (common_degree(&a.curve), common_degree(&b.curve));
+    let (a_curve, b_curve) = match (a_curve, b_curve) {
+        (Some(x), Some(y)) => (x, y),
+        _ => return false,
+    };
+    let Some((a_curve, b_curve)) = raised_together(&a_curve, &b_curve) else {
+        return false;
+    };
     [false, true].into_iter().any(|reverse| {
-        let curve: Vec<B> = b.curve.iter().map(|p| reversed(p, reverse)).collect();
+        let curve: Vec<B> = b_curve.iter().map(|p| reversed(p, reverse)).collect();
         let normal: Vec<B> = b.normal.iter().map(|p| reversed(p, reverse)).collect();
-        proportional(&a.curve, &curve) && parallel(&a.normal, &normal)
+        proportional(&a_curve, &curve) && parallel(&a.normal, &normal)
     })
+}
+
+/// 1-D polynomials raised to the highest degree among them (`None` if one cannot be).
+fn common_degree(ps: &[B]) -> Option<Vec<B>> {
+    let top = ps.iter().map(|p| p.degrees()[0]).max()?;
+    ps.iter()
+        .map(|p| match top - p.degrees()[0] {
+            0 => Some(p.clone()),
+            by => p.elevate(0, by).ok(),
+        })
+        .collect()
+}
+
+/// Two lists of 1-D polynomials, each at one degree, raised to the higher of the two.
+fn raised_together(a: &[B], b: &[B]) -> Option<(Vec<B>, Vec<B>)> {
+    let mut both: Vec<B> = a.iter().chain(b).cloned().collect();
+    both = common_degree(&both)?;
+    let b_part = both.split_off(a.len());
+    Some((both, b_part))
 }
 
 /// A 1-D Bernstein polynomial in `1 − w` for `w` (its coefficients reversed) when `reverse`.
@@ -159,12 +187,13 @@ fn proportional(a: &[B], b: &[B]) -> bool {
     pairs().all(|(x, y)| *x == &lambda * y)
 }
 
-/// Whether `a × b ≡ 0` (3-vectors of 1-D polynomials), exactly.
+/// Whether `a × b ≡ 0` (3-vectors of 1-D polynomials), exactly (each pair of products
+/// compared at a common degree, so the vectors' own degrees need not agree).
 fn parallel(a: &[B], b: &[B]) -> bool {
     (0..3).all(|i| {
         let (j, k) = ((i + 1) % 3, (i + 2) % 3);
         match (a[j].product(&b[k]), a[k].product(&b[j])) {
-            (Ok(p), Ok(q)) => p == q,
+            (Ok(p), Ok(q)) => common_degree(&[p, q]).is_some_and(|pq| pq[0] == pq[1]),
             _ => false,
         }
     })
@@ -224,6 +253,17 @@ mod tests {
             [&[1, 0], &[0, 1], &[2, 2]],
         );
         assert!(!same_edge(&a, &moved));
+        // The same edge at degree 3 (elevated once: the same curve) with its normal at
+        // degree 2 is recognised; the elevated copy of the moved edge is not.
+        let elevated = |k: &EdgeKey| EdgeKey {
+            surface: k.surface,
+            curve: k.curve.iter().map(|p| p.elevate(0, 1).unwrap()).collect(),
+            normal: k.normal.iter().map(|p| p.elevate(0, 1).unwrap()).collect(),
+        };
+        assert!(same_edge(&a, &elevated(&b)));
+        assert!(same_edge(&elevated(&a), &b));
+        assert!(!same_edge(&a, &elevated(&moved)));
+        assert!(!same_edge(&a, &elevated(&turned)));
     }
 
     /// A polynomial vanishing on faces is divided by each factor as often as it divides, and

@@ -329,7 +329,9 @@ fn continue_frame(
             // component passes to the next patch) stay on it.
             let s0 = (x[2] - a) / (b - a);
             let y0 = [x[0], x[1], s0];
-            let fixed = y0.map(|c| c <= 1e-12 || c >= 1.0 - 1e-12);
+            // On a face: at 0 or 1 to rounding (a point a little outside, within
+            // `OVERSHOOT`, crossed a border and is free).
+            let fixed = y0.map(|c| c.abs() <= 1e-12 || (c - 1.0).abs() <= 1e-12);
             // On a characteristic patch edge F vanishes identically (module `edges`): a point
             // of the edge's own curve follows G alone along the edge, the end of another
             // characteristic curve there (F̂ = 0 at it) follows F̂ and G.

@@ -123,12 +123,7 @@ pub(crate) fn same_edge(a: &EdgeKey, b: &EdgeKey) -> bool {
     if a.surface != b.surface {
         return false;
     }
-    let (a_curve, b_curve) = (common_degree(&a.curve), common_degree(&b.curve));
-    let (a_curve, b_curve) = match (a_curve, b_curve) {
-        (Some(x), Some(y)) => (x, y),
-        _ => return false,
-    };
-    let Some((a_curve, b_curve)) = raised_together(&a_curve, &b_curve) else {
+    let Some((a_curve, b_curve)) = raised_together(&a.curve, &b.curve) else {
         return false;
     };
     [false, true].into_iter().any(|reverse| {
@@ -149,7 +144,7 @@ fn common_degree(ps: &[B]) -> Option<Vec<B>> {
         .collect()
 }
 
-/// Two lists of 1-D polynomials, each at one degree, raised to the higher of the two.
+/// Two lists of 1-D polynomials, all raised to the highest degree among them.
 fn raised_together(a: &[B], b: &[B]) -> Option<(Vec<B>, Vec<B>)> {
     let mut both: Vec<B> = a.iter().chain(b).cloned().collect();
     both = common_degree(&both)?;

@@ -6,9 +6,11 @@
 
 use geocert::internals::report::sweep as report;
 use geocert::num::rational_to_f64;
+use geocert::solve::RootCheck;
 use geocert::sweep::{
-    builtin_scene, equations, scene_from_json, silhouette, verify_t_extreme, ComponentEnd,
-    ComponentKind, ComponentType, Eye, Scene, SilhouetteOptions, Silhouettes, SweepError,
+    builtin_scene, equations, scene_from_json, silhouette, verify_ruling, verify_t_extreme,
+    ComponentEnd, ComponentKind, ComponentType, Eye, RulingEvidence, Scene, SilhouetteOptions,
+    Silhouettes, SweepError,
 };
 use geocert::Path;
 
@@ -602,12 +604,26 @@ fn bad_scenes_are_refused_with_their_cause() {
         "motion": {"translation": [[0, "613/338"], [0, "295/507"], [0, "-97/507"]],
                    "linear": [[[1, "1/2"], [0], [0]], [[0], [1, "1/2"], [0]], [[0], [0], [1, "1/2"]]]},
         "eye": ["151/507", "603/169", "-2194/507"]}"#;
-    let e = silhouette(
-        &scene_from_json(on_corner).unwrap(),
-        &SilhouetteOptions::default(),
-    )
-    .unwrap_err();
-    assert!(matches!(e, SweepError::SilhouetteAlongCorner { .. }), "{e}");
+    // The sweep is invariant in t (a similarity moving along a line), so the silhouette is
+    // made of rulings: the one through the corner is found by the three patches meeting
+    // there and reported once, certified on each patch's widened square.
+    let scene = scene_from_json(on_corner).unwrap();
+    let s = silhouette(&scene, &SilhouetteOptions::default()).unwrap();
+    let corner = [-247.0 / 507.0, 398.0 / 507.0, 194.0 / 507.0];
+    let through_corner: Vec<_> = s
+        .components
+        .iter()
+        .filter(|c| c.kind == ComponentKind::Envelope)
+        .filter(|c| (0..3).all(|k| (c.points[0][k] - corner[k]).abs() < 1e-12))
+        .collect();
+    assert_eq!(through_corner.len(), 1, "{:?}", s.components);
+    assert!(through_corner[0].ruling.is_some());
+    for r in &s.rulings {
+        assert!(matches!(
+            verify_ruling(&scene, r, false).unwrap(),
+            Ok(RootCheck { unknowns: 2 })
+        ));
+    }
     // From off the tangent plane the same edge carries no silhouette, and nothing is left
     // unresolved.
     let scene = scene_from_json(&base(sheet, along_x, r#"["1/2", 5, 3]"#)).unwrap();
@@ -1478,4 +1494,144 @@ fn translation_merges(d: &[i64], dir: &[i64]) -> Result<(), proptest::test_runne
 #[test]
 fn a_merge_on_a_patch_border_is_certified_by_the_edge_systems() {
     translation_merges(&[2, 0, 2], &[4, 3, 0]).unwrap();
+}
+
+/// The eye on the extension of the capsule's cylinder: the two contour lines of the envelope
+/// merge into one ruling, a tangential root of `F̂ = Ĝ = 0` that the tracer in `(u, v, t)`
+/// followed until its time limit. It is reported as a tangential ruling along the closed
+/// form's line, with the unresolved box listed and nothing stopped by a budget.
+#[test]
+fn an_eye_on_the_extension_of_the_envelope_sees_one_tangential_ruling() {
+    let scene = scene_from_json(
+        r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": 1}}], "t": [0, 2],
+            "motion": {"translation": [[0, 2], [0, "1/2"], [0]]}, "eye": [8, 2, 1]}"#,
+    )
+    .unwrap();
+    let s = silhouette(&scene, &SilhouetteOptions::default()).unwrap();
+    let envelope: Vec<_> = s
+        .components
+        .iter()
+        .filter(|c| c.kind == ComponentKind::Envelope)
+        .collect();
+    assert_eq!(envelope.len(), 1);
+    let ruling = &s.rulings[envelope[0].ruling.unwrap()];
+    let RulingEvidence::Tangent { g_bound, .. } = &ruling.evidence else {
+        panic!("{:?}", ruling.evidence)
+    };
+    assert!(*g_bound < 1e-12, "{g_bound:e}");
+    // The line (0, 0, 1) + s (4, 1, 0), s ∈ [0, 1] (t = 2s).
+    for (p, uvt) in envelope[0].points.iter().zip(&envelope[0].uvt) {
+        let s = uvt[2] / 2.0;
+        let q = [4.0 * s, s, 1.0];
+        assert!((0..3).all(|k| (p[k] - q[k]).abs() < 1e-7), "{p:?} vs {q:?}");
+    }
+    assert!(matches!(
+        verify_ruling(&scene, ruling, false).unwrap(),
+        Ok(RootCheck { unknowns: 2 })
+    ));
+    assert!(!s.clusters.is_empty());
+    for (_, _, kind, c) in &s.clusters {
+        assert_eq!(*kind, ComponentKind::Envelope);
+        assert_eq!(c.reason, geocert::solve::ClusterReason::DepthLimit);
+        for (lo, hi) in &c.bounds {
+            assert!(rational_to_f64(&(hi - lo)) < 1e-8);
+        }
+    }
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig {
+        cases: 24,
+        failure_persistence: None,
+        ..Default::default()
+    })]
+
+    /// A unit sphere translated along `d` seen from an eye `E` off the capsule: the
+    /// envelope's silhouette is two rulings where `E` is outside the infinite cylinder and
+    /// none inside (decided exactly), each on the closed form's contour at `t = 0` and
+    /// re-checked from the scene.
+    #[test]
+    fn random_translated_spheres_have_the_closed_forms_rulings(
+        d in proptest::array::uniform3(-3i64..=3),
+        e in proptest::array::uniform3(-9i64..=9),
+    ) {
+        let dd: i64 = d.iter().map(|x| x * x).sum();
+        proptest::prop_assume!(dd > 0);
+        let ed: i64 = (0..3).map(|k| e[k] * d[k]).sum();
+        let ee: i64 = e.iter().map(|x| x * x).sum();
+        // Off the capsule (the segment from 0 to d, radius 1) with room to spare.
+        let s = (ed as f64 / dd as f64).clamp(0.0, 1.0);
+        let gap: f64 = (0..3).map(|k| (e[k] as f64 - s * d[k] as f64).powi(2)).sum::<f64>().sqrt();
+        proptest::prop_assume!(gap > 1.01);
+        // |E⊥|² − 1 = (|E|²|d|² − ⟨E, d⟩²)/|d|² − 1, its sign exactly.
+        let outside = ee * dd - ed * ed - dd;
+        proptest::prop_assume!(outside != 0);
+        let json = format!(
+            r#"{{"surfaces": [{{"sphere": {{"center": [0, 0, 0], "radius": 1}}}}], "t": [0, 1],
+                "motion": {{"translation": [[0, {}], [0, {}], [0, {}]]}}, "eye": [{}, {}, {}]}}"#,
+            d[0], d[1], d[2], e[0], e[1], e[2]
+        );
+        let scene = scene_from_json(&json).unwrap();
+        let sil = silhouette(&scene, &SilhouetteOptions::default()).unwrap();
+        proptest::prop_assert!(sil.clusters.iter().all(|c| c.2 != ComponentKind::Envelope));
+        let envelope: Vec<_> = sil
+            .components
+            .iter()
+            .filter(|c| c.kind == ComponentKind::Envelope)
+            .collect();
+        proptest::prop_assert_eq!(envelope.len(), if outside > 0 { 2 } else { 0 });
+        let ef = e.map(|x| x as f64);
+        let df = d.map(|x| x as f64);
+        for c in envelope {
+            let x = c.points[0];
+            let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+            let on_sphere = dot(x, x) - 1.0;
+            let on_circle = dot(x, df);
+            let contour = 1.0 - dot(ef, x);
+            proptest::prop_assert!(
+                on_sphere.abs() < 1e-9 && on_circle.abs() < 1e-9 && contour.abs() < 1e-9,
+                "{:?}: {} {} {}", x, on_sphere, on_circle, contour
+            );
+            // A line along a patch edge is traced on that edge (module `edges`); every other
+            // one is a certified ruling.
+            if let Some(i) = c.ruling {
+                let r = &sil.rulings[i];
+                proptest::prop_assert!(matches!(r.evidence, RulingEvidence::Root(_)));
+                let check = verify_ruling(&scene, r, false).unwrap();
+                proptest::prop_assert!(check.is_ok(), "{:?}", check);
+            }
+        }
+    }
+}
+
+/// The start position's contour passes exactly through the sphere's pole, a collapsed patch
+/// edge where `G̃` then vanishes along the whole edge: its factor is divided out of the
+/// cap's equation, and the contour is traced across the pole as one closed curve instead of
+/// subdividing along the edge until the time limit (54,456 clusters in 133 s before).
+#[test]
+fn a_contour_through_a_pole_is_traced_across_it() {
+    let scene = scene_from_json(
+        r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": 1}}], "t": [0, 1],
+            "motion": {"translation": [[0, -2], [0, -1], [0, 3]]}, "eye": [7, 1, -5]}"#,
+    )
+    .unwrap();
+    let pole = scene.surfaces[0].patches[0].point(0.0, 0.5).unwrap();
+    // The pole is on the contour from (7, 1, −5): ⟨P, pole⟩ = 1 on the unit sphere.
+    let on_contour = 7.0 * pole[0] + pole[1] - 5.0 * pole[2];
+    assert!((on_contour - 1.0).abs() < 1e-12, "{on_contour}");
+    let s = silhouette(&scene, &SilhouetteOptions::default()).unwrap();
+    assert!(s.clusters.is_empty(), "{:?}", s.clusters.len());
+    let caps: Vec<_> = s
+        .components
+        .iter()
+        .filter(|c| c.kind == ComponentKind::CapA)
+        .collect();
+    assert_eq!(caps.len(), 1);
+    assert!(caps[0].closed);
+    let near = caps[0]
+        .points
+        .iter()
+        .map(|p| (0..3).map(|k| (p[k] - pole[k]).powi(2)).sum::<f64>().sqrt())
+        .fold(f64::INFINITY, f64::min);
+    assert!(near < 1e-9, "{near}");
 }

@@ -182,7 +182,7 @@ fn sub(a: &B, b: &B) -> Result<B, SweepError> {
 /// Both products have the degrees `deg f + deg g − e_i − e_j` (where `f` and `g` have
 /// positive degrees along `i` and `j`), so the difference is taken in integers over one
 /// denominator and brought to rationals once.
-fn minor(f: &B, g: &B, i: usize, j: usize) -> Result<B, SweepError> {
+pub(super) fn minor(f: &B, g: &B, i: usize, j: usize) -> Result<B, SweepError> {
     let (f, g) = (
         ScaledBernstein::from_rational(f),
         ScaledBernstein::from_rational(g),
@@ -214,7 +214,7 @@ fn minor(f: &B, g: &B, i: usize, j: usize) -> Result<B, SweepError> {
 /// Bernstein coefficients: the slices of `F̃` at one `t` index are multiples of one slice `F̂`
 /// (their factors are `φ`'s coefficients, all of one strict sign), and each slice of the
 /// difference at one `(t, r)` index is a multiple of `F̂`.
-fn t_invariant(f: &B, g: &B, scales: &[B]) -> Result<bool, SweepError> {
+pub(super) fn t_invariant(f: &B, g: &B, scales: &[B]) -> Result<bool, SweepError> {
     let f = f.at_exact_degrees();
     if f.degrees()[3] != 0 {
         return Ok(false);
@@ -268,7 +268,7 @@ fn t_invariant(f: &B, g: &B, scales: &[B]) -> Result<bool, SweepError> {
 
 /// The entries of `cof(M̂)` that are not identically zero, as candidate scales `λ(t)` of
 /// [`t_invariant`] (in `s`).
-fn cofactor_scales(forms: &MotionForms) -> Result<Vec<B>, SweepError> {
+pub(super) fn cofactor_scales(forms: &MotionForms) -> Result<Vec<B>, SweepError> {
     let m = &forms.m;
     let mut out: Vec<B> = Vec::new();
     for i in 0..3 {

@@ -34,6 +34,7 @@ mod edges;
 mod equations;
 mod events;
 mod frames;
+mod rulings;
 mod scene;
 mod silhouette;
 
@@ -44,14 +45,15 @@ pub use events::{
     EventKind, EventSystem, Events, EVENT_TOLERANCE,
 };
 pub use frames::{frames, Frame, FrameCurve, Frames, CONTINUATION_TOLERANCE, OVERSHOOT};
+pub use rulings::{ruling_margin, Ruling, RulingEvidence, RULING_DEPTH, RULING_MARGIN};
 pub use scene::{builtin_scene, builtin_scene_json, scene_from_json, Patch, BUILTIN_SCENES};
 // What the report measures with (feature `reports`).
 #[cfg(feature = "reports")]
 pub(crate) use silhouette::{apply_motion, eye_point};
 pub use silhouette::{
-    silhouette, t_extreme_systems, verify_corner_crossing, verify_t_extreme, ComponentEnd,
-    ComponentKind, ComponentType, SilhouetteComponent, SilhouetteOptions, Silhouettes, TExtreme,
-    JOIN_TOLERANCE, MIN_RESOLUTION,
+    silhouette, t_extreme_systems, verify_corner_crossing, verify_ruling, verify_t_extreme,
+    ComponentEnd, ComponentKind, ComponentType, SilhouetteComponent, SilhouetteOptions,
+    Silhouettes, TExtreme, JOIN_TOLERANCE, MIN_RESOLUTION,
 };
 
 use crate::bernstein::BernsteinError;

@@ -25,6 +25,10 @@ use super::corners::{
 };
 use super::edges::{characteristic_faces, edge_system, same_edge, EdgeKey};
 use super::equations::{equations, equations_with, motion_forms, Equations};
+use super::rulings::{
+    meets_square, overlap, ruling_chord_bound, ruling_margin, ruling_steps, ruling_systems,
+    solve_rulings, widen, Ruling, RulingEvidence, RulingSystems,
+};
 use super::scene::Patch;
 use super::{Eye, Scene, SweepError};
 use crate::bernstein::{prove_positive, Bernstein, Limits, PositivityOptions, PositivityVerdict};
@@ -164,6 +168,9 @@ pub struct SilhouetteComponent {
     /// bounding box of its rational Bernstein control points (positive weights); the largest
     /// diagonal of those boxes (infinite where a weight coefficient is not certified positive).
     pub chord_bound: f64,
+    /// When the component is a ruling of a sweep invariant in `t` (module `rulings`), its
+    /// index in [`Silhouettes::rulings`].
+    pub ruling: Option<usize>,
 }
 
 /// A certified `t`-extreme point (a root of eq. 3's system `F = G = H = 0`).
@@ -199,6 +206,10 @@ pub struct Silhouettes {
     /// `t`-extreme candidates the solver could not certify (singular points of `Z₁` among
     /// them): `(surface, patch, cluster)`.
     pub extreme_clusters: Vec<(usize, usize, Cluster)>,
+    /// The rulings of the patches whose sweep is invariant in `t` (module `rulings`; their
+    /// components are straight lines in `(u, v, t)` from `t = a` to `t = b`, re-checked by
+    /// [`verify_ruling`]).
+    pub rulings: Vec<Ruling>,
     /// Patches traced.
     pub patches: usize,
     /// The path that ran.
@@ -261,6 +272,8 @@ struct Piece {
     extremes: Vec<usize>,
     hausdorff: f64,
     chord: f64,
+    /// Index in [`Collected::rulings`] when the piece is a ruling (module `rulings`).
+    ruling: Option<usize>,
 }
 
 fn centre(root: &Root) -> Vec<f64> {
@@ -383,6 +396,7 @@ fn pieces_of(
                     .collect(),
                 hausdorff: comp.hausdorff_bound,
                 chord: chords[c],
+                ruling: None,
             }
         })
         .collect()
@@ -403,29 +417,7 @@ fn chord_bounds(curves: &Curves, system: &System, image: &[Bernstein<Interval>])
                 )
             })
             .collect();
-        let Ok(parts) = image
-            .iter()
-            .map(|p| p.restrict(&sub))
-            .collect::<Result<Vec<_>, _>>()
-        else {
-            return f64::INFINITY;
-        };
-        let w = parts[3].coeffs();
-        if w.iter().any(|c| c.lo <= 0.0) {
-            return f64::INFINITY;
-        }
-        let mut diag2 = 0.0;
-        for part in &parts[..3] {
-            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-            for (x, wk) in part.coeffs().iter().zip(w) {
-                let q = crate::num::Field::div(x, wk);
-                lo = lo.min(q.lo);
-                hi = hi.max(q.hi);
-            }
-            diag2 += (hi - lo) * (hi - lo);
-        }
-        // Rounded up: the sum of squares and the root each add at most an ulp.
-        diag2.sqrt() * (1.0 + 4.0 * f64::EPSILON)
+        image_box_diagonal(image, &sub)
     };
     let per_arc: Vec<f64> = curves.arcs.iter().map(|a| arc_bound(&a.bounds)).collect();
     curves
@@ -433,6 +425,39 @@ fn chord_bounds(curves: &Curves, system: &System, image: &[Bernstein<Interval>])
         .iter()
         .map(|c| c.arcs.iter().map(|&a| per_arc[a]).fold(0.0, f64::max))
         .collect()
+}
+
+/// The diagonal of the bounding box of the rational control points of `image` (homogeneous,
+/// `x/w`) restricted to `sub` (unit coordinates), rounded up: a certified bound on the
+/// diameter of the image of that box when every weight coefficient is certified positive,
+/// infinite otherwise.
+pub(super) fn image_box_diagonal(
+    image: &[Bernstein<Interval>],
+    sub: &[(Interval, Interval)],
+) -> f64 {
+    let Ok(parts) = image
+        .iter()
+        .map(|p| p.restrict(sub))
+        .collect::<Result<Vec<_>, _>>()
+    else {
+        return f64::INFINITY;
+    };
+    let w = parts[3].coeffs();
+    if w.iter().any(|c| c.lo <= 0.0) {
+        return f64::INFINITY;
+    }
+    let mut diag2 = 0.0;
+    for part in &parts[..3] {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for (x, wk) in part.coeffs().iter().zip(w) {
+            let q = crate::num::Field::div(x, wk);
+            lo = lo.min(q.lo);
+            hi = hi.max(q.hi);
+        }
+        diag2 += (hi - lo) * (hi - lo);
+    }
+    // Rounded up: the sum of squares and the root each add at most an ulp.
+    diag2.sqrt() * (1.0 + 4.0 * f64::EPSILON)
 }
 
 /// Traces `system`, halving the resolution while a component's certified chord bound
@@ -527,6 +552,7 @@ fn join(pieces: Vec<Piece>, t_extreme: &mut [TExtreme]) -> Vec<SilhouetteCompone
             extremes: Vec::new(),
             hausdorff_bound: 0.0,
             chord_bound: 0.0,
+            ruling: None,
         };
         for (n, &(p, reversed)) in chain.iter().enumerate() {
             let piece = &pieces[p];
@@ -544,6 +570,7 @@ fn join(pieces: Vec<Piece>, t_extreme: &mut [TExtreme]) -> Vec<SilhouetteCompone
             comp.extremes.extend(&piece.extremes);
             comp.hausdorff_bound = comp.hausdorff_bound.max(piece.hausdorff);
             comp.chord_bound = comp.chord_bound.max(piece.chord);
+            comp.ruling = comp.ruling.or(piece.ruling);
         }
         if !closed {
             let (p0, r0) = chain[0];
@@ -630,8 +657,22 @@ fn patch_system(scene: &Scene, eq: &Equations, printed: bool) -> Result<System, 
     Ok(System::new(domain, vec![eq.f.clone(), g.clone()])?)
 }
 
-fn cap_system(g: &Bernstein<Rational>, upper: bool) -> Result<System, SweepError> {
-    Ok(System::new(unit_domain(2), vec![g.face(2, upper)?])?)
+/// The contour of an end position, `G̃(u, v, a or b) = 0`. On a collapsed patch edge (a pole,
+/// `divided`) the contour passes through that one 3-D point exactly when `G̃` vanishes on the
+/// whole edge; its factor is divided out (as often as it divides), so that the curve crosses
+/// the edge where it leaves the point instead of running along it.
+fn cap_system(
+    g: &Bernstein<Rational>,
+    upper: bool,
+    divided: &[(usize, bool)],
+) -> Result<System, SweepError> {
+    let mut cap = g.face(2, upper)?;
+    for &(axis, end) in divided {
+        while let Some(q) = cap.divide_by_face(axis, end)? {
+            cap = q;
+        }
+    }
+    Ok(System::new(unit_domain(2), vec![cap])?)
 }
 
 /// Certifies that the eye is not on the moving patch: `|M̂X + (T̂ − δP)w|² > 0` on
@@ -730,6 +771,68 @@ pub fn verify_t_extreme(
     ))
 }
 
+/// Re-checks a ruling ([`Silhouettes::rulings`]) from the scene, without the solver: rebuilds
+/// `F̃` (characteristic edges divided out) and `G̃` of its patch, decides again exactly that the
+/// sweep is invariant in `t` (module `rulings`), checks that the root's box meets the patch's
+/// square, and certifies the root again with [`crate::solve::verify_root`] — on `F̂ = Ĝ = 0`
+/// for a root, on `F̂ = H = 0` for a tangency, whose bound on `|Ĝ|` is recomputed and must not
+/// exceed the one reported, and whose root box must meet its cluster's.
+pub fn verify_ruling(
+    scene: &Scene,
+    ruling: &Ruling,
+    printed_eq2: bool,
+) -> Result<Result<RootCheck, RootRefusal>, SweepError> {
+    let bad = |why: String| SweepError::field("ruling", why);
+    let patch = scene
+        .surfaces
+        .get(ruling.surface)
+        .and_then(|s| s.patches.get(ruling.patch))
+        .ok_or_else(|| {
+            bad(format!(
+                "no patch {} on surface {}",
+                ruling.patch, ruling.surface
+            ))
+        })?;
+    let eq = equations(scene, patch, &eye_point(scene))?;
+    let (f_hat, _) = characteristic_faces(&eq.f, ruling.surface, ruling.patch)?;
+    let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
+    let g = if printed_eq2 { &eq.g_printed } else { &eq.g };
+    let Some(rs) = ruling_systems(&forms, &eq.f, &f_hat, g)? else {
+        return Err(bad(format!(
+            "the sweep of surface {} patch {} is not invariant in t",
+            ruling.surface, ruling.patch
+        )));
+    };
+    if !meets_square(ruling.bounds()) {
+        return Err(bad("the root's box does not meet the patch's square".into()));
+    }
+    Ok(match &ruling.evidence {
+        RulingEvidence::Root(root) => verify_root(&rs.points, &root.bounds, &root.certificate),
+        RulingEvidence::Tangent {
+            critical,
+            g_bound,
+            cluster,
+        } => {
+            let bound = rs.g_bound(&critical.bounds);
+            // A NaN bound fails too.
+            if !matches!(
+                bound.partial_cmp(g_bound),
+                Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal)
+            ) {
+                return Err(bad(format!(
+                    "|Ĝ| on the critical point's box is bounded by {bound:e}, above the {g_bound:e} reported"
+                )));
+            }
+            if !overlap(&critical.bounds, &cluster.bounds) {
+                return Err(bad(
+                    "the critical point's box does not meet its cluster".into()
+                ));
+            }
+            verify_root(&rs.critical, &critical.bounds, &critical.certificate)
+        }
+    })
+}
+
 /// Re-checks a passage through a patch corner ([`Silhouettes::corner_crossings`]) from the
 /// scene, without the tracer: rebuilds `F̂` (characteristic edges divided out) and `G̃` of its
 /// patch, checks that its time interval holds one of the corner line's crossing times (the
@@ -792,12 +895,98 @@ pub fn t_extreme_systems(scene: &Scene) -> Result<Vec<System>, SweepError> {
 #[derive(Default)]
 struct Collected {
     pieces: Vec<Piece>,
+    rulings: Vec<Ruling>,
     t_extreme: Vec<TExtreme>,
     clusters: Vec<(usize, usize, ComponentKind, Cluster)>,
     extreme_clusters: Vec<(usize, usize, Cluster)>,
 }
 
 impl Collected {
+    /// Adds the rulings of patch `p` of surface `s`, a sweep invariant in `t` (module
+    /// `rulings`): one type-3 piece per ruling point not already found on a neighbouring
+    /// patch (same 3-D ends), sampled in `t` at the resolution (halved while its certified
+    /// chord bound exceeds the tolerance), and the solve's clusters.
+    fn add_rulings(
+        &mut self,
+        scene: &Scene,
+        patch: &Patch,
+        (s, p): (usize, usize),
+        eq: &Equations,
+        rs: &RulingSystems,
+        opts: &SilhouetteOptions,
+    ) -> Result<(), SweepError> {
+        let (found, clusters) = solve_rulings(rs, opts.path, opts.limits)?;
+        self.clusters.extend(
+            clusters
+                .into_iter()
+                .map(|c| (s, p, ComponentKind::Envelope, c)),
+        );
+        let margin = ruling_margin();
+        let image: Vec<Bernstein<Interval>> = eq
+            .image
+            .iter()
+            .map(|b| widen(b, &[0, 1], &margin).map(|w| w.map(Interval::from_rational)))
+            .collect::<Result<_, _>>()?;
+        let (a, b) = (rational_to_f64(&scene.t.0), rational_to_f64(&scene.t.1));
+        for evidence in found {
+            let ruling = Ruling {
+                surface: s,
+                patch: p,
+                evidence,
+                component: 0,
+            };
+            let bounds = ruling.bounds().to_vec();
+            let [u, v] = ruling.uv();
+            let mut n = (1.0 / opts.resolution).ceil().max(1.0) as usize;
+            let (steps, chord) = loop {
+                let steps = ruling_steps(n);
+                let chord = ruling_chord_bound(&image, &rs.points, &bounds, &steps);
+                match opts.tolerance {
+                    Some(tol) if chord > tol && (n as f64) * 2.0 <= 1.0 / MIN_RESOLUTION => {
+                        n *= 2;
+                    }
+                    _ => break (steps, chord),
+                }
+            };
+            let uvt: Vec<[f64; 3]> = steps
+                .iter()
+                .map(|&x| [u, v, if x == 1.0 { b } else { a + (b - a) * x }])
+                .collect();
+            let world: Vec<[f64; 3]> = uvt.iter().map(|&q| world(scene, patch, q)).collect();
+            let ends = [world[0], world[world.len() - 1]];
+            let scale = 1.0 + ends.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+            let seen = self.pieces.iter().any(|q| {
+                q.ruling.is_some()
+                    && q.surface == s
+                    && close(&q.world[0], &ends[0], scale)
+                    && close(&q.world[q.world.len() - 1], &ends[1], scale)
+            });
+            if seen {
+                continue;
+            }
+            let diag = bounds
+                .iter()
+                .map(|(lo, hi)| rational_to_f64(&(hi - lo)).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            self.pieces.push(Piece {
+                surface: s,
+                patch: p,
+                kind: ComponentKind::Envelope,
+                uvt,
+                world,
+                closed: false,
+                ends: [End::Time(false), End::Time(true)],
+                extremes: Vec::new(),
+                hausdorff: diag,
+                chord,
+                ruling: Some(self.rulings.len()),
+            });
+            self.rulings.push(ruling);
+        }
+        Ok(())
+    }
+
     /// Adds one envelope trace of patch `p` of surface `s` on `domain`: its pieces (ends in
     /// the cluster groups of `corners` continued to their corner points), its `t`-extreme
     /// points, and its clusters (those of the groups in `corners` left out).
@@ -946,41 +1135,54 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                     &[],
                 );
             }
+            let f_full = eq.f.clone();
             let eq = Equations { f: f_hat, ..eq };
-            let system = patch_system(scene, &eq, opts.printed_eq2)?;
-            check_corner_lines(&system.equations[0], &system.equations[1], s, p)?;
-            let image: Vec<Bernstein<Interval>> = eq
-                .image
-                .iter()
-                .map(|b| b.map(Interval::from_rational))
-                .collect();
-            let (curves, chords) = trace_to_tolerance(
-                &system,
-                &curve_opts.with_extreme_axis(Some(2)),
-                &image,
-                opts.tolerance,
-            )?;
-            // Cluster groups on patch corners certified as passages through the corner.
-            let passages = resolve_corners(&system, &curves, s, p)?;
-            let corner_points: Vec<(usize, [f64; 3])> = passages
-                .iter()
-                .map(|(group, cc)| {
-                    let t =
-                        rational_to_f64(&((&cc.t.0 + &cc.t.1) / Rational::from_integer(2.into())));
-                    let at = |upper: bool| if upper { 1.0 } else { 0.0 };
-                    (*group, [at(cc.corner[0]), at(cc.corner[1]), t])
-                })
-                .collect();
-            acc.add_envelope(
-                scene,
-                patch,
-                (s, p),
-                &curves,
-                &chords,
-                Domain::Box,
-                &corner_points,
-            );
-            corner_crossings.extend(passages.into_iter().map(|(_, cc)| cc));
+            let g_used = if opts.printed_eq2 {
+                &eq.g_printed
+            } else {
+                &eq.g
+            };
+            // A sweep invariant in t: the silhouette is made of rulings over the points of
+            // F̂ = Ĝ = 0, solved in (u, v) (module `rulings`).
+            if let Some(rs) = ruling_systems(&forms, &f_full, &eq.f, g_used)? {
+                acc.add_rulings(scene, patch, (s, p), &eq, &rs, opts)?;
+            } else {
+                let system = patch_system(scene, &eq, opts.printed_eq2)?;
+                check_corner_lines(&system.equations[0], &system.equations[1], s, p)?;
+                let image: Vec<Bernstein<Interval>> = eq
+                    .image
+                    .iter()
+                    .map(|b| b.map(Interval::from_rational))
+                    .collect();
+                let (curves, chords) = trace_to_tolerance(
+                    &system,
+                    &curve_opts.with_extreme_axis(Some(2)),
+                    &image,
+                    opts.tolerance,
+                )?;
+                // Cluster groups on patch corners certified as passages through the corner.
+                let passages = resolve_corners(&system, &curves, s, p)?;
+                let corner_points: Vec<(usize, [f64; 3])> = passages
+                    .iter()
+                    .map(|(group, cc)| {
+                        let t = rational_to_f64(
+                            &((&cc.t.0 + &cc.t.1) / Rational::from_integer(2.into())),
+                        );
+                        let at = |upper: bool| if upper { 1.0 } else { 0.0 };
+                        (*group, [at(cc.corner[0]), at(cc.corner[1]), t])
+                    })
+                    .collect();
+                acc.add_envelope(
+                    scene,
+                    patch,
+                    (s, p),
+                    &curves,
+                    &chords,
+                    Domain::Box,
+                    &corner_points,
+                );
+                corner_crossings.extend(passages.into_iter().map(|(_, cc)| cc));
+            }
             if opts.caps {
                 let g = if opts.printed_eq2 {
                     &eq.g_printed
@@ -991,7 +1193,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                     (false, ComponentKind::CapA, a),
                     (true, ComponentKind::CapB, b),
                 ] {
-                    let system = cap_system(g, upper)?;
+                    let system = cap_system(g, upper, &eq.divided)?;
                     let face: Vec<Bernstein<Interval>> = eq
                         .image
                         .iter()
@@ -1019,17 +1221,24 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
     }
     let Collected {
         pieces,
+        mut rulings,
         mut t_extreme,
         clusters,
         extreme_clusters,
     } = acc;
     let components = join(pieces, &mut t_extreme);
+    for (c, comp) in components.iter().enumerate() {
+        if let Some(i) = comp.ruling {
+            rulings[i].component = c;
+        }
+    }
     Ok(Silhouettes {
         components,
         t_extreme,
         corner_crossings,
         clusters,
         extreme_clusters,
+        rulings,
         patches,
         path: opts.path,
         seconds: clock.elapsed().as_secs_f64(),

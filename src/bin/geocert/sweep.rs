@@ -9,7 +9,8 @@ use geocert::internals::report::sweep::frame_svg;
 use geocert::num::rational_to_string;
 use geocert::sweep::{
     builtin_scene, event_groups, events, frames, group_of_each, scene_from_json, silhouette,
-    verify_events, ComponentEnd, EventKind, Eye, Scene, SilhouetteOptions, Silhouettes,
+    verify_events, verify_ruling, ComponentEnd, EventKind, Eye, RulingEvidence, Scene,
+    SilhouetteOptions, Silhouettes,
 };
 use geocert::Path;
 use serde_json::{json, Value};
@@ -412,12 +413,22 @@ fn run_silhouette(a: SilhouetteArgs) -> Result<ExitCode, String> {
     if let Some(file) = &a.svg {
         write(file, geocert::internals::report::sweep::svg(&scene, &s))?;
     }
+    // Every ruling re-checked from the scene (module `rulings`), without the solver.
+    let verified: Vec<bool> = s
+        .rulings
+        .iter()
+        .map(|r| matches!(verify_ruling(&scene, r, a.printed_eq2), Ok(Ok(_))))
+        .collect();
     if a.json {
-        println!("{}", pretty(&to_json(&s))?);
+        println!("{}", pretty(&to_json(&s, &verified))?);
     } else {
-        print_summary(&s);
+        print_summary(&s, &verified);
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(if verified.iter().all(|&v| v) {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
 }
 
 fn end_name(e: &ComponentEnd) -> &'static str {
@@ -455,7 +466,7 @@ fn event_clusters_json(
         .collect()
 }
 
-fn to_json(s: &Silhouettes) -> Value {
+fn to_json(s: &Silhouettes, verified: &[bool]) -> Value {
     json!({
         "path": s.path.to_string(),
         "components": s.components.iter().map(|c| json!({
@@ -468,6 +479,7 @@ fn to_json(s: &Silhouettes) -> Value {
             "extremes": c.extremes,
             "hausdorff_bound_uvt": c.hausdorff_bound,
             "chord_bound": c.chord_bound,
+            "ruling": c.ruling,
             "uvt": c.uvt,
             "points": c.points,
         })).collect::<Vec<_>>(),
@@ -496,13 +508,29 @@ fn to_json(s: &Silhouettes) -> Value {
             "reason": c.reason,
             "box": boxed(&c.bounds),
         })).collect::<Vec<_>>(),
+        "rulings": s.rulings.iter().zip(verified).map(|(r, &ok)| {
+            let (kind, root, g_bound) = match &r.evidence {
+                RulingEvidence::Root(root) => ("root", root, None),
+                RulingEvidence::Tangent { critical, g_bound, .. } => ("tangent", critical, Some(*g_bound)),
+            };
+            json!({
+                "surface": r.surface,
+                "patch": r.patch,
+                "component": r.component,
+                "evidence": kind,
+                "box": boxed(&root.bounds),
+                "certificate": root.certificate,
+                "g_bound": g_bound,
+                "verified": ok,
+            })
+        }).collect::<Vec<_>>(),
         "extreme_clusters": s.extreme_clusters.len(),
         "patches": s.patches,
         "seconds": s.seconds,
     })
 }
 
-fn print_summary(s: &Silhouettes) {
+fn print_summary(s: &Silhouettes, verified: &[bool]) {
     println!(
         "{} patches, {} components, {} certified t-extreme points, {} passages through patch corners, {} clusters ({} path, {:.3} s)",
         s.patches,
@@ -523,8 +551,25 @@ fn print_summary(s: &Silhouettes) {
         } else {
             format!("{} → {}", end_name(&c.ends[0]), end_name(&c.ends[1]))
         };
+        let ruling = match c.ruling {
+            Some(r) => {
+                let how = match &s.rulings[r].evidence {
+                    RulingEvidence::Root(_) => "a certified ruling".to_string(),
+                    RulingEvidence::Tangent { g_bound, .. } => {
+                        format!("a tangential ruling (|G| ≤ {g_bound:.1e} at the critical point)")
+                    }
+                };
+                let check = if verified[r] {
+                    "re-checked"
+                } else {
+                    "FAILED its re-check"
+                };
+                format!(", {how}, {check}")
+            }
+            None => String::new(),
+        };
         println!(
-            "  component {i}: {kind}, surface {}, {} points, {shape}, {} t-extreme, chords within {:.1e}",
+            "  component {i}: {kind}, surface {}, {} points, {shape}, {} t-extreme, chords within {:.1e}{ruling}",
             c.surface,
             c.points.len(),
             c.extremes.len(),

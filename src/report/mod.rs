@@ -18,6 +18,7 @@ pub mod solve;
 pub mod solve_curves;
 pub mod solve_silhouette;
 pub mod sweep;
+pub mod sweep_degenerate;
 
 use crate::proofs::ProofOutcome;
 use campaign::{KernelCampaign, SubdivisionTiming};

@@ -10,7 +10,8 @@ use crate::num::rational_to_f64;
 use crate::solve::SolveOptions;
 use crate::sweep::{
     apply_motion, builtin_scene, eye_point, frames, silhouette, verify_corner_crossing,
-    verify_events, verify_t_extreme, ComponentKind, Scene, SilhouetteOptions, Silhouettes,
+    verify_events, verify_ruling, verify_t_extreme, ComponentKind, Scene, SilhouetteOptions,
+    Silhouettes,
 };
 use crate::Path;
 use serde::Serialize;
@@ -35,6 +36,9 @@ pub struct SceneRow {
     /// re-checked.
     pub corners: usize,
     pub corners_verified: usize,
+    /// Rulings of a sweep invariant in `t`, and how many `verify_ruling` re-checks.
+    pub rulings: usize,
+    pub rulings_verified: usize,
     pub clusters: usize,
     pub vertices: usize,
     /// The largest normalised `|F|` and `|G|` over the envelope's vertices.
@@ -148,6 +152,8 @@ pub struct SweepCampaign {
     pub rows: Vec<SceneRow>,
     pub eq2: Vec<Eq2Row>,
     pub moving: Vec<MovingEyeRun>,
+    /// The degenerate-but-legal eyes (module `sweep_degenerate`).
+    pub degenerate: Vec<super::sweep_degenerate::DegenerateRow>,
     /// The OpenCASCADE peer, or why it did not run.
     pub occ: Result<OccRow, String>,
 }
@@ -573,6 +579,12 @@ fn row(name: &str, scene: &Scene, path: Path) -> (SceneRow, Option<Silhouettes>)
             .iter()
             .filter(|x| matches!(verify_corner_crossing(scene, x, false), Ok(true)))
             .count(),
+        rulings: s.rulings.len(),
+        rulings_verified: s
+            .rulings
+            .iter()
+            .filter(|x| matches!(verify_ruling(scene, x, false), Ok(Ok(_))))
+            .count(),
         clusters: s.clusters.len() + s.extreme_clusters.len(),
         vertices,
         max_f,
@@ -595,6 +607,8 @@ fn empty_row(name: &str, path: Path) -> SceneRow {
         t_extreme_verified: 0,
         corners: 0,
         corners_verified: 0,
+        rulings: 0,
+        rulings_verified: 0,
         clusters: 0,
         vertices: 0,
         max_f: f64::NAN,
@@ -654,6 +668,7 @@ pub fn sweep_campaign(root: &FsPath, dir: &FsPath) -> SweepCampaign {
         rows,
         eq2,
         moving,
+        degenerate: super::sweep_degenerate::degenerate_runs(),
         occ,
     }
 }
@@ -662,19 +677,22 @@ pub fn sweep_campaign(root: &FsPath, dir: &FsPath) -> SweepCampaign {
 /// t-extreme point re-checks, every traced vertex is within 1e-6 of `F = G = 0`, eq. 2 as
 /// printed is right exactly on the similarity, and the moving eye's events all re-check, its
 /// frames are resolved with their vertices (continued ones too) within 1e-6 of `F = G = 0`,
-/// and the cylinder's events and frames agree with the closed form.
+/// and the cylinder's events and frames agree with the closed form, and the degenerate eyes
+/// agree with theirs.
 pub fn campaign_ok(c: &SweepCampaign) -> bool {
-    c.rows.iter().filter(|r| r.path == "filtered").all(|r| {
-        r.error.is_none()
-            && r.clusters == 0
-            && r.t_extreme == r.t_extreme_verified
-            && r.corners == r.corners_verified
-            && r.max_f < 1e-6
-            && r.max_g < 1e-6
-    }) && c
-        .eq2
-        .iter()
-        .all(|e| e.cofactor_max_g < 1e-6 && (e.printed_max_g < 1e-6) == e.similarity)
+    super::sweep_degenerate::degenerate_ok(&c.degenerate)
+        && c.rows.iter().filter(|r| r.path == "filtered").all(|r| {
+            r.error.is_none()
+                && r.clusters == 0
+                && r.t_extreme == r.t_extreme_verified
+                && r.corners == r.corners_verified
+                && r.rulings == r.rulings_verified
+                && r.max_f < 1e-6
+                && r.max_g < 1e-6
+        })
+        && c.eq2
+            .iter()
+            .all(|e| e.cofactor_max_g < 1e-6 && (e.printed_max_g < 1e-6) == e.similarity)
         && c.moving.iter().all(|m| {
             m.error.is_none()
                 && m.clusters == 0
@@ -718,7 +736,9 @@ pub fn write_sweep_report(
          re-checked by `verify_t_extreme`, which rebuilds the equations and does not call the \
          solver), the passages through patch corners (certified from the exact crossing time \
          and a regular box around it, each re-checked by `verify_corner_crossing`; \
-         `sphere-corner`), the contours of the start and end positions (*caps*), and the boxes the \
+         `sphere-corner`), the rulings of sweeps invariant in `t` (`sphere-line`, `sphere-cone`: \
+         the silhouette's points solved in `(u, v)`, each re-checked by `verify_ruling`; see \
+         *Degenerate eyes*), the contours of the start and end positions (*caps*), and the boxes the \
          tracer could not resolve (*clusters*, must be 0). *max F*, *max G*: the largest \
          normalised `|F|` and `|G|` over the envelope's traced vertices (*vertices*: those \
          measured; a vertex on a sphere's pole, where the parametrisation has no normal, is \
@@ -726,21 +746,21 @@ pub fn write_sweep_report(
          (central inside a patch, second-order one-sided at its borders) — not from the \
          library's polynomials (the differences' own error is about 1e-10 relative, more next to a pole). Time: median of {RUNS} runs of the \
          whole algorithm (equations, tracing, extremes, caps), one thread.\n\n\
-         | scene | path | patches | envelope components | types 1/2/3 | caps | t-extreme (re-checked) | corner passages (re-checked) | clusters | vertices | max F | max G | median s |\n\
-         |---|---|---:|---:|---|---:|---|---|---:|---:|---:|---:|---:|"
+         | scene | path | patches | envelope components | types 1/2/3 | caps | t-extreme (re-checked) | corner passages (re-checked) | rulings (re-checked) | clusters | vertices | max F | max G | median s |\n\
+         |---|---|---:|---:|---|---:|---|---|---|---:|---:|---:|---:|---:|"
     );
     for r in &c.rows {
         if let Some(err) = &r.error {
             let _ = writeln!(
                 s,
-                "| {} | {} | refused: {err} | | | | | | | | | | |",
+                "| {} | {} | refused: {err} | | | | | | | | | | | |",
                 r.scene, r.path
             );
             continue;
         }
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {}/{}/{} | {} | {} ({}) | {} ({}) | {} | {} | {} | {} | {:.3} |",
+            "| {} | {} | {} | {} | {}/{}/{} | {} | {} ({}) | {} ({}) | {} ({}) | {} | {} | {} | {} | {:.3} |",
             r.scene,
             r.path,
             r.patches,
@@ -753,6 +773,8 @@ pub fn write_sweep_report(
             r.t_extreme_verified,
             r.corners,
             r.corners_verified,
+            r.rulings,
+            r.rulings_verified,
             r.clusters,
             r.vertices,
             e(r.max_f),
@@ -798,6 +820,7 @@ pub fn write_sweep_report(
     for m in &c.moving {
         moving_markdown(&mut s, m);
     }
+    super::sweep_degenerate::degenerate_markdown(&mut s, &c.degenerate);
     occ_markdown(&mut s, &c.occ);
     let _ = writeln!(
         s,

@@ -9,9 +9,9 @@ use super::RunMeta;
 use crate::num::rational_to_f64;
 use crate::solve::SolveOptions;
 use crate::sweep::{
-    apply_motion, builtin_scene, eye_point, frames, silhouette, verify_corner_crossing,
-    verify_events, verify_ruling, verify_t_extreme, ComponentKind, Scene, SilhouetteOptions,
-    Silhouettes,
+    apply_motion, builtin_scene, eye_point, frames, silhouette, verify_cap_corner_passage,
+    verify_corner_crossing, verify_events, verify_ruling, verify_t_extreme, ComponentKind, Scene,
+    SilhouetteOptions, Silhouettes,
 };
 use crate::Path;
 use serde::Serialize;
@@ -573,12 +573,16 @@ fn row(name: &str, scene: &Scene, path: Path) -> (SceneRow, Option<Silhouettes>)
             .count(),
         t_extreme: s.t_extreme.len(),
         t_extreme_verified: verified,
-        corners: s.corner_crossings.len(),
+        corners: s.corner_crossings.len() + s.cap_corner_passages.len(),
         corners_verified: s
             .corner_crossings
             .iter()
             .filter(|x| matches!(verify_corner_crossing(scene, x, false), Ok(true)))
-            .count(),
+            .count()
+            + s.cap_corner_passages
+                .iter()
+                .filter(|x| matches!(verify_cap_corner_passage(scene, x, false), Ok(true)))
+                .count(),
         rulings: s.rulings.len(),
         rulings_verified: s
             .rulings
@@ -736,7 +740,8 @@ pub fn write_sweep_report(
          re-checked by `verify_t_extreme`, which rebuilds the equations and does not call the \
          solver), the passages through patch corners (certified from the exact crossing time \
          and a regular box around it, each re-checked by `verify_corner_crossing`; \
-         `sphere-corner`), the rulings of sweeps invariant in `t` (`sphere-line`, `sphere-cone`: \
+         `sphere-corner`; the end positions' contours through patch corners likewise, each \
+         re-checked by `verify_cap_corner_passage`), the rulings of sweeps invariant in `t` (`sphere-line`, `sphere-cone`: \
          the silhouette's points solved in `(u, v)`, each re-checked by `verify_ruling`; see \
          *Degenerate eyes*), the contours of the start and end positions (*caps*), and the boxes the \
          tracer could not resolve (*clusters*, must be 0). *max F*, *max G*: the largest \

@@ -189,7 +189,7 @@ pub(crate) fn corner_times(
 
 /// `p` along `axis` re-expressed over `[lo, hi]` (any `lo < hi`, also beyond `[0, 1]`): de
 /// Casteljau's algorithm extrapolates exactly.
-fn reframed(p: &B, axis: usize, lo: &Rational, hi: &Rational) -> Result<B, SweepError> {
+pub(crate) fn reframed(p: &B, axis: usize, lo: &Rational, hi: &Rational) -> Result<B, SweepError> {
     let left = p.split(axis, hi)?.0;
     Ok(left.split(axis, &(lo / hi))?.1)
 }
@@ -419,6 +419,179 @@ pub(crate) fn resolve_corners(
         ));
     }
     Ok(out)
+}
+
+/// A certified passage of an end position's contour (a cap, `G̃(u, v, a or b) = 0`) through
+/// a patch corner: the 2-D analogue of [`CornerCrossing`]. `G̃` vanishes exactly at the corner
+/// point; on the tracer's cluster box `B` there one partial derivative has one strict sign (so
+/// the contour in `B` is a union of arcs with ends on `∂B`, no loops); the crossings on `B`'s
+/// two inner edges are counted; on its two edges on the patch border the corner is the only
+/// zero (each edge extended across the border to twice `B`'s width, one certified root). With
+/// one inner crossing the contour in `B` is one arc from it to the corner; with none, the
+/// corner alone.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CapCornerPassage {
+    /// The surface.
+    pub surface: usize,
+    /// The patch.
+    pub patch: usize,
+    /// The end position: `t = b` when set, else `t = a`.
+    pub upper: bool,
+    /// The corner: `u = 1` when `corner[0]`, else `u = 0`; `v` likewise.
+    pub corner: [bool; 2],
+    /// The box `B` in `(u, v)`.
+    pub bounds: RationalBox,
+    /// The parameter (0 = u, 1 = v) along which `G̃`'s partial derivative has one strict sign
+    /// on `B`.
+    pub monotone_axis: usize,
+    /// The contour in `B`: one arc to the corner (1) or the corner alone (0).
+    pub arcs: usize,
+}
+
+/// Certifies a cap's passage through `corner` on the box `bounds` (unit `(u, v)`, the corner
+/// a vertex of it): `Some((monotone axis, arcs))` ([`CapCornerPassage`]), or `None` when a
+/// step does not hold.
+pub(crate) fn certify_cap_corner_box(
+    g: &B,
+    corner: [bool; 2],
+    bounds: &[(Rational, Rational)],
+) -> Result<Option<(usize, usize)>, SweepError> {
+    let end = |upper: bool| {
+        if upper {
+            Rational::one()
+        } else {
+            Rational::zero()
+        }
+    };
+    if bounds.len() != 2 || g.dim() != 2 {
+        return Ok(None);
+    }
+    for axis in 0..2 {
+        let (lo, hi) = &bounds[axis];
+        let c = end(corner[axis]);
+        if !(lo < hi && (if corner[axis] { hi == &c } else { lo == &c })) {
+            return Ok(None);
+        }
+    }
+    // The corner point is on the contour, exactly.
+    if !g.face(0, corner[0])?.face(0, corner[1])?.coeffs()[0].is_zero() {
+        return Ok(None);
+    }
+    let part = g.restrict(bounds)?;
+    let Some(monotone) = (0..2).find(|&k| {
+        part.derivative(k)
+            .map(|d| strictly_signed(&d))
+            .unwrap_or(false)
+    }) else {
+        return Ok(None);
+    };
+    // Crossings on the two inner edges (opposite the corner).
+    let mut inner = 0;
+    for axis in 0..2 {
+        let other = 1 - axis;
+        let x = if corner[axis] {
+            &bounds[axis].0
+        } else {
+            &bounds[axis].1
+        };
+        let edge = g
+            .eval_axis(axis, x)?
+            .face(axis, false)?
+            .restrict(std::slice::from_ref(&bounds[other]))?;
+        let Some(n) = roots_on_unit_box(vec![edge])? else {
+            return Ok(None);
+        };
+        inner += n;
+    }
+    // On the two border edges the corner is the only zero: each edge polynomial over twice
+    // B's width across the border, the corner in its middle, has exactly one root.
+    for axis in 0..2 {
+        let other = 1 - axis;
+        let edge = g.face(axis, corner[axis])?;
+        let (lo, hi) = &bounds[other];
+        let w = hi - lo;
+        let c = end(corner[other]);
+        if roots_on_unit_box(vec![reframed(&edge, 0, &(&c - &w), &(&c + &w))?])? != Some(1) {
+            return Ok(None);
+        }
+    }
+    Ok((inner <= 1).then_some((monotone, inner)))
+}
+
+/// The cluster groups of a cap's trace (`system`: `G̃(·, ·, a or b)` on `[0,1]²`) that sit on a
+/// patch corner and are certified as a passage through it ([`certify_cap_corner_box`] on the
+/// group's hull, as many pieces ending in the group as arcs certified): `(group, passage)`.
+pub(crate) fn resolve_cap_corners(
+    system: &System,
+    curves: &Curves,
+    surface: usize,
+    patch: usize,
+    upper: bool,
+) -> Result<Vec<(usize, CapCornerPassage)>, SweepError> {
+    let g = &system.equations[0];
+    let mut out = Vec::new();
+    for (group, members) in curves.cluster_groups.iter().enumerate() {
+        let hull = hull_of(members.iter().map(|&m| &curves.clusters[m].bounds));
+        let at_end = |k: usize| -> Option<bool> {
+            let (lo, hi) = &hull[k];
+            match (lo.is_zero(), hi.is_one()) {
+                (true, false) => Some(false),
+                (false, true) => Some(true),
+                _ => None,
+            }
+        };
+        let (Some(cu), Some(cv)) = (at_end(0), at_end(1)) else {
+            continue;
+        };
+        let corner = [cu, cv];
+        let Some((monotone_axis, arcs)) = certify_cap_corner_box(g, corner, &hull)? else {
+            continue;
+        };
+        let entering = curves
+            .components
+            .iter()
+            .flat_map(|c| &c.ends)
+            .filter(|e| matches!(e, CurveEnd::Cluster { group: g, .. } if *g == group))
+            .count();
+        if entering != arcs {
+            continue;
+        }
+        out.push((
+            group,
+            CapCornerPassage {
+                surface,
+                patch,
+                upper,
+                corner,
+                bounds: hull,
+                monotone_axis,
+                arcs,
+            },
+        ));
+    }
+    Ok(out)
+}
+
+/// The hull of boxes (the cap's domain is the unit square, so domain and unit coordinates
+/// agree).
+fn hull_of<'a>(boxes: impl Iterator<Item = &'a RationalBox>) -> Vec<(Rational, Rational)> {
+    let mut hull: Vec<(Rational, Rational)> = Vec::new();
+    for b in boxes {
+        for (k, (lo, hi)) in b.iter().enumerate() {
+            match hull.get_mut(k) {
+                None => hull.push((lo.clone(), hi.clone())),
+                Some(h) => {
+                    if *lo < h.0 {
+                        h.0 = lo.clone();
+                    }
+                    if *hi > h.1 {
+                        h.1 = hi.clone();
+                    }
+                }
+            }
+        }
+    }
+    hull
 }
 
 #[cfg(test)]

@@ -23,6 +23,7 @@
 //! symmetry — is an inner root; the roots and clusters whose boxes meet the square are
 //! kept, and a ruling found by two neighbouring patches is reported once.
 
+use super::corners::reframed;
 use super::equations::MotionForms;
 use super::events::{cofactor_scales, minor, t_invariant};
 use super::SweepError;
@@ -116,12 +117,10 @@ pub(super) struct RulingSystems {
 /// `p` on `[−m, 1 + m]` along every axis in `axes`, reparametrised to `[0, 1]` (de Casteljau
 /// extrapolates exactly).
 pub(super) fn widen(p: &B, axes: &[usize], m: &Rational) -> Result<B, SweepError> {
-    let one = Rational::one();
+    let (lo, hi) = (-m, Rational::one() + m);
     let mut q = p.clone();
     for &axis in axes {
-        let hi = &one + m;
-        q = q.split(axis, &hi)?.0;
-        q = q.split(axis, &(-m / &hi))?.1;
+        q = reframed(&q, axis, &lo, &hi)?;
     }
     Ok(q)
 }

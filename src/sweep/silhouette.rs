@@ -21,7 +21,8 @@
 //! in `(u, v)` — are traced the same way and reported as caps.
 
 use super::corners::{
-    certify_corner_box, check_corner_lines, corner_times, resolve_corners, CornerCrossing,
+    certify_cap_corner_box, certify_corner_box, check_corner_lines, corner_times,
+    resolve_cap_corners, resolve_corners, CapCornerPassage, CornerCrossing,
 };
 use super::edges::{characteristic_faces, edge_system, same_edge, EdgeKey};
 use super::equations::{equations, equations_with, motion_forms, Equations};
@@ -201,6 +202,9 @@ pub struct Silhouettes {
     /// Certified passages through patch corners, where the pieces of neighbouring patches
     /// are joined (module `corners`; re-checked by [`verify_corner_crossing`]).
     pub corner_crossings: Vec<CornerCrossing>,
+    /// Certified passages of the end positions' contours through patch corners (module
+    /// `corners`; re-checked by [`verify_cap_corner_passage`]).
+    pub cap_corner_passages: Vec<CapCornerPassage>,
     /// Boxes the tracer could not resolve: `(surface, patch, kind, cluster)`.
     pub clusters: Vec<(usize, usize, ComponentKind, Cluster)>,
     /// `t`-extreme candidates the solver could not certify (singular points of `Z₁` among
@@ -872,6 +876,33 @@ pub fn verify_corner_crossing(
         == Some((crossing.monotone_axis, crossing.arcs)))
 }
 
+/// Re-checks a cap's passage through a patch corner ([`Silhouettes::cap_corner_passages`])
+/// from the scene, without the tracer: rebuilds the end position's contour equation of its
+/// patch (a pole's factor divided out as in [`silhouette`]) and certifies the box again
+/// (the corner on the contour exactly, a partial derivative of one strict sign, the inner
+/// crossings counted, the corner the only zero on the border edges).
+pub fn verify_cap_corner_passage(
+    scene: &Scene,
+    passage: &CapCornerPassage,
+    printed_eq2: bool,
+) -> Result<bool, SweepError> {
+    let (s, p) = (passage.surface, passage.patch);
+    let patch = scene
+        .surfaces
+        .get(s)
+        .and_then(|x| x.patches.get(p))
+        .ok_or_else(|| {
+            SweepError::field("cap_corner_passage", format!("no patch {p} on surface {s}"))
+        })?;
+    let eq = equations(scene, patch, &eye_point(scene))?;
+    let g = if printed_eq2 { &eq.g_printed } else { &eq.g };
+    let system = cap_system(g, passage.upper, &eq.divided)?;
+    Ok(
+        certify_cap_corner_box(&system.equations[0], passage.corner, &passage.bounds)?
+            == Some((passage.monotone_axis, passage.arcs)),
+    )
+}
+
 /// Per patch of every surface (in order), the square system `Z₀ = {F̃ = G̃ = H = 0}` of
 /// eq. 3 on `[0,1]² × [a, b]` (`H` the Jacobian minor `F_u G_v − F_v G_u`): its roots are the
 /// silhouette's `t`-extreme points. These are the solver's silhouette systems;
@@ -1058,6 +1089,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
     let mut patches = 0;
     let mut edge_keys = Vec::new();
     let mut corner_crossings = Vec::new();
+    let mut cap_passages = Vec::new();
     // The motion's Bernstein forms and their certified checks, once for every patch.
     let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
     for (s, surface) in scene.surfaces.iter().enumerate() {
@@ -1201,6 +1233,15 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                         .collect::<Result<_, _>>()?;
                     let (cap, chords) =
                         trace_to_tolerance(&system, &curve_opts, &face, opts.tolerance)?;
+                    // Cluster groups on patch corners certified as the contour's passages.
+                    let passages = resolve_cap_corners(&system, &cap, s, p, upper)?;
+                    let corner_points: Vec<(usize, [f64; 3])> = passages
+                        .iter()
+                        .map(|(group, cp)| {
+                            let at = |upper: bool| if upper { 1.0 } else { 0.0 };
+                            (*group, [at(cp.corner[0]), at(cp.corner[1]), t])
+                        })
+                        .collect();
                     acc.pieces.extend(pieces_of(
                         scene,
                         patch,
@@ -1211,10 +1252,20 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                         &chords,
                         Domain::Cap(t),
                         0,
-                        &[],
+                        &corner_points,
                     ));
-                    acc.clusters
-                        .extend(cap.clusters.iter().map(|c| (s, p, kind, c.clone())));
+                    let resolved: Vec<usize> = passages
+                        .iter()
+                        .flat_map(|(group, _)| cap.cluster_groups[*group].iter().copied())
+                        .collect();
+                    acc.clusters.extend(
+                        cap.clusters
+                            .iter()
+                            .enumerate()
+                            .filter(|(i, _)| !resolved.contains(i))
+                            .map(|(_, c)| (s, p, kind, c.clone())),
+                    );
+                    cap_passages.extend(passages.into_iter().map(|(_, cp)| cp));
                 }
             }
         }
@@ -1239,6 +1290,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
         clusters,
         extreme_clusters,
         rulings,
+        cap_corner_passages: cap_passages,
         patches,
         path: opts.path,
         seconds: clock.elapsed().as_secs_f64(),

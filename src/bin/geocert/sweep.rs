@@ -508,6 +508,15 @@ fn to_json(s: &Silhouettes, verified: &[bool]) -> Value {
             "reason": c.reason,
             "box": boxed(&c.bounds),
         })).collect::<Vec<_>>(),
+        "cap_corner_passages": s.cap_corner_passages.iter().map(|c| json!({
+            "surface": c.surface,
+            "patch": c.patch,
+            "cap": if c.upper { "cap_b" } else { "cap_a" },
+            "corner": [u8::from(c.corner[0]), u8::from(c.corner[1])],
+            "box": boxed(&c.bounds),
+            "monotone_axis": c.monotone_axis,
+            "arcs": c.arcs,
+        })).collect::<Vec<_>>(),
         "rulings": s.rulings.iter().zip(verified).map(|(r, &ok)| {
             let (kind, root, g_bound) = match &r.evidence {
                 RulingEvidence::Root(root) => ("root", root, None),
@@ -536,7 +545,7 @@ fn print_summary(s: &Silhouettes, verified: &[bool]) {
         s.patches,
         s.components.len(),
         s.t_extreme.len(),
-        s.corner_crossings.len(),
+        s.corner_crossings.len() + s.cap_corner_passages.len(),
         s.clusters.len() + s.extreme_clusters.len(),
         s.path,
         s.seconds

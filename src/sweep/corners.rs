@@ -106,6 +106,15 @@ fn gcd(a: &[Rational], b: &[Rational]) -> Vec<Rational> {
     a.iter().map(|c| c / &lead).collect()
 }
 
+/// `1` at the upper end of `[0, 1]`, else `0`.
+fn end(upper: bool) -> Rational {
+    if upper {
+        Rational::one()
+    } else {
+        Rational::zero()
+    }
+}
+
 /// Refuses a patch on one of whose corner lines `F̂` and `G̃` both vanish identically (the
 /// silhouette stays on that corner at every time), before any tracing.
 pub(crate) fn check_corner_lines(
@@ -270,13 +279,6 @@ pub(crate) fn certify_corner_box(
     t: &(Rational, Rational),
     bounds: &[(Rational, Rational)],
 ) -> Result<Option<(usize, usize)>, SweepError> {
-    let end = |upper: bool| {
-        if upper {
-            Rational::one()
-        } else {
-            Rational::zero()
-        }
-    };
     // The corner line is an edge of B, and the crossing time inside B's time range.
     for axis in 0..2 {
         let (lo, hi) = &bounds[axis];
@@ -333,6 +335,30 @@ pub(crate) fn certify_corner_box(
     Ok((inner <= 1).then_some((monotone, inner)))
 }
 
+/// The patch corner a cluster hull sits on (unit `(u, v, …)`): the corner whose `u` and `v`
+/// ends the hull reaches, each at exactly one end of `[0, 1]`.
+fn corner_of_hull(hull: &[(Rational, Rational)]) -> Option<[bool; 2]> {
+    let at_end = |k: usize| -> Option<bool> {
+        let (lo, hi) = &hull[k];
+        match (lo.is_zero(), hi.is_one()) {
+            (true, false) => Some(false),
+            (false, true) => Some(true),
+            _ => None,
+        }
+    };
+    Some([at_end(0)?, at_end(1)?])
+}
+
+/// How many ends of traced pieces lie in the cluster group `group`.
+fn entering(curves: &Curves, group: usize) -> usize {
+    curves
+        .components
+        .iter()
+        .flat_map(|c| &c.ends)
+        .filter(|e| matches!(e, CurveEnd::Cluster { group: g, .. } if *g == group))
+        .count()
+}
+
 /// The cluster groups of a patch's trace (`system`: `F̂, G̃` on `[0,1]² × [a, b]`) that sit on a
 /// corner line and are certified as a passage through the corner there: `(group,
 /// crossing)`. A group qualifies when its boxes' hull has the corner line as an edge, exactly
@@ -367,18 +393,9 @@ pub(crate) fn resolve_corners(
                 }
             }
         }
-        let at_end = |k: usize| -> Option<bool> {
-            let (lo, hi) = &hull[k];
-            match (lo.is_zero(), hi.is_one()) {
-                (true, false) => Some(false),
-                (false, true) => Some(true),
-                _ => None,
-            }
-        };
-        let (Some(cu), Some(cv)) = (at_end(0), at_end(1)) else {
+        let Some(corner) = corner_of_hull(&hull) else {
             continue;
         };
-        let corner = [cu, cv];
         if !times.iter().any(|(c, _)| *c == corner) {
             times.push((corner, corner_times(f, g, corner, surface, patch)?));
         }
@@ -391,13 +408,7 @@ pub(crate) fn resolve_corners(
         let Some((monotone_axis, arcs)) = certify_corner_box(f, g, corner, t, &hull)? else {
             continue;
         };
-        let entering = curves
-            .components
-            .iter()
-            .flat_map(|c| &c.ends)
-            .filter(|e| matches!(e, CurveEnd::Cluster { group: g, .. } if *g == group))
-            .count();
-        if entering != arcs {
+        if entering(curves, group) != arcs {
             continue;
         }
         let domain_t =
@@ -456,13 +467,6 @@ pub(crate) fn certify_cap_corner_box(
     corner: [bool; 2],
     bounds: &[(Rational, Rational)],
 ) -> Result<Option<(usize, usize)>, SweepError> {
-    let end = |upper: bool| {
-        if upper {
-            Rational::one()
-        } else {
-            Rational::zero()
-        }
-    };
     if bounds.len() != 2 || g.dim() != 2 {
         return Ok(None);
     }
@@ -532,28 +536,13 @@ pub(crate) fn resolve_cap_corners(
     let mut out = Vec::new();
     for (group, members) in curves.cluster_groups.iter().enumerate() {
         let hull = hull_of(members.iter().map(|&m| &curves.clusters[m].bounds));
-        let at_end = |k: usize| -> Option<bool> {
-            let (lo, hi) = &hull[k];
-            match (lo.is_zero(), hi.is_one()) {
-                (true, false) => Some(false),
-                (false, true) => Some(true),
-                _ => None,
-            }
-        };
-        let (Some(cu), Some(cv)) = (at_end(0), at_end(1)) else {
+        let Some(corner) = corner_of_hull(&hull) else {
             continue;
         };
-        let corner = [cu, cv];
         let Some((monotone_axis, arcs)) = certify_cap_corner_box(g, corner, &hull)? else {
             continue;
         };
-        let entering = curves
-            .components
-            .iter()
-            .flat_map(|c| &c.ends)
-            .filter(|e| matches!(e, CurveEnd::Cluster { group: g, .. } if *g == group))
-            .count();
-        if entering != arcs {
+        if entering(curves, group) != arcs {
             continue;
         }
         out.push((

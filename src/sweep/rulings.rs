@@ -26,6 +26,7 @@
 use super::corners::reframed;
 use super::equations::MotionForms;
 use super::events::{cofactor_scales, minor, t_invariant};
+use super::silhouette::unit_intervals;
 use super::SweepError;
 use crate::bernstein::Bernstein;
 use crate::num::{Interval, Rational};
@@ -178,18 +179,7 @@ pub(super) fn overlap(a: &[(Rational, Rational)], b: &[(Rational, Rational)]) ->
 impl RulingSystems {
     /// The certified bound of `|Ĝ|` (relative) over `bounds` (domain coordinates).
     pub(super) fn g_bound(&self, bounds: &[(Rational, Rational)]) -> f64 {
-        let sys = self;
-        let unit: Vec<(Interval, Interval)> = bounds
-            .iter()
-            .enumerate()
-            .map(|(k, (lo, hi))| {
-                (
-                    Interval::from_rational(&sys.points.to_unit(k, lo)),
-                    Interval::from_rational(&sys.points.to_unit(k, hi)),
-                )
-            })
-            .collect();
-        match sys.g_unit.restrict(&unit) {
+        match self.g_unit.restrict(&unit_intervals(&self.points, bounds)) {
             Ok(part) => part
                 .coeffs()
                 .iter()
@@ -258,16 +248,7 @@ pub(super) fn ruling_chord_bound(
     bounds: &[(Rational, Rational)],
     s: &[f64],
 ) -> f64 {
-    let uv: Vec<(Interval, Interval)> = bounds
-        .iter()
-        .enumerate()
-        .map(|(k, (lo, hi))| {
-            (
-                Interval::from_rational(&points.to_unit(k, lo)),
-                Interval::from_rational(&points.to_unit(k, hi)),
-            )
-        })
-        .collect();
+    let uv = unit_intervals(points, bounds);
     s.windows(2)
         .map(|w| {
             let mut sub = uv.clone();

@@ -411,23 +411,30 @@ fn pieces_of(
 /// the traced system's domain).
 fn chord_bounds(curves: &Curves, system: &System, image: &[Bernstein<Interval>]) -> Vec<f64> {
     let arc_bound = |bounds: &[(Rational, Rational)]| -> f64 {
-        let sub: Vec<(Interval, Interval)> = bounds
-            .iter()
-            .enumerate()
-            .map(|(k, (lo, hi))| {
-                (
-                    Interval::from_rational(&system.to_unit(k, lo)),
-                    Interval::from_rational(&system.to_unit(k, hi)),
-                )
-            })
-            .collect();
-        image_box_diagonal(image, &sub)
+        image_box_diagonal(image, &unit_intervals(system, bounds))
     };
     let per_arc: Vec<f64> = curves.arcs.iter().map(|a| arc_bound(&a.bounds)).collect();
     curves
         .components
         .iter()
         .map(|c| c.arcs.iter().map(|&a| per_arc[a]).fold(0.0, f64::max))
+        .collect()
+}
+
+/// A box of `system`'s domain in its unit coordinates, as intervals.
+pub(super) fn unit_intervals(
+    system: &System,
+    bounds: &[(Rational, Rational)],
+) -> Vec<(Interval, Interval)> {
+    bounds
+        .iter()
+        .enumerate()
+        .map(|(k, (lo, hi))| {
+            (
+                Interval::from_rational(&system.to_unit(k, lo)),
+                Interval::from_rational(&system.to_unit(k, hi)),
+            )
+        })
         .collect()
 }
 
@@ -723,6 +730,17 @@ fn eye_off_surface(
     }
 }
 
+/// The equations of patch `p` of surface `s` from the scene's eye, or an error naming `what`
+/// was being re-checked when there is no such patch.
+fn patch_equations(scene: &Scene, s: usize, p: usize, what: &str) -> Result<Equations, SweepError> {
+    let patch = scene
+        .surfaces
+        .get(s)
+        .and_then(|x| x.patches.get(p))
+        .ok_or_else(|| SweepError::field(what, format!("no patch {p} on surface {s}")))?;
+    equations(scene, patch, &eye_point(scene))
+}
+
 /// Re-checks a `t`-extreme point's certificate: rebuilds `F̃`, `G̃` of its patch from the scene
 /// (with the factors of characteristic patch edges divided out of `F̃`, module `edges`) and
 /// checks Miranda's test and the Jacobian's dominance on its box for `F = G = H = 0` with
@@ -734,17 +752,7 @@ pub fn verify_t_extreme(
     extreme: &TExtreme,
     printed_eq2: bool,
 ) -> Result<Result<RootCheck, RootRefusal>, SweepError> {
-    let patch = scene
-        .surfaces
-        .get(extreme.surface)
-        .and_then(|s| s.patches.get(extreme.patch))
-        .ok_or_else(|| {
-            SweepError::field(
-                "t_extreme",
-                format!("no patch {} on surface {}", extreme.patch, extreme.surface),
-            )
-        })?;
-    let eq = equations(scene, patch, &eye_point(scene))?;
+    let eq = patch_equations(scene, extreme.surface, extreme.patch, "t_extreme")?;
     let (f_hat, faces) = characteristic_faces(&eq.f, extreme.surface, extreme.patch)?;
     let system = match extreme.edge {
         None => extreme_system(
@@ -787,17 +795,7 @@ pub fn verify_ruling(
     printed_eq2: bool,
 ) -> Result<Result<RootCheck, RootRefusal>, SweepError> {
     let bad = |why: String| SweepError::field("ruling", why);
-    let patch = scene
-        .surfaces
-        .get(ruling.surface)
-        .and_then(|s| s.patches.get(ruling.patch))
-        .ok_or_else(|| {
-            bad(format!(
-                "no patch {} on surface {}",
-                ruling.patch, ruling.surface
-            ))
-        })?;
-    let eq = equations(scene, patch, &eye_point(scene))?;
+    let eq = patch_equations(scene, ruling.surface, ruling.patch, "ruling")?;
     let (f_hat, _) = characteristic_faces(&eq.f, ruling.surface, ruling.patch)?;
     let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
     let g = if printed_eq2 { &eq.g_printed } else { &eq.g };
@@ -849,14 +847,7 @@ pub fn verify_corner_crossing(
     printed_eq2: bool,
 ) -> Result<bool, SweepError> {
     let (s, p) = (crossing.surface, crossing.patch);
-    let patch = scene
-        .surfaces
-        .get(s)
-        .and_then(|x| x.patches.get(p))
-        .ok_or_else(|| {
-            SweepError::field("corner_crossing", format!("no patch {p} on surface {s}"))
-        })?;
-    let eq = equations(scene, patch, &eye_point(scene))?;
+    let eq = patch_equations(scene, s, p, "corner_crossing")?;
     let (f_hat, _) = characteristic_faces(&eq.f, s, p)?;
     let system = patch_system(scene, &Equations { f: f_hat, ..eq }, printed_eq2)?;
     if crossing.bounds.len() != 3 {
@@ -887,14 +878,7 @@ pub fn verify_cap_corner_passage(
     printed_eq2: bool,
 ) -> Result<bool, SweepError> {
     let (s, p) = (passage.surface, passage.patch);
-    let patch = scene
-        .surfaces
-        .get(s)
-        .and_then(|x| x.patches.get(p))
-        .ok_or_else(|| {
-            SweepError::field("cap_corner_passage", format!("no patch {p} on surface {s}"))
-        })?;
-    let eq = equations(scene, patch, &eye_point(scene))?;
+    let eq = patch_equations(scene, s, p, "cap_corner_passage")?;
     let g = if printed_eq2 { &eq.g_printed } else { &eq.g };
     let system = cap_system(g, passage.upper, &eq.divided)?;
     Ok(

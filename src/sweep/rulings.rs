@@ -57,7 +57,7 @@ pub enum RulingEvidence {
     /// A tangency: the solve of `F̂ = Ĝ = 0` left the cluster `cluster`, which holds the
     /// certified simple root `critical` of `F̂ = H = 0` (the one point of its box where `Ĝ`
     /// is critical along `F̂ = 0`), and `|Ĝ| ≤ g_bound` on `critical`'s box (`Ĝ` scaled to
-    /// its largest coefficient on the patch being 1). Within the cluster the silhouette is
+    /// its largest coefficient on the widened square being 1). Within the cluster the silhouette is
     /// the merged line, or two lines, or none.
     Tangent {
         /// The root of `F̂ = H = 0`.

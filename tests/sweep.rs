@@ -1601,6 +1601,32 @@ proptest::proptest! {
             .filter(|c| c.kind == ComponentKind::Envelope)
             .collect();
         proptest::prop_assert_eq!(envelope.len(), if outside > 0 { 2 } else { 0 });
+        // The exact path finds the same lines; the fast path too wherever it certified its
+        // envelope (no envelope cluster left `Uncertain`).
+        let starts = |s: &Silhouettes| -> Vec<[f64; 3]> {
+            s.components
+                .iter()
+                .filter(|c| c.kind == ComponentKind::Envelope)
+                .map(|c| c.points[0])
+                .collect()
+        };
+        // The same points, in any order (each has a partner within 1e-9).
+        let same = |a: &[[f64; 3]], b: &[[f64; 3]]| {
+            let near = |p: &[f64; 3], q: &[f64; 3]| (0..3).all(|k| (p[k] - q[k]).abs() < 1e-9);
+            a.len() == b.len()
+                && a.iter().all(|p| b.iter().any(|q| near(p, q)))
+                && b.iter().all(|q| a.iter().any(|p| near(p, q)))
+        };
+        let filtered = starts(&sil);
+        for path in [Path::Exact, Path::Fast] {
+            let other =
+                silhouette(&scene, &SilhouetteOptions::default().with_path(path)).unwrap();
+            if path == Path::Fast && other.clusters.iter().any(|c| c.2 == ComponentKind::Envelope) {
+                continue;
+            }
+            let found = starts(&other);
+            proptest::prop_assert!(same(&filtered, &found), "{:?}: {:?} vs {:?}", path, filtered, found);
+        }
         let ef = e.map(|x| x as f64);
         let df = d.map(|x| x as f64);
         for c in envelope {

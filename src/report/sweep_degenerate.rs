@@ -1,11 +1,12 @@
 //! The degenerate-but-legal eyes of `reports/sweep.md`: an eye on the extension of a
 //! capsule's cylinder (the two contour lines merge into one tangential ruling), a contour
-//! through a sphere's pole (a collapsed patch edge), and a ruling along a patch corner where
-//! three patches meet. Each is measured against its closed form.
+//! through a sphere's pole (a collapsed patch edge), a ruling along a patch corner where
+//! three patches meet, and a contour tangent to a patch border. Each is measured against its
+//! closed form.
 
 use crate::sweep::{
-    scene_from_json, silhouette, verify_cap_corner_passage, verify_ruling, ComponentKind,
-    RulingEvidence, Scene, SilhouetteOptions, Silhouettes,
+    scene_from_json, silhouette, verify_cap_border_touch, verify_cap_corner_passage, verify_ruling,
+    ComponentKind, RulingEvidence, Scene, SilhouetteOptions, Silhouettes,
 };
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -36,7 +37,8 @@ pub struct DegenerateRow {
     pub cap_clusters: usize,
     /// Whether both caps are closed curves.
     pub caps_closed: bool,
-    /// The caps' certified passages through patch corners, and how many re-check.
+    /// The caps' certified passages through patch corners and touches on patch borders, and
+    /// how many re-check.
     pub cap_passages: usize,
     pub cap_passages_verified: usize,
     /// The closed-form measure (see `check`).
@@ -96,7 +98,24 @@ fn through_corner(_: &Scene, s: &Silhouettes) -> f64 {
         .count() as f64
 }
 
-const CASES: [Case; 3] = [
+/// The start position's contour's largest distance from its closed form, the circle
+/// `|X| = 1`, `⟨X, E⟩ = 1` with `E = (−6, −1, −8)`: the larger of `||X| − 1|` and the
+/// distance to the plane.
+fn off_contour_circle(_: &Scene, s: &Silhouettes) -> f64 {
+    let e = [-6.0, -1.0, -8.0];
+    let norm = |p: [f64; 3]| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+    s.components
+        .iter()
+        .filter(|c| c.kind == ComponentKind::CapA)
+        .flat_map(|c| c.points.iter())
+        .map(|&p| {
+            let plane = (p[0] * e[0] + p[1] * e[1] + p[2] * e[2] - 1.0).abs() / norm(e);
+            (norm(p) - 1.0).abs().max(plane)
+        })
+        .fold(0.0, f64::max)
+}
+
+const CASES: [Case; 4] = [
     (
         "eye on the cylinder's extension",
         r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": 1}}], "t": [0, 2], "motion": {"translation": [[0, 2], [0, "1/2"], [0]]}, "eye": [8, 2, 1]}"#,
@@ -114,6 +133,12 @@ const CASES: [Case; 3] = [
         r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": 1}}], "t": [0, 1], "motion": {"translation": [[0, "613/338"], [0, "295/507"], [0, "-97/507"]], "linear": [[[1, "1/2"], [0], [0]], [[0], [1, "1/2"], [0]], [[0], [0], [1, "1/2"]]]}, "eye": ["151/507", "603/169", "-2194/507"]}"#,
         "envelope components through the corner (−247, 398, 194)/507 at t = 0 (three patches meet there)",
         through_corner,
+    ),
+    (
+        "start position's contour tangent to a patch border",
+        r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": 1}}], "t": [0, 1], "motion": {"translation": [[0, -2], [0, -2], [0, 1]]}, "eye": [-6, -1, -8]}"#,
+        "largest distance of the start position's contour's vertices from the circle |X| = 1, ⟨X, (−6, −1, −8)⟩ = 1 (it touches the border between two patches at one point)",
+        off_contour_circle,
     ),
 ];
 
@@ -191,12 +216,16 @@ pub fn degenerate_runs() -> Vec<DegenerateRow> {
                 let caps: Vec<_> = s.components.iter().filter(is(k)).collect();
                 !caps.is_empty() && caps.iter().all(|c| c.closed)
             });
-            row.cap_passages = s.cap_corner_passages.len();
+            row.cap_passages = s.cap_corner_passages.len() + s.cap_border_touches.len();
             row.cap_passages_verified = s
                 .cap_corner_passages
                 .iter()
                 .filter(|x| matches!(verify_cap_corner_passage(&scene, x, false), Ok(true)))
-                .count();
+                .count()
+                + s.cap_border_touches
+                    .iter()
+                    .filter(|x| matches!(verify_cap_border_touch(&scene, x, false), Ok(true)))
+                    .count();
             row.closed_form = measure(&scene, &s);
             row
         })
@@ -206,7 +235,8 @@ pub fn degenerate_runs() -> Vec<DegenerateRow> {
 /// Whether every case ran, every ruling re-checked, and each matches its closed form: one
 /// tangential ruling within 1e-7 of the line; the contour through the pole closed, with a
 /// vertex on the pole and nothing unresolved; one component through the corner, the caps
-/// through that corner certified there.
+/// through that corner certified there; the contour tangent to a patch border on its circle,
+/// its two touches (one per patch) certified.
 pub fn degenerate_ok(rows: &[DegenerateRow]) -> bool {
     rows.len() == CASES.len()
         && rows.iter().all(|r| {
@@ -223,6 +253,8 @@ pub fn degenerate_ok(rows: &[DegenerateRow]) -> bool {
         && rows[1].closed_form < 1e-9
         && rows[2].closed_form == 1.0
         && rows[2].envelope_clusters == 0
+        && rows[3].cap_passages == 2
+        && rows[3].closed_form < 1e-9
 }
 
 /// The report's section.
@@ -241,9 +273,14 @@ pub fn degenerate_markdown(s: &mut String, rows: &[DegenerateRow]) {
          patch corner is certified there like the envelope's passages (module `corners`: the \
          corner on it exactly, a partial derivative of one strict sign on the tracer's box, the \
          crossings of the box's inner edges counted, the corner the only zero on its border \
-         edges; re-checked by `verify_cap_corner_passage`). Median of {RUNS} runs, filtered \
-         path.\n\n\
-         | case | envelope components | rulings: root / tangent (re-checked) | max \\|Ĝ\\| bound | clusters: envelope / caps | caps closed | caps' corner passages (re-checked) | closed form | value | median s |\n\
+         edges; re-checked by `verify_cap_corner_passage`). A contour tangent to a patch border \
+         away from the corners (a double root of the border polynomial, which the tracer cannot \
+         certify) is certified as a touch on each of the two patches (module `corners`: `G`'s \
+         derivative across the border of one strict sign on the tracer's box, no zero on its \
+         inner edge, one distinct zero on the border by an exact gcd, the arcs to it counted from \
+         the signs at the box's corners; re-checked by `verify_cap_border_touch`). Median of \
+         {RUNS} runs, filtered path.\n\n\
+         | case | envelope components | rulings: root / tangent (re-checked) | max \\|Ĝ\\| bound | clusters: envelope / caps | caps closed | caps' corner passages and border touches (re-checked) | closed form | value | median s |\n\
          |---|---:|---|---:|---|---|---|---|---:|---:|"
     );
     for r in rows {

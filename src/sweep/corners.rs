@@ -561,6 +561,201 @@ pub(crate) fn resolve_cap_corners(
     Ok(out)
 }
 
+/// A certified touch of an end position's contour (a cap, `G̃(u, v, a or b) = 0`) on a patch
+/// border away from the corners: the contour meets the border `border` at one point, where
+/// the border polynomial `e(w) = G̃` on that border has a multiple root (the contour is
+/// tangent to the border there, or crosses it with a tangency of higher order), which the
+/// tracer cannot certify and leaves as a cluster. Certified on the cluster box `B`:
+///
+/// * `G̃`'s partial derivative across the border has one strict sign on `B`, so in `B` the
+///   contour is the graph of a function of the parameter along the border, over the set
+///   where `G̃` on the border and on `B`'s inner edge differ in sign;
+/// * on `B`'s inner edge `G̃` has no zero, and on its span along the border `e` has exactly
+///   one distinct zero, strictly inside (one root of `e`'s square-free part, exact gcd):
+///   the touch point `P`;
+/// * so each of `B`'s two side edges carries a crossing exactly when `e` at its end differs
+///   in sign from the inner edge, and each such crossing is joined to `P` by one arc.
+///
+/// `arcs` counts those arcs: 2 when the contour touches the border from this patch's side
+/// (the two arcs meet at `P`), 1 when it crosses into the neighbour at `P`, 0 when it only
+/// touches this patch at `P` (it lies on the neighbour's side).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CapBorderTouch {
+    /// The surface.
+    pub surface: usize,
+    /// The patch.
+    pub patch: usize,
+    /// The end position: `t = b` when set, else `t = a`.
+    pub upper: bool,
+    /// The border: `(axis, upper)`, the parameter (0 = u, 1 = v) fixed at its upper end
+    /// (`1`) when `upper`, else at `0`.
+    pub border: (usize, bool),
+    /// An isolating interval of the touch point's parameter along the border: it holds the
+    /// one distinct root of `e` in `B`'s span.
+    pub along: (Rational, Rational),
+    /// The box `B` in `(u, v)`.
+    pub bounds: RationalBox,
+    /// Arcs of the contour in `B` ending at the touch point: 0, 1 or 2.
+    pub arcs: usize,
+}
+
+/// The sign of a non-zero rational (`None` for zero).
+fn sign_of(x: &Rational) -> Option<bool> {
+    (!x.is_zero()).then(|| x.is_positive())
+}
+
+/// The isolating intervals (in `[0, 1]`) of the distinct roots of the univariate `e`
+/// (Bernstein on the unit interval, not identically zero): the roots of its square-free part
+/// (exact gcd with its derivative), certified by the solver; `None` when the solve left a
+/// cluster.
+fn distinct_roots(e: &B) -> Result<Option<Vec<Interval01>>, SweepError> {
+    let p = trimmed(e.to_power());
+    if p.len() <= 1 {
+        return Ok(Some(Vec::new()));
+    }
+    let derivative: Vec<Rational> = p
+        .iter()
+        .enumerate()
+        .skip(1)
+        .map(|(k, c)| c * Rational::from_integer(k.into()))
+        .collect();
+    let square_free = div_rem(&p, &gcd(&p, &derivative)).0;
+    let degree = square_free.len() - 1;
+    let unit = (Rational::zero(), Rational::one());
+    let system = System::new(
+        vec![unit],
+        vec![Bernstein::from_power(vec![degree], square_free)?],
+    )?;
+    let solution = solve(
+        &system,
+        &SolveOptions::new()
+            .with_path(Path::Filtered)
+            .with_tolerance(1e-12),
+    )?;
+    Ok(solution.clusters.is_empty().then(|| {
+        solution
+            .roots
+            .into_iter()
+            .map(|r| r.bounds[0].clone())
+            .collect()
+    }))
+}
+
+/// Certifies a cap's touch on `border` in the box `bounds` (unit `(u, v)`: on the border in
+/// its axis, strictly inside the patch in the other): `Some((along, arcs))`
+/// ([`CapBorderTouch`]), or `None` when a step does not hold.
+pub(crate) fn certify_cap_border_box(
+    g: &B,
+    border: (usize, bool),
+    bounds: &[(Rational, Rational)],
+) -> Result<Option<(Interval01, usize)>, SweepError> {
+    let (k, upper) = border;
+    if bounds.len() != 2 || g.dim() != 2 || k > 1 {
+        return Ok(None);
+    }
+    let o = 1 - k;
+    let ((klo, khi), (lo, hi)) = (&bounds[k], &bounds[o]);
+    let c = end(upper);
+    let on_border = if upper { khi == &c } else { klo == &c };
+    if !(klo < khi && on_border && lo.is_positive() && lo < hi && hi < &Rational::one()) {
+        return Ok(None);
+    }
+    // Monotone across the border.
+    if !strictly_signed(&g.restrict(bounds)?.derivative(k)?) {
+        return Ok(None);
+    }
+    // The border polynomial over B's span, in a unit parameter.
+    let e = reframed(&g.face(k, upper)?, 0, lo, hi)?;
+    let (first, last) = (&e.coeffs()[0], e.coeffs().last().expect("non-empty"));
+    let (Some(e_lo), Some(e_hi)) = (sign_of(first), sign_of(last)) else {
+        return Ok(None);
+    };
+    let Some(roots) = distinct_roots(&e)? else {
+        return Ok(None);
+    };
+    let [(s_lo, s_hi)] = roots.as_slice() else {
+        return Ok(None);
+    };
+    // The inner edge: no zero, and its sign.
+    let inner_x = if upper { klo } else { khi };
+    let inner = g
+        .eval_axis(k, inner_x)?
+        .face(k, false)?
+        .restrict(std::slice::from_ref(&bounds[o]))?;
+    if !strictly_signed(&inner) && roots_on_unit_box(vec![inner.clone()])? != Some(0) {
+        return Ok(None);
+    }
+    let Some(sigma) = sign_of(&inner.coeffs()[0]) else {
+        return Ok(None);
+    };
+    let arcs = usize::from(e_lo != sigma) + usize::from(e_hi != sigma);
+    let along = (
+        crate::num::rational::lerp(lo, hi, s_lo),
+        crate::num::rational::lerp(lo, hi, s_hi),
+    );
+    Ok(Some((along, arcs)))
+}
+
+/// The border a cluster hull sits on away from the corners (unit `(u, v)`): `(axis, upper)`
+/// when the hull reaches exactly one end of `[0, 1]` in one parameter and neither end in the
+/// other.
+fn border_of_hull(hull: &[(Rational, Rational)]) -> Option<(usize, bool)> {
+    let at_end = |k: usize| -> Option<Option<bool>> {
+        let (lo, hi) = &hull[k];
+        match (lo.is_zero(), hi.is_one()) {
+            (true, false) => Some(Some(false)),
+            (false, true) => Some(Some(true)),
+            (false, false) => Some(None),
+            (true, true) => None,
+        }
+    };
+    match (at_end(0)?, at_end(1)?) {
+        (Some(upper), None) => Some((0, upper)),
+        (None, Some(upper)) => Some((1, upper)),
+        _ => None,
+    }
+}
+
+/// The cluster groups of a cap's trace (as [`resolve_cap_corners`]) that sit on a patch
+/// border away from the corners and are certified as a touch there
+/// ([`certify_cap_border_box`] on the group's hull, as many pieces ending in the group as
+/// arcs certified): `(group, touch)`.
+pub(crate) fn resolve_cap_borders(
+    system: &System,
+    curves: &Curves,
+    surface: usize,
+    patch: usize,
+    upper: bool,
+) -> Result<Vec<(usize, CapBorderTouch)>, SweepError> {
+    let g = &system.equations[0];
+    let mut out = Vec::new();
+    for (group, members) in curves.cluster_groups.iter().enumerate() {
+        let hull = hull_of(members.iter().map(|&m| &curves.clusters[m].bounds));
+        let Some(border) = border_of_hull(&hull) else {
+            continue;
+        };
+        let Some((along, arcs)) = certify_cap_border_box(g, border, &hull)? else {
+            continue;
+        };
+        if entering(curves, group) != arcs {
+            continue;
+        }
+        out.push((
+            group,
+            CapBorderTouch {
+                surface,
+                patch,
+                upper,
+                border,
+                along,
+                bounds: hull,
+                arcs,
+            },
+        ));
+    }
+    Ok(out)
+}
+
 /// The hull of boxes (the cap's domain is the unit square, so domain and unit coordinates
 /// agree).
 fn hull_of<'a>(boxes: impl Iterator<Item = &'a RationalBox>) -> Vec<(Rational, Rational)> {
@@ -589,6 +784,47 @@ mod tests {
 
     fn r(n: i64, d: i64) -> Rational {
         Rational::new(n.into(), d.into())
+    }
+
+    /// `G = ±u − (v − ½)^m` on a box at the border `u = 0` around `v = ½`: the contour
+    /// `u = (v − ½)²` touches the border from inside (two arcs meet there), `−u = (v − ½)²`
+    /// only touches this side at the point (none), `u = (v − ½)³` crosses at an inflexion
+    /// (one arc); a box off the border, or one where the inner edge is crossed, is refused.
+    #[test]
+    fn border_touches_count_their_arcs() {
+        let curve = |su: i64, m: usize| {
+            // Power coefficients, u fastest: ±u − (v − ½)^m.
+            let mut c = vec![r(0, 1); 2 * (m + 1)];
+            c[1] = r(su, 1);
+            let binom =
+                |n: usize, k: usize| (0..k).fold(1i64, |a, i| a * (n - i) as i64 / (i as i64 + 1));
+            for j in 0..=m {
+                // −C(m, j) v^j (−½)^(m−j)
+                let sign = if (m - j).is_multiple_of(2) { -1 } else { 1 };
+                c[2 * j] = r(sign * binom(m, j), 1 << (m - j));
+            }
+            Bernstein::from_power(vec![1, m], c).unwrap()
+        };
+        let near = vec![(r(0, 1), r(1, 64)), (r(7, 16), r(9, 16))];
+        let half = |x: &(Rational, Rational)| x.0 <= r(1, 2) && r(1, 2) <= x.1;
+        for (su, m, arcs) in [(1, 2, 2), (-1, 2, 0), (1, 3, 1)] {
+            let (along, n) = certify_cap_border_box(&curve(su, m), (0, false), &near)
+                .unwrap()
+                .unwrap();
+            assert_eq!(n, arcs, "±u = {su}, m = {m}");
+            assert!(half(&along), "{along:?}");
+        }
+        // Not on the border, or the inner edge u = ⅛ crossed by the contour.
+        let off = vec![(r(1, 128), r(1, 64)), (r(7, 16), r(9, 16))];
+        assert_eq!(
+            certify_cap_border_box(&curve(1, 2), (0, false), &off).unwrap(),
+            None
+        );
+        let wide = vec![(r(0, 1), r(1, 8)), (r(1, 16), r(15, 16))];
+        assert_eq!(
+            certify_cap_border_box(&curve(1, 2), (0, false), &wide).unwrap(),
+            None
+        );
     }
 
     /// The gcd of `(s − ½)(s − ⅓)` and `(s − ½)(s + 2)` is `s − ½`; the square-free part of a

@@ -38,7 +38,7 @@ mod rulings;
 mod scene;
 mod silhouette;
 
-pub use corners::{CapCornerPassage, CornerCrossing};
+pub use corners::{CapBorderTouch, CapCornerPassage, CornerCrossing};
 pub use equations::{equations, patch_normal, Equations, Normal};
 pub use events::{
     event_groups, event_systems, events, group_of_each, verify_event, verify_events, Event,
@@ -51,9 +51,10 @@ pub use scene::{builtin_scene, builtin_scene_json, scene_from_json, Patch, BUILT
 #[cfg(feature = "reports")]
 pub(crate) use silhouette::{apply_motion, eye_point};
 pub use silhouette::{
-    silhouette, t_extreme_systems, verify_cap_corner_passage, verify_corner_crossing,
-    verify_ruling, verify_t_extreme, ComponentEnd, ComponentKind, ComponentType,
-    SilhouetteComponent, SilhouetteOptions, Silhouettes, TExtreme, JOIN_TOLERANCE, MIN_RESOLUTION,
+    silhouette, t_extreme_systems, verify_cap_border_touch, verify_cap_corner_passage,
+    verify_corner_crossing, verify_ruling, verify_t_extreme, ComponentEnd, ComponentKind,
+    ComponentType, SilhouetteComponent, SilhouetteOptions, Silhouettes, TExtreme, JOIN_TOLERANCE,
+    MIN_RESOLUTION,
 };
 
 use crate::bernstein::BernsteinError;

@@ -21,8 +21,9 @@
 //! in `(u, v)` — are traced the same way and reported as caps.
 
 use super::corners::{
-    certify_cap_corner_box, certify_corner_box, check_corner_lines, corner_times,
-    resolve_cap_corners, resolve_corners, CapCornerPassage, CornerCrossing,
+    certify_cap_border_box, certify_cap_corner_box, certify_corner_box, check_corner_lines,
+    corner_times, resolve_cap_borders, resolve_cap_corners, resolve_corners, CapBorderTouch,
+    CapCornerPassage, CornerCrossing,
 };
 use super::edges::{characteristic_faces, edge_system, same_edge, EdgeKey};
 use super::equations::{equations, equations_with, motion_forms, Equations};
@@ -205,6 +206,10 @@ pub struct Silhouettes {
     /// Certified passages of the end positions' contours through patch corners (module
     /// `corners`; re-checked by [`verify_cap_corner_passage`]).
     pub cap_corner_passages: Vec<CapCornerPassage>,
+    /// The contours of the start and end positions touching a patch border away from the
+    /// corners, certified where the tracer left clusters on the border (module `corners`;
+    /// re-checked by [`verify_cap_border_touch`]).
+    pub cap_border_touches: Vec<CapBorderTouch>,
     /// Boxes the tracer could not resolve: `(surface, patch, kind, cluster)`.
     pub clusters: Vec<(usize, usize, ComponentKind, Cluster)>,
     /// `t`-extreme candidates the solver could not certify (singular points of `Z₁` among
@@ -887,6 +892,30 @@ pub fn verify_cap_corner_passage(
     )
 }
 
+/// Re-checks a cap's touch on a patch border ([`Silhouettes::cap_border_touches`]) from the
+/// scene, without the tracer: rebuilds the end position's contour equation of its patch (a
+/// pole's factor divided out as in [`silhouette`]) and certifies the box again (one strict
+/// sign across the border, none on the inner edge, one distinct zero on the border by an
+/// exact gcd, the arcs counted from the signs at the box's corners).
+pub fn verify_cap_border_touch(
+    scene: &Scene,
+    touch: &CapBorderTouch,
+    printed_eq2: bool,
+) -> Result<bool, SweepError> {
+    let (s, p) = (touch.surface, touch.patch);
+    let eq = patch_equations(scene, s, p, "cap_border_touch")?;
+    let g = if printed_eq2 { &eq.g_printed } else { &eq.g };
+    let system = cap_system(g, touch.upper, &eq.divided)?;
+    let Some((along, arcs)) =
+        certify_cap_border_box(&system.equations[0], touch.border, &touch.bounds)?
+    else {
+        return Ok(false);
+    };
+    // The same root: the recorded interval and the one found now overlap (each holds the
+    // only distinct root in the box's span).
+    Ok(arcs == touch.arcs && along.0 <= touch.along.1 && touch.along.0 <= along.1)
+}
+
 /// Per patch of every surface (in order), the square system `Z₀ = {F̃ = G̃ = H = 0}` of
 /// eq. 3 on `[0,1]² × [a, b]` (`H` the Jacobian minor `F_u G_v − F_v G_u`): its roots are the
 /// silhouette's `t`-extreme points. These are the solver's silhouette systems;
@@ -1074,6 +1103,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
     let mut edge_keys = Vec::new();
     let mut corner_crossings = Vec::new();
     let mut cap_passages = Vec::new();
+    let mut cap_touches = Vec::new();
     // The motion's Bernstein forms and their certified checks, once for every patch.
     let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
     for (s, surface) in scene.surfaces.iter().enumerate() {
@@ -1219,12 +1249,21 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                         trace_to_tolerance(&system, &curve_opts, &face, opts.tolerance)?;
                     // Cluster groups on patch corners certified as the contour's passages.
                     let passages = resolve_cap_corners(&system, &cap, s, p, upper)?;
+                    // And those on a border away from the corners, certified as touches.
+                    let touches = resolve_cap_borders(&system, &cap, s, p, upper)?;
+                    let at = |upper: bool| if upper { 1.0 } else { 0.0 };
                     let corner_points: Vec<(usize, [f64; 3])> = passages
                         .iter()
-                        .map(|(group, cp)| {
-                            let at = |upper: bool| if upper { 1.0 } else { 0.0 };
-                            (*group, [at(cp.corner[0]), at(cp.corner[1]), t])
-                        })
+                        .map(|(group, cp)| (*group, [at(cp.corner[0]), at(cp.corner[1]), t]))
+                        .chain(touches.iter().map(|(group, x)| {
+                            let (axis, upper) = x.border;
+                            let mut point = [0.0, 0.0, t];
+                            point[axis] = at(upper);
+                            point[1 - axis] = rational_to_f64(
+                                &((&x.along.0 + &x.along.1) / Rational::from_integer(2.into())),
+                            );
+                            (*group, point)
+                        }))
                         .collect();
                     acc.pieces.extend(pieces_of(
                         scene,
@@ -1238,7 +1277,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                         0,
                         &corner_points,
                     ));
-                    let resolved: Vec<usize> = passages
+                    let resolved: Vec<usize> = corner_points
                         .iter()
                         .flat_map(|(group, _)| cap.cluster_groups[*group].iter().copied())
                         .collect();
@@ -1250,6 +1289,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
                             .map(|(_, c)| (s, p, kind, c.clone())),
                     );
                     cap_passages.extend(passages.into_iter().map(|(_, cp)| cp));
+                    cap_touches.extend(touches.into_iter().map(|(_, x)| x));
                 }
             }
         }
@@ -1275,6 +1315,7 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
         extreme_clusters,
         rulings,
         cap_corner_passages: cap_passages,
+        cap_border_touches: cap_touches,
         patches,
         path: opts.path,
         seconds: clock.elapsed().as_secs_f64(),

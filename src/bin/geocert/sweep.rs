@@ -9,8 +9,8 @@ use geocert::internals::report::sweep::frame_svg;
 use geocert::num::rational_to_string;
 use geocert::sweep::{
     builtin_scene, event_groups, events, frames, group_of_each, scene_from_json, silhouette,
-    verify_events, verify_ruling, ComponentEnd, EventKind, Eye, RulingEvidence, Scene,
-    SilhouetteOptions, Silhouettes,
+    verify_cap_border_touch, verify_events, verify_ruling, ComponentEnd, EventKind, Eye,
+    RulingEvidence, Scene, SilhouetteOptions, Silhouettes,
 };
 use geocert::Path;
 use serde_json::{json, Value};
@@ -419,12 +419,18 @@ fn run_silhouette(a: SilhouetteArgs) -> Result<ExitCode, String> {
         .iter()
         .map(|r| matches!(verify_ruling(&scene, r, a.printed_eq2), Ok(Ok(_))))
         .collect();
+    // And every touch of a cap on a patch border (module `corners`).
+    let touches: Vec<bool> = s
+        .cap_border_touches
+        .iter()
+        .map(|x| matches!(verify_cap_border_touch(&scene, x, a.printed_eq2), Ok(true)))
+        .collect();
     if a.json {
-        println!("{}", pretty(&to_json(&s, &verified))?);
+        println!("{}", pretty(&to_json(&s, &verified, &touches))?);
     } else {
         print_summary(&s, &verified);
     }
-    Ok(if verified.iter().all(|&v| v) {
+    Ok(if verified.iter().chain(&touches).all(|&v| v) {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
@@ -466,7 +472,13 @@ fn event_clusters_json(
         .collect()
 }
 
-fn to_json(s: &Silhouettes, verified: &[bool]) -> Value {
+/// A patch border `(axis, upper)` in the JSON.
+fn border_json((axis, upper): (usize, bool)) -> Value {
+    let name = ["u", "v"][axis];
+    json!({"axis": name, "upper": upper})
+}
+
+fn to_json(s: &Silhouettes, verified: &[bool], touches: &[bool]) -> Value {
     json!({
         "path": s.path.to_string(),
         "components": s.components.iter().map(|c| json!({
@@ -517,6 +529,16 @@ fn to_json(s: &Silhouettes, verified: &[bool]) -> Value {
             "monotone_axis": c.monotone_axis,
             "arcs": c.arcs,
         })).collect::<Vec<_>>(),
+        "cap_border_touches": s.cap_border_touches.iter().zip(touches).map(|(x, &ok)| json!({
+            "surface": x.surface,
+            "patch": x.patch,
+            "cap": if x.upper { "cap_b" } else { "cap_a" },
+            "border": border_json(x.border),
+            "along": [x.along.0.to_string(), x.along.1.to_string()],
+            "box": boxed(&x.bounds),
+            "arcs": x.arcs,
+            "verified": ok,
+        })).collect::<Vec<_>>(),
         "rulings": s.rulings.iter().zip(verified).map(|(r, &ok)| {
             let (kind, root, g_bound) = match &r.evidence {
                 RulingEvidence::Root(root) => ("root", root, None),
@@ -541,11 +563,11 @@ fn to_json(s: &Silhouettes, verified: &[bool]) -> Value {
 
 fn print_summary(s: &Silhouettes, verified: &[bool]) {
     println!(
-        "{} patches, {} components, {} certified t-extreme points, {} passages through patch corners, {} clusters ({} path, {:.3} s)",
+        "{} patches, {} components, {} certified t-extreme points, {} passages through patch corners and touches on patch borders, {} clusters ({} path, {:.3} s)",
         s.patches,
         s.components.len(),
         s.t_extreme.len(),
-        s.corner_crossings.len() + s.cap_corner_passages.len(),
+        s.corner_crossings.len() + s.cap_corner_passages.len() + s.cap_border_touches.len(),
         s.clusters.len() + s.extreme_clusters.len(),
         s.path,
         s.seconds

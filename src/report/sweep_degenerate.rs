@@ -137,7 +137,7 @@ const CASES: [Case; 4] = [
     (
         "start position's contour tangent to a patch border",
         r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": 1}}], "t": [0, 1], "motion": {"translation": [[0, -2], [0, -2], [0, 1]]}, "eye": [-6, -1, -8]}"#,
-        "largest distance of the start position's contour's vertices from the circle |X| = 1, ⟨X, (−6, −1, −8)⟩ = 1 (it touches the border between two patches at one point)",
+        "largest distance of the start position's contour's vertices from the circle ‖X‖ = 1, ⟨X, (−6, −1, −8)⟩ = 1 (it touches the border between two patches at one point)",
         off_contour_circle,
     ),
 ];

@@ -1084,6 +1084,32 @@ fn frames_continue_between_events_and_are_traced_across_them() {
     assert!(worst < 0.1, "{worst}");
 }
 
+/// The distance from `p` to the nearest segment of the polylines `lines` (closed ones with
+/// their closing segment).
+fn to_polylines(p: &[f64; 3], lines: &[(Vec<[f64; 3]>, bool)]) -> f64 {
+    let seg = |a: &[f64; 3], b: &[f64; 3]| {
+        let d: [f64; 3] = std::array::from_fn(|k| b[k] - a[k]);
+        let dd: f64 = d.iter().map(|x| x * x).sum();
+        let t = if dd > 0.0 {
+            ((0..3).map(|k| (p[k] - a[k]) * d[k]).sum::<f64>() / dd).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (0..3)
+            .map(|k| (p[k] - a[k] - t * d[k]).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    lines
+        .iter()
+        .flat_map(|(pts, closed)| {
+            let closing = closed.then(|| (pts[pts.len() - 1], pts[0]));
+            pts.windows(2).map(|w| (w[0], w[1])).chain(closing)
+        })
+        .map(|(a, b)| seg(&a, &b))
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// The largest distance of a continued frame's points from the polylines of a fresh
 /// certified trace from the same eye point, which has as many envelope components.
 fn farthest_from_a_fresh_trace(
@@ -1110,19 +1136,16 @@ fn farthest_from_a_fresh_trace(
         .filter(|c| c.kind == ComponentKind::Envelope)
         .collect();
     assert_eq!(fresh_env.len(), frame.components.len());
-    let traced_points: Vec<[f64; 3]> = fresh_env.iter().flat_map(|c| c.points.clone()).collect();
-    let mut worst = 0.0f64;
-    for c in &frame.components {
-        for p in &c.points {
-            let d = traced_points
-                .iter()
-                .map(|q| {
-                    ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
-                })
-                .fold(f64::INFINITY, f64::min);
-            worst = worst.max(d);
-        }
-    }
+    let traced: Vec<(Vec<[f64; 3]>, bool)> = fresh_env
+        .iter()
+        .map(|c| (c.points.clone(), c.closed))
+        .collect();
+    let worst = frame
+        .components
+        .iter()
+        .flat_map(|c| c.points.iter())
+        .map(|p| to_polylines(p, &traced))
+        .fold(0.0f64, f64::max);
     println!(
         "continued frame at r = {:.3}: farthest point {worst:.4} from the traced polylines",
         frame.r
@@ -1132,10 +1155,10 @@ fn farthest_from_a_fresh_trace(
 
 /// A component's piece on one patch shrinks as the eye moves (the border point joining it to
 /// the next patch slides along the border): the inner point that converges across the
-/// border is dropped, and the frame is continued, not traced afresh; its points stay on the
-/// silhouette of a fresh trace.
+/// border moves to the neighbouring patch, and the frame is continued, not traced afresh;
+/// its points stay on the silhouette of a fresh trace.
 #[test]
-fn a_continued_frame_drops_a_point_that_crossed_a_patch_border() {
+fn a_continued_frame_moves_a_point_that_crossed_a_patch_border() {
     use geocert::solve::SolveOptions;
     use geocert::sweep::frames;
     let scene = scene_from_json(TURN_EYE).unwrap();
@@ -1144,18 +1167,133 @@ fn a_continued_frame_drops_a_point_that_crossed_a_patch_border() {
     let f = frames(&scene, &rs, &opts, &SolveOptions::new()).unwrap();
     let (first, second) = (&f.frames[0], &f.frames[1]);
     assert!(first.traced && !second.traced);
-    let count = |x: &geocert::sweep::Frame| -> Vec<usize> {
-        x.components.iter().map(|c| c.uvt.len()).collect()
+    let per_patch = |x: &geocert::sweep::Frame| -> Vec<usize> {
+        let mut n = vec![0; 8];
+        for c in &x.components {
+            for &p in &c.patches {
+                n[p] += 1;
+            }
+        }
+        n
     };
     println!(
-        "points per component: {:?} → {:?}",
-        count(first),
-        count(second)
+        "points per patch: {:?} → {:?}",
+        per_patch(first),
+        per_patch(second)
     );
     assert_eq!(first.components.len(), second.components.len());
-    assert!(count(first).iter().sum::<usize>() > count(second).iter().sum::<usize>());
+    assert_ne!(per_patch(first), per_patch(second));
     let worst = farthest_from_a_fresh_trace(&scene, second, &opts);
     assert!(worst < 0.1, "{worst}");
+}
+
+/// Border events (a component's end on a patch border or on a time face crossing into the
+/// next patch, a piece touching a border) do not change the silhouette's topology: the
+/// frames across them are continued (points that cross a border move to the neighbouring
+/// patch, a junction point whose crossing is gone is dropped, fast-moving points are followed
+/// in substeps, gaps are refilled), and frames are traced only at the start, after
+/// off-border events, and where a component meets a time face anew. Each
+/// frame continued across a border event matches a fresh certified trace both ways: its
+/// points lie on the traced polylines, and the traced polylines' vertices are near its
+/// points (nothing of the curve is lost).
+#[test]
+fn frames_are_continued_across_border_events() {
+    use geocert::solve::SolveOptions;
+    use geocert::sweep::frames;
+    let scene = scene_from_json(TURN_EYE).unwrap();
+    let rs: Vec<f64> = (0..40).map(|i| 3.0 * i as f64 / 39.0).collect();
+    let opts = SilhouetteOptions::new();
+    let f = frames(&scene, &rs, &opts, &SolveOptions::new()).unwrap();
+    let off_border: Vec<f64> = f
+        .events
+        .events
+        .iter()
+        .filter(|e| !e.kind.on_patch_border())
+        .map(|e| e.r)
+        .collect();
+    let traced: Vec<f64> = f.frames.iter().filter(|x| x.traced).map(|x| x.r).collect();
+    // Traced: the first frame, and the first after each off-border event.
+    let mut expected = vec![rs[0]];
+    for &r in &off_border {
+        if let Some(&after) = rs.iter().find(|&&x| x > r) {
+            if !expected.contains(&after) {
+                expected.push(after);
+            }
+        }
+    }
+    expected.sort_by(f64::total_cmp);
+    println!("traced at {traced:?}; off-border events at {off_border:?}");
+    assert!(expected.iter().all(|r| traced.contains(r)), "{expected:?}");
+    // No continued point leaves the time interval (a component meeting a time face anew is
+    // traced afresh).
+    for x in f.frames.iter().filter(|x| !x.traced) {
+        for c in &x.components {
+            assert!(
+                c.uvt.iter().all(|y| (0.0..=1.0).contains(&y[2])),
+                "r = {}",
+                x.r
+            );
+        }
+    }
+    // The continued frames right after border events, against fresh traces.
+    let mut checked = 0;
+    for k in 1..rs.len() {
+        let frame = &f.frames[k];
+        let crossed = f
+            .events
+            .events
+            .iter()
+            .any(|e| e.kind.on_patch_border() && e.r > rs[k - 1] && e.r <= rs[k]);
+        if frame.traced || !crossed {
+            continue;
+        }
+        let (there, back) = both_ways_from_a_fresh_trace(&scene, frame, &opts);
+        println!("r = {:.3}: there {there:.1e}, back {back:.1e}", frame.r);
+        assert!(
+            there < 0.1 && back < 0.2,
+            "r = {}: {there}, {back}",
+            frame.r
+        );
+        checked += 1;
+    }
+    println!("{checked} frames continued across border events checked against fresh traces");
+    assert!(checked >= 6, "{checked}");
+}
+
+/// [`farthest_from_a_fresh_trace`], and the largest distance from the fresh trace's vertices
+/// back to the continued frame's points.
+fn both_ways_from_a_fresh_trace(
+    scene: &geocert::sweep::Scene,
+    frame: &geocert::sweep::Frame,
+    opts: &SilhouetteOptions,
+) -> (f64, f64) {
+    let there = farthest_from_a_fresh_trace(scene, frame, opts);
+    let Eye::Path { path, .. } = &scene.eye else {
+        unreachable!()
+    };
+    let rq = geocert::num::rational_from_f64(frame.r, "r").unwrap();
+    let mut fixed = scene.clone();
+    fixed.eye = Eye::Point(path.clone().map(|p| {
+        p.iter()
+            .rev()
+            .fold(geocert::num::Rational::from_integer(0.into()), |acc, c| {
+                acc * &rq + c
+            })
+    }));
+    let fresh = silhouette(&fixed, opts).unwrap();
+    let ours: Vec<(Vec<[f64; 3]>, bool)> = frame
+        .components
+        .iter()
+        .map(|c| (c.points.clone(), c.closed))
+        .collect();
+    let back = fresh
+        .components
+        .iter()
+        .filter(|c| c.kind == ComponentKind::Envelope)
+        .flat_map(|c| c.points.iter())
+        .map(|q| to_polylines(q, &ours))
+        .fold(0.0, f64::max);
+    (there, back)
 }
 
 /// The events whose certified `r` interval holds `r`.

@@ -4,10 +4,13 @@
 //! silhouette by Newton's method in `(u, v, t)` (the minimum-norm step for the two equations
 //! `F = 0`, `G(·, r) = 0`; a component's end on a time face keeps its `t`). A frame is traced
 //! afresh by the certified tracer ([`super::silhouette`]) when it is the first, when an event
-//! lies between it and the previous frame, or when a point does not converge. An inner point
-//! of a component that converges across a patch border (a component's piece on one patch
-//! shrinks as the border point joining it to the next patch slides) is dropped, a few per
-//! component and frame.
+//! off the patch borders lies between it and the previous frame, or when continuing fails
+//! (a point does not converge even in substeps of `r`, or a component meets a time face where
+//! it did not). Events on patch borders do not change the silhouette's topology, only how it
+//! is cut into patches: a point that converges across a border moves to the neighbouring
+//! patch (located there by its surface point), a point joining two patches' pieces whose
+//! crossing is gone is dropped, and gaps wider than the last traced frame's are refilled by
+//! points moved onto the silhouette.
 //!
 //! Continued frames are drawings, not certificates: the topology between events is what the
 //! events certify, and every continued point is checked to satisfy both equations to within
@@ -32,6 +35,10 @@ pub const CONTINUATION_TOLERANCE: f64 = 1e-9;
 /// running along a patch border crosses it back and forth; the patch's polynomials extend
 /// past it (for the primitives, onto the same quadric).
 pub const OVERSHOOT: f64 = 0.02;
+
+/// How far past the time interval's ends (in its unit parameter) a continued point may
+/// converge: rounding only (a point on a time face is held on it).
+const TIME_SLACK: f64 = 1e-9;
 
 /// How far (in parameter units) Newton's iterates may wander outside the patch's box before
 /// the point counts as lost; a converged point beyond [`OVERSHOOT`] has crossed into the
@@ -251,6 +258,9 @@ pub fn frames(
     let (a, b) = (rational_to_f64(&scene.t.0), rational_to_f64(&scene.t.1));
     let mut out: Vec<Frame> = Vec::with_capacity(rs.len());
     let mut continued_seconds = 0.0;
+    // The largest gap between consecutive points of the last traced frame: continued frames
+    // are refined to keep theirs within it.
+    let mut spacing = f64::INFINITY;
     for (k, &rk) in rs.iter().enumerate() {
         let crosses = k > 0
             && ev
@@ -264,7 +274,9 @@ pub fn frames(
             None
         } else {
             let clock = std::time::Instant::now();
-            let c = continue_frame(scene, &patch, &out[k - 1], rho, (a, b));
+            let rho_prev = (rs[k - 1] - solved.0) / (solved.1 - solved.0);
+            let c = continue_in_steps(scene, &patch, &out[k - 1], (rho_prev, rho), (a, b))
+                .map(|comps| refine(scene, &patch, comps, rho, spacing, (a, b)));
             continued_seconds += clock.elapsed().as_secs_f64();
             c
         };
@@ -284,10 +296,12 @@ pub fn frames(
                 let mut fixed = scene.clone();
                 fixed.eye = Eye::Point(eye_rq);
                 let s = silhouette(&fixed, opts)?;
+                let components = from_components(&s.components);
+                spacing = largest_gap(&components);
                 Frame {
                     r: rk,
                     eye,
-                    components: from_components(&s.components),
+                    components,
                     traced: true,
                     clusters: s.clusters.len(),
                 }
@@ -300,6 +314,157 @@ pub fn frames(
         events: ev,
         continued_seconds,
     })
+}
+
+/// The largest distance between consecutive points of the components (closing segments
+/// included).
+fn largest_gap(comps: &[FrameCurve]) -> f64 {
+    let d = |p: &[f64; 3], q: &[f64; 3]| (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt();
+    comps
+        .iter()
+        .flat_map(|c| {
+            let closing = c
+                .closed
+                .then(|| d(&c.points[0], c.points.last().expect("non-empty")));
+            c.points.windows(2).map(|w| d(&w[0], &w[1])).chain(closing)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Halvings [`refine`] applies to one gap at most.
+const MAX_REFINE: usize = 4;
+
+/// Continued components with points added where consecutive points lie more than `spacing`
+/// apart (a piece that grew into another patch, points dropped at borders): a point midway
+/// (in the patch's parameters, or between the two surface points located on either patch
+/// when they differ) moved onto the silhouette at `rho` by Newton's method, halving up to
+/// [`MAX_REFINE`] times; a gap that does not converge stays.
+fn refine(
+    scene: &Scene,
+    patch: &[Vec<PatchForms>],
+    comps: Vec<FrameCurve>,
+    rho: f64,
+    spacing: f64,
+    (a, b): (f64, f64),
+) -> Vec<FrameCurve> {
+    if !spacing.is_finite() {
+        return comps;
+    }
+    let dist =
+        |p: &[f64; 3], q: &[f64; 3]| (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt();
+    comps
+        .into_iter()
+        .map(|c| {
+            let forms = &patch[c.surface];
+            let g: Vec<Power> = forms.iter().map(|p| p.g.fix_last(rho)).collect();
+            // A point midway between points i and j, on the silhouette.
+            let midway =
+                |x: (usize, [f64; 3]), y: (usize, [f64; 3])| -> Option<(usize, [f64; 3])> {
+                    let s = |t: f64| (t - a) / (b - a);
+                    let s_mid = (s(x.1[2]) + s(y.1[2])) / 2.0;
+                    let (p, u, v) = if x.0 == y.0 {
+                        (x.0, (x.1[0] + y.1[0]) / 2.0, (x.1[1] + y.1[1]) / 2.0)
+                    } else {
+                        let (px, py) = (
+                            forms[x.0].point(x.1[0], x.1[1])?,
+                            forms[y.0].point(y.1[0], y.1[1])?,
+                        );
+                        let m = std::array::from_fn(|k| (px[k] + py[k]) / 2.0);
+                        [x.0, y.0]
+                            .into_iter()
+                            .find_map(|q| locate(&forms[q], m).map(|[u, v]| (q, u, v)))?
+                    };
+                    let z = newton([u, v, s_mid], Some(&forms[p].f), &g[p], [false; 3])?;
+                    let inside = |c: f64| (-OVERSHOOT..=1.0 + OVERSHOOT).contains(&c);
+                    (inside(z[0]) && inside(z[1]) && (0.0..=1.0).contains(&z[2]))
+                        .then_some((p, [z[0], z[1], a + (b - a) * z[2]]))
+                };
+            let n = c.uvt.len();
+            let segments = if c.closed { n } else { n.saturating_sub(1) };
+            let mut out = FrameCurve {
+                surface: c.surface,
+                patches: Vec::with_capacity(n),
+                uvt: Vec::with_capacity(n),
+                points: Vec::with_capacity(n),
+                closed: c.closed,
+            };
+            let push = |out: &mut FrameCurve, (p, y): (usize, [f64; 3]), world: [f64; 3]| {
+                out.patches.push(p);
+                out.uvt.push(y);
+                out.points.push(world);
+            };
+            for i in 0..n {
+                push(&mut out, (c.patches[i], c.uvt[i]), c.points[i]);
+                if i >= segments {
+                    continue;
+                }
+                let j = (i + 1) % n;
+                // Stack of (from, to, depth, whether `to` is point j) in order along the curve;
+                // each piece's end is kept once it is short enough (point j by the next turn).
+                let mut stack = vec![(
+                    (c.patches[i], c.uvt[i], c.points[i]),
+                    (c.patches[j], c.uvt[j], c.points[j]),
+                    0,
+                    true,
+                )];
+                while let Some((x, y, depth, last)) = stack.pop() {
+                    let split = (depth < MAX_REFINE && dist(&x.2, &y.2) > spacing)
+                        .then(|| midway((x.0, x.1), (y.0, y.1)))
+                        .flatten()
+                        .and_then(|(p, m)| {
+                            let world = forms[p].point(m[0], m[1])?;
+                            Some((p, m, apply_motion(scene, m[2], world)))
+                        });
+                    match split {
+                        Some(mid) => {
+                            // The second half after the first: pushed first.
+                            stack.push((mid, y, depth + 1, last));
+                            stack.push((x, mid, depth + 1, false));
+                        }
+                        None if !last => push(&mut out, (y.0, y.1), y.2),
+                        None => {}
+                    }
+                }
+            }
+            out
+        })
+        .collect()
+}
+
+/// Substeps of the eye parameter [`continue_in_steps`] tries at most (powers of two).
+const MAX_SUBSTEPS: usize = 8;
+
+/// [`continue_frame`] from `prev` (at unit eye parameter `from`) to `to`, in one step or,
+/// when a point does not converge, in 2, 4, … up to [`MAX_SUBSTEPS`] equal steps (a point
+/// that moves fast, as a component's end on a time face near a border event, is followed
+/// closely).
+fn continue_in_steps(
+    scene: &Scene,
+    patch: &[Vec<PatchForms>],
+    prev: &Frame,
+    (from, to): (f64, f64),
+    ab: (f64, f64),
+) -> Option<Vec<FrameCurve>> {
+    let mut steps = 1;
+    while steps <= MAX_SUBSTEPS {
+        let mut frame = prev.clone();
+        let mut ok = true;
+        for i in 1..=steps {
+            let rho = from + (to - from) * i as f64 / steps as f64;
+            match continue_frame(scene, patch, &frame, rho, ab) {
+                Some(components) => frame.components = components,
+                None => {
+                    ok = false;
+                    break;
+                }
+            }
+        }
+        if ok {
+            return Some(frame.components);
+        }
+        steps *= 2;
+    }
+    None
 }
 
 /// The previous frame's components moved onto the silhouette at `rho` (unit eye
@@ -346,24 +511,38 @@ fn continue_frame(
             } else {
                 None
             };
-            let y = newton(y0, f, g, fixed)?;
+            let y = match newton(y0, f, g, fixed) {
+                Some(y) => y,
+                // A point joining two patches' pieces on their border, where the component
+                // no longer crosses it (the end of a piece on a face turned back in r, a
+                // border event): the pieces on either side now meet elsewhere.
+                None if fixed[0] || fixed[1] => {
+                    dropped += 1;
+                    continue;
+                }
+                None => return None,
+            };
             let outside = |c: f64| !(-OVERSHOOT..=1.0 + OVERSHOOT).contains(&c);
-            if outside(y[2]) {
-                // The time interval's ends are the component's real ends.
+            if !(-TIME_SLACK..=1.0 + TIME_SLACK).contains(&y[2]) {
+                // The time interval's ends are the component's real ends: a point past one
+                // means the component now meets that time face where it did not (traced
+                // afresh).
                 return None;
             }
-            if outside(y[0]) || outside(y[1]) {
-                // An inner point that crossed a patch border: the neighbouring patch's piece
-                // of the component now holds it, and the border point that joins the two
-                // pieces moved with it; the point is dropped (a border point must stay).
-                if fixed.iter().any(|&k| k) {
-                    return None;
+            let (p, y) = if outside(y[0]) || outside(y[1]) {
+                // A point that crossed a patch border: the neighbouring patch holds it now.
+                match relocate(&patch[c.surface], &g_here[c.surface], p, y, fixed[2]) {
+                    Some(moved) => moved,
+                    None => {
+                        dropped += 1;
+                        continue;
+                    }
                 }
-                dropped += 1;
-                continue;
-            }
+            } else {
+                (p, y)
+            };
             let t = a + (b - a) * y[2];
-            let world = forms.point(y[0], y[1])?;
+            let world = patch[c.surface][p].point(y[0], y[1])?;
             uvt.push([y[0], y[1], t]);
             points.push(apply_motion(scene, t, world));
             kept.push(p);
@@ -381,6 +560,95 @@ fn continue_frame(
         });
     }
     Some(comps)
+}
+
+/// A continued point `y` of patch `p` that Newton's method took past the patch's border
+/// (within [`WANDER`]) moved to the neighbouring patch of the same surface that holds it:
+/// the point `S_p(y)` of the extended patch located on another patch (least squares from the
+/// nearest of a few samples, inside its square to `1e-6`), then Newton's method on that
+/// patch's `F = G = 0` from there (`t` kept when `t_fixed`). `None` when no patch takes it.
+fn relocate(
+    patches: &[PatchForms],
+    g_here: &[Power],
+    p: usize,
+    y: [f64; 3],
+    t_fixed: bool,
+) -> Option<(usize, [f64; 3])> {
+    let x = patches[p].point(y[0], y[1])?;
+    let inside = |c: f64| (-OVERSHOOT..=1.0 + OVERSHOOT).contains(&c);
+    for (q, forms) in patches.iter().enumerate() {
+        if q == p {
+            continue;
+        }
+        let Some([u, v]) = locate(forms, x) else {
+            continue;
+        };
+        let z0 = [u.clamp(0.0, 1.0), v.clamp(0.0, 1.0), y[2]];
+        let Some(z) = newton(z0, Some(&forms.f), &g_here[q], [false, false, t_fixed]) else {
+            continue;
+        };
+        if inside(z[0]) && inside(z[1]) && (-TIME_SLACK..=1.0 + TIME_SLACK).contains(&z[2]) {
+            return Some((q, z));
+        }
+    }
+    None
+}
+
+/// The parameters `(u, v)` of the patch `forms` at the 3-D point `x`, when it lies on the
+/// patch (inside its square to `1e-6`, `|S(u, v) − x|` within `1e-9` of the point's scale):
+/// Gauss–Newton from the nearest sample of a 5 × 5 grid, with central differences.
+fn locate(forms: &PatchForms, x: [f64; 3]) -> Option<[f64; 2]> {
+    let dist2 = |p: [f64; 3]| (0..3).map(|k| (p[k] - x[k]).powi(2)).sum::<f64>();
+    let mut best: Option<(f64, [f64; 2])> = None;
+    for i in 0..5 {
+        for j in 0..5 {
+            let uv = [i as f64 / 4.0, j as f64 / 4.0];
+            if let Some(p) = forms.point(uv[0], uv[1]) {
+                let d = dist2(p);
+                if best.is_none_or(|b| d < b.0) {
+                    best = Some((d, uv));
+                }
+            }
+        }
+    }
+    let (_, mut uv) = best?;
+    let scale = 1.0 + x.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+    let h = 1e-6;
+    for _ in 0..12 {
+        let p = forms.point(uv[0], uv[1])?;
+        let r: [f64; 3] = std::array::from_fn(|k| p[k] - x[k]);
+        if dist2(p).sqrt() <= 1e-9 * scale {
+            let ok = |c: f64| (-1e-6..=1.0 + 1e-6).contains(&c);
+            return (ok(uv[0]) && ok(uv[1])).then_some(uv);
+        }
+        let du = {
+            let (a, b) = (
+                forms.point(uv[0] + h, uv[1])?,
+                forms.point(uv[0] - h, uv[1])?,
+            );
+            std::array::from_fn::<f64, 3, _>(|k| (a[k] - b[k]) / (2.0 * h))
+        };
+        let dv = {
+            let (a, b) = (
+                forms.point(uv[0], uv[1] + h)?,
+                forms.point(uv[0], uv[1] - h)?,
+            );
+            std::array::from_fn::<f64, 3, _>(|k| (a[k] - b[k]) / (2.0 * h))
+        };
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let (m00, m01, m11) = (dot(du, du), dot(du, dv), dot(dv, dv));
+        let det = m00 * m11 - m01 * m01;
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        let (b0, b1) = (dot(du, r), dot(dv, r));
+        uv[0] -= (m11 * b0 - m01 * b1) / det;
+        uv[1] -= (m00 * b1 - m01 * b0) / det;
+        if !uv.iter().all(|c| c.is_finite() && (-1.0..=2.0).contains(c)) {
+            return None;
+        }
+    }
+    None
 }
 
 /// Newton's method for `F = G = 0` from `x` (minimum-norm steps; the `fixed` coordinates do

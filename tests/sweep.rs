@@ -1110,13 +1110,12 @@ fn to_polylines(p: &[f64; 3], lines: &[(Vec<[f64; 3]>, bool)]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// The largest distance of a continued frame's points from the polylines of a fresh
-/// certified trace from the same eye point, which has as many envelope components.
-fn farthest_from_a_fresh_trace(
+/// A fresh certified trace of the frame's scene from its eye point.
+fn fresh_trace(
     scene: &geocert::sweep::Scene,
     frame: &geocert::sweep::Frame,
     opts: &SilhouetteOptions,
-) -> f64 {
+) -> Silhouettes {
     let Eye::Path { path, .. } = &scene.eye else {
         unreachable!()
     };
@@ -1129,28 +1128,56 @@ fn farthest_from_a_fresh_trace(
                 acc * &rq + c
             })
     }));
-    let fresh = silhouette(&fixed, opts).unwrap();
-    let fresh_env: Vec<_> = fresh
-        .components
+    silhouette(&fixed, opts).unwrap()
+}
+
+/// The envelope's polylines of a trace, with whether each is closed.
+fn envelope_lines(s: &Silhouettes) -> Vec<(Vec<[f64; 3]>, bool)> {
+    s.components
         .iter()
         .filter(|c| c.kind == ComponentKind::Envelope)
-        .collect();
-    assert_eq!(fresh_env.len(), frame.components.len());
-    let traced: Vec<(Vec<[f64; 3]>, bool)> = fresh_env
+        .map(|c| (c.points.clone(), c.closed))
+        .collect()
+}
+
+/// Both ways between a continued frame and a fresh certified trace from the same eye point,
+/// which has as many envelope components: the largest distance of the frame's points from
+/// the trace's polylines (to their segments), and of the trace's vertices from the frame's
+/// polylines.
+fn both_ways_from_a_fresh_trace(
+    scene: &geocert::sweep::Scene,
+    frame: &geocert::sweep::Frame,
+    opts: &SilhouetteOptions,
+) -> (f64, f64) {
+    let fresh = envelope_lines(&fresh_trace(scene, frame, opts));
+    assert_eq!(fresh.len(), frame.components.len());
+    let ours: Vec<(Vec<[f64; 3]>, bool)> = frame
+        .components
         .iter()
         .map(|c| (c.points.clone(), c.closed))
         .collect();
-    let worst = frame
-        .components
-        .iter()
-        .flat_map(|c| c.points.iter())
-        .map(|p| to_polylines(p, &traced))
-        .fold(0.0f64, f64::max);
+    let farthest = |from: &[(Vec<[f64; 3]>, bool)], to: &[(Vec<[f64; 3]>, bool)]| {
+        from.iter()
+            .flat_map(|(pts, _)| pts.iter())
+            .map(|p| to_polylines(p, to))
+            .fold(0.0f64, f64::max)
+    };
+    let (there, back) = (farthest(&ours, &fresh), farthest(&fresh, &ours));
     println!(
-        "continued frame at r = {:.3}: farthest point {worst:.4} from the traced polylines",
+        "continued frame at r = {:.3}: farthest point {there:.4} from the traced polylines, \
+         farthest traced vertex {back:.4} from it",
         frame.r
     );
-    worst
+    (there, back)
+}
+
+/// [`both_ways_from_a_fresh_trace`]: the frame's points to the trace.
+fn farthest_from_a_fresh_trace(
+    scene: &geocert::sweep::Scene,
+    frame: &geocert::sweep::Frame,
+    opts: &SilhouetteOptions,
+) -> f64 {
+    both_ways_from_a_fresh_trace(scene, frame, opts).0
 }
 
 /// A component's piece on one patch shrinks as the eye moves (the border point joining it to
@@ -1258,42 +1285,6 @@ fn frames_are_continued_across_border_events() {
     }
     println!("{checked} frames continued across border events checked against fresh traces");
     assert!(checked >= 6, "{checked}");
-}
-
-/// [`farthest_from_a_fresh_trace`], and the largest distance from the fresh trace's vertices
-/// back to the continued frame's points.
-fn both_ways_from_a_fresh_trace(
-    scene: &geocert::sweep::Scene,
-    frame: &geocert::sweep::Frame,
-    opts: &SilhouetteOptions,
-) -> (f64, f64) {
-    let there = farthest_from_a_fresh_trace(scene, frame, opts);
-    let Eye::Path { path, .. } = &scene.eye else {
-        unreachable!()
-    };
-    let rq = geocert::num::rational_from_f64(frame.r, "r").unwrap();
-    let mut fixed = scene.clone();
-    fixed.eye = Eye::Point(path.clone().map(|p| {
-        p.iter()
-            .rev()
-            .fold(geocert::num::Rational::from_integer(0.into()), |acc, c| {
-                acc * &rq + c
-            })
-    }));
-    let fresh = silhouette(&fixed, opts).unwrap();
-    let ours: Vec<(Vec<[f64; 3]>, bool)> = frame
-        .components
-        .iter()
-        .map(|c| (c.points.clone(), c.closed))
-        .collect();
-    let back = fresh
-        .components
-        .iter()
-        .filter(|c| c.kind == ComponentKind::Envelope)
-        .flat_map(|c| c.points.iter())
-        .map(|q| to_polylines(q, &ours))
-        .fold(0.0, f64::max);
-    (there, back)
 }
 
 /// The events whose certified `r` interval holds `r`.

@@ -533,30 +533,41 @@ pub(crate) fn resolve_cap_corners(
     upper: bool,
 ) -> Result<Vec<(usize, CapCornerPassage)>, SweepError> {
     let g = &system.equations[0];
+    certified_groups(curves, |hull| {
+        let Some(corner) = corner_of_hull(&hull) else {
+            return Ok(None);
+        };
+        Ok(
+            certify_cap_corner_box(g, corner, &hull)?.map(|(monotone_axis, arcs)| {
+                let passage = CapCornerPassage {
+                    surface,
+                    patch,
+                    upper,
+                    corner,
+                    bounds: hull,
+                    monotone_axis,
+                    arcs,
+                };
+                (passage, arcs)
+            }),
+        )
+    })
+}
+
+/// The cluster groups of a cap's trace whose boxes' hull `certify` certifies, with as many
+/// traced pieces ending in the group as the arcs it counts: `(group, what it certified)`.
+fn certified_groups<T>(
+    curves: &Curves,
+    mut certify: impl FnMut(Vec<(Rational, Rational)>) -> Result<Option<(T, usize)>, SweepError>,
+) -> Result<Vec<(usize, T)>, SweepError> {
     let mut out = Vec::new();
     for (group, members) in curves.cluster_groups.iter().enumerate() {
         let hull = hull_of(members.iter().map(|&m| &curves.clusters[m].bounds));
-        let Some(corner) = corner_of_hull(&hull) else {
-            continue;
-        };
-        let Some((monotone_axis, arcs)) = certify_cap_corner_box(g, corner, &hull)? else {
-            continue;
-        };
-        if entering(curves, group) != arcs {
-            continue;
+        if let Some((x, arcs)) = certify(hull)? {
+            if entering(curves, group) == arcs {
+                out.push((group, x));
+            }
         }
-        out.push((
-            group,
-            CapCornerPassage {
-                surface,
-                patch,
-                upper,
-                corner,
-                bounds: hull,
-                monotone_axis,
-                arcs,
-            },
-        ));
     }
     Ok(out)
 }
@@ -728,32 +739,25 @@ pub(crate) fn resolve_cap_borders(
     upper: bool,
 ) -> Result<Vec<(usize, CapBorderTouch)>, SweepError> {
     let g = &system.equations[0];
-    let mut out = Vec::new();
-    for (group, members) in curves.cluster_groups.iter().enumerate() {
-        let hull = hull_of(members.iter().map(|&m| &curves.clusters[m].bounds));
+    certified_groups(curves, |hull| {
         let Some(border) = border_of_hull(&hull) else {
-            continue;
+            return Ok(None);
         };
-        let Some((along, arcs)) = certify_cap_border_box(g, border, &hull)? else {
-            continue;
-        };
-        if entering(curves, group) != arcs {
-            continue;
-        }
-        out.push((
-            group,
-            CapBorderTouch {
-                surface,
-                patch,
-                upper,
-                border,
-                along,
-                bounds: hull,
-                arcs,
-            },
-        ));
-    }
-    Ok(out)
+        Ok(
+            certify_cap_border_box(g, border, &hull)?.map(|(along, arcs)| {
+                let touch = CapBorderTouch {
+                    surface,
+                    patch,
+                    upper,
+                    border,
+                    along,
+                    bounds: hull,
+                    arcs,
+                };
+                (touch, arcs)
+            }),
+        )
+    })
 }
 
 /// The hull of boxes (the cap's domain is the unit square, so domain and unit coordinates

@@ -696,9 +696,17 @@ pub(crate) fn certify_cap_border_box(
     if !strictly_signed(&inner) && roots_on_unit_box(vec![inner.clone()])? != Some(0) {
         return Ok(None);
     }
-    let Some(sigma) = sign_of(&inner.coeffs()[0]) else {
+    // Its sign, the same at both ends (a zero at an end, on a corner of B, is refused).
+    let ends = (
+        sign_of(&inner.coeffs()[0]),
+        sign_of(inner.coeffs().last().expect("non-empty")),
+    );
+    let (Some(sigma), Some(other)) = ends else {
         return Ok(None);
     };
+    if sigma != other {
+        return Ok(None);
+    }
     let arcs = usize::from(e_lo != sigma) + usize::from(e_hi != sigma);
     let along = (
         crate::num::rational::lerp(lo, hi, s_lo),

@@ -10,7 +10,9 @@
 //! is cut into patches: a point that converges across a border moves to the neighbouring
 //! patch (located there by its surface point), a point joining two patches' pieces whose
 //! crossing is gone is dropped, and gaps wider than the last traced frame's are refilled by
-//! points moved onto the silhouette.
+//! points moved onto the silhouette. An inner point that slides a little past the time face
+//! its component ends on is dropped; a point past a time face the component does not end on
+//! (it meets the face anew) makes the frame traced.
 //!
 //! Continued frames are drawings, not certificates: the topology between events is what the
 //! events certify, and every continued point is checked to satisfy both equations to within
@@ -487,6 +489,13 @@ fn continue_frame(
         let mut points = Vec::with_capacity(c.uvt.len());
         let mut kept = Vec::with_capacity(c.uvt.len());
         let mut dropped = 0;
+        // Whether the component ends on the time face t = a (0) or t = b (1).
+        let on_face =
+            |x: &[f64; 3], end: f64| !c.closed && (x[2] - end).abs() <= 1e-12 * (1.0 + end.abs());
+        let ends_on = [a, b].map(|end| {
+            c.uvt.first().is_some_and(|x| on_face(x, end))
+                || c.uvt.last().is_some_and(|x| on_face(x, end))
+        });
         for (&x, &p) in c.uvt.iter().zip(&c.patches) {
             let forms = &patch[c.surface][p];
             let g = &g_here[c.surface][p];
@@ -524,10 +533,17 @@ fn continue_frame(
             };
             let outside = |c: f64| !(-OVERSHOOT..=1.0 + OVERSHOOT).contains(&c);
             if !(-TIME_SLACK..=1.0 + TIME_SLACK).contains(&y[2]) {
-                // The time interval's ends are the component's real ends: a point past one
-                // means the component now meets that time face where it did not (traced
-                // afresh).
-                return None;
+                // The time interval's ends are the component's real ends. An inner point next
+                // to the component's end on that time face may slide a little past it (along
+                // a characteristic edge, where G alone holds it) and is dropped; a point past
+                // a time face the component does not end on means that it meets the face
+                // anew (traced afresh).
+                let upper = y[2] > 1.0;
+                if !ends_on[usize::from(upper)] || outside(y[2]) {
+                    return None;
+                }
+                dropped += 1;
+                continue;
             }
             let (p, y) = if outside(y[0]) || outside(y[1]) {
                 // A point that crossed a patch border: the neighbouring patch holds it now.

@@ -1785,6 +1785,18 @@ proptest::proptest! {
     }
 }
 
+/// The start position's contour, which must be one closed curve.
+fn the_closed_start_cap(s: &Silhouettes) -> &geocert::sweep::SilhouetteComponent {
+    let caps: Vec<_> = s
+        .components
+        .iter()
+        .filter(|c| c.kind == ComponentKind::CapA)
+        .collect();
+    assert_eq!(caps.len(), 1);
+    assert!(caps[0].closed);
+    caps[0]
+}
+
 /// The start position's contour touches the border between two patches (a meridian of the
 /// sphere) at one point, tangentially: the border polynomial has a double root there, which
 /// the tracer cannot certify (it left a cluster on both patches, and the cap open). Each
@@ -1811,15 +1823,9 @@ fn a_contour_tangent_to_a_patch_border_is_certified_there() {
         tampered.arcs = 1;
         assert!(!verify_cap_border_touch(&scene, &tampered, false).unwrap());
     }
-    let caps: Vec<_> = s
-        .components
-        .iter()
-        .filter(|c| c.kind == ComponentKind::CapA)
-        .collect();
-    assert_eq!(caps.len(), 1);
-    assert!(caps[0].closed);
+    let cap = the_closed_start_cap(&s);
     let e = [-6.0, -1.0, -8.0];
-    for p in &caps[0].points {
+    for p in &cap.points {
         let norm = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
         let plane = p[0] * e[0] + p[1] * e[1] + p[2] * e[2];
         assert!(
@@ -1839,7 +1845,7 @@ fn a_contour_tangent_to_a_patch_border_is_certified_there() {
     let touch = scene.surfaces[0].patches[x.patch]
         .point(uv[0], uv[1])
         .unwrap();
-    let near = caps[0]
+    let near = cap
         .points
         .iter()
         .map(|p| {
@@ -1869,14 +1875,8 @@ fn a_contour_through_a_pole_is_traced_across_it() {
     assert!((on_contour - 1.0).abs() < 1e-12, "{on_contour}");
     let s = silhouette(&scene, &SilhouetteOptions::default()).unwrap();
     assert!(s.clusters.is_empty(), "{:?}", s.clusters.len());
-    let caps: Vec<_> = s
-        .components
-        .iter()
-        .filter(|c| c.kind == ComponentKind::CapA)
-        .collect();
-    assert_eq!(caps.len(), 1);
-    assert!(caps[0].closed);
-    let near = caps[0]
+    let cap = the_closed_start_cap(&s);
+    let near = cap
         .points
         .iter()
         .map(|p| (0..3).map(|k| (p[k] - pole[k]).powi(2)).sum::<f64>().sqrt())

@@ -167,25 +167,7 @@ pub(crate) fn corner_times(
     if common.len() <= 1 {
         return Ok(Vec::new());
     }
-    let derivative: Vec<Rational> = common
-        .iter()
-        .enumerate()
-        .skip(1)
-        .map(|(k, c)| c * Rational::from_integer(k.into()))
-        .collect();
-    let square_free = div_rem(&common, &gcd(&common, &derivative)).0;
-    let degree = square_free.len() - 1;
-    let unit = (Rational::zero(), Rational::one());
-    let system = System::new(
-        vec![unit],
-        vec![Bernstein::from_power(vec![degree], square_free)?],
-    )?;
-    let solution = solve(
-        &system,
-        &SolveOptions::new()
-            .with_path(Path::Exact)
-            .with_tolerance(1e-12),
-    )?;
+    let solution = square_free_roots(&common, Path::Exact)?;
     // A root at s = 0 or 1 (on the start or end position) is not certified by the 1-D solve
     // and is left to the tracer.
     Ok(solution
@@ -624,25 +606,7 @@ fn distinct_roots(e: &B) -> Result<Option<Vec<Interval01>>, SweepError> {
     if p.len() <= 1 {
         return Ok(Some(Vec::new()));
     }
-    let derivative: Vec<Rational> = p
-        .iter()
-        .enumerate()
-        .skip(1)
-        .map(|(k, c)| c * Rational::from_integer(k.into()))
-        .collect();
-    let square_free = div_rem(&p, &gcd(&p, &derivative)).0;
-    let degree = square_free.len() - 1;
-    let unit = (Rational::zero(), Rational::one());
-    let system = System::new(
-        vec![unit],
-        vec![Bernstein::from_power(vec![degree], square_free)?],
-    )?;
-    let solution = solve(
-        &system,
-        &SolveOptions::new()
-            .with_path(Path::Filtered)
-            .with_tolerance(1e-12),
-    )?;
+    let solution = square_free_roots(&p, Path::Filtered)?;
     Ok(solution.clusters.is_empty().then(|| {
         solution
             .roots
@@ -650,6 +614,29 @@ fn distinct_roots(e: &B) -> Result<Option<Vec<Interval01>>, SweepError> {
             .map(|r| r.bounds[0].clone())
             .collect()
     }))
+}
+
+/// The solver's answer on `[0, 1]` for the square-free part of the univariate `p` (power
+/// basis, trimmed, of degree at least 1): `p` divided by its exact gcd with `p′`, so every
+/// root is simple and certifiable; root boxes to `1e-12`.
+fn square_free_roots(p: &[Rational], path: Path) -> Result<crate::solve::Solution, SweepError> {
+    let derivative: Vec<Rational> = p
+        .iter()
+        .enumerate()
+        .skip(1)
+        .map(|(k, c)| c * Rational::from_integer(k.into()))
+        .collect();
+    let square_free = div_rem(p, &gcd(p, &derivative)).0;
+    let degree = square_free.len() - 1;
+    let unit = (Rational::zero(), Rational::one());
+    let system = System::new(
+        vec![unit],
+        vec![Bernstein::from_power(vec![degree], square_free)?],
+    )?;
+    Ok(solve(
+        &system,
+        &SolveOptions::new().with_path(path).with_tolerance(1e-12),
+    )?)
 }
 
 /// Certifies a cap's touch on `border` in the box `bounds` (unit `(u, v)`: on the border in

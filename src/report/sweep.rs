@@ -126,8 +126,8 @@ pub struct MergeOracle {
     pub frames_as_closed_form: usize,
 }
 
-/// OpenCASCADE's outline of the static capsule against geocert's silhouette
-/// (`benches/peers/occ_outline.py`); distances in OCC's view plane.
+/// OpenCASCADE's outline of a static capsule against geocert's silhouette of a sweep whose
+/// swept volume it is (`benches/peers/occ_outline.py`); distances in OCC's view plane.
 #[derive(Clone, Debug, Serialize)]
 pub struct OccRow {
     pub scene: String,
@@ -154,19 +154,28 @@ pub struct SweepCampaign {
     pub moving: Vec<MovingEyeRun>,
     /// The degenerate-but-legal eyes (module `sweep_degenerate`).
     pub degenerate: Vec<super::sweep_degenerate::DegenerateRow>,
-    /// The OpenCASCADE peer, or why it did not run.
-    pub occ: Result<OccRow, String>,
+    /// The OpenCASCADE peer per scene of [`OCC_SCENES`], or why it did not run.
+    pub occ: Vec<(String, Result<OccRow, String>)>,
 }
 
-/// The OpenCASCADE peer's scene: a unit sphere at the origin translated along a segment, so
-/// that the swept volume is a capsule OCC builds exactly (a cylinder fused with two spheres).
-const OCC_SCENE: &str = "sphere-line";
-/// Its sphere's radius (its centre is the origin).
+/// The OpenCASCADE peer's scenes, each a unit sphere centred at the origin moved along a
+/// segment (turning about its centre in the last two), so that the swept volume is a capsule
+/// OCC builds exactly (a cylinder fused with two spheres): the plain translation, and the
+/// two degenerate cases where geocert's silhouette runs along patch edges
+/// (`sphere-edge-roll`) and through a patch corner (`sphere-corner`) of the turning sphere.
+const OCC_SCENES: [&str; 3] = ["sphere-line", "sphere-edge-roll", "sphere-corner"];
+/// Their sphere's radius (its centre is the origin).
 const OCC_RADIUS: f64 = 1.0;
 
-/// Runs `benches/peers/occ_outline.py` on `OCC_SCENE`'s silhouette `s` (computed in a median
+/// Runs `benches/peers/occ_outline.py` on scene `name`'s silhouette `s` (computed in a median
 /// `seconds`).
-fn occ_peer(root: &FsPath, scene: &Scene, s: &Silhouettes, seconds: f64) -> Result<OccRow, String> {
+fn occ_peer(
+    root: &FsPath,
+    name: &str,
+    scene: &Scene,
+    s: &Silhouettes,
+    seconds: f64,
+) -> Result<OccRow, String> {
     let python = root.join(".venv-peers/bin/python");
     if !python.exists() {
         return Err("`.venv-peers` not found (benches/peers/setup.sh installs it)".into());
@@ -197,7 +206,7 @@ fn occ_peer(root: &FsPath, scene: &Scene, s: &Silhouettes, seconds: f64) -> Resu
     let v = super::peer_json(out)?;
     let num = |k: &str| v[k].as_f64().ok_or_else(|| format!("no {k} in {v}"));
     Ok(OccRow {
-        scene: OCC_SCENE.into(),
+        scene: name.into(),
         version: v["version"].as_str().unwrap_or("unknown").into(),
         occ_seconds: num("median_s")?,
         geocert_seconds: seconds,
@@ -633,7 +642,10 @@ fn empty_row(name: &str, path: Path) -> SceneRow {
 /// peer from `root`'s `.venv-peers` when it is installed.
 pub fn sweep_campaign(root: &FsPath, dir: &FsPath) -> SweepCampaign {
     let mut rows = Vec::new();
-    let mut occ = Err(format!("scene {OCC_SCENE} did not run"));
+    let mut occ: Vec<(String, Result<OccRow, String>)> = OCC_SCENES
+        .iter()
+        .map(|&n| (n.to_string(), Err(format!("scene {n} did not run"))))
+        .collect();
     for &name in crate::sweep::BUILTIN_SCENES {
         let Ok(scene) = builtin_scene(name) else {
             continue;
@@ -642,8 +654,8 @@ pub fn sweep_campaign(root: &FsPath, dir: &FsPath) -> SweepCampaign {
         if let Some(s) = &s {
             let _ = std::fs::create_dir_all(dir);
             let _ = std::fs::write(dir.join(format!("sweep-{name}.svg")), svg(&scene, s));
-            if name == OCC_SCENE {
-                occ = occ_peer(root, &scene, s, r.median_seconds);
+            if let Some(slot) = occ.iter_mut().find(|(n, _)| n == name) {
+                slot.1 = occ_peer(root, name, &scene, s, r.median_seconds);
             }
         }
         rows.push(r);
@@ -848,63 +860,67 @@ pub fn write_sweep_report(
 }
 
 /// The OpenCASCADE section.
-fn occ_markdown(s: &mut String, occ: &Result<OccRow, String>) {
+fn occ_markdown(s: &mut String, occ: &[(String, Result<OccRow, String>)]) {
     let _ = writeln!(
         s,
-        "## OpenCASCADE as a peer (static eye)\n\nScene `{OCC_SCENE}`: a unit sphere swept along \
-         a segment, whose swept volume is a capsule OpenCASCADE builds exactly (a cylinder fused \
-         with two spheres, `BRepAlgoAPI_Fuse`). OCC's outline is `HLRBRep_Algo` with a \
-         perspective `HLRAlgo_Projector` (its viewing system at the capsule's midpoint, Z \
-         towards the eye, focus = the eye's distance, so the eye sits at Focus·Z), visible and \
-         hidden outline edges. geocert's polylines are projected by the same projector \
-         (`HLRAlgo_Projector.Project`) and the curves compared in its view plane \
-         (`benches/peers/occ_outline.py`). The closed form is the capsule's true outline from \
-         the eye: the cylinder's two tangent lines and the end spheres' contour circles, \
+        "## OpenCASCADE as a peer (static eye)\n\nScenes `sphere-line`, `sphere-edge-roll` and \
+         `sphere-corner`: a unit sphere moved along a segment (in the last two while it turns \
+         about its centre), so the swept volume is a capsule OpenCASCADE builds exactly (a \
+         cylinder fused with two spheres, `BRepAlgoAPI_Fuse`). The turning spheres are the \
+         degenerate cases of geocert's tracer: the silhouette runs along the turning patches' \
+         edges (`sphere-edge-roll`, module `edges`) and through a patch corner \
+         (`sphere-corner`, module `corners`); OCC, which sees only the capsule, is blind to \
+         the parametrisation, so it checks those paths independently. OCC's outline is \
+         `HLRBRep_Algo` with a perspective `HLRAlgo_Projector` (its viewing system at the \
+         capsule's midpoint, Z towards the eye, focus = the eye's distance, so the eye sits at \
+         Focus·Z), visible and hidden outline edges. geocert's polylines are projected by the \
+         same projector (`HLRAlgo_Projector.Project`) and the curves compared in its view \
+         plane (`benches/peers/occ_outline.py`). The closed form is the capsule's true outline \
+         from the eye: the cylinder's two tangent lines and the end spheres' contour circles, \
          sampled at 4,000 points a circle (so distances to it below about 1e-6 are its own \
          sampling). geocert's caps are whole contours of the end spheres, partly inside the \
          capsule where OCC draws nothing, so only the envelope is measured against OCC's \
-         outline; OCC's outline is measured against all of geocert's curves.\n"
+         outline; OCC's outline is measured against all of geocert's curves. Distances in % of \
+         the outline's bounding-box diagonal in the view plane.\n"
     );
-    match occ {
-        Err(e) => {
-            let _ = writeln!(s, "Not run: {e}.\n");
-        }
-        Ok(o) => {
-            let rel = |x: f64| 100.0 * x / o.diagonal;
-            let _ = writeln!(
-                s,
-                "| measure | view-plane units | % of the outline's diagonal ({:.3}) |\n|---|---:|---:|\n\
-                 | OCC outline → geocert's curves (max) | {:.2e} | {:.3} |\n\
-                 | geocert's envelope → OCC outline (max) | {:.2e} | {:.1e} |\n\
-                 | OCC outline → closed form (max) | {:.2e} | {:.3} |\n\
-                 | geocert's vertices → closed form (max) | {:.2e} | {:.1e} |\n",
-                o.diagonal,
-                o.occ_to_geocert,
-                rel(o.occ_to_geocert),
-                o.envelope_to_occ,
-                rel(o.envelope_to_occ),
-                o.occ_to_closed_form,
-                rel(o.occ_to_closed_form),
-                o.geocert_to_closed_form,
-                rel(o.geocert_to_closed_form),
-            );
-            let _ = writeln!(
-                s,
-                "OCC {} ({} outline edges): {:.4} s to build the capsule and its outline (median \
-                 of 5); geocert {:.4} s for the whole certified silhouette (equations, tracing, \
-                 extremes, caps; median of {RUNS}), {:.1}× OCC's time. Against the closed \
-                 form, OCC's outline is up to {:.2} % of the outline's size off and geocert's \
-                 vertices up to {:.1e} %.\n",
-                o.version,
-                o.edges,
-                o.occ_seconds,
-                o.geocert_seconds,
-                o.geocert_seconds / o.occ_seconds.max(1e-12),
-                rel(o.occ_to_closed_form),
-                rel(o.geocert_to_closed_form),
-            );
+    let _ = writeln!(
+        s,
+        "| scene | OCC | outline edges | diagonal | OCC outline → geocert's curves (max %) | \
+         geocert's envelope → OCC outline (max %) | OCC outline → closed form (max %) | \
+         geocert's vertices → closed form (max %) | OCC s (median of 5) | geocert s (median \
+         of {RUNS}) | geocert / OCC |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    for (name, row) in occ {
+        match row {
+            Err(e) => {
+                let _ = writeln!(s, "| {name} | not run: {e} | | | | | | | | | |");
+            }
+            Ok(o) => {
+                let rel = |x: f64| 100.0 * x / o.diagonal;
+                let _ = writeln!(
+                    s,
+                    "| {name} | {} | {} | {:.3} | {:.3} | {:.1e} | {:.3} | {:.1e} | {:.4} | {:.4} | {:.1}× |",
+                    o.version,
+                    o.edges,
+                    o.diagonal,
+                    rel(o.occ_to_geocert),
+                    rel(o.envelope_to_occ),
+                    rel(o.occ_to_closed_form),
+                    rel(o.geocert_to_closed_form),
+                    o.occ_seconds,
+                    o.geocert_seconds,
+                    o.geocert_seconds / o.occ_seconds.max(1e-12),
+                );
+            }
         }
     }
+    let _ = writeln!(
+        s,
+        "\nOCC's time is building the capsule and its outline; geocert's is the whole certified \
+         silhouette (equations, tracing, extremes, corner passages, caps). OCC's outline is off \
+         the closed form by its own approximation of the outline curves; geocert's vertices lie \
+         on it to the tracer's tolerance.\n"
+    );
 }
 
 /// The moving eye's section.

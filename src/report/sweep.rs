@@ -94,6 +94,10 @@ pub struct MovingEyeRun {
     pub events: Vec<EventRow>,
     pub systems: usize,
     pub clusters: usize,
+    /// Roots across patch borders (`BorderRoot`), and how many `verify_border_root`
+    /// re-checks.
+    pub border_roots: usize,
+    pub border_roots_verified: usize,
     /// Solving the events alone.
     pub events_seconds: f64,
     /// Events and frames together (`frames` solves the events first).
@@ -240,6 +244,8 @@ fn moving_eye_run(name: &str, range: (f64, f64), count: usize, dir: &FsPath) -> 
         events: Vec::new(),
         systems: 0,
         clusters: 0,
+        border_roots: 0,
+        border_roots_verified: 0,
         events_seconds: f64::NAN,
         seconds: f64::NAN,
         continued_seconds: f64::NAN,
@@ -288,6 +294,13 @@ fn moving_eye_run(name: &str, range: (f64, f64), count: usize, dir: &FsPath) -> 
     run.verify_seconds = clock.elapsed().as_secs_f64();
     run.systems = f.events.systems;
     run.clusters = f.events.clusters.len();
+    run.border_roots = f.events.border_roots.len();
+    run.border_roots_verified = f
+        .events
+        .border_roots
+        .iter()
+        .filter(|b| crate::sweep::verify_border_root(&scene, &f.events.events, b).unwrap_or(false))
+        .count();
     let group_of =
         crate::sweep::group_of_each(&crate::sweep::event_groups(&scene, &f.events.events));
     run.events = f
@@ -718,6 +731,7 @@ pub fn campaign_ok(c: &SweepCampaign) -> bool {
         && c.moving.iter().all(|m| {
             m.error.is_none()
                 && m.clusters == 0
+                && m.border_roots_verified == m.border_roots
                 && m.events.iter().all(|e| e.verified)
                 && m.frames
                     .iter()
@@ -948,7 +962,7 @@ fn moving_markdown(s: &mut String, m: &MovingEyeRun) {
     let _ = writeln!(
         s,
         "{} events from {} systems ({} interior, {} on patch borders), {} re-checked, {} \
-         clusters. Solving the events {:.2} s (median of three; root boxes to {:e} of each \
+         clusters, {} roots across patch borders ({} re-checked). Solving the events {:.2} s (median of three; root boxes to {:e} of each \
          parameter's interval, on all cores); events and frames together {:.2} s, of which the {} continued frames \
          {:.4} s (the rest is the traced frames); re-checking the events {:.2} s (two cores).\n\n\
          Events with the same *group* are one event seen from the patches that meet there \
@@ -961,6 +975,8 @@ fn moving_markdown(s: &mut String, m: &MovingEyeRun) {
         m.events.iter().filter(|e| e.on_patch_border).count(),
         verified,
         m.clusters,
+        m.border_roots,
+        m.border_roots_verified,
         m.events_seconds,
         crate::sweep::EVENT_TOLERANCE,
         m.seconds,

@@ -1041,6 +1041,11 @@ fn run<T: Coefficient>(
     let n = system.unknowns();
     let limits = opts.limits;
     let mut stack: Vec<Node<T>> = Vec::new();
+    let mut found = Found {
+        roots: Vec::new(),
+        clusters: Vec::new(),
+        visited: 0,
+    };
     for (lo, hi, depth) in starts.into_iter().rev() {
         let whole = lo.iter().zip(&hi).all(|(a, b)| a.is_zero() && b.is_one());
         let polys = if whole && !T::EXACT {
@@ -1050,14 +1055,49 @@ fn run<T: Coefficient>(
                 .map(|e| e.map(T::from_rational))
                 .collect();
             elevated(&mapped)?
-        } else {
-            let sub: Vec<(Rational, Rational)> =
-                lo.iter().cloned().zip(hi.iter().cloned()).collect();
+        } else if whole {
             ctx.exact()?
                 .iter()
+                .map(|e| e.map(T::from_rational))
+                .collect()
+        } else if limits.time_limit.is_some_and(|t| clock.elapsed() > t) {
+            // Out of time before this start box (the filtered path's exact redo of the fast
+            // path's uncertain boxes): it goes back as a budget cluster, bounded by rigorous
+            // interval enclosures rather than restricted exactly.
+            let sub: Vec<(Rational, Rational)> =
+                lo.iter().cloned().zip(hi.iter().cloned()).collect();
+            let max_abs_f = ctx
+                .exact()?
+                .iter()
                 .map(|e| {
-                    let r = if whole { e.clone() } else { e.restrict(&sub)? };
-                    Ok(r.map(T::from_rational))
+                    super::enclose_on(e, &sub).map_or(f64::INFINITY, |p| {
+                        p.coeffs()
+                            .iter()
+                            .map(Coefficient::abs_upper_f64)
+                            .fold(0.0, f64::max)
+                    })
+                })
+                .collect();
+            found.clusters.push((
+                Cluster {
+                    bounds: system.domain_box(&lo, &hi),
+                    reason: ClusterReason::Budget,
+                    max_abs_f,
+                },
+                lo,
+                hi,
+                depth,
+            ));
+            continue;
+        } else {
+            // In integers over one denominator (no gcd per de Casteljau step), normalised to
+            // rationals once.
+            ctx.scaled()?
+                .iter()
+                .map(|e| {
+                    Ok(restrict_scaled(e, &lo, &hi)?
+                        .to_rational()
+                        .map(T::from_rational))
                 })
                 .collect::<Result<_, SolveError>>()?
         };
@@ -1068,11 +1108,6 @@ fn run<T: Coefficient>(
             depth,
         });
     }
-    let mut found = Found {
-        roots: Vec::new(),
-        clusters: Vec::new(),
-        visited: 0,
-    };
     let cluster = |node: &Node<T>, reason| {
         let bounds = system.domain_box(&node.lo, &node.hi);
         let max_abs_f = max_abs(&node.polys);

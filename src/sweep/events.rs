@@ -46,6 +46,14 @@
 //! Faces and edges at `u, v ∈ {0, 1}` are the patch's borders: on a closed surface made of
 //! several patches, events there mark where a component crosses into the neighbouring patch
 //! at a tangency, not a change of the whole silhouette's topology; they are kept and labelled.
+//!
+//! **Poles.** On a collapsed edge (a sphere's pole, its factor divided out of the normal) the
+//! surface point and the normal's direction are the same for every value `w` of the other
+//! parameter, so on that face `F̃ = λ(w)·φ(t)` and `G̃ = μ(w)·γ(t, r)`: the face system has
+//! whole `w`-segments of roots over `φ = γ = 0` (the eye's silhouette passing the pole), and
+//! is left out when that separation is proved exactly; the edge systems at the face's ends
+//! solve `φ = γ = 0` in `(t, r)`. A root of the interior system on the pole is matched with
+//! those events ([`BorderRoot`]).
 
 use super::equations::{equations_with, motion_forms, on_interval, Equations, MotionForms};
 use super::{Eye, Scene, SweepError};
@@ -98,6 +106,25 @@ pub enum EventKind {
 }
 
 impl EventKind {
+    /// The parameters among `u, v, t` (0, 1, 2) fixed at an end, each with whether it is the
+    /// upper one.
+    pub fn fixed(&self) -> Vec<(usize, bool)> {
+        match *self {
+            EventKind::Interior => Vec::new(),
+            EventKind::Face { axis, upper } => vec![(axis, upper)],
+            EventKind::Edge { fixed } => fixed.to_vec(),
+            EventKind::AlongEdge { edge, fixed } => std::iter::once(edge)
+                .chain(fixed.iter().flatten().copied())
+                .collect(),
+        }
+    }
+
+    /// The free parameters among `u, v, t`, in order: the system's unknowns before `r`.
+    pub fn free(&self) -> Vec<usize> {
+        let fixed = self.fixed();
+        (0..3).filter(|k| fixed.iter().all(|f| f.0 != *k)).collect()
+    }
+
     /// Whether the event lies on a border of the patch in `u` or `v` (module docs).
     pub fn on_patch_border(&self) -> bool {
         match self {
@@ -121,6 +148,9 @@ pub struct EventSystem {
     pub kind: EventKind,
     /// The system.
     pub system: System,
+    /// The patch's collapsed edges (poles: `(axis, upper)` of the faces whose factor was
+    /// divided out of the normal), where every value of the other parameter is one point.
+    pub collapsed: Vec<(usize, bool)>,
 }
 
 /// A certified event.
@@ -163,8 +193,44 @@ pub struct Events {
     pub events: Vec<Event>,
     /// Boxes the solver could not certify, with their system's surface, patch and kind.
     pub clusters: Vec<(usize, usize, EventKind, Cluster)>,
+    /// Roots on a system's domain boundary, resolved across the patch's border
+    /// ([`BorderRoot`]): each was a cluster of the solve, and is an event of the border's
+    /// own system.
+    pub border_roots: Vec<BorderRoot>,
     /// Systems solved.
     pub systems: usize,
+}
+
+/// A root of an event system exactly on (or within its box's width of) the boundary of the
+/// system's domain, where the subdivision can only leave a domain-boundary cluster: for a
+/// start position's contour, two of its border points merging on the border between two
+/// patches (the t-face system's root on `u = 0`, say). The system's equations are
+/// polynomials, defined beyond the patch, so the cluster's box is widened across each
+/// boundary face it touches (by its own width on that axis) and the system solved there
+/// again: `root` is its one certified root, and its box crosses the boundary. The event is
+/// then one of the border's own system (the edge `u = 0, t = a`): `event` is that event, the
+/// certified root of the lower-dimensional system, whose box meets `root`'s. On a pole (a
+/// collapsed edge, one point for every value of the other parameter) the interior system's
+/// root there is the pole's event, certified by the edge systems at the pole's ends in
+/// `(t, r)`: the other parameter is not compared. Re-checked by [`verify_border_root`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct BorderRoot {
+    /// The surface.
+    pub surface: usize,
+    /// The patch on it.
+    pub patch: usize,
+    /// The system whose domain boundary holds the root.
+    pub kind: EventKind,
+    /// The cluster the solve left (domain coordinates).
+    pub cluster: Cluster,
+    /// The box the system was solved on again (domain coordinates): the cluster's widened
+    /// across the boundary faces it touches.
+    pub extended: crate::solve::RationalBox,
+    /// The certified root of the system on `extended`, whose box crosses the domain's
+    /// boundary.
+    pub root: Root,
+    /// The index in [`Events::events`] of the border system's event at the same point.
+    pub event: usize,
 }
 
 /// The product, in integers over a common denominator.
@@ -400,6 +466,7 @@ fn patch_event_systems(
             patch: p,
             kind,
             system: System::new(domain, eqs)?,
+            collapsed: me.eq0.divided.clone(),
         });
         Ok(())
     };
@@ -472,12 +539,23 @@ fn patch_event_systems(
         for upper in [false, true] {
             let (ff, gf) = (f.face(axis, upper)?, g.face(axis, upper)?);
             let free: Vec<usize> = (0..3).filter(|&k| k != axis).collect();
-            let m = minor(&ff, &gf, 0, 1)?;
-            push(
-                EventKind::Face { axis, upper },
-                &free,
-                vec![ff.clone(), gf.clone(), m],
-            )?;
+            // A collapsed edge (a pole, its factor divided out of the normal) where both
+            // equations separate as `λ(w)·φ(t)` and `μ(w)·γ(t, r)` (the surface point and the
+            // normal's direction the same all along it): the face system's roots are whole
+            // segments in `w` over the roots `φ = γ = 0` of the edge systems at the face's
+            // ends, which are solved below; the face system is left out (its subdivision
+            // would run to its limits along the segments).
+            let pole = me.eq0.divided.contains(&(axis, upper))
+                && separable_along_first(&ff)
+                && separable_along_first(&gf);
+            if !pole {
+                let m = minor(&ff, &gf, 0, 1)?;
+                push(
+                    EventKind::Face { axis, upper },
+                    &free,
+                    vec![ff.clone(), gf.clone(), m],
+                )?;
+            }
             // Each edge once: the second fixed axis above the first.
             for axis2 in axis + 1..3 {
                 for upper2 in [false, true] {
@@ -496,6 +574,29 @@ fn patch_event_systems(
         }
     }
     Ok(out)
+}
+
+/// Whether `p` is `λ(x₀)·q(x₁, …)` with `λ` of one strict sign on `[0, 1]`, decided exactly on
+/// Bernstein coefficients (the tensor basis makes a product's coefficients the outer
+/// product of its factors'): every slice at one index along axis 0 is `c_j` times one
+/// non-zero slice, and the `c_j` (`λ`'s coefficients up to a constant) are all of one strict
+/// sign. False for `p ≡ 0`.
+fn separable_along_first(p: &B) -> bool {
+    let len = p.degrees()[0] + 1;
+    let c = p.coeffs();
+    let Some(first) = c.iter().position(|x| !x.is_zero()) else {
+        return false;
+    };
+    let (j0, k0) = (first % len, first / len);
+    let mut factors = Vec::with_capacity(len);
+    for j in 0..len {
+        let f = &c[j + k0 * len] / &c[first];
+        if !c.chunks(len).all(|line| line[j] == &f * &line[j0]) {
+            return false;
+        }
+        factors.push(f);
+    }
+    factors.iter().all(Signed::is_positive) || factors.iter().all(Signed::is_negative)
 }
 
 /// Certifies that the eye path stays off the moving patch: `|M̂X + (T̂ − δP(r))w|² > 0` on
@@ -612,7 +713,6 @@ pub fn events(scene: &Scene, opts: &SolveOptions) -> Result<Events, SweepError> 
     }
     let mut events = Vec::new();
     let mut clusters = Vec::new();
-    let to_f64 = |x: &Rational| crate::num::rational::rational_to_f64(x);
     // The systems are independent: solved on all cores, read in order.
     let solutions: Vec<_> = systems
         .par_iter()
@@ -624,73 +724,263 @@ pub fn events(scene: &Scene, opts: &SolveOptions) -> Result<Events, SweepError> 
         b.last()
             .is_some_and(|(lo, hi)| lo <= &path_r.1 && hi >= &path_r.0)
     };
+    let mut boundary = Vec::new();
     for (es, sol) in systems.iter().zip(solutions) {
         let sol = sol?;
-        let n = es.system.unknowns();
         for root in sol.roots.into_iter().filter(|x| meets_path(&x.bounds)) {
-            let free: Vec<usize> = match es.kind {
-                EventKind::Interior => vec![0, 1, 2],
-                EventKind::Face { axis, .. } => (0..3).filter(|&k| k != axis).collect(),
-                EventKind::Edge { fixed } => (0..3)
-                    .filter(|&k| k != fixed[0].0 && k != fixed[1].0)
-                    .collect(),
-                EventKind::AlongEdge { edge, fixed } => (0..3)
-                    .filter(|&k| k != edge.0 && fixed.iter().flatten().all(|f| f.0 != k))
-                    .collect(),
-            };
-            let mut uvt = [0.0; 3];
-            for (j, &k) in free.iter().enumerate() {
-                uvt[k] = root.approx[j];
-            }
-            let ends = |axis: usize, upper: bool| {
-                if axis == 2 {
-                    to_f64(if upper { &scene.t.1 } else { &scene.t.0 })
-                } else if upper {
-                    1.0
-                } else {
-                    0.0
-                }
-            };
-            match es.kind {
-                EventKind::Face { axis, upper } => uvt[axis] = ends(axis, upper),
-                EventKind::Edge { fixed } => {
-                    for (axis, upper) in fixed {
-                        uvt[axis] = ends(axis, upper);
-                    }
-                }
-                EventKind::AlongEdge { edge, fixed } => {
-                    for (axis, upper) in fixed.iter().flatten().copied().chain([edge]) {
-                        uvt[axis] = ends(axis, upper);
-                    }
-                }
-                EventKind::Interior => {}
-            }
-            let pivot = match es.kind {
-                EventKind::Interior => {
-                    Some(pivot_certified(&es.system, &unit_box(&es.system, &root))?)
-                }
-                _ => None,
-            };
-            events.push(Event {
-                surface: es.surface,
-                patch: es.patch,
-                kind: es.kind,
-                r: root.approx[n - 1],
-                uvt,
-                root,
-                pivot,
-            });
+            events.push(event_of(scene, es, root)?);
         }
         for c in sol.clusters.into_iter().filter(|c| meets_path(&c.bounds)) {
-            clusters.push((es.surface, es.patch, es.kind, c));
+            if c.reason == crate::solve::ClusterReason::DomainBoundary {
+                boundary.push((es, c));
+            } else {
+                clusters.push((es.surface, es.patch, es.kind, c));
+            }
+        }
+    }
+    // Domain-boundary clusters solved again across the patch's border (on all cores).
+    let across: Vec<_> = boundary
+        .par_iter()
+        .map(|(es, c)| across_border(es, c, opts))
+        .collect();
+    let mut pending = Vec::new();
+    for ((es, c), found) in boundary.into_iter().zip(across) {
+        match found? {
+            None => clusters.push((es.surface, es.patch, es.kind, c)),
+            Some((extended, roots)) => {
+                for root in roots.into_iter().filter(|x| meets_path(&x.bounds)) {
+                    match crossed_axes(es, &root.bounds) {
+                        None => {}
+                        Some(crossed) if crossed.is_empty() => {
+                            events.push(event_of(scene, es, root)?)
+                        }
+                        Some(crossed) => {
+                            pending.push((es, c.clone(), extended.clone(), root, crossed))
+                        }
+                    }
+                }
+            }
         }
     }
     events.sort_by(|a, b| a.r.total_cmp(&b.r));
+    // Each root across the border is matched with the border system's event there; one
+    // that matches none stays a cluster.
+    let mut border_roots = Vec::new();
+    for (es, c, extended, root, crossed) in pending {
+        let matched = events
+            .iter()
+            .position(|e| border_match(scene, es, &root.bounds, &crossed, e));
+        match matched {
+            Some(event) => border_roots.push(BorderRoot {
+                surface: es.surface,
+                patch: es.patch,
+                kind: es.kind,
+                cluster: c,
+                extended,
+                root,
+                event,
+            }),
+            None => clusters.push((es.surface, es.patch, es.kind, c)),
+        }
+    }
     Ok(Events {
         events,
         clusters,
+        border_roots,
         systems: systems.len(),
     })
+}
+
+/// The event of the root `root` of the system `es`.
+fn event_of(scene: &Scene, es: &EventSystem, root: Root) -> Result<Event, SweepError> {
+    let n = es.system.unknowns();
+    let mut uvt = [0.0; 3];
+    for (j, k) in es.kind.free().into_iter().enumerate() {
+        uvt[k] = root.approx[j];
+    }
+    for (axis, upper) in es.kind.fixed() {
+        uvt[axis] = crate::num::rational::rational_to_f64(&parameter_end(scene, axis, upper));
+    }
+    let pivot = match es.kind {
+        EventKind::Interior => Some(pivot_certified(&es.system, &unit_box(&es.system, &root))?),
+        _ => None,
+    };
+    Ok(Event {
+        surface: es.surface,
+        patch: es.patch,
+        kind: es.kind,
+        r: root.approx[n - 1],
+        uvt,
+        root,
+        pivot,
+    })
+}
+
+/// The end of parameter `axis` (0 = u, 1 = v, 2 = t): `0` or `1` for `u`, `v`, the scene's
+/// `t` interval's for `t`.
+fn parameter_end(scene: &Scene, axis: usize, upper: bool) -> Rational {
+    match (axis, upper) {
+        (2, false) => scene.t.0.clone(),
+        (2, true) => scene.t.1.clone(),
+        (_, false) => Rational::zero(),
+        (_, true) => Rational::one(),
+    }
+}
+
+/// A box of a system of kind `kind` (its unknowns' bounds) in all of `(u, v, t, r)`: the
+/// fixed parameters at their ends.
+fn full_box(
+    scene: &Scene,
+    kind: EventKind,
+    bounds: &crate::solve::RationalBox,
+) -> Vec<(Rational, Rational)> {
+    let mut out = vec![(Rational::zero(), Rational::zero()); 4];
+    for (j, k) in kind.free().into_iter().enumerate() {
+        out[k] = bounds[j].clone();
+    }
+    for (axis, upper) in kind.fixed() {
+        let x = parameter_end(scene, axis, upper);
+        out[axis] = (x.clone(), x);
+    }
+    out[3] = bounds[bounds.len() - 1].clone();
+    out
+}
+
+/// Whether the event `e` is the border system's event at the root (of `es`, box `bounds`)
+/// that crosses the faces `crossed`: the same patch, every crossed face fixed in `e`'s
+/// kind, and the boxes meet in `(u, v, t, r)` — where a crossed face is a collapsed edge
+/// (a pole, one point for every value of the other parameter), that parameter is not
+/// compared.
+fn border_match(
+    scene: &Scene,
+    es: &EventSystem,
+    bounds: &crate::solve::RationalBox,
+    crossed: &[(usize, bool)],
+    e: &Event,
+) -> bool {
+    if e.surface != es.surface
+        || e.patch != es.patch
+        || !crossed.iter().all(|f| e.kind.fixed().contains(f))
+    {
+        return false;
+    }
+    let (mut a, mut b) = (
+        full_box(scene, es.kind, bounds),
+        full_box(scene, e.kind, &e.root.bounds),
+    );
+    for &(axis, upper) in crossed {
+        if axis < 2 && es.collapsed.contains(&(axis, upper)) {
+            let unit = (Rational::zero(), Rational::one());
+            a[1 - axis] = unit.clone();
+            b[1 - axis] = unit;
+        }
+    }
+    boxes_meet(&a, &b)
+}
+
+/// Whether two closed boxes meet.
+fn boxes_meet(a: &[(Rational, Rational)], b: &[(Rational, Rational)]) -> bool {
+    a.iter().zip(b).all(|(x, y)| x.0 <= y.1 && y.0 <= x.1)
+}
+
+/// Where a root box of the system `es` lies against its domain: `None` when it misses the
+/// domain, else the boundary faces (`(parameter among u, v, t, upper)`) it reaches past,
+/// none when it lies inside.
+fn crossed_axes(
+    es: &EventSystem,
+    bounds: &crate::solve::RationalBox,
+) -> Option<Vec<(usize, bool)>> {
+    let mut crossed = Vec::new();
+    for (j, k) in es.kind.free().into_iter().enumerate() {
+        let ((a, b), (lo, hi)) = (&es.system.domain[j], &bounds[j]);
+        if hi < a || lo > b {
+            return None;
+        }
+        if lo < a {
+            crossed.push((k, false));
+        }
+        if hi > b {
+            crossed.push((k, true));
+        }
+    }
+    Some(crossed)
+}
+
+/// The polynomial `p` (on the unit box) re-expressed on the box `sub` of unit coordinates,
+/// which may reach past `[0, 1]` (de Casteljau's steps are polynomial identities, so
+/// splitting at a parameter outside `[0, 1]` extrapolates exactly): per axis the piece on
+/// `[0, e]`, then of that the piece on `[s/e, 1]`. Needs `e > 0`.
+fn on_box(p: &B, sub: &[(Rational, Rational)]) -> Result<B, SweepError> {
+    let mut p = p.clone();
+    for (axis, (s, e)) in sub.iter().enumerate() {
+        if !e.is_one() {
+            p = p.split(axis, e)?.0;
+        }
+        if !s.is_zero() {
+            p = p.split(axis, &(s / e))?.1;
+        }
+    }
+    Ok(p)
+}
+
+/// The system `es` on the cluster box `c` widened across each boundary face of the domain
+/// it touches (by its own width on that axis; `r`, whose interval is widened already, is
+/// left): the widened box and the system on it, or `None` when `c` touches no face of the
+/// patch's parameters.
+fn widened_system(
+    es: &EventSystem,
+    c: &crate::solve::RationalBox,
+) -> Result<Option<(crate::solve::RationalBox, System)>, SweepError> {
+    let n = es.system.unknowns();
+    let mut extended = c.clone();
+    let mut widened = false;
+    for (k, ((a, b), (lo, hi))) in es.system.domain.iter().zip(c).enumerate().take(n - 1) {
+        let w = hi - lo;
+        if lo <= a {
+            extended[k].0 = a - &w;
+            widened = true;
+        }
+        if hi >= b {
+            extended[k].1 = b + &w;
+            widened = true;
+        }
+    }
+    if !widened {
+        return Ok(None);
+    }
+    let sub: Vec<(Rational, Rational)> = es
+        .system
+        .domain
+        .iter()
+        .zip(&extended)
+        .map(|((a, b), (lo, hi))| {
+            let h = b - a;
+            ((lo - a) / &h, (hi - a) / &h)
+        })
+        .collect();
+    let equations = es
+        .system
+        .equations
+        .iter()
+        .map(|e| on_box(e, &sub))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(Some((extended.clone(), System::new(extended, equations)?)))
+}
+
+/// A domain-boundary cluster `c` of the system `es` solved again on its box widened across
+/// the boundary ([`widened_system`]): the widened box and the certified roots there, or
+/// `None` when the box touches no face of the patch's parameters or the solve leaves a
+/// cluster.
+fn across_border(
+    es: &EventSystem,
+    c: &Cluster,
+    opts: &SolveOptions,
+) -> Result<Option<(crate::solve::RationalBox, Vec<Root>)>, SweepError> {
+    let Some((extended, system)) = widened_system(es, &c.bounds)? else {
+        return Ok(None);
+    };
+    let sol = solve(&system, opts)?;
+    Ok(sol.clusters.is_empty().then_some((extended, sol.roots)))
 }
 
 /// Events that are one geometric event seen from several patches, as groups of indices into
@@ -830,6 +1120,49 @@ pub fn verify_events(
             check_event(systems, event)
         })
         .collect()
+}
+
+/// Re-checks a [`BorderRoot`] of `events` (the list it was found with): rebuilds its system
+/// from the scene, widens the cluster's box across the boundary again and re-expresses the
+/// system there, which must give the recorded widened box; checks the root's certificate
+/// on it with [`verify_root`] (not the solver); and checks that the root's box reaches past
+/// the domain's boundary and meets the box of `events[event]`, an event of the same patch
+/// with the crossed faces fixed (across a pole, not comparing the parameter along it; that
+/// event's own certificate is re-checked by [`verify_events`]). False when a condition
+/// fails.
+pub fn verify_border_root(
+    scene: &Scene,
+    events: &[Event],
+    border: &BorderRoot,
+) -> Result<bool, SweepError> {
+    let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
+    let me = moving_eye(scene, &forms, border.surface, border.patch)?;
+    let systems = patch_event_systems(scene, &me, border.surface, border.patch)?;
+    let Some(es) = systems.iter().find(|s| s.kind == border.kind) else {
+        return Ok(false);
+    };
+    let Some((extended, system)) = widened_system(es, &border.cluster.bounds)? else {
+        return Ok(false);
+    };
+    if extended != border.extended
+        || verify_root(&system, &border.root.bounds, &border.root.certificate).is_err()
+    {
+        return Ok(false);
+    }
+    let crossed = match crossed_axes(es, &border.root.bounds) {
+        Some(c) if !c.is_empty() => c,
+        _ => return Ok(false),
+    };
+    let Some(event) = events.get(border.event) else {
+        return Ok(false);
+    };
+    Ok(border_match(
+        scene,
+        es,
+        &border.root.bounds,
+        &crossed,
+        event,
+    ))
 }
 
 /// The check of [`verify_event`] against the event's patch's rebuilt systems.

@@ -41,8 +41,8 @@ mod silhouette;
 pub use corners::{CapBorderTouch, CapCornerPassage, CornerCrossing};
 pub use equations::{equations, patch_normal, Equations, Normal};
 pub use events::{
-    event_groups, event_systems, events, group_of_each, verify_event, verify_events, Event,
-    EventKind, EventSystem, Events, EVENT_TOLERANCE,
+    event_groups, event_systems, events, group_of_each, verify_border_root, verify_event,
+    verify_events, BorderRoot, Event, EventKind, EventSystem, Events, EVENT_TOLERANCE,
 };
 pub use frames::{frames, Frame, FrameCurve, Frames, CONTINUATION_TOLERANCE, OVERSHOOT};
 pub use rulings::{ruling_margin, Ruling, RulingEvidence, RULING_DEPTH, RULING_MARGIN};

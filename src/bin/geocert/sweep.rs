@@ -9,8 +9,8 @@ use geocert::internals::report::sweep::frame_svg;
 use geocert::num::rational_to_string;
 use geocert::sweep::{
     builtin_scene, event_groups, events, frames, group_of_each, scene_from_json, silhouette,
-    verify_cap_border_touch, verify_events, verify_ruling, ComponentEnd, EventKind, Eye,
-    RulingEvidence, Scene, SilhouetteOptions, Silhouettes,
+    verify_border_root, verify_cap_border_touch, verify_events, verify_ruling, ComponentEnd,
+    EventKind, Events, Eye, RulingEvidence, Scene, SilhouetteOptions, Silhouettes,
 };
 use geocert::Path;
 use serde_json::{json, Value};
@@ -26,7 +26,10 @@ pub(crate) enum Command {
     /// For an eye moving along a path P(r): the certified critical events where the
     /// silhouette's topology can change (Section 4, with the Lagrange condition: the
     /// silhouette curve of that eye position is singular), on the patch's faces and edges too,
-    /// sorted by r; each re-checked from the scene. The eye path must stay off the moving
+    /// sorted by r; each re-checked from the scene. A root exactly on a patch border (where
+    /// the subdivision can only leave a cluster on its system's domain boundary) is solved
+    /// again on the cluster's box widened across the border and matched with the border's
+    /// own event (`border_roots`, each re-checked). The eye path must stay off the moving
     /// surface (certified first).
     Events(EventsArgs),
     /// For an eye moving along a path P(r): the silhouette at evenly spaced eye parameters
@@ -198,7 +201,8 @@ fn run_animate(a: AnimateArgs) -> Result<ExitCode, String> {
         .iter()
         .map(|c| matches!(c, Ok(Ok(_))))
         .collect();
-    let all_verified = verified.iter().all(|&v| v);
+    let (border_roots, borders_verified) = border_roots_json(&scene, &f.events)?;
+    let all_verified = verified.iter().all(|&v| v) && borders_verified;
     let groups = event_groups(&scene, &f.events.events);
     let group_of = group_of_each(&groups);
     if let Some(dir) = &a.svg_dir {
@@ -219,6 +223,7 @@ fn run_animate(a: AnimateArgs) -> Result<ExitCode, String> {
             })).collect::<Vec<_>>(),
             "distinct_events": groups.len(),
             "clusters": event_clusters_json(&f.events.clusters),
+            "border_roots": border_roots,
             "frames": f.frames.iter().map(|x| json!({
                 "r": x.r,
                 "eye": x.eye,
@@ -331,11 +336,14 @@ fn run_events(a: EventsArgs) -> Result<ExitCode, String> {
             "verified": verified,
         }));
     }
+    let (border_roots, borders_verified) = border_roots_json(&scene, &ev)?;
+    all_verified &= borders_verified;
     if a.json {
         let v = json!({
             "events": rows,
             "distinct": groups.len(),
             "clusters": event_clusters_json(&ev.clusters),
+            "border_roots": border_roots,
             "systems": ev.systems,
             "seconds": seconds,
         });
@@ -343,11 +351,12 @@ fn run_events(a: EventsArgs) -> Result<ExitCode, String> {
     } else {
         println!(
             "{} events ({} distinct: border events seen from several patches joined) from {} \
-             systems in {seconds:.2} s ({} clusters){}",
+             systems in {seconds:.2} s ({} clusters, {} roots across patch borders){}",
             ev.events.len(),
             groups.len(),
             ev.systems,
             ev.clusters.len(),
+            ev.border_roots.len(),
             if all_verified {
                 "; every event re-checked"
             } else {
@@ -470,6 +479,28 @@ fn event_clusters_json(
             })
         })
         .collect()
+}
+
+/// The events' roots across patch borders ([`geocert::sweep::BorderRoot`]), each re-checked;
+/// with whether all passed.
+fn border_roots_json(scene: &Scene, ev: &Events) -> Result<(Vec<Value>, bool), String> {
+    let mut all = true;
+    let mut rows = Vec::new();
+    for b in &ev.border_roots {
+        let verified = verify_border_root(scene, &ev.events, b).map_err(|e| e.to_string())?;
+        all &= verified;
+        rows.push(json!({
+            "surface": b.surface,
+            "patch": b.patch,
+            "kind": kind_json(&b.kind),
+            "cluster": boxed(&b.cluster.bounds),
+            "widened": boxed(&b.extended),
+            "box": boxed(&b.root.bounds),
+            "event": b.event,
+            "verified": verified,
+        }));
+    }
+    Ok((rows, all))
 }
 
 /// A patch border `(axis, upper)` in the JSON.

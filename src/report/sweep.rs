@@ -158,7 +158,8 @@ pub struct SweepCampaign {
     pub moving: Vec<MovingEyeRun>,
     /// The degenerate-but-legal eyes (module `sweep_degenerate`).
     pub degenerate: Vec<super::sweep_degenerate::DegenerateRow>,
-    /// The OpenCASCADE peer per scene of [`OCC_SCENES`], or why it did not run.
+    /// The OpenCASCADE peer per scene (`sphere-line`, `sphere-edge-roll`, `sphere-corner`), or why
+    /// it did not run.
     pub occ: Vec<(String, Result<OccRow, String>)>,
 }
 

@@ -250,6 +250,75 @@ fn a_tangential_double_root_is_a_cluster_never_a_certified_root() {
 }
 
 #[test]
+fn a_singular_root_is_one_cluster_after_a_bounded_number_of_boxes() {
+    // The same tangency: in intervals the boxes no test can decide multiply at every level
+    // around it, so the group is given up after its budget as one cluster.
+    let n = 2;
+    let x = linear(n, 0, &q(1, 3));
+    let y = linear(n, 1, &q(1, 2));
+    let f1 = mix(vec![y.clone(), x.product(&x).unwrap()], &[vec![1, -1]]).remove(0);
+    let system = unit_system(mix(vec![f1, y], &[vec![1, 0], vec![0, 1]]));
+    for path in [Path::Exact, Path::Fast, Path::Filtered] {
+        let s = solve(&system, &SolveOptions::new().with_path(path)).unwrap();
+        println!(
+            "{path}: {} roots, {} clusters, {} boxes",
+            s.roots.len(),
+            s.clusters.len(),
+            s.boxes_visited
+        );
+        assert!(s.roots.is_empty(), "{path}: {:?}", s.roots);
+        assert_eq!(s.clusters.len(), 1, "{path}");
+        let c = &s.clusters[0];
+        // Exact signs shrink it to one box at the depth limit; rounding leaves the group.
+        assert!(
+            matches!(
+                c.reason,
+                ClusterReason::DepthLimit | ClusterReason::Singular
+            ),
+            "{path}: {:?}",
+            c.reason
+        );
+        assert!(contains(&c.bounds, &[q(1, 3), q(1, 2)]), "{path}");
+        assert!(s.boxes_visited < 5_000, "{path}: {} boxes", s.boxes_visited);
+    }
+}
+
+#[test]
+fn a_curve_of_roots_is_one_cluster_along_it() {
+    // x − y = 0 and (x − y)(x + y − ½)² = 0 share the whole diagonal: a curve of roots, which
+    // no subdivision resolves; it comes back as one cluster covering it.
+    let n = 2;
+    let d = mix(
+        vec![linear(n, 0, &q(0, 1)), linear(n, 1, &q(0, 1))],
+        &[vec![1, -1]],
+    )
+    .remove(0);
+    let s2 = mix(
+        vec![linear(n, 0, &q(1, 4)), linear(n, 1, &q(1, 4))],
+        &[vec![1, 1]],
+    )
+    .remove(0);
+    let f2 = d.product(&s2).unwrap().product(&s2).unwrap();
+    let system = unit_system(vec![d, f2]);
+    for path in [Path::Exact, Path::Filtered] {
+        let s = solve(&system, &SolveOptions::new().with_path(path)).unwrap();
+        println!(
+            "{path}: {} roots, {} clusters, {} boxes",
+            s.roots.len(),
+            s.clusters.len(),
+            s.boxes_visited
+        );
+        assert!(s.roots.is_empty(), "{path}: {:?}", s.roots);
+        assert_eq!(s.clusters.len(), 1, "{path}: {:?}", s.clusters);
+        let c = &s.clusters[0];
+        assert_eq!(c.reason, ClusterReason::Singular, "{path}");
+        for k in [1, 5, 9] {
+            assert!(contains(&c.bounds, &[q(k, 10), q(k, 10)]), "{path}: {k}/10");
+        }
+    }
+}
+
+#[test]
 fn a_root_on_the_split_plane_is_certified_once() {
     let n = 2;
     let system = unit_system(mix(

@@ -1972,3 +1972,68 @@ fn a_pole_passing_the_silhouette_is_an_event_of_the_pole_edges() {
         ev.border_roots.len()
     );
 }
+
+#[test]
+fn singular_event_roots_are_one_cluster_each() {
+    use geocert::solve::{ClusterReason, SolveOptions};
+    use geocert::sweep::{events, verify_events, EventKind};
+    let contains = |b: &[(Rational, Rational)], p: &[f64]| {
+        b.iter()
+            .zip(p)
+            .all(|((lo, hi), &x)| rational_to_f64(lo) <= x && x <= rational_to_f64(hi))
+    };
+    // A unit sphere turning about its centre while it moves along d = (−3, −2, 3): the
+    // envelope is a cylinder, but the turn moves the characteristic curve in (u, v), so the
+    // sweep is not invariant in t. The eye (−4 + r, −3 − 3r, 3 + 3r) leaves the cylinder at
+    // 274 r² − 32 r − 3 = 0: there the two contour lines merge along a whole ruling, a curve
+    // of roots of the interior system.
+    let cylinder = scene_from_json(
+        r#"{"surfaces": [{"sphere": {"center": [0, 0, 0], "radius": 1}}], "t": [0, 1],
+            "motion": {"translation": [[0, -3], [0, -2], [0, 3]],
+                       "rotation": {"quaternion": [[1], [0, "-1/4"], [0, "-1/4"], [0, "1/2"]]}},
+            "eye": {"path": [[-4, 1], [-3, -3], [3, 3]], "r": [0, 1]}}"#,
+    )
+    .unwrap();
+    let r_leave = (16.0 + 1078f64.sqrt()) / 274.0;
+    // An ellipsoid turning and moving down: a singular root of the start position's face
+    // system near (u, v, r) = (0.99764, 0.51991, 0.29457) on patch 3.
+    let ellipsoid = scene_from_json(
+        r#"{"surfaces": [{"ellipsoid": {"center": [0, 0, 0], "radii": ["1/2", 2, "5/2"]}}],
+            "t": [0, 1],
+            "motion": {"translation": [[0, 0], [0, 0], [0, -1]],
+                       "rotation": {"quaternion": [[1], [0, "-1/4"], [0, "-1/4"], [0]]}},
+            "eye": {"path": [[0, 2], [1, 4], [-5, 2]], "r": [0, 1]}}"#,
+    )
+    .unwrap();
+    let cases = [
+        (cylinder, EventKind::Interior, vec![0.5, r_leave]),
+        (
+            ellipsoid,
+            EventKind::Face {
+                axis: 2,
+                upper: false,
+            },
+            vec![0.99764, 0.51991, 0.29457],
+        ),
+    ];
+    for (scene, kind, point) in cases {
+        let clock = std::time::Instant::now();
+        let ev = events(&scene, &SolveOptions::new()).unwrap();
+        let seconds = clock.elapsed().as_secs_f64();
+        assert_eq!(ev.clusters.len(), 1, "{kind:?}: {:?}", ev.clusters.len());
+        let (_, _, k, c) = &ev.clusters[0];
+        assert_eq!((*k, c.reason), (kind, ClusterReason::Singular));
+        match kind {
+            // The ruling's r; its (u, v, t) run along the curve.
+            EventKind::Interior => assert!(contains(&c.bounds[3..], &point[1..])),
+            _ => assert!(contains(&c.bounds, &point), "{:?}", c.bounds),
+        }
+        for (e, check) in ev.events.iter().zip(verify_events(&scene, &ev.events)) {
+            assert!(check.unwrap().is_ok(), "{e:?}");
+        }
+        println!(
+            "{kind:?}: {} events re-checked, one singular cluster, {seconds:.2} s",
+            ev.events.len()
+        );
+    }
+}

@@ -307,6 +307,12 @@ pub enum ClusterReason {
     Budget,
     /// Fast path only: rounding left a decision open in this box down to the depth limit.
     Uncertain,
+    /// The hull of a group of touching boxes that stayed undecided below the coarse levels
+    /// and did not resolve within the group's box budget (or, on the filtered path, too many
+    /// of the interval path's undecided leaves to redo exactly): around a multiple or
+    /// tangential root the undecided boxes multiply at every level. One such root is one
+    /// cluster, quickly, rather than thousands of depth-limit boxes.
+    Singular,
 }
 
 /// A box that may hold roots (any number) but was not certified.

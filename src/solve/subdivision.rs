@@ -961,11 +961,47 @@ fn on_domain_boundary<T: Field>(node: &Node<T>) -> Result<bool, SolveError> {
     Ok(false)
 }
 
-/// Everything one run found.
-struct Found {
+/// Everything one pass found.
+struct Found<T> {
     roots: Vec<Root>,
     clusters: Vec<(Cluster, Vec<Rational>, Vec<Rational>, u32)>,
     visited: usize,
+    /// Boxes left undecided at a deferring pass's depth limit.
+    deferred: Vec<Node<T>>,
+    /// Whether the pass stopped at its own box budget (what it found is then incomplete).
+    exhausted: bool,
+}
+
+impl<T> Default for Found<T> {
+    fn default() -> Self {
+        Found {
+            roots: Vec::new(),
+            clusters: Vec::new(),
+            visited: 0,
+            deferred: Vec::new(),
+            exhausted: false,
+        }
+    }
+}
+
+impl<T> Found<T> {
+    /// The roots, clusters and visits (without the deferred nodes).
+    fn erased(self) -> Found<()> {
+        Found {
+            roots: self.roots,
+            clusters: self.clusters,
+            visited: self.visited,
+            deferred: Vec::new(),
+            exhausted: self.exhausted,
+        }
+    }
+
+    /// Takes in the roots, clusters and visits of a later pass.
+    fn absorb<U>(&mut self, other: Found<U>) {
+        self.roots.extend(other.roots);
+        self.clusters.extend(other.clusters);
+        self.visited += other.visited;
+    }
 }
 
 /// The common degrees of all equations (each axis: the highest), for preconditioning (in
@@ -1030,22 +1066,50 @@ impl Context<'_> {
     }
 }
 
-/// The subdivision from the given start boxes (unit coordinates) of the context's equations,
-/// in the coefficient field `T`.
-fn run<T: Coefficient>(
+/// The levels (halvings of each side) the first pass of a solve subdivides to before the
+/// boxes still undecided are grouped: a regular root is certified well above it.
+const COARSE_LEVELS: u32 = 5;
+
+/// The boxes one group of touching undecided boxes may visit below the coarse levels before
+/// it is given up as one [`ClusterReason::Singular`] cluster. A root on a split plane or a
+/// domain face needs a few boxes per level (at most `2ⁿ`); around a multiple or tangential
+/// root the undecided boxes multiply at every level (about `2^(k/2)` at level `k` for a
+/// double root) and would otherwise take every box of the solve.
+const GROUP_BOXES: usize = 2048;
+
+/// The boxes the exact redo of a group ([`staged`]'s `filtered`) may visit.
+const GROUP_EXACT_BOXES: usize = 256;
+
+/// The boxes a group's budget grows by with each root it certifies (a group of several
+/// regular roots close together is resolved, however many).
+const GROUP_BOXES_PER_ROOT: usize = 512;
+
+/// A group of the fast path's uncertain leaves larger than this is not redone exactly, box
+/// by box, but reported as one [`ClusterReason::Singular`] cluster.
+const GROUP_EXACT_REDO: usize = 32;
+
+/// Where one subdivision pass stops.
+struct Pass {
+    /// Splits (all axes together) after which a box is not split further.
+    depth_limit: u32,
+    /// Boxes this pass may visit, and [`GROUP_BOXES_PER_ROOT`] more for each root it
+    /// certifies (the solve's `max_boxes` bounds all passes together).
+    budget: usize,
+    /// Whether boxes left undecided at `depth_limit` are handed back in
+    /// [`Found::deferred`] rather than reported as clusters.
+    defer: bool,
+}
+
+/// The nodes of the given start boxes (unit coordinates) of the context's equations, in the
+/// coefficient field `T`; start boxes past the time limit go to `found` as budget clusters.
+fn start_nodes<T: Coefficient>(
     ctx: &Context<'_>,
     starts: Vec<(Vec<Rational>, Vec<Rational>, u32)>,
-    visited_before: usize,
-) -> Result<Found, SolveError> {
-    let (system, opts, clock) = (ctx.system, ctx.opts, ctx.clock);
-    let n = system.unknowns();
-    let limits = opts.limits;
-    let mut stack: Vec<Node<T>> = Vec::new();
-    let mut found = Found {
-        roots: Vec::new(),
-        clusters: Vec::new(),
-        visited: 0,
-    };
+    found: &mut Found<T>,
+) -> Result<Vec<Node<T>>, SolveError> {
+    let (system, clock) = (ctx.system, ctx.clock);
+    let limits = ctx.opts.limits;
+    let mut stack = Vec::new();
     for (lo, hi, depth) in starts.into_iter().rev() {
         let whole = lo.iter().zip(&hi).all(|(a, b)| a.is_zero() && b.is_one());
         let polys = if whole && !T::EXACT {
@@ -1108,25 +1172,48 @@ fn run<T: Coefficient>(
             depth,
         });
     }
-    let cluster = |node: &Node<T>, reason| {
-        let bounds = system.domain_box(&node.lo, &node.hi);
-        let max_abs_f = max_abs(&node.polys);
-        (
-            Cluster {
-                bounds,
-                reason,
-                max_abs_f,
-            },
-            node.lo.clone(),
-            node.hi.clone(),
-            node.depth,
-        )
-    };
+    Ok(stack)
+}
+
+/// The context's equations at the root of the unit box, in the coefficient field `T`.
+fn whole_node<T: Coefficient>(ctx: &Context<'_>) -> Result<Vec<Node<T>>, SolveError> {
+    let n = ctx.system.unknowns();
+    let mut found = Found::default();
+    let whole = vec![(
+        vec![<Rational as Zero>::zero(); n],
+        vec![<Rational as One>::one(); n],
+        0,
+    )];
+    start_nodes(ctx, whole, &mut found)
+}
+
+/// One subdivision pass over `stack` (each node's box with the equations restricted to it).
+fn subdivide<T: Coefficient>(
+    ctx: &Context<'_>,
+    mut stack: Vec<Node<T>>,
+    visited_before: usize,
+    pass: &Pass,
+) -> Result<Found<T>, SolveError> {
+    let (system, opts, clock) = (ctx.system, ctx.opts, ctx.clock);
+    let limits = opts.limits;
+    let mut found = Found::default();
+    let cluster = |node: &Node<T>, reason| leaf_cluster(system, node, reason);
     while let Some(node) = stack.pop() {
         let over_time = limits.time_limit.is_some_and(|t| clock.elapsed() > t);
         if visited_before + found.visited >= limits.max_boxes || over_time {
             found.clusters.push(cluster(&node, ClusterReason::Budget));
             continue;
+        }
+        if found.visited
+            >= pass
+                .budget
+                .saturating_add(found.roots.len() * GROUP_BOXES_PER_ROOT)
+        {
+            // What is left unvisited goes back with the pass, for the hull of what it left.
+            found.exhausted = true;
+            found.deferred.push(node);
+            found.deferred.append(&mut stack);
+            break;
         }
         found.visited += 1;
         let culled = root_free(&node.polys);
@@ -1153,7 +1240,11 @@ fn run<T: Coefficient>(
         // path redoes it exactly from there).
         let uncertain = culled == Decision::Uncertain || certified == Decision::Uncertain;
         // The depth limit counts halvings of each side: `n` splits make one level.
-        if node.depth >= limits.max_depth.saturating_mul(n as u32) {
+        if node.depth >= pass.depth_limit {
+            if pass.defer {
+                found.deferred.push(node);
+                continue;
+            }
             let reason = if uncertain {
                 ClusterReason::Uncertain
             } else if on_domain_boundary(&node)? {
@@ -1193,6 +1284,206 @@ fn run<T: Coefficient>(
             polys: left,
             depth: node.depth + 1,
         });
+    }
+    Ok(found)
+}
+
+/// A cluster tuple (cluster, unit box, depth) of one node.
+type ClusterLeaf = (Cluster, Vec<Rational>, Vec<Rational>, u32);
+
+/// The cluster of one node's box.
+fn leaf_cluster<T: Coefficient>(
+    system: &System,
+    node: &Node<T>,
+    reason: ClusterReason,
+) -> ClusterLeaf {
+    (
+        Cluster {
+            bounds: system.domain_box(&node.lo, &node.hi),
+            reason,
+            max_abs_f: max_abs(&node.polys),
+        },
+        node.lo.clone(),
+        node.hi.clone(),
+        node.depth,
+    )
+}
+
+/// The hull of boxes (unit coordinates) and their smallest depth; `None` for no boxes.
+fn hull(members: &[ClusterLeaf]) -> Option<(Vec<Rational>, Vec<Rational>, u32)> {
+    let (first, rest) = members.split_first()?;
+    let (mut lo, mut hi, mut depth) = (first.1.clone(), first.2.clone(), first.3);
+    for (_, mlo, mhi, d) in rest {
+        for k in 0..lo.len() {
+            if mlo[k] < lo[k] {
+                lo[k] = mlo[k].clone();
+            }
+            if mhi[k] > hi[k] {
+                hi[k] = mhi[k].clone();
+            }
+        }
+        depth = depth.min(*d);
+    }
+    Some((lo, hi, depth))
+}
+
+/// One [`ClusterReason::Singular`] cluster for a group of boxes: their [`hull`], with bounds
+/// on each `|f_i|` over the whole hull (interval enclosures of the equations restricted to
+/// it); `None` for no boxes.
+fn merged_cluster(system: &System, members: &[ClusterLeaf]) -> Option<ClusterLeaf> {
+    hull(members).map(|(lo, hi, depth)| singular_cluster(system, lo, hi, depth))
+}
+
+/// The [`ClusterReason::Singular`] cluster of one box (unit coordinates).
+fn singular_cluster(
+    system: &System,
+    lo: Vec<Rational>,
+    hi: Vec<Rational>,
+    depth: u32,
+) -> ClusterLeaf {
+    let sub: Vec<(Rational, Rational)> = lo.iter().cloned().zip(hi.iter().cloned()).collect();
+    let max_abs_f = system
+        .equations
+        .iter()
+        .map(|e| {
+            super::enclose_on(e, &sub).map_or(f64::INFINITY, |p| {
+                p.coeffs()
+                    .iter()
+                    .map(Coefficient::abs_upper_f64)
+                    .fold(0.0, f64::max)
+            })
+        })
+        .collect();
+    (
+        Cluster {
+            bounds: system.domain_box(&lo, &hi),
+            reason: ClusterReason::Singular,
+            max_abs_f,
+        },
+        lo,
+        hi,
+        depth,
+    )
+}
+
+/// The boxes an exhausted pass left: unvisited, clusters and certified roots (unit
+/// coordinates); every root of the pass's start boxes lies in one of them.
+fn left_by<T: Coefficient>(system: &System, pass: Found<T>) -> Vec<ClusterLeaf> {
+    let n = system.unknowns();
+    let mut left: Vec<ClusterLeaf> = pass
+        .deferred
+        .iter()
+        .map(|node| leaf_cluster(system, node, ClusterReason::Singular))
+        .collect();
+    left.extend(pass.clusters);
+    for r in pass.roots {
+        let lo = (0..n).map(|k| system.to_unit(k, &r.bounds[k].0)).collect();
+        let hi = (0..n).map(|k| system.to_unit(k, &r.bounds[k].1)).collect();
+        let cluster = Cluster {
+            bounds: r.bounds,
+            reason: ClusterReason::Singular,
+            max_abs_f: Vec::new(),
+        };
+        left.push((cluster, lo, hi, 0));
+    }
+    left
+}
+
+/// The groups of touching boxes among `leaves` (indices).
+fn leaf_groups<'a>(
+    leaves: impl Iterator<Item = (&'a [Rational], &'a [Rational])>,
+) -> Vec<Vec<usize>> {
+    let boxes: Vec<(&[Rational], &[Rational])> = leaves.collect();
+    super::touching_groups(&boxes)
+}
+
+/// A solve's subdivision of `nodes` in two stages: every box to [`COARSE_LEVELS`], then each
+/// group of touching boxes still undecided there on its own, down to the depth limit within
+/// [`GROUP_BOXES`]; a group that needs more is one [`ClusterReason::Singular`] cluster (the
+/// hull of its boxes at the coarse level).
+///
+/// `filtered` (the interval path of [`Path::Filtered`]): a group of at most
+/// [`GROUP_EXACT_REDO`] coarse boxes that the intervals leave unresolved (out of budget, or
+/// with more undecided leaves than that) is subdivided again in exact rationals from its
+/// coarse boxes, within [`GROUP_EXACT_BOXES`], before it is given up: rounding, not the
+/// geometry, may be what stopped it (two roots `2⁻²⁷` apart).
+fn staged<T: Coefficient>(
+    ctx: &Context<'_>,
+    nodes: Vec<Node<T>>,
+    filtered: bool,
+) -> Result<Found<()>, SolveError> {
+    let system = ctx.system;
+    let n = system.unknowns() as u32;
+    let levels = ctx.opts.limits.max_depth;
+    let full = Pass {
+        depth_limit: levels.saturating_mul(n),
+        budget: usize::MAX,
+        defer: false,
+    };
+    if levels <= COARSE_LEVELS {
+        return Ok(subdivide(ctx, nodes, 0, &full)?.erased());
+    }
+    let coarse = Pass {
+        depth_limit: COARSE_LEVELS * n,
+        budget: usize::MAX,
+        defer: true,
+    };
+    let mut first = subdivide(ctx, nodes, 0, &coarse)?;
+    let deferred = std::mem::take(&mut first.deferred);
+    let mut found = first.erased();
+    let groups = leaf_groups(deferred.iter().map(|d| (d.lo.as_slice(), d.hi.as_slice())));
+    let mut slots: Vec<Option<Node<T>>> = deferred.into_iter().map(Some).collect();
+    let group_pass = Pass {
+        budget: GROUP_BOXES,
+        ..full
+    };
+    for group in groups {
+        let members: Vec<Node<T>> = group.iter().filter_map(|&i| slots[i].take()).collect();
+        let starts: Vec<(Vec<Rational>, Vec<Rational>, u32)> = members
+            .iter()
+            .map(|m| (m.lo.clone(), m.hi.clone(), m.depth))
+            .collect();
+        let mut pass = subdivide(ctx, members, found.visited, &group_pass)?;
+        let undecided = pass
+            .clusters
+            .iter()
+            .filter(|c| c.0.reason == ClusterReason::Uncertain)
+            .count();
+        if !pass.exhausted && (!filtered || undecided <= GROUP_EXACT_REDO) {
+            found.absorb(pass);
+            continue;
+        }
+        found.visited += pass.visited;
+        pass.visited = 0;
+        let left = left_by(system, pass);
+        if filtered && starts.len() <= GROUP_EXACT_REDO {
+            let mut again = Found::<Rational>::default();
+            let nodes = start_nodes(ctx, starts, &mut again)?;
+            let exact_pass = Pass {
+                budget: GROUP_EXACT_BOXES,
+                ..full
+            };
+            let pass = subdivide(ctx, nodes, found.visited, &exact_pass)?;
+            if !pass.exhausted {
+                again.absorb(pass);
+                found.absorb(again);
+                continue;
+            }
+            found.visited += pass.visited;
+            let mut exact_left = left_by(system, pass);
+            exact_left.extend(again.clusters);
+            // Both passes cover every root of the group: so does the meet of their hulls.
+            if let (Some(a), Some(b)) = (hull(&left), hull(&exact_left)) {
+                let lo: Vec<Rational> = a.0.into_iter().zip(b.0).map(|(x, y)| x.max(y)).collect();
+                let hi: Vec<Rational> = a.1.into_iter().zip(b.1).map(|(x, y)| x.min(y)).collect();
+                if lo.iter().zip(&hi).all(|(l, h)| l <= h) {
+                    let depth = a.2.min(b.2);
+                    found.clusters.push(singular_cluster(system, lo, hi, depth));
+                    continue;
+                }
+            }
+        }
+        found.clusters.extend(merged_cluster(system, &left));
     }
     Ok(found)
 }
@@ -1238,7 +1529,7 @@ pub(super) fn root_in(bounds: RationalBox, certificate: RootCertificate) -> Root
 /// their hull, inflated by a quarter of its width on every side (inside the domain), and
 /// certified exactly. A certified box replaces the group only when it meets no other root's
 /// or cluster's box, so nothing is counted twice.
-fn certify_across_planes(ctx: &Context<'_>, mut found: Found) -> Result<Found, SolveError> {
+fn certify_across_planes(ctx: &Context<'_>, mut found: Found<()>) -> Result<Found<()>, SolveError> {
     let (system, opts) = (ctx.system, ctx.opts);
     let n = system.unknowns();
     let meets = |alo: &[Rational], ahi: &[Rational], blo: &[Rational], bhi: &[Rational]| {
@@ -1344,11 +1635,6 @@ fn certify_across_planes(ctx: &Context<'_>, mut found: Found) -> Result<Found, S
 pub fn solve(system: &System, opts: &SolveOptions) -> Result<Solution, SolveError> {
     let n = system.unknowns();
     super::check_square(system.equations.len(), n)?;
-    let whole = vec![(
-        vec![<Rational as Zero>::zero(); n],
-        vec![<Rational as One>::one(); n],
-        0,
-    )];
     let ctx = Context {
         system,
         opts,
@@ -1357,18 +1643,40 @@ pub fn solve(system: &System, opts: &SolveOptions) -> Result<Solution, SolveErro
         exact: Default::default(),
         scaled: Default::default(),
     };
-    let found = match opts.path {
-        Path::Exact => run::<Rational>(&ctx, whole, 0)?,
-        Path::Fast => run::<Interval>(&ctx, whole, 0)?,
+    let found: Found<()> = match opts.path {
+        Path::Exact => staged::<Rational>(&ctx, whole_node(&ctx)?, false)?,
+        Path::Fast => staged::<Interval>(&ctx, whole_node(&ctx)?, false)?,
         Path::Filtered => {
-            let mut fast = run::<Interval>(&ctx, whole, 0)?;
+            let mut fast = staged::<Interval>(&ctx, whole_node(&ctx)?, true)?;
             let (open, mut kept): (Vec<_>, Vec<_>) = fast
                 .clusters
                 .drain(..)
                 .partition(|c| c.0.reason == ClusterReason::Uncertain);
-            let starts: Vec<_> = open.into_iter().map(|(_, lo, hi, d)| (lo, hi, d)).collect();
+            // The interval path's undecided leaves are redone exactly, box by box, unless
+            // they crowd around one point (then they are one cluster).
+            let mut starts = Vec::new();
+            let mut slots: Vec<Option<ClusterLeaf>> = Vec::new();
+            let groups = leaf_groups(open.iter().map(|c| (c.1.as_slice(), c.2.as_slice())));
+            slots.extend(open.into_iter().map(Some));
+            for group in groups {
+                let members: Vec<ClusterLeaf> =
+                    group.iter().filter_map(|&i| slots[i].take()).collect();
+                if members.len() > GROUP_EXACT_REDO {
+                    kept.extend(merged_cluster(system, &members));
+                } else {
+                    starts.extend(members.into_iter().map(|(_, lo, hi, d)| (lo, hi, d)));
+                }
+            }
             if !starts.is_empty() {
-                let more = run::<Rational>(&ctx, starts, fast.visited)?;
+                let mut more = Found::<Rational>::default();
+                let nodes = start_nodes(&ctx, starts, &mut more)?;
+                let full = Pass {
+                    depth_limit: opts.limits.max_depth.saturating_mul(n as u32),
+                    budget: usize::MAX,
+                    defer: false,
+                };
+                let pass = subdivide(&ctx, nodes, fast.visited, &full)?;
+                more.absorb(pass);
                 fast.roots.extend(more.roots);
                 kept.extend(more.clusters);
                 fast.visited += more.visited;

@@ -132,6 +132,7 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
                 ClusterReason::DomainBoundary => "on the domain boundary",
                 ClusterReason::Budget => "box or time budget",
                 ClusterReason::Uncertain => "rounding (fast path)",
+                ClusterReason::Singular => "a singular root (a group of undecided boxes)",
             };
             let centre: Vec<f64> = c
                 .bounds

@@ -1276,8 +1276,11 @@ fn frames_are_continued_across_border_events() {
         }
         let (there, back) = both_ways_from_a_fresh_trace(&scene, frame, &opts);
         println!("r = {:.3}: there {there:.1e}, back {back:.1e}", frame.r);
+        // Both within the chords' own sag (a continued frame keeps the previous frame's
+        // spacing): before out-of-order border points were moved and gaps refilled from the
+        // nearest surface points, a traced vertex lay 9e-2 from the frame at r = 1.538.
         assert!(
-            there < 0.1 && back < 0.2,
+            there < 0.05 && back < 0.05,
             "r = {}: {there}, {back}",
             frame.r
         );

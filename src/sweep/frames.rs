@@ -9,8 +9,10 @@
 //! it did not). Events on patch borders do not change the silhouette's topology, only how it
 //! is cut into patches: a point that converges across a border moves to the neighbouring
 //! patch (located there by its surface point), a point joining two patches' pieces whose
-//! crossing is gone is dropped, and gaps wider than the last traced frame's are refilled by
-//! points moved onto the silhouette. An inner point that slides a little past the time face
+//! crossing is gone is dropped, one whose crossing moved past a neighbour moves to where the
+//! component now passes between the patches, and gaps wider than the last traced frame's are
+//! refilled by points moved onto the silhouette (from the surface point nearest to the
+//! chord's midpoint when the chord crosses patches). An inner point that slides a little past the time face
 //! its component ends on is dropped; a point past a time face the component does not end on
 //! (it meets the face anew) makes the frame traced.
 //!
@@ -371,10 +373,12 @@ fn refine(
                             forms[x.0].point(x.1[0], x.1[1])?,
                             forms[y.0].point(y.1[0], y.1[1])?,
                         );
+                        // The chord's midpoint lies off a curved surface: Newton starts from
+                        // the nearest point of either patch.
                         let m = std::array::from_fn(|k| (px[k] + py[k]) / 2.0);
                         [x.0, y.0]
                             .into_iter()
-                            .find_map(|q| locate(&forms[q], m).map(|[u, v]| (q, u, v)))?
+                            .find_map(|q| nearest(&forms[q], m, false).map(|[u, v]| (q, u, v)))?
                     };
                     let z = newton([u, v, s_mid], Some(&forms[p].f), &g[p], [false; 3])?;
                     let inside = |c: f64| (-OVERSHOOT..=1.0 + OVERSHOOT).contains(&c);
@@ -563,6 +567,37 @@ fn continue_frame(
             points.push(apply_motion(scene, t, world));
             kept.push(p);
         }
+        // A point on a patch border between two points inside its own patch joined that
+        // patch's piece to the next one's, and the crossing moved past a neighbour: Newton's
+        // method kept it on the border, at the crossing, but out of order. It moves to where
+        // the component passes from its patch to another, the nearer way along the curve
+        // (dropped when there is none).
+        let mut pts: Vec<([f64; 3], [f64; 3], usize)> = uvt
+            .into_iter()
+            .zip(points)
+            .zip(kept)
+            .map(|((y, w), p)| (y, w, p))
+            .collect();
+        for _ in 0..pts.len() {
+            let Some(i) = (0..pts.len()).find(|&i| out_of_order(&pts, i, c.closed)) else {
+                break;
+            };
+            let junction = pts.remove(i);
+            let other = |k: &usize| pts[*k].2 != junction.2;
+            let ahead = (i..pts.len()).find(other);
+            let behind = (0..i).rev().find(other).map(|k| k + 1);
+            let to = match (ahead, behind) {
+                (Some(f), Some(b)) => Some(if f - i <= i - b { f } else { b }),
+                (f, b) => f.or(b),
+            };
+            match to {
+                Some(k) => pts.insert(k, junction),
+                None => dropped += 1,
+            }
+        }
+        let uvt: Vec<[f64; 3]> = pts.iter().map(|x| x.0).collect();
+        let points: Vec<[f64; 3]> = pts.iter().map(|x| x.1).collect();
+        let kept: Vec<usize> = pts.iter().map(|x| x.2).collect();
         // More than a few points across borders, or too few left: traced afresh instead.
         if uvt.len() < 2 || dropped > MAX_DROPPED.max(c.uvt.len() / 8) {
             return None;
@@ -576,6 +611,22 @@ fn continue_frame(
         });
     }
     Some(comps)
+}
+
+/// Whether point `i` of a continued component (`(u, v, t)`, 3-D point, patch) lies on a
+/// border of its patch (`u` or `v` at 0 or 1) between two points inside that patch, off its
+/// borders: a junction of two patches' pieces out of order ([`continue_frame`]).
+fn out_of_order(pts: &[([f64; 3], [f64; 3], usize)], i: usize, closed: bool) -> bool {
+    let n = pts.len();
+    let on_border = |y: &[f64; 3]| {
+        let s = |c: f64| c.abs() <= 1e-12 || (c - 1.0).abs() <= 1e-12;
+        s(y[0]) || s(y[1])
+    };
+    if n < 3 || !on_border(&pts[i].0) || (!closed && (i == 0 || i + 1 == n)) {
+        return false;
+    }
+    let (h, j) = ((i + n - 1) % n, (i + 1) % n);
+    pts[h].2 == pts[i].2 && pts[j].2 == pts[i].2 && !on_border(&pts[h].0) && !on_border(&pts[j].0)
 }
 
 /// A continued point `y` of patch `p` that Newton's method took past the patch's border
@@ -614,6 +665,13 @@ fn relocate(
 /// patch (inside its square to `1e-6`, `|S(u, v) − x|` within `1e-9` of the point's scale):
 /// Gauss–Newton from the nearest sample of a 5 × 5 grid, with central differences.
 fn locate(forms: &PatchForms, x: [f64; 3]) -> Option<[f64; 2]> {
+    nearest(forms, x, true)
+}
+
+/// The parameters `(u, v)` of the point of the patch `forms` nearest to `x` (a local
+/// minimum of `|S(u, v) − x|` by Gauss–Newton, as [`locate`]), when it lies inside the
+/// patch's square to `1e-6`; with `on_surface`, only when `x` lies on the patch.
+fn nearest(forms: &PatchForms, x: [f64; 3], on_surface: bool) -> Option<[f64; 2]> {
     let dist2 = |p: [f64; 3]| (0..3).map(|k| (p[k] - x[k]).powi(2)).sum::<f64>();
     let mut best: Option<(f64, [f64; 2])> = None;
     for i in 0..5 {
@@ -658,10 +716,15 @@ fn locate(forms: &PatchForms, x: [f64; 3]) -> Option<[f64; 2]> {
             return None;
         }
         let (b0, b1) = (dot(du, r), dot(dv, r));
-        uv[0] -= (m11 * b0 - m01 * b1) / det;
-        uv[1] -= (m00 * b1 - m01 * b0) / det;
+        let step = [(m11 * b0 - m01 * b1) / det, (m00 * b1 - m01 * b0) / det];
+        uv[0] -= step[0];
+        uv[1] -= step[1];
         if !uv.iter().all(|c| c.is_finite() && (-1.0..=2.0).contains(c)) {
             return None;
+        }
+        if !on_surface && step[0].abs().max(step[1].abs()) <= 1e-10 {
+            let ok = |c: f64| (-1e-6..=1.0 + 1e-6).contains(&c);
+            return (ok(uv[0]) && ok(uv[1])).then_some(uv);
         }
     }
     None

@@ -613,22 +613,60 @@ fn restrict_scaled(
 }
 
 /// The certificate of [`certify`] on the box `[lo, hi]` (unit coordinates) decided in exact
-/// integers with the preconditioner `a`: the equations restricted to the box and brought to
-/// one denominator `D`, `A` scaled to integers by `2^E`; every sign and every comparison of
-/// Miranda's test and of diagonal dominance is then one of integers (`D·2^E > 0`). No gcd is
-/// taken.
+/// integers with the preconditioner `a` ([`certify_restricted`]).
 fn certify_scaled(
     exact: &[ScaledBernstein],
     lo: &[Rational],
     hi: &[Rational],
     a: Vec<Vec<Rational>>,
 ) -> Result<Option<RootCertificate>, SolveError> {
-    use num_bigint::BigInt;
-    let n = exact.len();
     let f: Vec<ScaledBernstein> = exact
         .iter()
         .map(|p| restrict_scaled(p, lo, hi))
         .collect::<Result<_, _>>()?;
+    Ok(match certify_restricted(&f, a)? {
+        ScaledDecision::Certified(c) => Some(c),
+        ScaledDecision::Culled | ScaledDecision::Open => None,
+    })
+}
+
+/// What [`certify_restricted`] decided.
+enum ScaledDecision {
+    /// Some `g_i = Σ_j A_ij f_j` is of one strict sign: no root.
+    Culled,
+    /// Exactly one root.
+    Certified(RootCertificate),
+    /// Neither.
+    Open,
+}
+
+/// The strict sign all of `nums` share (`1` or `-1`), if they do.
+fn strict(nums: &mut dyn Iterator<Item = &num_bigint::BigInt>) -> Option<i8> {
+    let mut sign = None;
+    for x in nums {
+        let s = match x.sign() {
+            num_bigint::Sign::Plus => 1,
+            num_bigint::Sign::Minus => -1,
+            num_bigint::Sign::NoSign => return None,
+        };
+        if sign.is_some_and(|o| o != s) {
+            return None;
+        }
+        sign = Some(s);
+    }
+    sign
+}
+
+/// [`certify_or_cull`] on the equations `f` already restricted to a box, in exact integers
+/// with the preconditioner `a`: the equations brought to one denominator `D`, `A` scaled to
+/// integers by `2^E`; every sign and every comparison of the culling, of Miranda's test and
+/// of diagonal dominance is then one of integers (`D·2^E > 0`). No gcd is taken.
+fn certify_restricted(
+    f: &[ScaledBernstein],
+    a: Vec<Vec<Rational>>,
+) -> Result<ScaledDecision, SolveError> {
+    use num_bigint::BigInt;
+    let n = f.len();
     // One denominator for all: numerators of f_j times Π_{k≠j} D_k.
     let scale: Vec<BigInt> = (0..n)
         .map(|j| {
@@ -663,21 +701,11 @@ fn certify_scaled(
             ScaledBernstein::from_integers(degrees.clone(), num)
         })
         .collect::<Result<_, _>>()?;
-    let strict = |nums: &mut dyn Iterator<Item = &BigInt>| -> Option<i8> {
-        let mut sign = None;
-        for x in nums {
-            let s = match x.sign() {
-                num_bigint::Sign::Plus => 1,
-                num_bigint::Sign::Minus => -1,
-                num_bigint::Sign::NoSign => return None,
-            };
-            if sign.is_some_and(|o| o != s) {
-                return None;
-            }
-            sign = Some(s);
-        }
-        sign
-    };
+    if g.iter()
+        .any(|gi| strict(&mut gi.numerators().iter()).is_some())
+    {
+        return Ok(ScaledDecision::Culled);
+    }
     let strides: Vec<usize> = (0..n)
         .scan(1, |acc, k| {
             let here = *acc;
@@ -698,7 +726,7 @@ fn certify_scaled(
         };
         match (strict(&mut face(false)), strict(&mut face(true))) {
             (Some(l), Some(u)) if l == -u => signs.push(l),
-            _ => return Ok(None),
+            _ => return Ok(ScaledDecision::Open),
         }
     }
     for (i, gi) in g.iter().enumerate() {
@@ -707,14 +735,14 @@ fn certify_scaled(
         for (k, &d) in degrees.iter().enumerate() {
             if d == 0 {
                 if k == i {
-                    return Ok(None);
+                    return Ok(ScaledDecision::Open);
                 }
                 continue;
             }
             let dk = gi.derivative(k)?;
             if k == i {
                 if strict(&mut dk.numerators().iter()).is_none() {
-                    return Ok(None);
+                    return Ok(ScaledDecision::Open);
                 }
                 diag = dk.numerators().iter().map(|x| x.abs()).min();
             } else {
@@ -727,13 +755,111 @@ fn certify_scaled(
             }
         }
         if diag.is_none_or(|m| m <= off) {
-            return Ok(None);
+            return Ok(ScaledDecision::Open);
         }
     }
-    Ok(Some(RootCertificate {
+    Ok(ScaledDecision::Certified(RootCertificate {
         preconditioner: a,
         lower_face_signs: signs,
     }))
+}
+
+/// An `f64` near `num / den` (`den > 0`): both cut to about 64 significant bits of `den`.
+fn approx_ratio(num: &num_bigint::BigInt, den: &num_bigint::BigInt) -> f64 {
+    use num_traits::ToPrimitive;
+    let shift = den.bits().saturating_sub(64);
+    let (n, d) = (num >> shift, den >> shift);
+    n.to_f64().unwrap_or(f64::NAN) / d.to_f64().unwrap_or(f64::NAN)
+}
+
+/// What the exact check of one box at the depth limit decided ([`decide_leaf`]).
+enum Leaf {
+    /// No root.
+    Culled,
+    /// One root (its certificate on the box).
+    Certified,
+    /// Neither: a cluster, with whether the box touches a face of the domain on which the
+    /// system may vanish, and per equation a certified bound on `|f_i|`.
+    Open {
+        on_boundary: bool,
+        max_abs_f: Vec<f64>,
+    },
+}
+
+/// The filtered path's exact redo of one of the interval path's undecided boxes at the depth
+/// limit, in integers over one denominator per equation (no gcd, no normalised rational):
+/// the culling, the preconditioned culling, Miranda's test, diagonal dominance and the
+/// domain-boundary test of [`subdivide`] at that depth, decided exactly.
+fn decide_leaf(ctx: &Context<'_>, lo: &[Rational], hi: &[Rational]) -> Result<Leaf, SolveError> {
+    let f: Vec<ScaledBernstein> = ctx
+        .scaled()?
+        .iter()
+        .map(|p| restrict_scaled(p, lo, hi))
+        .collect::<Result<_, _>>()?;
+    if f.iter()
+        .any(|p| strict(&mut p.numerators().iter()).is_some())
+    {
+        return Ok(Leaf::Culled);
+    }
+    let n = f.len();
+    let a = if n == 1 {
+        vec![vec![<Rational as One>::one()]]
+    } else {
+        let j = f
+            .iter()
+            .map(|p| {
+                let approx = p
+                    .numerators()
+                    .iter()
+                    .map(|x| approx_ratio(x, p.denominator()))
+                    .collect();
+                gradient_at_centre(approx, p.degrees())
+            })
+            .collect();
+        rounded_inverse(j)
+    };
+    match certify_restricted(&f, a)? {
+        ScaledDecision::Culled => return Ok(Leaf::Culled),
+        ScaledDecision::Certified(_) => return Ok(Leaf::Certified),
+        ScaledDecision::Open => {}
+    }
+    let face_free = |axis: usize, upper: bool| {
+        f.iter().any(|p| {
+            let degrees = p.degrees();
+            let stride: usize = degrees[..axis].iter().map(|d| d + 1).product();
+            let len = degrees[axis] + 1;
+            let at = if upper { len - 1 } else { 0 };
+            let mut face = p
+                .numerators()
+                .iter()
+                .enumerate()
+                .filter(|(c, _)| (c / stride) % len == at)
+                .map(|(_, x)| x);
+            strict(&mut face).is_some()
+        })
+    };
+    let on_boundary = (0..n).any(|axis| {
+        (lo[axis].is_zero() && !face_free(axis, false))
+            || (hi[axis].is_one() && !face_free(axis, true))
+    });
+    let max_abs_f = f
+        .iter()
+        .map(|p| {
+            let top = p
+                .numerators()
+                .iter()
+                .map(|x| x.magnitude())
+                .max()
+                .cloned()
+                .unwrap_or_default();
+            let bound = Rational::new_raw(top.into(), p.denominator().clone());
+            Interval::from_rational(&bound).hi
+        })
+        .collect();
+    Ok(Leaf::Open {
+        on_boundary,
+        max_abs_f,
+    })
 }
 
 /// Shrinks a certified box around its root: Newton's method in `f64` from the box centre,
@@ -1667,14 +1793,49 @@ pub fn solve(system: &System, opts: &SolveOptions) -> Result<Solution, SolveErro
                     starts.extend(members.into_iter().map(|(_, lo, hi, d)| (lo, hi, d)));
                 }
             }
+            let full = Pass {
+                depth_limit: opts.limits.max_depth.saturating_mul(n as u32),
+                budget: usize::MAX,
+                defer: false,
+            };
+            // A box at the depth limit is decided once, in integers; what it certifies (or a
+            // box above the limit) is subdivided in rationals, with its root refined.
+            let mut rational = Vec::new();
+            for (lo, hi, depth) in starts {
+                let over_time = opts
+                    .limits
+                    .time_limit
+                    .is_some_and(|t| ctx.clock.elapsed() > t);
+                if depth < full.depth_limit || over_time {
+                    rational.push((lo, hi, depth));
+                    continue;
+                }
+                fast.visited += 1;
+                match decide_leaf(&ctx, &lo, &hi)? {
+                    Leaf::Culled => {}
+                    Leaf::Certified => rational.push((lo, hi, depth)),
+                    Leaf::Open {
+                        on_boundary,
+                        max_abs_f,
+                    } => {
+                        let reason = if on_boundary {
+                            ClusterReason::DomainBoundary
+                        } else {
+                            ClusterReason::DepthLimit
+                        };
+                        let cluster = Cluster {
+                            bounds: system.domain_box(&lo, &hi),
+                            reason,
+                            max_abs_f,
+                        };
+                        kept.push((cluster, lo, hi, depth));
+                    }
+                }
+            }
+            let starts = rational;
             if !starts.is_empty() {
                 let mut more = Found::<Rational>::default();
                 let nodes = start_nodes(&ctx, starts, &mut more)?;
-                let full = Pass {
-                    depth_limit: opts.limits.max_depth.saturating_mul(n as u32),
-                    budget: usize::MAX,
-                    defer: false,
-                };
                 let pass = subdivide(&ctx, nodes, fast.visited, &full)?;
                 more.absorb(pass);
                 fast.roots.extend(more.roots);
@@ -1728,5 +1889,109 @@ mod tests {
             }
         }
         assert!(checked >= 700, "{checked}");
+    }
+
+    /// The filtered path's integer decision on one box ([`decide_leaf`]) is the rational
+    /// path's ([`subdivide`]'s tests at the depth limit), on boxes around the roots of random
+    /// systems of 2 and 3 unknowns: the roots' own boxes, boxes widened around them, boxes
+    /// beside them, and boxes at the domain's corners.
+    #[test]
+    fn the_integer_leaf_decision_is_the_rational_one() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next =
+            move || (crate::num::xorshift(&mut seed) >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        let q = |x: f64| rational_from_f64(x, "x").unwrap();
+        let mut counts = [0usize; 4];
+        for k in 0..24 {
+            let n = 2 + k % 2;
+            let degrees = vec![2; n];
+            let count: usize = degrees.iter().map(|d| d + 1).product();
+            let equations: Vec<Bernstein<Rational>> = (0..n)
+                .map(|_| {
+                    let c = (0..count).map(|_| q(next())).collect();
+                    Bernstein::new(degrees.clone(), c).unwrap()
+                })
+                .collect();
+            let zero = <Rational as Zero>::zero();
+            let one = <Rational as One>::one();
+            let system = System::new(vec![(zero.clone(), one.clone()); n], equations).unwrap();
+            let opts = SolveOptions::default();
+            let ctx = Context {
+                system: &system,
+                opts: &opts,
+                clock: Instant::now(),
+                exact_finish: true,
+                exact: Default::default(),
+                scaled: Default::default(),
+            };
+            let solution = solve(&system, &opts).unwrap();
+            let mut boxes: Vec<(Vec<Rational>, Vec<Rational>)> = Vec::new();
+            for r in &solution.roots {
+                let c: Vec<f64> = r.approx.clone();
+                for w in [1e-9, 1e-6, 1e-3, 0.05] {
+                    for shift in [0.0, 3.0] {
+                        let lo = c.iter().map(|&x| q((x - w + shift * w).clamp(0.0, 1.0)));
+                        let hi = c.iter().map(|&x| q((x + w + shift * w).clamp(0.0, 1.0)));
+                        boxes.push((lo.collect(), hi.collect()));
+                    }
+                }
+            }
+            for corner in [0.0, 1.0] {
+                let lo = vec![q(if corner == 0.0 { 0.0 } else { 0.75 }); n];
+                let hi = vec![q(if corner == 0.0 { 0.25 } else { 1.0 }); n];
+                boxes.push((lo, hi));
+            }
+            for (lo, hi) in boxes {
+                if lo.iter().zip(&hi).any(|(a, b)| a >= b) {
+                    continue;
+                }
+                let sub: Vec<(Rational, Rational)> =
+                    lo.iter().cloned().zip(hi.iter().cloned()).collect();
+                let polys: Vec<Bernstein<Rational>> = ctx
+                    .exact()
+                    .unwrap()
+                    .iter()
+                    .map(|e| e.restrict(&sub).unwrap())
+                    .collect();
+                let node = Node {
+                    lo: lo.clone(),
+                    hi: hi.clone(),
+                    polys,
+                    depth: 0,
+                };
+                let rational = if root_free(&node.polys) == Decision::Yes {
+                    0
+                } else {
+                    let c = certify_or_cull(&node.polys).unwrap();
+                    if c.culled {
+                        0
+                    } else if c.certificate.is_some() {
+                        1
+                    } else if on_domain_boundary(&node).unwrap() {
+                        2
+                    } else {
+                        3
+                    }
+                };
+                let integer = match decide_leaf(&ctx, &lo, &hi).unwrap() {
+                    Leaf::Culled => 0,
+                    Leaf::Certified => 1,
+                    Leaf::Open {
+                        on_boundary: true, ..
+                    } => 2,
+                    Leaf::Open { .. } => 3,
+                };
+                assert_eq!(integer, rational, "system {k}, box {lo:?} – {hi:?}");
+                counts[integer] += 1;
+            }
+        }
+        println!(
+            "culled {}, certified {}, open on the boundary {}, open inside {}: all agree",
+            counts[0], counts[1], counts[2], counts[3]
+        );
+        assert!(
+            counts[0] > 0 && counts[1] > 0 && counts[3] > 0,
+            "{counts:?}"
+        );
     }
 }

@@ -422,6 +422,21 @@ impl ScaledBernstein {
         self.split_generic(axis, p, q)
     }
 
+    /// de Casteljau at any `t = p/q` (`q > 0`) along `axis`, as [`split`](Self::split): the
+    /// steps are polynomial identities, so at `t > 1` the first part is the polynomial on
+    /// `[0, t]` and at `t < 0` the second is the one on `[t, 1]` (extrapolation, exact).
+    pub fn split_anywhere(
+        &self,
+        axis: usize,
+        p: &BigInt,
+        q: &BigInt,
+    ) -> Result<(Self, Self), BernsteinError> {
+        if q.sign() != BigSign::Plus {
+            return Err(BernsteinError::BadParameter);
+        }
+        self.split_generic(axis, p, q)
+    }
+
     fn split_generic(
         &self,
         axis: usize,

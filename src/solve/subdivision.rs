@@ -1254,29 +1254,12 @@ fn start_nodes<T: Coefficient>(
             // Out of time before this start box (the filtered path's exact redo of the fast
             // path's uncertain boxes): it goes back as a budget cluster, bounded by rigorous
             // interval enclosures rather than restricted exactly.
-            let sub: Vec<(Rational, Rational)> =
-                lo.iter().cloned().zip(hi.iter().cloned()).collect();
-            let max_abs_f = ctx
-                .exact()?
-                .iter()
-                .map(|e| {
-                    super::enclose_on(e, &sub).map_or(f64::INFINITY, |p| {
-                        p.coeffs()
-                            .iter()
-                            .map(Coefficient::abs_upper_f64)
-                            .fold(0.0, f64::max)
-                    })
-                })
-                .collect();
-            found.clusters.push((
-                Cluster {
-                    bounds: system.domain_box(&lo, &hi),
-                    reason: ClusterReason::Budget,
-                    max_abs_f,
-                },
+            found.clusters.push(enclosed_cluster(
+                system,
                 lo,
                 hi,
                 depth,
+                ClusterReason::Budget,
             ));
             continue;
         } else {
@@ -1467,6 +1450,18 @@ fn singular_cluster(
     hi: Vec<Rational>,
     depth: u32,
 ) -> ClusterLeaf {
+    enclosed_cluster(system, lo, hi, depth, ClusterReason::Singular)
+}
+
+/// The cluster of one box (unit coordinates) for `reason`, its bounds on each `|f_i|` from
+/// interval enclosures of the equations restricted to the box (no exact restriction).
+fn enclosed_cluster(
+    system: &System,
+    lo: Vec<Rational>,
+    hi: Vec<Rational>,
+    depth: u32,
+    reason: ClusterReason,
+) -> ClusterLeaf {
     let sub: Vec<(Rational, Rational)> = lo.iter().cloned().zip(hi.iter().cloned()).collect();
     let max_abs_f = system
         .equations
@@ -1483,7 +1478,7 @@ fn singular_cluster(
     (
         Cluster {
             bounds: system.domain_box(&lo, &hi),
-            reason: ClusterReason::Singular,
+            reason,
             max_abs_f,
         },
         lo,

@@ -38,6 +38,15 @@
 //! * **roots on split planes** — touching depth-limit clusters are tried once more as one
 //!   box (their hull, inflated), certified exactly, and kept only when that box meets no
 //!   other root's or cluster's box.
+//! * **singular roots in bounded work** — every box is subdivided to 5 levels first; the
+//!   boxes still undecided there are grouped by touching, and each group goes on alone, down
+//!   to the depth limit, within its own budget (2,048 boxes and 512 more per root it
+//!   certifies). Around a tangential root or along a curve of roots the undecided boxes
+//!   multiply at every level; such a group is given up as one [`ClusterReason::Singular`]
+//!   cluster (the hull of what it left undecided) instead of taking every box of the solve.
+//!   The filtered path first redoes a small group (up to 32 boxes) exactly within 256 boxes,
+//!   since rounding alone may be what stopped it, and decides each of the interval path's
+//!   undecided boxes at the depth limit in integers over one denominator.
 //!
 //! Equations may be tensor B-spline fields ([`PiecewiseSystem`], [`solve_piecewise`]): their
 //! knots cut the box into cells, and the subdivision's boxes cross the knot planes freely,

@@ -776,7 +776,7 @@ fn approx_ratio(num: &num_bigint::BigInt, den: &num_bigint::BigInt) -> f64 {
 enum Leaf {
     /// No root.
     Culled,
-    /// One root (its certificate on the box).
+    /// One root, certified on the box (the rational path certifies it again and refines it).
     Certified,
     /// Neither: a cluster, with whether the box touches a face of the domain on which the
     /// system may vanish, and per equation a certified bound on `|f_i|`.
@@ -1520,8 +1520,9 @@ fn leaf_groups<'a>(
 
 /// A solve's subdivision of `nodes` in two stages: every box to [`COARSE_LEVELS`], then each
 /// group of touching boxes still undecided there on its own, down to the depth limit within
-/// [`GROUP_BOXES`]; a group that needs more is one [`ClusterReason::Singular`] cluster (the
-/// hull of its boxes at the coarse level).
+/// [`GROUP_BOXES`]; a group that needs more is one [`ClusterReason::Singular`] cluster: the
+/// hull of the boxes the pass left (unvisited, clusters and roots), which hold every root of
+/// the group.
 ///
 /// `filtered` (the interval path of [`Path::Filtered`]): a group of at most
 /// [`GROUP_EXACT_REDO`] coarse boxes that the intervals leave unresolved (out of budget, or

@@ -12,9 +12,9 @@
 //! crossing is gone is dropped, one whose crossing moved past a neighbour moves to where the
 //! component now passes between the patches, and gaps wider than the last traced frame's are
 //! refilled by points moved onto the silhouette (from the surface point nearest to the
-//! chord's midpoint when the chord crosses patches). An inner point that slides a little past the time face
-//! its component ends on is dropped; a point past a time face the component does not end on
-//! (it meets the face anew) makes the frame traced.
+//! chord's midpoint when the chord crosses patches). An inner point that slides a little past
+//! the time face its component ends on is dropped; a point past a time face the component
+//! does not end on (it meets the face anew) makes the frame traced.
 //!
 //! Continued frames are drawings, not certificates: the topology between events is what the
 //! events certify, and every continued point is checked to satisfy both equations to within

@@ -657,6 +657,24 @@ fn strict(nums: &mut dyn Iterator<Item = &num_bigint::BigInt>) -> Option<i8> {
     sign
 }
 
+/// The numerators of `p`'s coefficients on its face `axis = 0` (or `1` when `upper`); the
+/// first axis runs fastest.
+fn face_numerators(
+    p: &ScaledBernstein,
+    axis: usize,
+    upper: bool,
+) -> impl Iterator<Item = &num_bigint::BigInt> {
+    let degrees = p.degrees();
+    let stride: usize = degrees[..axis].iter().map(|d| d + 1).product();
+    let len = degrees[axis] + 1;
+    let at = if upper { len - 1 } else { 0 };
+    p.numerators()
+        .iter()
+        .enumerate()
+        .filter(move |(c, _)| (c / stride) % len == at)
+        .map(|(_, x)| x)
+}
+
 /// [`certify_or_cull`] on the equations `f` already restricted to a box, in exact integers
 /// with the preconditioner `a`: the equations brought to one denominator `D`, `A` scaled to
 /// integers by `2^E`; every sign and every comparison of the culling, of Miranda's test and
@@ -706,25 +724,12 @@ fn certify_restricted(
     {
         return Ok(ScaledDecision::Culled);
     }
-    let strides: Vec<usize> = (0..n)
-        .scan(1, |acc, k| {
-            let here = *acc;
-            *acc *= degrees[k] + 1;
-            Some(here)
-        })
-        .collect();
     let mut signs = Vec::with_capacity(n);
     for (i, gi) in g.iter().enumerate() {
-        let (stride, len) = (strides[i], degrees[i] + 1);
-        let face = |upper: bool| {
-            let at = if upper { len - 1 } else { 0 };
-            gi.numerators()
-                .iter()
-                .enumerate()
-                .filter(move |(c, _)| (c / stride) % len == at)
-                .map(|(_, x)| x)
-        };
-        match (strict(&mut face(false)), strict(&mut face(true))) {
+        match (
+            strict(&mut face_numerators(gi, i, false)),
+            strict(&mut face_numerators(gi, i, true)),
+        ) {
             (Some(l), Some(u)) if l == -u => signs.push(l),
             _ => return Ok(ScaledDecision::Open),
         }
@@ -824,19 +829,8 @@ fn decide_leaf(ctx: &Context<'_>, lo: &[Rational], hi: &[Rational]) -> Result<Le
         ScaledDecision::Open => {}
     }
     let face_free = |axis: usize, upper: bool| {
-        f.iter().any(|p| {
-            let degrees = p.degrees();
-            let stride: usize = degrees[..axis].iter().map(|d| d + 1).product();
-            let len = degrees[axis] + 1;
-            let at = if upper { len - 1 } else { 0 };
-            let mut face = p
-                .numerators()
-                .iter()
-                .enumerate()
-                .filter(|(c, _)| (c / stride) % len == at)
-                .map(|(_, x)| x);
-            strict(&mut face).is_some()
-        })
+        f.iter()
+            .any(|p| strict(&mut face_numerators(p, axis, upper)).is_some())
     };
     let on_boundary = (0..n).any(|axis| {
         (lo[axis].is_zero() && !face_free(axis, false))

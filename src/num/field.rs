@@ -222,6 +222,11 @@ impl Field for Interval {
     /// With the step `with_interval_step!` chooses for `t` (a midpoint at ½, a blend
     /// where `1 − t` is exact, the generic recurrence otherwise).
     fn split_line(line: &[Self], t: &Self) -> (Vec<Self>, Vec<Self>) {
+        if t.is_half() && !line.is_empty() {
+            let (mut left, mut right) = (Vec::with_capacity(line.len()), Vec::new());
+            split_slabs_half(line, line.len(), 1, &mut left, &mut right);
+            return (left, right);
+        }
         with_interval_step!(t, step => split_with(line, step))
     }
     /// With point weights (every `f64`, every dyadic preconditioner entry) each end is one
@@ -251,8 +256,11 @@ impl Field for Interval {
         }
         widened_sum(lo, hi, magnitude, n)
     }
-    /// With point weights, vector by vector over all coefficients (the loops run over
-    /// contiguous memory), with the rounding bound of [`Field::dot`] per coefficient.
+    /// With point weights, vector by vector over all coefficients in round-to-nearest (the
+    /// loops run over contiguous memory and vectorise), each end then moved outward by one
+    /// rounding bound for the whole row ([`row_bound`]: Higham's bound of [`Field::dot`]
+    /// with the largest coefficient magnitude of each vector). Vectors with an unbounded
+    /// coefficient go coefficient by coefficient.
     fn combine(weights: &[Self], vectors: &[&[Self]]) -> Vec<Self> {
         let count = vectors.first().map_or(0, |v| v.len());
         if weights.iter().any(|w| w.lo != w.hi) {
@@ -260,27 +268,46 @@ impl Field for Interval {
                 .map(|c| Self::dot(weights, vectors.iter().map(|v| &v[c])))
                 .collect();
         }
-        let (mut lo, mut hi, mut magnitude) = (
-            vec![0.0f64; count],
-            vec![0.0f64; count],
-            vec![0.0f64; count],
-        );
-        let mut n = 0u32;
+        let (mut lo, mut hi) = (vec![0.0f64; count], vec![0.0f64; count]);
+        let (mut magnitude, mut n) = (0.0f64, 0u32);
         for (w, v) in weights.iter().zip(vectors) {
             let x = w.lo;
             if x == 0.0 {
                 continue;
             }
             n += 1;
-            for (c, v) in v.iter().enumerate() {
-                let (a, b) = scaled_ends(x, v);
-                lo[c] += a;
-                hi[c] += b;
-                magnitude[c] += a.abs().max(b.abs());
+            magnitude += x.abs() * largest_end(&v[..count]);
+            let v = &v[..count];
+            if x > 0.0 {
+                for ((l, h), c) in lo.iter_mut().zip(hi.iter_mut()).zip(v) {
+                    *l += x * c.lo;
+                    *h += x * c.hi;
+                }
+            } else {
+                for ((l, h), c) in lo.iter_mut().zip(hi.iter_mut()).zip(v) {
+                    *l += x * c.hi;
+                    *h += x * c.lo;
+                }
             }
         }
-        (0..count)
-            .map(|c| widened_sum(lo[c], hi[c], magnitude[c], n))
+        let Some(bound) = row_bound(magnitude, n) else {
+            return (0..count)
+                .map(|c| Self::dot(weights, vectors.iter().map(|v| &v[c])))
+                .collect();
+        };
+        // A NaN end (an input end NaN: [`largest_end`] passes over it) is the whole line.
+        lo.iter()
+            .zip(&hi)
+            .map(|(&l, &h)| {
+                if l.is_nan() || h.is_nan() {
+                    Interval::new(f64::NEG_INFINITY, f64::INFINITY)
+                } else {
+                    Interval {
+                        lo: l - bound,
+                        hi: h + bound,
+                    }
+                }
+            })
             .collect()
     }
     fn eval_line(line: &[Self], t: &Self) -> Self {
@@ -296,6 +323,9 @@ impl Field for Interval {
         left: &mut Vec<Self>,
         right: &mut Vec<Self>,
     ) {
+        if t.is_half() {
+            return split_slabs_half(coeffs, len, inner, left, right);
+        }
         with_interval_step!(t, step => split_slabs(coeffs, len, inner, step, left, right));
     }
     fn eval_lines(coeffs: &[Self], len: usize, inner: usize, t: &Self, out: &mut Vec<Self>) {
@@ -370,6 +400,51 @@ fn widened_sum(lo: f64, hi: f64, magnitude: f64, n: u32) -> Interval {
     }
 }
 
+/// The largest end magnitude of `v`, passing over NaN ends (four running maxima by plain
+/// comparison, which vectorise; `f64::max`'s NaN rule does not). Infinite ends count.
+fn largest_end(v: &[Interval]) -> f64 {
+    let mut acc = [0.0f64; 4];
+    let pairs = v.chunks_exact(2);
+    let rest = pairs.remainder();
+    for pair in pairs {
+        let ends = [
+            pair[0].lo.abs(),
+            pair[0].hi.abs(),
+            pair[1].lo.abs(),
+            pair[1].hi.abs(),
+        ];
+        for (a, e) in acc.iter_mut().zip(ends) {
+            if e > *a {
+                *a = e;
+            }
+        }
+    }
+    for c in rest {
+        for e in [c.lo.abs(), c.hi.abs()] {
+            if e > acc[0] {
+                acc[0] = e;
+            }
+        }
+    }
+    acc.into_iter().fold(0.0, f64::max)
+}
+
+/// The amount by which to move each end of `n`-term sums computed to nearest, whose terms'
+/// magnitudes sum to at most `magnitude` (each term's computed product counted), so that one
+/// subtraction (or addition) rounded to nearest lands outside the exact value: Higham's
+/// `γₙ/(1 − γₙ)·magnitude < 2(n + 1)u·magnitude` plus `n·2⁻¹⁰⁷⁴` for underflow, plus
+/// `4u·(magnitude + bound)` for the rounding of that last subtraction itself (`|end| ≤
+/// (1 + γₙ)·magnitude`). `None` when `magnitude` is not finite.
+fn row_bound(magnitude: f64, n: u32) -> Option<f64> {
+    if !magnitude.is_finite() {
+        return None;
+    }
+    let n = f64::from(n);
+    let bound = (magnitude * ((n + 1.0) * f64::EPSILON) + n * f64::from_bits(1)).next_up();
+    let moved = (bound + 2.0 * f64::EPSILON * (magnitude + bound)).next_up();
+    moved.is_finite().then_some(moved)
+}
+
 /// [`Field::split_lines`] line by line through [`Field::split_line`] (the trait's default; for
 /// intervals, outward rounding at every step).
 pub(crate) fn split_lines_linewise<T: Field>(
@@ -417,6 +492,71 @@ pub(crate) fn split_slabs<T: Copy>(
         for r in 1..len {
             reduce_level(work, len - r, inner, &step);
             left.extend_from_slice(&work[..inner]);
+        }
+    }
+}
+
+/// [`split_slabs`] of intervals at ½ in round-to-nearest on both ends (plain `f64` additions
+/// and halvings, which vectorise), each line's results then moved outward once by the bound
+/// of all its levels' rounding: a value of level `r` is the mean of two of level `r − 1` and
+/// one rounding more, so its error is at most `r·(u·m + 2⁻¹⁰⁷⁵)` with `m` the line's largest
+/// end magnitude (every value is a mean, so none exceeds `m` by more than rounding; a halving
+/// is exact unless subnormal). A line with an unbounded end keeps the outward rounding of
+/// every step ([`Interval::midpoint_of`]).
+pub(crate) fn split_slabs_half(
+    coeffs: &[Interval],
+    len: usize,
+    inner: usize,
+    left: &mut Vec<Interval>,
+    right: &mut Vec<Interval>,
+) {
+    let mean = |a: Interval, b: Interval| Interval {
+        lo: 0.5 * (a.lo + b.lo),
+        hi: 0.5 * (a.hi + b.hi),
+    };
+    let levels = (len - 1) as f64;
+    let mut bounds = vec![0.0f64; inner];
+    for block in coeffs.chunks_exact(len * inner) {
+        bounds.iter_mut().for_each(|b| *b = 0.0);
+        for slab in block.chunks_exact(inner) {
+            for (b, c) in bounds.iter_mut().zip(slab) {
+                *b = b.max(c.lo.abs()).max(c.hi.abs());
+            }
+        }
+        // `levels·(2u·m + 2⁻¹⁰⁷⁴)` covers `(1 + u)^r` growth of `m`; the final move adds
+        // `4u·(m + bound)` for its own rounding ([`row_bound`]'s argument).
+        let mut finite = true;
+        for b in bounds.iter_mut() {
+            let m = *b;
+            let bound = (levels * (m * f64::EPSILON + f64::from_bits(1))).next_up();
+            *b = (bound + 2.0 * f64::EPSILON * (m + bound)).next_up();
+            finite &= b.is_finite();
+        }
+        if !finite {
+            split_slabs(block, len, inner, Interval::midpoint_of, left, right);
+            continue;
+        }
+        let (l0, r0) = (left.len(), right.len());
+        left.extend_from_slice(&block[..inner]);
+        right.extend_from_slice(block);
+        let work = &mut right[r0..];
+        for r in 1..len {
+            reduce_level(work, len - r, inner, &mean);
+            left.extend_from_slice(&work[..inner]);
+        }
+        // Slab 0 of the left half and the last of the right are the inputs themselves.
+        let (fresh_left, fresh_right) = (
+            &mut left[l0 + inner..],
+            &mut right[r0..r0 + (len - 1) * inner],
+        );
+        for slab in fresh_left
+            .chunks_exact_mut(inner)
+            .chain(fresh_right.chunks_exact_mut(inner))
+        {
+            for (c, b) in slab.iter_mut().zip(&bounds) {
+                c.lo -= b;
+                c.hi += b;
+            }
         }
     }
 }

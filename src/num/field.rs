@@ -351,6 +351,12 @@ impl Field for Interval {
         for k in 1..len {
             binom[k] = binom[k - 1] * (d + 1 - k) as u64 / k as u64;
         }
+        // A point `t` with an exact complement: `q` to nearest, one rounding.
+        if let Some((complement, point)) = t.exact_weights() {
+            if horner_to_nearest(coeffs, len, inner, point / complement, &binom, scale, out) {
+                return;
+            }
+        }
         let weight = |k: usize| Interval::point(binom[k] as f64);
         let mut acc = vec![Interval::point(0.0); inner];
         for block in coeffs.chunks_exact(len * inner) {
@@ -494,6 +500,67 @@ pub(crate) fn split_slabs<T: Copy>(
             left.extend_from_slice(&work[..inner]);
         }
     }
+}
+
+/// [`Field::enclose_lines`]' Horner sums `Σₖ C(d, k) qᵏ bₖ` in round-to-nearest on both ends
+/// and on the ends' magnitudes (plain `f64`, which vectorises), each moved outward once by
+/// the rounding bound and then multiplied by `scale ∋ (1 − t)^d`. `q` is `t/(1 − t)` rounded
+/// (one rounding; `q > 0`, so each end's sum bounds the line's values on its side). Every term passes
+/// through at most `2d + 1` roundings and `q`'s own error `(1 + u)^k`, so each sum is within
+/// `γ₃d₊₁` of the magnitudes' sum `M` (computed within the same factor), plus underflow:
+/// at most `2d + 1` units of `2⁻¹⁰⁷⁴`, each grown by at most `max(1, q)^d` (Higham,
+/// *Accuracy and Stability of Numerical Algorithms*, §5.1). Returns `false` (appending
+/// nothing) when a magnitude is not finite.
+fn horner_to_nearest(
+    coeffs: &[Interval],
+    len: usize,
+    inner: usize,
+    q: f64,
+    binom: &[u64],
+    scale: Interval,
+    out: &mut Vec<Interval>,
+) -> bool {
+    let d = len - 1;
+    if !(q > 0.0 && q.is_finite()) {
+        return false;
+    }
+    let weights: Vec<f64> = binom.iter().map(|&c| c as f64).collect();
+    let roundings = (3 * d + 3) as f64 * f64::EPSILON;
+    let underflow = (2 * d + 2) as f64 * f64::from_bits(1) * q.max(1.0).powi(d as i32) * 2.0;
+    let start = out.len();
+    let (mut lo, mut hi, mut mag) = (vec![0.0; inner], vec![0.0; inner], vec![0.0; inner]);
+    for block in coeffs.chunks_exact(len * inner) {
+        let top = &block[inner * d..inner * (d + 1)];
+        for (((l, h), m), c) in lo.iter_mut().zip(&mut hi).zip(&mut mag).zip(top) {
+            *l = weights[d] * c.lo;
+            *h = weights[d] * c.hi;
+            *m = weights[d] * c.lo.abs().max(c.hi.abs());
+        }
+        for k in (0..d).rev() {
+            let w = weights[k];
+            let slab = &block[inner * k..inner * (k + 1)];
+            for (((l, h), m), c) in lo.iter_mut().zip(&mut hi).zip(&mut mag).zip(slab) {
+                *l = *l * q + w * c.lo;
+                *h = *h * q + w * c.hi;
+                *m = *m * q + w * c.lo.abs().max(c.hi.abs());
+            }
+        }
+        for ((&l, &h), &m) in lo.iter().zip(&hi).zip(&mag) {
+            let bound = (m * roundings + underflow).next_up();
+            if !bound.is_finite() {
+                out.truncate(start);
+                return false;
+            }
+            let (a, b) = ((l - bound).next_down(), (h + bound).next_up());
+            let lower = if a >= 0.0 { a * scale.lo } else { a * scale.hi };
+            let upper = if b >= 0.0 { b * scale.hi } else { b * scale.lo };
+            out.push(Interval {
+                lo: lower.next_down(),
+                hi: upper.next_up(),
+            });
+        }
+    }
+    true
 }
 
 /// [`split_slabs`] of intervals at ½ in round-to-nearest on both ends (plain `f64` additions

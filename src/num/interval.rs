@@ -386,10 +386,12 @@ mod tests {
         assert!(lines > 3_000, "{lines}");
     }
 
-    /// [`Field::enclose_lines`] (Horner's rule in `t/(1 − t)`) encloses the exact value of
-    /// every line at `t`, computed in rationals from the lines' lower ends, at the moved split
-    /// points and at a non-dyadic one, for degrees 0–16 and magnitudes down to subnormals;
-    /// ends outside `(0, 1)` take de Casteljau's enclosures. 1,500 tensors.
+    /// [`Field::enclose_lines`] (Horner's rule in `t/(1 − t)`, to nearest with one bound at
+    /// the moved split points) encloses the exact value of every line at `t`, computed in
+    /// rationals from the lines' lower ends and from their upper ends (point and proper
+    /// intervals), at the moved split points and at a non-dyadic one, for degrees 0–16 and
+    /// magnitudes down to subnormals; ends outside `(0, 1)` take de Casteljau's enclosures.
+    /// 1,500 tensors.
     #[test]
     fn horner_sections_enclose_exact_values() {
         use crate::num::{rational_from_f64, Field, Rational};
@@ -405,7 +407,12 @@ mod tests {
             let points: Vec<f64> = (0..count)
                 .map(|_| ((next() >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * scale)
                 .collect();
-            let values: Vec<Interval> = points.iter().map(|&x| Interval::point(x)).collect();
+            // Every other case has proper intervals: their upper ends are `points`.
+            let wide = (k / 2) % 2 == 1;
+            let values: Vec<Interval> = points
+                .iter()
+                .map(|&x| Interval::new(if wide { x - x.abs() * 1e-3 } else { x }, x))
+                .collect();
             let (tn, td) = [
                 (7i64, 16i64),
                 (9, 16),
@@ -421,19 +428,21 @@ mod tests {
             let inner: usize = lens[..axis].iter().product();
             let mut at = Vec::new();
             <Interval as Field>::enclose_lines(&values, len, inner, &t, &mut at);
-            let exact: Vec<Rational> = points
-                .iter()
-                .map(|&x| rational_from_f64(x, "x").unwrap())
-                .collect();
-            let mut want = Vec::new();
-            <Rational as Field>::eval_lines(&exact, len, inner, &tq, &mut want);
-            assert_eq!(at.len(), want.len());
-            for (e, w) in at.iter().zip(&want) {
-                assert!(e.contains(w), "{e:?} misses {w} (t = {tn}/{td}, len {len})");
-                checked += 1;
+            for end in [0, 1] {
+                let exact: Vec<Rational> = values
+                    .iter()
+                    .map(|x| rational_from_f64(if end == 0 { x.lo } else { x.hi }, "x").unwrap())
+                    .collect();
+                let mut want = Vec::new();
+                <Rational as Field>::eval_lines(&exact, len, inner, &tq, &mut want);
+                assert_eq!(at.len(), want.len());
+                for (e, w) in at.iter().zip(&want) {
+                    assert!(e.contains(w), "{e:?} misses {w} (t = {tn}/{td}, len {len})");
+                    checked += 1;
+                }
             }
         }
-        assert!(checked > 3_000, "{checked}");
+        assert!(checked > 6_000, "{checked}");
     }
 
     /// [`Field::combine`] and [`Field::dot`] with point weights (the preconditioner's) enclose

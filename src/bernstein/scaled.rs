@@ -21,6 +21,53 @@ pub struct ScaledBernstein {
     den: BigInt,
 }
 
+/// Trial divisors of a denominator's odd part in [`ScaledBernstein::to_rational`].
+const SMALL_FACTOR_LIMIT: u64 = 1000;
+
+/// The odd positive `m` as a product of pairwise coprime moduli below `2⁶³`, each a product
+/// of whole prime powers `pᵉ` (trial division by odd `p < SMALL_FACTOR_LIMIT`, in increasing
+/// order, so each `p` found is prime), or `None` when a larger prime factor remains or one
+/// prime power is too large.
+fn coprime_moduli(m: &BigInt) -> Option<Vec<u64>> {
+    const CAP: u64 = 1 << 63;
+    let mut rest = m.clone();
+    let mut moduli: Vec<u64> = Vec::new();
+    let mut p = 3u64;
+    while !rest.is_one() {
+        if p >= SMALL_FACTOR_LIMIT || rest.is_zero() {
+            return None;
+        }
+        let mut power = 1u64;
+        while residue(&rest, p) == 0 {
+            rest /= p;
+            power = power.checked_mul(p).filter(|&x| x < CAP)?;
+        }
+        if power > 1 {
+            match moduli.last_mut() {
+                Some(last) if last.checked_mul(power).is_some_and(|x| x < CAP) => *last *= power,
+                _ => moduli.push(power),
+            }
+        }
+        p += 2;
+    }
+    Some(moduli)
+}
+
+/// `gcd(a, b)` of machine words (Euclid).
+fn gcd_u64(mut a: u64, mut b: u64) -> u64 {
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
+}
+
+/// `|n| mod p` for `0 < p < 2⁶⁴`, limb by limb from the most significant.
+fn residue(n: &BigInt, p: u64) -> u64 {
+    n.iter_u64_digits().rev().fold(0u64, |r, digit| {
+        (((u128::from(r) << 64) | u128::from(digit)) % u128::from(p)) as u64
+    })
+}
+
 fn sign_of(b: &BigInt) -> Sign {
     match b.sign() {
         BigSign::Minus => Sign::Negative,
@@ -288,26 +335,38 @@ impl ScaledBernstein {
         (degrees, num)
     }
 
-    /// The same polynomial with rational coefficients.
-    /// A power-of-two denominator (every dyadic input's) is reduced by shifts, not by a gcd
-    /// per coefficient.
+    /// The same polynomial with rational coefficients, each in lowest terms. The shared
+    /// denominator is factored once into a power of two and powers of small odd numbers
+    /// (trial division up to [`SMALL_FACTOR_LIMIT`]; Bernstein forms' denominators are
+    /// products of binomial coefficients and of the inputs' denominators): each coefficient
+    /// is then reduced by a shift and by the small powers its numerator's residues show,
+    /// not by a gcd. A denominator with a larger factor takes a gcd per coefficient.
     pub fn to_rational(&self) -> Bernstein<Rational> {
         let twos = self.den.trailing_zeros().unwrap_or(0);
-        let dyadic = self.den.bits() == twos + 1;
+        let moduli = coprime_moduli(&(&self.den >> twos));
         let coeffs = self
             .num
             .iter()
             .map(|n| {
-                if !dyadic {
+                let Some(moduli) = &moduli else {
                     return Rational::new(n.clone(), self.den.clone());
-                }
-                // Shifting out the common twos leaves a power of two over which the
-                // numerator is odd (or the denominator 1): the ratio is in lowest terms.
+                };
                 let Some(zeros) = n.trailing_zeros() else {
                     return Rational::from_integer(BigInt::zero());
                 };
+                // The odd part of the denominator is the product of the pairwise coprime
+                // moduli, so dividing out the common twos and each `gcd(num mod m, m)`
+                // leaves no common factor: the ratio is in lowest terms.
                 let k = zeros.min(twos);
-                Rational::new_raw(n >> k, &self.den >> k)
+                let (mut num, mut den) = (n >> k, &self.den >> k);
+                for &m in moduli {
+                    let g = gcd_u64(residue(&num, m), m);
+                    if g > 1 {
+                        num /= g;
+                        den /= g;
+                    }
+                }
+                Rational::new_raw(num, den)
             })
             .collect();
         Bernstein::new(self.degrees.clone(), coeffs).expect("counts match by construction")
@@ -713,10 +772,11 @@ fn convolve_i128(
 mod tests {
     use super::*;
 
-    /// `to_rational` gives each coefficient in lowest terms, by shifts over a power-of-two
-    /// denominator and by a gcd over others: the same rationals (the same numerator and
-    /// denominator) as `Rational::new`, on 300 polynomials with dyadic and other
-    /// denominators, zero and odd and even numerators.
+    /// `to_rational` gives each coefficient in lowest terms, by shifts and small moduli (or
+    /// a gcd past them): the same rationals (the same numerator and denominator) as
+    /// `Rational::new`, on 300 polynomials with dyadic denominators, small odd factors,
+    /// prime powers spanning several machine words, a factor past the trial divisors, and
+    /// zero, odd and even numerators.
     #[test]
     fn to_rational_is_in_lowest_terms() {
         let mut seed = 0x2545_f491_4f6c_dd1du64;
@@ -728,16 +788,21 @@ mod tests {
         };
         let mut checked = 0;
         for case in 0..300 {
-            let den = match case % 3 {
+            let den = match case % 5 {
                 0 => BigInt::from(1u64) << (next() % 130),
                 1 => BigInt::from(3u64 * (1 + next() % 1000)) << (next() % 70),
+                // Powers of small factors past one machine word, and a factor past the
+                // trial divisors (the gcd path).
+                2 => BigInt::from(3u64.pow(30) * 5) * BigInt::from(7u64.pow(20)) << (next() % 9),
+                3 => BigInt::from(1009u64 * (1 + next() % 500)) << (next() % 9),
                 _ => BigInt::from(1u64),
             };
             let num: Vec<BigInt> = (0..1 + next() % 9)
                 .map(|_| {
                     let shift = next() % 140;
                     let a = BigInt::from((next() % 2001) as i64 - 1000);
-                    a << shift
+                    let power = BigInt::from(3u64.pow((next() % 30) as u32));
+                    (a * power) << shift
                 })
                 .collect();
             let p = ScaledBernstein {

@@ -793,7 +793,7 @@ mod tests {
                 1 => BigInt::from(3u64 * (1 + next() % 1000)) << (next() % 70),
                 // Powers of small factors past one machine word, and a factor past the
                 // trial divisors (the gcd path).
-                2 => BigInt::from(3u64.pow(30) * 5) * BigInt::from(7u64.pow(20)) << (next() % 9),
+                2 => (BigInt::from(3u64.pow(30) * 5) * BigInt::from(7u64.pow(20))) << (next() % 9),
                 3 => BigInt::from(1009u64 * (1 + next() % 500)) << (next() % 9),
                 _ => BigInt::from(1u64),
             };

@@ -107,3 +107,38 @@ pub(crate) fn join<A: Send, B: Send>(
     #[cfg(not(feature = "parallel"))]
     return (a(), b());
 }
+
+/// `items.iter().map(f)` collected in order, the items taken in order one at a time by
+/// whichever thread is free (list scheduling: with the largest items first, no core is
+/// left alone with a large one at the end, which rayon's halving of the range does not
+/// promise). Sequential without the `parallel` feature.
+pub(crate) fn map_in_turn<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    #[cfg(feature = "parallel")]
+    {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        use std::sync::Mutex;
+        let next = AtomicUsize::new(0);
+        let done: Mutex<Vec<(usize, R)>> = Mutex::new(Vec::with_capacity(items.len()));
+        rayon::scope(|s| {
+            for _ in 0..threads().min(items.len()) {
+                s.spawn(|_| {
+                    let mut mine = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(item) = items.get(i) else { break };
+                        mine.push((i, f(item)));
+                    }
+                    // A poisoned lock can only follow a panic in `f`, which rayon re-raises.
+                    if let Ok(mut all) = done.lock() {
+                        all.append(&mut mine);
+                    }
+                });
+            }
+        });
+        let mut all = done.into_inner().unwrap_or_else(|e| e.into_inner());
+        all.sort_by_key(|(i, _)| *i);
+        all.into_iter().map(|(_, r)| r).collect()
+    }
+    #[cfg(not(feature = "parallel"))]
+    items.iter().map(f).collect()
+}

@@ -451,48 +451,51 @@ fn hull_crossing(points: &[(f64, f64)]) -> Option<(f64, f64)> {
 fn projection_excludes_roots<T: Coefficient>(g: &[Bernstein<T>]) -> bool {
     let n = g.first().map_or(0, Bernstein::dim);
     let mut out = vec![(0.0f64, 1.0f64); n];
-    let mut index = vec![0usize; n];
     let mut points = Vec::new();
+    let (mut lower, mut upper) = (Vec::new(), Vec::new());
+    let (mut least, mut greatest) = (Vec::new(), Vec::new());
     for gi in g {
-        let degrees = gi.degrees();
-        let mut least: Vec<Vec<f64>> = degrees
-            .iter()
-            .map(|&d| vec![f64::INFINITY; d + 1])
-            .collect();
-        let mut greatest: Vec<Vec<f64>> = degrees
-            .iter()
-            .map(|&d| vec![f64::NEG_INFINITY; d + 1])
-            .collect();
-        index.iter_mut().for_each(|x| *x = 0);
+        lower.clear();
+        upper.clear();
         for c in gi.coeffs() {
             let (lo, hi) = c.bounds_f64();
-            let (lo, hi) = (
-                if lo.is_nan() { f64::NEG_INFINITY } else { lo },
-                if hi.is_nan() { f64::INFINITY } else { hi },
-            );
-            for k in 0..n {
-                let j = index[k];
-                least[k][j] = least[k][j].min(lo);
-                greatest[k][j] = greatest[k][j].max(hi);
-            }
-            for k in 0..n {
-                index[k] += 1;
-                if index[k] <= degrees[k] {
-                    break;
-                }
-                index[k] = 0;
-            }
+            lower.push(lo);
+            upper.push(hi);
         }
+        // A bound that is not a number bounds nothing: this equation excludes nothing.
+        if lower.iter().chain(&upper).any(|x| x.is_nan()) {
+            continue;
+        }
+        let degrees = gi.degrees();
+        // Coefficients with index `j` along axis `k` form slab `j` (of `stride` consecutive
+        // values) of every block of `(d_k + 1)·stride`.
+        let mut stride = 1;
         for k in 0..n {
-            let d = degrees[k];
+            let (d, len) = (degrees[k], degrees[k] + 1);
             if d == 0 {
+                stride *= len;
                 continue;
             }
+            least.clear();
+            least.resize(len, f64::INFINITY);
+            greatest.clear();
+            greatest.resize(len, f64::NEG_INFINITY);
+            let blocks = lower
+                .chunks_exact(len * stride)
+                .zip(upper.chunks_exact(len * stride));
+            for (lo_block, hi_block) in blocks {
+                for j in 0..len {
+                    let slab = j * stride..(j + 1) * stride;
+                    least[j] = least_of(&lo_block[slab.clone()], least[j]);
+                    greatest[j] = -least_of_negated(&hi_block[slab], -greatest[j]);
+                }
+            }
+            stride *= len;
             points.clear();
             for j in 0..=d {
                 let x = j as f64 / d as f64;
-                points.push((x, least[k][j]));
-                points.push((x, greatest[k][j]));
+                points.push((x, least[j]));
+                points.push((x, greatest[j]));
             }
             let Some((lo, hi)) = hull_crossing(&points) else {
                 return true;
@@ -508,6 +511,46 @@ fn projection_excludes_roots<T: Coefficient>(g: &[Bernstein<T>]) -> bool {
         }
     }
     false
+}
+
+/// `min(init, min xs)` of numbers (no NaN), with four running minima (they vectorise).
+fn least_of(xs: &[f64], init: f64) -> f64 {
+    let mut acc = [init; 4];
+    let quads = xs.chunks_exact(4);
+    let rest = quads.remainder();
+    for quad in quads {
+        for (a, &x) in acc.iter_mut().zip(quad) {
+            if x < *a {
+                *a = x;
+            }
+        }
+    }
+    for &x in rest {
+        if x < acc[0] {
+            acc[0] = x;
+        }
+    }
+    acc.into_iter().fold(f64::INFINITY, f64::min)
+}
+
+/// `min(init, min −xs)`: [`least_of`] of the negated values.
+fn least_of_negated(xs: &[f64], init: f64) -> f64 {
+    let mut acc = [init; 4];
+    let quads = xs.chunks_exact(4);
+    let rest = quads.remainder();
+    for quad in quads {
+        for (a, &x) in acc.iter_mut().zip(quad) {
+            if -x < *a {
+                *a = -x;
+            }
+        }
+    }
+    for &x in rest {
+        if -x < acc[0] {
+            acc[0] = -x;
+        }
+    }
+    acc.into_iter().fold(f64::INFINITY, f64::min)
 }
 
 /// Existence and uniqueness on a box: the certificate, `No`, or `Uncertain`.

@@ -714,10 +714,18 @@ pub fn events(scene: &Scene, opts: &SolveOptions) -> Result<Events, SweepError> 
     let mut events = Vec::new();
     let mut clusters = Vec::new();
     // The systems are independent: solved on all cores, read in order.
-    let solutions: Vec<_> = systems
-        .par_iter()
-        .map(|es| solve(&es.system, opts))
-        .collect();
+    // The largest systems (by coefficients) are started first, one at a time by whichever
+    // core is free, so that no core is left alone with a large one at the end.
+    let size =
+        |es: &EventSystem| -> usize { es.system.equations.iter().map(|e| e.coeffs().len()).sum() };
+    let mut order: Vec<usize> = (0..systems.len()).collect();
+    order.sort_by_key(|&i| std::cmp::Reverse(size(&systems[i])));
+    let solved = crate::par::map_in_turn(&order, |&i| solve(&systems[i].system, opts));
+    let mut solutions: Vec<_> = (0..systems.len()).map(|_| None).collect();
+    for (i, sol) in order.into_iter().zip(solved) {
+        solutions[i] = Some(sol);
+    }
+    let solutions = solutions.into_iter().flatten();
     // Roots and clusters of the widened eye interval that meet the path's own.
     let (_, path_r) = eye_path(scene)?;
     let meets_path = |b: &crate::solve::RationalBox| {

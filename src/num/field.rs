@@ -505,12 +505,12 @@ pub(crate) fn split_slabs<T: Copy>(
 /// [`Field::enclose_lines`]' Horner sums `Σₖ C(d, k) qᵏ bₖ` in round-to-nearest on both ends
 /// and on the ends' magnitudes (plain `f64`, which vectorises), each moved outward once by
 /// the rounding bound and then multiplied by `scale ∋ (1 − t)^d`. `q` is `t/(1 − t)` rounded
-/// (one rounding; `q > 0`, so each end's sum bounds the line's values on its side). Every term passes
+/// once (`q > 0`, so each end's sum bounds the line's values on its side). Every term passes
 /// through at most `2d + 1` roundings and `q`'s own error `(1 + u)^k`, so each sum is within
 /// `γ₃d₊₁` of the magnitudes' sum `M` (computed within the same factor), plus underflow:
 /// at most `2d + 1` units of `2⁻¹⁰⁷⁴`, each grown by at most `max(1, q)^d` (Higham,
-/// *Accuracy and Stability of Numerical Algorithms*, §5.1). Returns `false` (appending
-/// nothing) when a magnitude is not finite.
+/// *Accuracy and Stability of Numerical Algorithms*, §5.1). A value from a NaN end is the
+/// whole line. Returns `false` (appending nothing) when a magnitude is not finite.
 fn horner_to_nearest(
     coeffs: &[Interval],
     len: usize,
@@ -551,6 +551,10 @@ fn horner_to_nearest(
                 out.truncate(start);
                 return false;
             }
+            if l.is_nan() || h.is_nan() {
+                out.push(Interval::new(f64::NEG_INFINITY, f64::INFINITY));
+                continue;
+            }
             let (a, b) = ((l - bound).next_down(), (h + bound).next_up());
             let lower = if a >= 0.0 { a * scale.lo } else { a * scale.hi };
             let upper = if b >= 0.0 { b * scale.hi } else { b * scale.lo };
@@ -569,7 +573,7 @@ fn horner_to_nearest(
 /// one rounding more, so its error is at most `r·(u·m + 2⁻¹⁰⁷⁵)` with `m` the line's largest
 /// end magnitude (every value is a mean, so none exceeds `m` by more than rounding; a halving
 /// is exact unless subnormal). A line with an unbounded end keeps the outward rounding of
-/// every step ([`Interval::midpoint_of`]).
+/// every step ([`Interval::midpoint_of`]); a NaN end stays NaN, as it does there.
 pub(crate) fn split_slabs_half(
     coeffs: &[Interval],
     len: usize,

@@ -780,12 +780,7 @@ mod tests {
     #[test]
     fn to_rational_is_in_lowest_terms() {
         let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
+        let mut next = move || crate::num::xorshift(&mut seed);
         let mut checked = 0;
         for case in 0..300 {
             let den = match case % 5 {

@@ -486,8 +486,8 @@ fn projection_excludes_roots<T: Coefficient>(g: &[Bernstein<T>]) -> bool {
             for (lo_block, hi_block) in blocks {
                 for j in 0..len {
                     let slab = j * stride..(j + 1) * stride;
-                    least[j] = least_of(&lo_block[slab.clone()], least[j]);
-                    greatest[j] = -least_of_negated(&hi_block[slab], -greatest[j]);
+                    least[j] = least_of(&lo_block[slab.clone()], least[j], |x| x);
+                    greatest[j] = -least_of(&hi_block[slab], -greatest[j], |x| -x);
                 }
             }
             stride *= len;
@@ -513,41 +513,23 @@ fn projection_excludes_roots<T: Coefficient>(g: &[Bernstein<T>]) -> bool {
     false
 }
 
-/// `min(init, min xs)` of numbers (no NaN), with four running minima (they vectorise).
-fn least_of(xs: &[f64], init: f64) -> f64 {
+/// `min(init, min map(xs))` of numbers (no NaN), with four running minima (they vectorise).
+fn least_of(xs: &[f64], init: f64, map: impl Fn(f64) -> f64) -> f64 {
     let mut acc = [init; 4];
     let quads = xs.chunks_exact(4);
     let rest = quads.remainder();
     for quad in quads {
         for (a, &x) in acc.iter_mut().zip(quad) {
-            if x < *a {
-                *a = x;
+            let y = map(x);
+            if y < *a {
+                *a = y;
             }
         }
     }
     for &x in rest {
-        if x < acc[0] {
-            acc[0] = x;
-        }
-    }
-    acc.into_iter().fold(f64::INFINITY, f64::min)
-}
-
-/// `min(init, min −xs)`: [`least_of`] of the negated values.
-fn least_of_negated(xs: &[f64], init: f64) -> f64 {
-    let mut acc = [init; 4];
-    let quads = xs.chunks_exact(4);
-    let rest = quads.remainder();
-    for quad in quads {
-        for (a, &x) in acc.iter_mut().zip(quad) {
-            if -x < *a {
-                *a = -x;
-            }
-        }
-    }
-    for &x in rest {
-        if -x < acc[0] {
-            acc[0] = -x;
+        let y = map(x);
+        if y < acc[0] {
+            acc[0] = y;
         }
     }
     acc.into_iter().fold(f64::INFINITY, f64::min)

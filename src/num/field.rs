@@ -572,8 +572,9 @@ fn horner_to_nearest(
 /// of all its levels' rounding: a value of level `r` is the mean of two of level `r − 1` and
 /// one rounding more, so its error is at most `r·(u·m + 2⁻¹⁰⁷⁵)` with `m` the line's largest
 /// end magnitude (every value is a mean, so none exceeds `m` by more than rounding; a halving
-/// is exact unless subnormal). A line with an unbounded end keeps the outward rounding of
-/// every step ([`Interval::midpoint_of`]); a NaN end stays NaN, as it does there.
+/// is exact unless subnormal). A line with an unbounded end, or one within a factor four of
+/// overflow, keeps the outward rounding of every step ([`Interval::midpoint_of`]); a NaN end
+/// stays NaN, as it does there.
 pub(crate) fn split_slabs_half(
     coeffs: &[Interval],
     len: usize,
@@ -596,12 +597,14 @@ pub(crate) fn split_slabs_half(
         }
         // `levels·(2u·m + 2⁻¹⁰⁷⁴)` covers `(1 + u)^r` growth of `m`; the final move adds
         // `4u·(m + bound)` for its own rounding ([`row_bound`]'s argument).
+        // Ends within a factor four of overflow keep the outward rounding too: a sum of two
+        // of them may overflow before it is halved.
         let mut finite = true;
         for b in bounds.iter_mut() {
             let m = *b;
             let bound = (levels * (m * f64::EPSILON + f64::from_bits(1))).next_up();
             *b = (bound + 2.0 * f64::EPSILON * (m + bound)).next_up();
-            finite &= b.is_finite();
+            finite &= m < f64::MAX / 4.0 && b.is_finite();
         }
         if !finite {
             split_slabs(block, len, inner, Interval::midpoint_of, left, right);

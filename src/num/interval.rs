@@ -274,8 +274,8 @@ mod tests {
 
     /// The interval de Casteljau routes (midpoints at ½, non-negative blends at other exact
     /// splits, the generic recurrence otherwise) enclose the exact split and value of every
-    /// line drawn from the intervals (their ends, taken exactly), across magnitudes down to
-    /// subnormals; 3,000 lines of 1–8 coefficients.
+    /// line drawn from the intervals (their ends, taken exactly), across magnitudes from
+    /// subnormals to the largest finite; 3,000 lines of 1–8 coefficients.
     #[test]
     fn interval_splits_enclose_exact_splits() {
         use crate::num::Field;
@@ -295,11 +295,19 @@ mod tests {
             ][k % 7];
             let half = Interval::from_ratio(tn, td);
             let n = 1 + (next() % 8) as usize;
-            let scale = [1.0, 1e-300, 1e-310, 1e300][(next() % 4) as usize];
+            // Up to 0.995 of the largest finite magnitude (the last scale takes values of
+            // either sign above half of it): sums of two ends overflow.
+            let pick_scale = (next() % 5) as usize;
+            let scale = [1.0, 1e-300, 1e-310, 1e300, 0.995 * f64::MAX][pick_scale];
             let line: Vec<Interval> = (0..n)
                 .map(|_| {
-                    let a = ((next() >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * scale;
-                    let w = (next() % 3) as f64 * a.abs() * 1e-3;
+                    let x = (next() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+                    let a = if pick_scale == 4 {
+                        (0.5 + x.abs()).copysign(x) * scale
+                    } else {
+                        x * scale
+                    };
+                    let w = a.abs() * 1e-3 * (next() % 3) as f64;
                     Interval::new(a - w, a + w)
                 })
                 .collect();
@@ -390,7 +398,8 @@ mod tests {
     /// the moved split points) encloses the exact value of every line at `t`, computed in
     /// rationals from the lines' lower ends and from their upper ends (point and proper
     /// intervals), at the moved split points and at a non-dyadic one, for degrees 0–16 and
-    /// magnitudes down to subnormals; ends outside `(0, 1)` take de Casteljau's enclosures.
+    /// magnitudes from subnormals to the largest finite; ends outside `(0, 1)` take de
+    /// Casteljau's enclosures.
     /// 1,500 tensors.
     #[test]
     fn horner_sections_enclose_exact_values() {
@@ -403,7 +412,7 @@ mod tests {
             let mut lens: Vec<usize> = (0..dims).map(|_| 1 + (next() % 4) as usize).collect();
             lens[axis] = 1 + (next() % 17) as usize;
             let count: usize = lens.iter().product();
-            let scale = [1.0, 1e-300, 1e-310, 1e300][(k / 5) % 4];
+            let scale = [1.0, 1e-300, 1e-310, 1e300, f64::MAX][(k / 5) % 5];
             let points: Vec<f64> = (0..count)
                 .map(|_| ((next() >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * scale)
                 .collect();
@@ -446,8 +455,9 @@ mod tests {
     }
 
     /// [`Field::combine`] and [`Field::dot`] with point weights (the preconditioner's) enclose
-    /// the exact combination of every choice of the values' ends, across magnitudes down to
-    /// subnormals and with cancellation; 4,000 combinations of 1–5 terms.
+    /// the exact combination of every choice of the values' ends, across magnitudes from
+    /// subnormals to the largest finite and with cancellation; 4,000 combinations of 1–5
+    /// terms.
     #[test]
     fn point_weight_combinations_enclose_exact_ones() {
         use crate::num::Field;
@@ -457,7 +467,7 @@ mod tests {
         let mut checked = 0;
         for _ in 0..4000 {
             let n = 1 + (next() % 5) as usize;
-            let scale = [1.0, 1e-300, 1e-310, 1e300][(next() % 4) as usize];
+            let scale = [1.0, 1e-300, 1e-310, 1e300, f64::MAX][(next() % 5) as usize];
             let weights: Vec<Interval> = (0..n)
                 .map(|_| match next() % 4 {
                     0 => Interval::point(0.0),

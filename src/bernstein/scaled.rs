@@ -336,11 +336,11 @@ impl ScaledBernstein {
     }
 
     /// The same polynomial with rational coefficients, each in lowest terms. The shared
-    /// denominator is factored once into a power of two and powers of small odd numbers
-    /// (trial division up to [`SMALL_FACTOR_LIMIT`]; Bernstein forms' denominators are
-    /// products of binomial coefficients and of the inputs' denominators): each coefficient
-    /// is then reduced by a shift and by the small powers its numerator's residues show,
-    /// not by a gcd. A denominator with a larger factor takes a gcd per coefficient.
+    /// denominator is factored once into a power of two and powers of small odd primes
+    /// (trial division below 1000; Bernstein forms' denominators are products of binomial
+    /// coefficients and of the inputs' denominators): each coefficient is then reduced by a
+    /// shift and by machine-word gcds with those prime powers, not by a gcd of big integers.
+    /// A denominator with a larger prime factor takes a gcd per coefficient.
     pub fn to_rational(&self) -> Bernstein<Rational> {
         let twos = self.den.trailing_zeros().unwrap_or(0);
         let moduli = coprime_moduli(&(&self.den >> twos));

@@ -258,7 +258,7 @@ impl Field for Interval {
     }
     /// With point weights, vector by vector over all coefficients in round-to-nearest (the
     /// loops run over contiguous memory and vectorise), each end then moved outward by one
-    /// rounding bound for the whole row ([`row_bound`]: Higham's bound of [`Field::dot`]
+    /// rounding bound for the whole row (`row_bound`: Higham's bound of [`Field::dot`]
     /// with the largest coefficient magnitude of each vector). Vectors with an unbounded
     /// coefficient go coefficient by coefficient.
     fn combine(weights: &[Self], vectors: &[&[Self]]) -> Vec<Self> {

@@ -390,8 +390,7 @@ fn scaled_ends(x: f64, v: &Interval) -> (f64, f64) {
 /// (Higham, *Accuracy and Stability of Numerical Algorithms*, §3.1; the last term for
 /// underflow), rounded outward; the whole line when a sum is not a number.
 fn widened_sum(lo: f64, hi: f64, magnitude: f64, n: u32) -> Interval {
-    let n = f64::from(n);
-    let bound = (magnitude * ((n + 1.0) * f64::EPSILON) + n * f64::from_bits(1)).next_up();
+    let bound = sum_error(magnitude, n);
     let out = Interval {
         lo: (lo - bound).next_down(),
         hi: (hi + bound).next_up(),
@@ -445,10 +444,23 @@ fn row_bound(magnitude: f64, n: u32) -> Option<f64> {
     if !magnitude.is_finite() {
         return None;
     }
-    let n = f64::from(n);
-    let bound = (magnitude * ((n + 1.0) * f64::EPSILON) + n * f64::from_bits(1)).next_up();
-    let moved = (bound + 2.0 * f64::EPSILON * (magnitude + bound)).next_up();
+    let moved = past_last_rounding(sum_error(magnitude, n), magnitude);
     moved.is_finite().then_some(moved)
+}
+
+/// `2(n + 1)u·magnitude + n·2⁻¹⁰⁷⁴`, rounded up: above Higham's `γₙ/(1 − γₙ)·magnitude`
+/// bound of an `n`-term sum to nearest whose terms' magnitudes sum to `magnitude`, with the
+/// underflow term ([`widened_sum`], [`row_bound`]).
+fn sum_error(magnitude: f64, n: u32) -> f64 {
+    let n = f64::from(n);
+    (magnitude * ((n + 1.0) * f64::EPSILON) + n * f64::from_bits(1)).next_up()
+}
+
+/// `bound + 4u·(magnitude + bound)`, rounded up: moving an end of magnitude at most about
+/// `magnitude` by this, in one subtraction (or addition) to nearest, lands at least `bound`
+/// outside it ([`row_bound`], [`split_slabs_half`]).
+fn past_last_rounding(bound: f64, magnitude: f64) -> f64 {
+    (bound + 2.0 * f64::EPSILON * (magnitude + bound)).next_up()
 }
 
 /// [`Field::split_lines`] line by line through [`Field::split_line`] (the trait's default; for
@@ -603,7 +615,7 @@ pub(crate) fn split_slabs_half(
         for b in bounds.iter_mut() {
             let m = *b;
             let bound = (levels * (m * f64::EPSILON + f64::from_bits(1))).next_up();
-            *b = (bound + 2.0 * f64::EPSILON * (m + bound)).next_up();
+            *b = past_last_rounding(bound, m);
             finite &= m < f64::MAX / 4.0 && b.is_finite();
         }
         if !finite {

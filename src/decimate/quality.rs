@@ -542,6 +542,38 @@ impl ClosestPoints {
         self.faces_against_near(centroid, normal, tie, leaf.filter(|&l| l != u32::MAX))
     }
 
+    /// Starts loading vertex `v`'s seed leaf index (a hint; the first of two steps ahead of
+    /// a facing test seeded there, [`prefetch_seed`](Self::prefetch_seed) the second).
+    pub fn prefetch_seed_index(&self, v: u32) {
+        if let Some(l) = self.vertex_leaf.get(v as usize) {
+            crate::memory::prefetch(l);
+        }
+    }
+
+    /// Starts loading what a facing test seeded at vertex `v` reads first: its leaf's box,
+    /// cone, clearance and triangles (a hint: it changes nothing but timing).
+    pub fn prefetch_seed(&self, v: u32) {
+        let Some(&leaf) = self.vertex_leaf.get(v as usize) else {
+            return;
+        };
+        let Some(node) = self.nodes.get(leaf as usize) else {
+            return;
+        };
+        if let Some(c) = self.cones.get(leaf as usize) {
+            crate::memory::prefetch(c);
+        }
+        if let Some(r) = self.clearance.get(leaf as usize) {
+            crate::memory::prefetch(r);
+        }
+        let s = node.start as usize;
+        if let Some(corners) = self.corners.get(s..s + node.count as usize) {
+            for c in corners {
+                crate::memory::prefetch(&c[0]);
+                crate::memory::prefetch(&c[2]);
+            }
+        }
+    }
+
     /// [`faces_against`](Self::faces_against) with the seed leaf `leaf` when given.
     fn faces_against_near(
         &self,

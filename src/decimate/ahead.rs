@@ -5,7 +5,7 @@
 //! taken node is evaluating it: loading its fan, cutting the ears of its hole, measuring the
 //! removal error. That work reads only the node's own fan list and data that never change
 //! (positions, values, settings), and the queue knows long in advance which nodes come next.
-//! So the loop hands the coming nodes over, in pop order, a lead of two batches ahead of
+//! So the loop hands the coming nodes over, in pop order, a lead of four batches ahead of
 //! itself, with copies of their lists ([`Lookahead::add`]); a worker thread evaluates them a
 //! batch at a time meanwhile and sends back each node's value and plan (its hole's cut,
 //! packed in a word). When the loop takes a node it uses what was evaluated ahead if the
@@ -35,8 +35,11 @@ use std::thread::JoinHandle;
 /// the taken nodes to the loop and 256 left 20 %. (When the loop outruns the worker, the
 /// loop evaluates what has not come back; the report gives the share measured.)
 pub(crate) const BATCH: usize = 32;
-/// The lead the loop keeps, in batches.
-const LEAD: usize = 2;
+/// The lead the loop keeps, in batches. On the dragon scan (quadric criterion), with a lead
+/// of two batches the loop found 21 % of the stale nodes it took not yet evaluated (the
+/// worker's batch still out) and evaluated them itself; with four, 7 %, and the run took
+/// about 7 % less time (3.85 s against 4.15 s). The 810k-node grid is unchanged.
+const LEAD: usize = 4;
 /// Batches whose results have not come back, at most; beyond that a batch is dropped (the
 /// worker is behind, and the loop evaluates those nodes itself).
 const IN_FLIGHT: usize = 8;

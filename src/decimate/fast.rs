@@ -706,11 +706,25 @@ impl Scratch {
 }
 
 impl State {
-    /// Starts fetching `v`'s list block and position.
+    /// Starts fetching `v`'s list block and position, and what it carries.
     #[inline]
     fn prefetch(&self, v: u32) {
         self.lists.prefetch(v);
         crate::memory::prefetch(&self.geo.pos[v as usize]);
+        self.prefetch_carried(v);
+    }
+
+    /// Starts fetching what `v` carries (its quadric, two lines, and its error bound).
+    #[inline]
+    fn prefetch_carried(&self, v: u32) {
+        if let (Some(q), Some(e)) = (
+            self.quadrics.get(v as usize),
+            self.node_error.get(v as usize),
+        ) {
+            crate::memory::prefetch(&q.0[0]);
+            crate::memory::prefetch(&q.0[9]);
+            crate::memory::prefetch(e);
+        }
     }
 
     /// The third node of the triangle `(b, a, y)` on the far side of the edge `a → b`, if
@@ -932,9 +946,11 @@ impl Engine for FastEngine {
         // An unchanged node is removed now, and the facing test reads its ring's seed leaves
         // (their indices fetched a step ago).
         if let (true, Some(o)) = (unchanged, self.st.geo.original.as_deref()) {
-            self.st
-                .lists
-                .for_each(v, |e| o.closest.prefetch_seed(e.node));
+            // And the ring's quadrics and bounds, which the removal updates.
+            self.st.lists.for_each(v, |e| {
+                o.closest.prefetch_seed(e.node);
+                self.st.prefetch_carried(e.node);
+            });
         }
         self.ready = match (&mut self.ahead, ticket) {
             (Some(ahead), Some(t)) => ahead.result(v, t),

@@ -1260,19 +1260,14 @@ mod tests {
         }
     }
 
-    /// A hierarchy large enough to be built in two halves side by side
-    /// ([`PARALLEL_BUILD`]) answers like a scan of every triangle: closest distances for 300
-    /// pseudo-random points around a bumpy 190 × 190 grid (71,442 triangles), and every
-    /// vertex's seed leaf holds one of its triangles.
-    #[test]
-    fn a_hierarchy_built_in_halves_finds_the_closest_triangles() {
-        let n = 190;
+    /// The height field `z = h(x, y)` on `n × n` vertices over the unit square, two
+    /// triangles per cell.
+    fn height_grid(n: usize, h: impl Fn(f64, f64) -> f64) -> Mesh {
         let mut mesh = Mesh::default();
         for j in 0..n {
             for i in 0..n {
                 let (x, y) = (i as f64 / n as f64, j as f64 / n as f64);
-                mesh.vertices
-                    .push([x, y, 0.05 * (9.0 * x).sin() * (7.0 * y).cos()]);
+                mesh.vertices.push([x, y, h(x, y)]);
             }
         }
         for j in 0..n - 1 {
@@ -1283,6 +1278,16 @@ mod tests {
                     .extend([[v, v + 1, v + n + 1], [v, v + n + 1, v + n]]);
             }
         }
+        mesh
+    }
+
+    /// A hierarchy large enough to be built in two halves side by side
+    /// ([`PARALLEL_BUILD`]) answers like a scan of every triangle: closest distances for 300
+    /// pseudo-random points around a bumpy 190 × 190 grid (71,442 triangles), and every
+    /// vertex's seed leaf holds one of its triangles.
+    #[test]
+    fn a_hierarchy_built_in_halves_finds_the_closest_triangles() {
+        let mesh = height_grid(190, |x, y| 0.05 * (9.0 * x).sin() * (7.0 * y).cos());
         assert!(mesh.triangles.len() > PARALLEL_BUILD);
         let cp = ClosestPoints::new(&mesh).unwrap();
         let mut bits = xorshift(0x9e37_79b9_7f4a_7c15);
@@ -1382,23 +1387,7 @@ mod tests {
     /// built in two halves.
     #[test]
     fn cones_hold_their_normals_and_clearances_are_lower_bounds() {
-        let n = 190;
-        let mut grid = Mesh::default();
-        for j in 0..n {
-            for i in 0..n {
-                let (x, y) = (i as f64 / n as f64, j as f64 / n as f64);
-                grid.vertices
-                    .push([x, y, 0.08 * (19.0 * x).sin() * (17.0 * y).cos()]);
-            }
-        }
-        for j in 0..n - 1 {
-            for i in 0..n - 1 {
-                let v = (j * n + i) as u32;
-                let n = n as u32;
-                grid.triangles
-                    .extend([[v, v + 1, v + n + 1], [v, v + n + 1, v + n]]);
-            }
-        }
+        let grid = height_grid(190, |x, y| 0.08 * (19.0 * x).sin() * (17.0 * y).cos());
         for (name, mesh, step) in [("two sheets", two_sheets(), 1), ("grid", grid, 97)] {
             let cp = ClosestPoints::new(&mesh).unwrap().with_clearances();
             // Each node's subtree is a contiguous run of leaves in depth-first order.

@@ -943,10 +943,10 @@ impl Engine for FastEngine {
     }
 
     fn take(&mut self, v: u32, ticket: Option<u32>, unchanged: bool) {
-        // An unchanged node is removed now, and the facing test reads its ring's seed leaves
-        // (their indices fetched a step ago).
+        // An unchanged node is tried for removal now: the facing test reads its ring's seed
+        // leaves (their indices fetched a step ago), the removal its ring's quadrics and
+        // bounds.
         if let (true, Some(o)) = (unchanged, self.st.geo.original.as_deref()) {
-            // And the ring's quadrics and bounds, which the removal updates.
             self.st.lists.for_each(v, |e| {
                 o.closest.prefetch_seed(e.node);
                 self.st.prefetch_carried(e.node);

@@ -544,7 +544,7 @@ impl ClosestPoints {
 
     /// Starts loading vertex `v`'s seed leaf index (a hint; the first of two steps ahead of
     /// a facing test seeded there, [`prefetch_seed`](Self::prefetch_seed) the second).
-    pub fn prefetch_seed_index(&self, v: u32) {
+    pub(crate) fn prefetch_seed_index(&self, v: u32) {
         if let Some(l) = self.vertex_leaf.get(v as usize) {
             crate::memory::prefetch(l);
         }
@@ -552,7 +552,7 @@ impl ClosestPoints {
 
     /// Starts loading what a facing test seeded at vertex `v` reads first: its leaf's box,
     /// cone, clearance and triangles (a hint: it changes nothing but timing).
-    pub fn prefetch_seed(&self, v: u32) {
+    pub(crate) fn prefetch_seed(&self, v: u32) {
         let Some(&leaf) = self.vertex_leaf.get(v as usize) else {
             return;
         };
@@ -845,9 +845,10 @@ fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-/// The margin by which [`Cone::all_against`] must hold: far above the rounding of unit
-/// vectors and their dot products (about 1e-15).
-const CONE_MARGIN: f64 = 1e-9;
+/// The margin by which [`Cone::all_against`] and [`Cone::within`] must hold. A cosine `c`
+/// near 1 carries a rounding error `δ` of about 1e-15 (unit vectors, dot products), and its
+/// sine `√(1 − c²)` then one of up to `√(2δ)`, about 5e-8: the margin is far above that.
+const CONE_MARGIN: f64 = 1e-6;
 
 impl Cone {
     /// The cone of no normal.
@@ -915,11 +916,16 @@ impl Cone {
         let Some(axis) = unit_vector(sum) else {
             return whole;
         };
+        // Lowered by far more than the dot products' rounding, so that the cone holds every
+        // normal whatever the last bits ([`Cone::merge`] builds on it).
         let cos = units
             .map(|u| u[0] * axis[0] + u[1] * axis[1] + u[2] * axis[2])
             .fold(1.0f64, f64::min)
             .clamp(-1.0, 1.0);
-        Cone { axis, cos }
+        Cone {
+            axis,
+            cos: (cos - 1e-14).max(-1.0),
+        }
     }
 
     /// Whether every normal in the cone certainly lies within the cone of unit axis `axis`

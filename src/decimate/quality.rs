@@ -351,7 +351,8 @@ impl ClosestPoints {
     /// tests at the seed leaf without a search from the root. A leaf's clearance `R` is the
     /// distance from its box's centre `p` to the nearest triangle that is not *aligned* with
     /// it (unit normal more than 50° from the axis of the leaf's cone of normals, or none that
-    /// can be normalised), at most [`CLEARANCE_REACH`] of the root box's diagonal. Every
+    /// can be normalised), searched up to three diagonals of the leaf's box (and at most 5 % of
+    /// the root box's diagonal); a leaf with none that near gets that reach. Every
     /// triangle nearer than `R` to `p` is aligned, so a triangle whose normal lies within 35°
     /// of the axis faces along every one of them (85° apart at most). The answers of every
     /// search are unchanged; the leaves' searches run on all cores.

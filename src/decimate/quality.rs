@@ -252,6 +252,29 @@ struct BvhNode {
 }
 
 impl BvhNode {
+    /// The inner node over two children (`start`: the second child's index).
+    fn union(l: &BvhNode, r: &BvhNode, start: u32) -> BvhNode {
+        BvhNode {
+            lo: std::array::from_fn(|k| l.lo[k].min(r.lo[k])),
+            hi: std::array::from_fn(|k| l.hi[k].max(r.hi[k])),
+            start,
+            count: 0,
+        }
+    }
+
+    /// The box's centre.
+    fn centre(&self) -> [f64; 3] {
+        std::array::from_fn(|k| 0.5 * (self.lo[k] + self.hi[k]))
+    }
+
+    /// The length of the box's diagonal.
+    fn diagonal(&self) -> f64 {
+        (0..3)
+            .map(|k| (self.hi[k] - self.lo[k]).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    }
+
     /// The squared distance from `p` to the box (0 inside).
     #[inline]
     fn distance2(&self, p: [f64; 3]) -> f64 {
@@ -322,13 +345,11 @@ impl ClosestPoints {
                     sub
                 },
             );
-            let (l, r) = (left.nodes[0], right.nodes[0]);
-            cp.nodes.push(BvhNode {
-                lo: std::array::from_fn(|k| l.lo[k].min(r.lo[k])),
-                hi: std::array::from_fn(|k| l.hi[k].max(r.hi[k])),
-                start: 1 + left.nodes.len() as u32,
-                count: 0,
-            });
+            cp.nodes.push(BvhNode::union(
+                &left.nodes[0],
+                &right.nodes[0],
+                1 + left.nodes.len() as u32,
+            ));
             cp.cones.push(left.cones[0].merge(&right.cones[0]));
             cp.append(left);
             cp.append(right);
@@ -361,10 +382,7 @@ impl ClosestPoints {
     pub fn with_clearances(mut self) -> ClosestPoints {
         use crate::par::prelude::*;
         let root = self.nodes[0];
-        let diagonal = (0..3)
-            .map(|k| (root.hi[k] - root.lo[k]).powi(2))
-            .sum::<f64>()
-            .sqrt();
+        let diagonal = root.diagonal();
         let magnitude = root
             .lo
             .iter()
@@ -389,13 +407,9 @@ impl ClosestPoints {
                 if !seed[n] || node.count == 0 || !(reach.is_finite() && cone.cos <= 1.0) {
                     return 0.0;
                 }
-                let size = (0..3)
-                    .map(|k| (node.hi[k] - node.lo[k]).powi(2))
-                    .sum::<f64>()
-                    .sqrt();
-                let reach = reach.min(LEAF_REACH * size);
+                let reach = reach.min(LEAF_REACH * node.diagonal());
                 let axis = cone.axis;
-                let centre = std::array::from_fn(|k| 0.5 * (node.lo[k] + node.hi[k]));
+                let centre = node.centre();
                 // Aligned: `m·axis ≥ cos·|m|`, squared (no root); a triangle without area
                 // faces no way, and no test counts it; one whose squares overflow or
                 // underflow counts as not aligned.
@@ -432,8 +446,10 @@ impl ClosestPoints {
         if !(r > 0.0 && dot3(unit, cone.axis) >= QUERY_COS) {
             return false;
         }
+        // The same centre the clearance was measured from.
+        let centre = node.centre();
         let off: f64 = (0..3)
-            .map(|k| (centroid[k] - 0.5 * (node.lo[k] + node.hi[k])).powi(2))
+            .map(|k| (centroid[k] - centre[k]).powi(2))
             .sum::<f64>()
             .sqrt();
         off + reach + 2.0 * self.slack < r * (1.0 - 1e-9)
@@ -495,13 +511,7 @@ impl ClosestPoints {
         self.build(mesh, first);
         let right = self.nodes.len();
         self.build(mesh, second);
-        let (l, r) = (self.nodes[at + 1], self.nodes[right]);
-        self.nodes[at] = BvhNode {
-            lo: std::array::from_fn(|k| l.lo[k].min(r.lo[k])),
-            hi: std::array::from_fn(|k| l.hi[k].max(r.hi[k])),
-            start: right as u32,
-            count: 0,
-        };
+        self.nodes[at] = BvhNode::union(&self.nodes[at + 1], &self.nodes[right], right as u32);
         self.cones[at] = self.cones[at + 1].merge(&self.cones[right]);
     }
 
@@ -591,7 +601,7 @@ impl ClosestPoints {
         let facing = |j: usize| {
             let [a, b, c] = self.corners[j];
             let m = crate::mesh::area_vector(a, b, c);
-            normal[0] * m[0] + normal[1] * m[1] + normal[2] * m[2]
+            dot3(normal, m)
         };
         let along = |j: usize| facing(j) > 0.0;
         let against = |j: usize| facing(j) < 0.0;
@@ -832,16 +842,11 @@ fn unit_normal([a, b, c]: [[f64; 3]; 3]) -> Option<[f64; 3]> {
 /// The angle between two unit vectors, accurate near 0 and π too (`atan2` of the cross
 /// product's length and the dot product).
 fn angle_between(a: [f64; 3], b: [f64; 3]) -> f64 {
-    let x = [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ];
-    (x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
-        .sqrt()
-        .atan2(dot3(a, b))
+    let x = crate::mesh::cross(a, b);
+    dot3(x, x).sqrt().atan2(dot3(a, b))
 }
 
+/// `a · b`, summed in coordinate order.
 fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
@@ -920,7 +925,7 @@ impl Cone {
         // Lowered by far more than the dot products' rounding, so that the cone holds every
         // normal whatever the last bits ([`Cone::merge`] builds on it).
         let cos = units
-            .map(|u| u[0] * axis[0] + u[1] * axis[1] + u[2] * axis[2])
+            .map(|u| dot3(u, axis))
             .fold(1.0f64, f64::min)
             .clamp(-1.0, 1.0);
         Cone {
@@ -954,7 +959,7 @@ impl Cone {
             return true;
         }
         // cos of the angle between the axis and −n, and the cone's half-angle.
-        let c_phi = -(self.axis[0] * n[0] + self.axis[1] * n[1] + self.axis[2] * n[2]);
+        let c_phi = -dot3(self.axis, n);
         if self.cos <= 0.0 || c_phi <= 0.0 {
             return false;
         }
@@ -1423,7 +1428,7 @@ mod tests {
                 }
                 positive += 1;
                 let axis = cp.cones[at].axis;
-                let centre: [f64; 3] = std::array::from_fn(|k| 0.5 * (node.lo[k] + node.hi[k]));
+                let centre = node.centre();
                 for t in &mesh.triangles {
                     let corners = t.map(|i| mesh.vertices[i as usize]);
                     let Some(u) = unit_normal(corners) else {

@@ -568,6 +568,7 @@ pub fn check_decimate(data: &[u8]) -> Result<(), String> {
         lazy: true,
         look_ahead: opts & 0x40 != 0,
         path: crate::Path::Fast,
+        ..Options::default()
     };
     let Ok(out) = decimate(&mesh, &options) else {
         return Ok(());

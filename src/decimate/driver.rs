@@ -306,7 +306,14 @@ pub(crate) fn decimate_with<E: Engine>(
         let kept: Vec<u32> = (0..mesh.vertices.len() as u32)
             .filter(|&v| !removed[v as usize])
             .collect();
-        history.fit = super::fit::fit(mesh, &mut out, &kept, fit_rounds, original.as_deref());
+        history.fit = super::fit::fit_in(
+            mesh,
+            &mut out,
+            &kept,
+            fit_rounds,
+            original.as_deref(),
+            options.origin,
+        );
     }
     let fit_seconds = fit_clock.elapsed().as_secs_f64();
     let seconds = clock.elapsed().as_secs_f64();

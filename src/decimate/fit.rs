@@ -22,6 +22,7 @@
 //! same nodes to the same places. The history records every move (from, to) bit for bit, so
 //! undecimation still restores the original exactly.
 
+use super::origin::Origin;
 use super::quality::{ClosestPoints, OriginalSurface};
 use crate::mesh::{area_vector, Mesh};
 use crate::num::rational::f64s_over_shared_power;
@@ -62,6 +63,27 @@ pub fn fit(
     kept: &[u32],
     rounds: usize,
     surface: Option<&OriginalSurface>,
+) -> Vec<Moved> {
+    fit_in(
+        original,
+        decimated,
+        kept,
+        rounds,
+        surface,
+        Origin::default(),
+    )
+}
+
+/// [`fit`] in local coordinates `origin`: every target is first rounded to a point that
+/// translates back to the original frame exactly ([`Origin::snap`]; a target that cannot be
+/// is not taken), and the checks run on the rounded point.
+pub(crate) fn fit_in(
+    original: &Mesh,
+    decimated: &mut Mesh,
+    kept: &[u32],
+    rounds: usize,
+    surface: Option<&OriginalSurface>,
+    origin: Origin,
 ) -> Vec<Moved> {
     let n = decimated.vertices.len();
     if rounds == 0 || decimated.triangles.is_empty() || original.triangles.is_empty() {
@@ -132,6 +154,7 @@ pub fn fit(
                 let mine = &points[first[v] as usize..first[v + 1] as usize];
                 let Some(target) =
                     node_target(samples, decimated, &attached, mine, v, start[v], normals[v])
+                        .and_then(|x| origin.snap(x))
                 else {
                     continue;
                 };

@@ -219,6 +219,19 @@ impl History {
         )
     }
 
+    /// Maps every coordinate the history holds (removed nodes, the fit's moves) through `f`:
+    /// how a decimation run in local coordinates returns to the
+    /// original frame. The fingerprints are not touched.
+    pub(crate) fn map_coordinates(&mut self, f: impl Fn([f64; 3]) -> [f64; 3]) {
+        for c in &mut self.coordinates {
+            *c = f(*c);
+        }
+        for m in &mut self.fit {
+            m.from = f(m.from);
+            m.to = f(m.to);
+        }
+    }
+
     /// Appends a step. `removed` gives `(slot, position)` per removed triangle (`l`, or
     /// `l − 1` at the border), `added` the `l − 2` new triangles as ring positions.
     #[allow(clippy::too_many_arguments)]

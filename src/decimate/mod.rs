@@ -61,6 +61,7 @@ pub(crate) mod fans;
 pub(crate) mod fast;
 pub mod fit;
 pub mod history;
+pub(crate) mod origin;
 pub mod quadric;
 pub mod quality;
 
@@ -423,6 +424,9 @@ pub struct Options {
     /// The engine: [`Path::Exact`], or the fast one for [`Path::Fast`] / [`Path::Filtered`]
     /// (the default).
     pub path: Path,
+    /// The translation [`decimate`] ran the engine in (none unless the mesh is far from the
+    /// origin): the fit rounds its moves so that they translate back exactly.
+    pub(crate) origin: origin::Origin,
 }
 
 crate::choice::setters!(Options {
@@ -455,6 +459,7 @@ impl Default for Options {
             lazy: true,
             look_ahead: true,
             path: Path::Filtered,
+            origin: origin::Origin::default(),
         }
     }
 }
@@ -549,11 +554,33 @@ pub struct Outcome {
 /// Decimates `mesh` with the engine [`Options::path`] names: the exact engine for
 /// [`Path::Exact`], the fast one (adaptive predicates: certified `f64` with an exact fallback,
 /// never uncertain) for [`Path::Fast`] and [`Path::Filtered`].
+///
+/// A mesh far from the origin is decimated in local coordinates, translated exactly to near
+/// its bounding box's centre on each axis whose coordinates all have one sign and lie within
+/// a factor two of each other (so that the translation is exact both ways), and the outcome
+/// is translated back: the result does not depend on where the mesh sits, to within the
+/// last bits of its coordinates.
 pub fn decimate(mesh: &crate::mesh::Mesh, options: &Options) -> Result<Outcome, DecimateError> {
-    match options.path {
+    let engine = |mesh: &crate::mesh::Mesh, options: &Options| match options.path {
         Path::Exact => exact::decimate(mesh, options),
         Path::Fast | Path::Filtered => fast::decimate(mesh, options),
+    };
+    let origin = origin::Origin::for_vertices(&mesh.vertices);
+    if origin.is_none() {
+        return engine(mesh, options);
     }
+    let local = origin.local_mesh(mesh);
+    let mut options = options.clone();
+    options.origin = origin;
+    let mut outcome = engine(&local, &options)?;
+    for v in &mut outcome.mesh.vertices {
+        *v = origin.to_global(*v);
+    }
+    let history = &mut outcome.history;
+    history.map_coordinates(|p| origin.to_global(p));
+    history.original_fingerprint = history::fingerprint(mesh);
+    history.decimated_fingerprint = history::fingerprint(&outcome.mesh);
+    Ok(outcome)
 }
 
 /// Validates options against a mesh (shared by both engines).

@@ -138,9 +138,35 @@ fn malformed_files_are_clear_errors() {
         e.to_string().contains("vertex 1") && e.to_string().contains("ends early"),
         "{e}"
     );
-    let e = obj::read(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3 4\n").unwrap_err();
+    // Quads and n-gons are triangulated (convex ones as the fan from the first vertex);
+    // a face of two vertices is an error naming its line.
+    let m = obj::read(b"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n").unwrap();
+    assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3]]);
+    let e = obj::read(b"v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2\n").unwrap_err();
     assert!(
-        e.to_string().contains("line 5") && e.to_string().contains("4 vertices"),
+        e.to_string().contains("line 4") && e.to_string().contains("2 vertices"),
+        "{e}"
+    );
+    let mut big = String::new();
+    for k in 0..2000 {
+        let a = k as f64 * std::f64::consts::TAU / 2000.0;
+        big += &format!("v {} {} 0\n", a.cos(), a.sin());
+    }
+    big += "f";
+    for k in 1..=2000 {
+        big += &format!(" {k}");
+    }
+    let e = obj::read(big.as_bytes()).unwrap_err();
+    assert!(e.to_string().contains("2000 vertices"), "{e}");
+    let quads = b"ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\nproperty float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n2 0 0\n0 1 0\n1 1 0\n2 1 0\n4 0 1 4 3\n4 1 2 5 4\n";
+    let m = ply::read(quads, None).unwrap();
+    assert_eq!(
+        m.triangles,
+        vec![[0, 1, 4], [0, 4, 3], [1, 2, 5], [1, 5, 4]]
+    );
+    let e = ply::read(b"ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n2 0 1\n", None).unwrap_err();
+    assert!(
+        e.to_string().contains("face 0") && e.to_string().contains("2 vertices"),
         "{e}"
     );
     let e = obj::read(b"v 0 0 0\nf 1 2 -7\n").unwrap_err();
@@ -182,9 +208,14 @@ fn legacy_vtk_errors_name_the_line() {
     .unwrap_err();
     assert!(e.to_string().contains("POLYDATA"), "{e}");
     let quad = b"# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 4 float\n0 0 0 1 0 0 1 1 0 0 1 0\nPOLYGONS 1 5\n4 0 1 2 3\n";
-    let e = vtk::read(quad, None).unwrap_err();
+    assert_eq!(
+        vtk::read(quad, None).unwrap().triangles,
+        vec![[0, 1, 2], [0, 2, 3]]
+    );
+    let short = b"# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 4 float\n0 0 0 1 0 0 1 1 0 0 1 0\nPOLYGONS 1 4\n4 0 1 2 3\n";
+    let e = vtk::read(short, None).unwrap_err();
     assert!(
-        e.to_string().contains("line 7") && e.to_string().contains("triangles"),
+        e.to_string().contains("line 8") && e.to_string().contains("list size"),
         "{e}"
     );
     let ok = b"# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 2\nPOINT_DATA 3\nSCALARS vm float\nLOOKUP_TABLE default\n1 2 3\n";

@@ -9,6 +9,7 @@
 pub(crate) mod fans;
 pub mod obj;
 pub mod ply;
+pub(crate) mod polygon;
 pub(crate) mod shapes;
 
 pub use shapes::squashed_hemisphere;

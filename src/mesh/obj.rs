@@ -1,6 +1,6 @@
-//! Wavefront OBJ: `v x y z [w]` and triangular `f` records (`i`, `i/t`, `i/t/n`, `i//n`, negative
-//! indices counted from the end); other records (`vt`, `vn`, `o`, `g`, `usemtl`, …) are
-//! ignored.
+//! Wavefront OBJ: `v x y z [w]` and `f` records (`i`, `i/t`, `i/t/n`, `i//n`, negative
+//! indices counted from the end; faces of more than three vertices are triangulated,
+//! module `polygon`); other records (`vt`, `vn`, `o`, `g`, `usemtl`, …) are ignored.
 
 use super::{Mesh, MeshError};
 
@@ -40,19 +40,9 @@ pub fn read(bytes: &[u8]) -> Result<Mesh, MeshError> {
                 mesh.vertices.push(v);
             }
             Some("f") => {
-                let refs: Vec<&str> = words.collect();
-                if refs.len() != 3 {
-                    return Err(err(
-                        line,
-                        format!(
-                            "a face with {} vertices: geocert reads triangle meshes",
-                            refs.len()
-                        ),
-                    ));
-                }
                 let n = mesh.vertices.len() as i64;
-                let mut tri = [0u32; 3];
-                for (slot, r) in tri.iter_mut().zip(&refs) {
+                let mut face = Vec::with_capacity(4);
+                for r in words {
                     let head = r.split('/').next().unwrap_or("");
                     let k: i64 = head
                         .parse()
@@ -64,9 +54,10 @@ pub fn read(bytes: &[u8]) -> Result<Mesh, MeshError> {
                             format!("vertex reference {k} out of range ({n} vertices so far)"),
                         ));
                     }
-                    *slot = idx as u32;
+                    face.push(idx as u32);
                 }
-                mesh.triangles.push(tri);
+                super::polygon::triangulate(&mesh.vertices, &face, &mut mesh.triangles)
+                    .map_err(|why| err(line, why))?;
             }
             _ => {}
         }

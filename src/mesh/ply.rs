@@ -1,7 +1,8 @@
 //! PLY (Turk's polygon file format): `ascii`, `binary_little_endian` and `binary_big_endian`.
 //! Reads the `vertex` element's `x y z` (and optionally one named scalar property) and the
 //! `face` element's index list (`vertex_indices` or `vertex_index`); other elements and
-//! properties are skipped. Faces must be triangles.
+//! properties are skipped. Faces of more than three vertices are triangulated (module
+//! `polygon`).
 
 use super::{Mesh, MeshError, Scalars};
 
@@ -239,6 +240,10 @@ pub fn read(bytes: &[u8], scalar: Option<&str>) -> Result<Mesh, MeshError> {
     let mut mesh = Mesh::default();
     let mut values = Vec::new();
     let mut saw_vertex = false;
+    // Faces as read (their vertex indices one after another, and each face's count):
+    // triangulated once every element is read, since a face may come before the vertices.
+    let mut face_indices: Vec<u32> = Vec::new();
+    let mut face_sizes: Vec<u32> = Vec::new();
     for el in &elements {
         let is_vertex = el.name == "vertex";
         let is_face = el.name == "face";
@@ -291,27 +296,20 @@ pub fn read(bytes: &[u8], scalar: Option<&str>) -> Result<Mesh, MeshError> {
                         let n = n as usize;
                         let wanted =
                             is_face && (name == "vertex_indices" || name == "vertex_index");
-                        if wanted && n != 3 {
-                            return Err(err(
-                                place(),
-                                format!("a face with {n} vertices: geocert reads triangle meshes"),
-                            ));
+                        if wanted && n < 3 {
+                            return Err(err(place(), format!("a face with {n} vertices")));
                         }
-                        let mut tri = [0u32; 3];
-                        for slot in 0..n {
-                            // `wanted` implies n == 3.
+                        for _ in 0..n {
                             let x = cur.next(*item, &place)?;
                             if wanted {
                                 if !item.is_integer() || x < 0.0 || x > u32::MAX as f64 {
                                     return Err(err(place(), format!("bad vertex index {x}")));
                                 }
-                                if let Some(t) = tri.get_mut(slot) {
-                                    *t = x as u32;
-                                }
+                                face_indices.push(x as u32);
                             }
                         }
                         if wanted {
-                            mesh.triangles.push(tri);
+                            face_sizes.push(n as u32);
                         }
                     }
                 }
@@ -326,6 +324,14 @@ pub fn read(bytes: &[u8], scalar: Option<&str>) -> Result<Mesh, MeshError> {
     }
     if !saw_vertex {
         return Err(err("header", "no vertex element"));
+    }
+    mesh.triangles.reserve(face_indices.len() / 3);
+    let mut at = 0;
+    for (f, &n) in face_sizes.iter().enumerate() {
+        let face = &face_indices[at..at + n as usize];
+        at += n as usize;
+        super::polygon::triangulate(&mesh.vertices, face, &mut mesh.triangles)
+            .map_err(|why| err(format!("face {f}"), why))?;
     }
     if let Some(name) = scalar {
         mesh.scalars = Some(Scalars {

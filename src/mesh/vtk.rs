@@ -1,5 +1,6 @@
-//! Legacy VTK (`# vtk DataFile Version 2.0`..`5.1`), ASCII `POLYDATA`: `POINTS`, triangular
-//! `POLYGONS` (the classic `n i j k` layout), and one `POINT_DATA` `SCALARS` array (with its
+//! Legacy VTK (`# vtk DataFile Version 2.0`..`5.1`), ASCII `POLYDATA`: `POINTS`, `POLYGONS`
+//! (the classic `n i j k …` layout; polygons of more than three vertices are triangulated,
+//! module `polygon`), and one `POINT_DATA` `SCALARS` array (with its
 //! `LOOKUP_TABLE` line) as the nodal field. Binary files and other dataset types are refused
 //! with a clear error.
 
@@ -97,35 +98,38 @@ pub fn read(bytes: &[u8], scalar: Option<&str>) -> Result<Mesh, MeshError> {
                 if !key.eq_ignore_ascii_case("POLYGONS") {
                     return Err(err(
                         format!("line {line}"),
-                        format!("{key} cells are not read (triangles only)"),
+                        format!("{key} cells are not read (POLYGONS only)"),
                     ));
                 }
                 let cells = count(next("the cell count")?)?;
                 let size = count(next("the list size")?)?;
-                if size != 4 * cells {
-                    return Err(err(
-                        format!("line {line}"),
-                        format!(
-                            "{cells} polygons in {size} numbers: only triangles (n = 3) are read"
-                        ),
-                    ));
-                }
+                let mut read = 0usize;
+                let mut face = Vec::new();
                 for c in 0..cells {
                     let (l, n) = next("a polygon")?;
-                    if n != "3" {
+                    let n = count((l, n))?;
+                    read += n + 1;
+                    if read > size {
                         return Err(err(
                             format!("line {l}"),
-                            format!("polygon {c} has {n} vertices: geocert reads triangle meshes"),
+                            format!("polygon {c} runs past the list size {size}"),
                         ));
                     }
-                    let mut t = [0u32; 3];
-                    for slot in &mut t {
+                    face.clear();
+                    for _ in 0..n {
                         let (l, x) = next("a vertex index")?;
-                        *slot = x.parse().map_err(|_| {
+                        face.push(x.parse().map_err(|_| {
                             err(format!("line {l}"), format!("bad vertex index {x:?}"))
-                        })?;
+                        })?);
                     }
-                    mesh.triangles.push(t);
+                    super::polygon::triangulate(&mesh.vertices, &face, &mut mesh.triangles)
+                        .map_err(|why| err(format!("line {l}"), format!("polygon {c}: {why}")))?;
+                }
+                if read != size {
+                    return Err(err(
+                        format!("line {line}"),
+                        format!("{cells} polygons take {read} numbers, the header says {size}"),
+                    ));
                 }
             }
             "POINT_DATA" => {

@@ -187,7 +187,7 @@ pub(crate) fn fit_in(
                             u32::MAX => kept[v],
                             i => i,
                         };
-                        !s.faces_against(c, seed)
+                        !s.faces_against(c, &[seed])
                     })
                 });
                 if ok {

@@ -480,8 +480,10 @@ pub fn faces_against_original(
     ring3: &[[f64; 3]],
     tris: &[[u8; 3]],
 ) -> bool {
-    tris.iter()
-        .any(|t| original.faces_against(t.map(|k| ring3[k as usize]), ring[t[0] as usize]))
+    tris.iter().any(|t| {
+        let seeds = t.map(|k| ring[k as usize]);
+        original.faces_against(t.map(|k| ring3[k as usize]), &seeds)
+    })
 }
 
 /// Where a removed node lands on its re-triangulated hole (both engines, in `f64`): for an

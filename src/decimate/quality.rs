@@ -534,23 +534,33 @@ impl ClosestPoints {
     /// goes to agreement. Both distances are minima, so the answer does not depend on the
     /// order of any search. [`deviation`] counts flipped triangles by it.
     pub fn faces_against(&self, centroid: [f64; 3], normal: [f64; 3], tie: f64) -> bool {
-        self.faces_against_near(centroid, normal, tie, None)
+        self.faces_against_near(centroid, normal, tie, &[])
     }
 
-    /// [`faces_against`](Self::faces_against), with the triangles of the leaf holding one of
-    /// vertex `seed`'s triangles (any vertex of the mesh) tried first: when one of them faces
-    /// along at distance `d`, a search for a triangle facing against within `d − tie`, which
-    /// skips every box whose normals all face along (their cones), usually settles it. The
-    /// same answer for every seed.
+    /// [`faces_against`](Self::faces_against), with the triangles of the leaves holding one
+    /// of each `seeds` vertex's triangles (any vertices of the mesh) tried first: when one of
+    /// them faces along at distance `d`, a seed leaf's clearance or a search for a triangle
+    /// facing against within `d − tie`, which skips every box whose normals all face along
+    /// (their cones), usually settles it. The same answer for any seeds.
     pub fn faces_against_from(
         &self,
         centroid: [f64; 3],
         normal: [f64; 3],
         tie: f64,
-        seed: u32,
+        seeds: &[u32],
     ) -> bool {
-        let leaf = self.vertex_leaf.get(seed as usize).copied();
-        self.faces_against_near(centroid, normal, tie, leaf.filter(|&l| l != u32::MAX))
+        let mut leaves = [u32::MAX; 4];
+        let mut count = 0;
+        for &s in seeds {
+            let Some(&l) = self.vertex_leaf.get(s as usize) else {
+                continue;
+            };
+            if l != u32::MAX && count < leaves.len() && !leaves[..count].contains(&l) {
+                leaves[count] = l;
+                count += 1;
+            }
+        }
+        self.faces_against_near(centroid, normal, tie, &leaves[..count])
     }
 
     /// Starts loading vertex `v`'s seed leaf index (a hint; the first of two steps ahead of
@@ -591,7 +601,7 @@ impl ClosestPoints {
         centroid: [f64; 3],
         normal: [f64; 3],
         tie: f64,
-        leaf: Option<u32>,
+        leaves: &[u32],
     ) -> bool {
         let length = (normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]).sqrt();
         if !(length > 0.0 && length.is_finite()) {
@@ -609,39 +619,56 @@ impl ClosestPoints {
         // certainly face the other way.
         let may_along = |n: u32| !self.cones[n as usize].all_against(unit);
         let may_against = |n: u32| !self.cones[n as usize].all_against(unit.map(|x| -x));
-        if let Some(leaf) = leaf {
-            let mut seeded = Best::new(centroid);
-            self.scan_leaf(centroid, leaf, &mut seeded, &along);
-            let reach = seeded.best2.sqrt() - tie;
-            if seeded.found() && reach <= 0.0 {
-                return false;
-            }
-            // The seed leaf's clearance may settle it without a search.
-            if seeded.found() && self.clear_within(leaf, centroid, unit, reach) {
-                return false;
-            }
-            if seeded.found() {
-                // Flipped needs a triangle facing against nearer than `reach`.
-                let mut opposed = Best::new(centroid);
-                opposed.best2 = reach * reach;
-                self.descend_where(centroid, &mut opposed, &against, &may_against);
-                if !opposed.found_below(reach * reach) {
-                    return false;
-                }
-            }
-        }
         let mut nearest_along = Best::new(centroid);
+        // The nearest triangle facing against, when the seeded search found it.
+        let mut opposed_known = None;
+        let mut seeded = Best::new(centroid);
+        for &leaf in leaves {
+            self.scan_leaf(centroid, leaf, &mut seeded, &along);
+        }
+        if seeded.found() {
+            let reach = seeded.best2.sqrt() - tie;
+            if reach <= 0.0 {
+                return false;
+            }
+            // A seed leaf's clearance may settle it without a search.
+            if leaves
+                .iter()
+                .any(|&leaf| self.clear_within(leaf, centroid, unit, reach))
+            {
+                return false;
+            }
+            // Flipped needs a triangle facing against nearer than `reach`.
+            let mut opposed = Best::new(centroid);
+            opposed.best2 = reach * reach;
+            self.descend_where(centroid, &mut opposed, &against, &may_against);
+            if !opposed.found_below(reach * reach) {
+                return false;
+            }
+            // Found within `reach`, it is the nearest facing against of all; the nearest
+            // facing along is at most as far as the seeds'.
+            opposed_known = Some(opposed);
+            nearest_along = seeded;
+        }
         self.descend_where(centroid, &mut nearest_along, &along, &may_along);
         let d_along = nearest_along.best2.sqrt();
         let reach = d_along - tie;
         if reach <= 0.0 {
             return false;
         }
-        let mut opposed = Best::new(centroid);
-        if reach.is_finite() {
-            opposed.best2 = reach * reach;
-        }
-        self.descend_where(centroid, &mut opposed, &against, &may_against);
+        let opposed = match opposed_known {
+            // What a search bounded by `reach` would have found.
+            Some(o) if o.found_below(reach * reach) => o,
+            Some(_) => return false,
+            None => {
+                let mut opposed = Best::new(centroid);
+                if reach.is_finite() {
+                    opposed.best2 = reach * reach;
+                }
+                self.descend_where(centroid, &mut opposed, &against, &may_against);
+                opposed
+            }
+        };
         opposed.entry != usize::MAX && opposed.best2.sqrt() + tie < d_along
     }
 
@@ -1107,13 +1134,14 @@ impl OriginalSurface {
     }
 
     /// Whether the triangle `(a, b, c)` faces against this surface
-    /// ([`ClosestPoints::faces_against`] at its centroid), the search started at mesh vertex
-    /// `seed` ([`ClosestPoints::faces_against_from`]).
-    pub fn faces_against(&self, [a, b, c]: [[f64; 3]; 3], seed: u32) -> bool {
+    /// ([`ClosestPoints::faces_against`] at its centroid), the search started at the mesh
+    /// vertices `seeds` ([`ClosestPoints::faces_against_from`]; the answer does not depend
+    /// on them, only its cost).
+    pub fn faces_against(&self, [a, b, c]: [[f64; 3]; 3], seeds: &[u32]) -> bool {
         let centroid = std::array::from_fn(|k| (a[k] + b[k] + c[k]) / 3.0);
         let normal = crate::mesh::area_vector(a, b, c);
         self.closest
-            .faces_against_from(centroid, normal, self.tie, seed)
+            .faces_against_from(centroid, normal, self.tie, seeds)
     }
 }
 
@@ -1482,11 +1510,19 @@ mod tests {
             let root = original
                 .closest
                 .faces_against(centroid, normal, original.tie);
-            for seed in (0..mesh.vertices.len() as u32).step_by(5) {
+            let count = mesh.vertices.len() as u32;
+            for seed in (0..count).step_by(5) {
                 assert_eq!(
-                    original.faces_against(tri, seed),
+                    original.faces_against(tri, &[seed]),
                     root,
                     "{tri:?} from {seed}"
+                );
+                // Several seeds, on both sheets: the same answer.
+                let seeds = [seed, (seed * 7 + 3) % count, (seed + count / 2) % count];
+                assert_eq!(
+                    original.faces_against(tri, &seeds),
+                    root,
+                    "{tri:?} from {seeds:?}"
                 );
             }
             if root {
@@ -1514,7 +1550,12 @@ mod tests {
             let tri = [[0.0, 0.0], [0.02, 0.0], [0.0, 0.02]]
                 .map(|[dx, dy]| [p[0] + dx, p[1] + dy, p[2] + h + tx * dx + ty * dy]);
             let expected = faces_against_by_scan(&mesh, tri, original.tie);
-            assert_eq!(original.faces_against(tri, seed), expected, "{tri:?}");
+            assert_eq!(original.faces_against(tri, &[seed]), expected, "{tri:?}");
+            assert_eq!(
+                original.faces_against(tri, &[seed, seed + 1, seed + n as u32]),
+                expected,
+                "{tri:?}"
+            );
             let [a, b, c] = tri;
             let centroid = std::array::from_fn(|k| (a[k] + b[k] + c[k]) / 3.0);
             let normal = crate::mesh::area_vector(a, b, c);

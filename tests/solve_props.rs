@@ -459,3 +459,56 @@ proptest! {
         }
     }
 }
+
+/// Flat equations refine to the requested width: `x²⁰ = 10⁻¹⁰` (its derivative at the roots
+/// is about 6·10⁻⁹, so `f64` rounding in the values leaves Newton's point some 10⁻⁸ off) and
+/// Wilkinson's `Π (x − k/10)`, `k = 1…10`. On the filtered path Newton's method is finished
+/// on exact values before the smallest box is certified: every root's box is within the
+/// tolerance (or `f64`'s floor of 8ε of the certified box, 2·10⁻¹⁵ here) and holds the root
+/// (decided exactly). Before, they stopped at boxes of 1.4·10⁻⁴
+/// and 7·10⁻¹¹.
+#[test]
+fn flat_roots_refine_to_the_tolerance() {
+    let power = geocert::solve::system_from_json(
+        r#"{"box": [["-1", "1"]], "equations": [{"terms": [[[20], "1"], [[0], "-1/10000000000"]]}]}"#,
+    )
+    .unwrap();
+    let roots: Vec<Rational> = (1..=10).map(|k| q(k, 10)).collect();
+    let wilkinson = System::new(
+        vec![(q(0, 1), q(21, 20))],
+        vec![product_of_roots(
+            1,
+            0,
+            &roots.iter().map(|r| r * q(20, 21)).collect::<Vec<_>>(),
+        )],
+    )
+    .unwrap();
+    let opts = SolveOptions::default().with_path(Path::Filtered);
+    let tol = opts.tolerance;
+    let sol = solve(&power, &opts).unwrap();
+    assert_eq!((sol.roots.len(), sol.clusters.len()), (2, 0));
+    for r in &sol.roots {
+        let (lo, hi) = &r.bounds[0];
+        let width = num_traits::ToPrimitive::to_f64(&(hi - lo)).unwrap() / 2.0;
+        assert!(width <= tol.max(2e-15), "{width:e}");
+        // Holds ±10^(−1/2): lo² and hi² on either side of 1/10 (same signs).
+        let tenth = q(1, 10);
+        assert!(
+            (lo * lo - &tenth) * (hi * hi - &tenth) < q(0, 1),
+            "{lo} {hi}"
+        );
+        verify_root_exactly(&power, &r.bounds, &r.certificate).unwrap();
+    }
+    let sol = solve(&wilkinson, &opts).unwrap();
+    assert_eq!((sol.roots.len(), sol.clusters.len()), (10, 0));
+    for r in &sol.roots {
+        let (lo, hi) = &r.bounds[0];
+        let width = num_traits::ToPrimitive::to_f64(&(hi - lo)).unwrap() / (21.0 / 20.0);
+        assert!(width <= tol.max(2e-15), "{width:e}");
+        assert!(roots.iter().filter(|x| lo <= *x && *x <= hi).count() == 1);
+    }
+    println!(
+        "x^20 = 1e-10 and Wilkinson's 10 roots: every box within {:e} of the domain",
+        tol.max(2e-15)
+    );
+}

@@ -40,6 +40,8 @@ pub struct VerifyOptions {
     /// How far (in cell units) a vertex may be from a grid line or from the interpolated
     /// crossing: `1e-3` by default, which allows coordinates written as `f32`.
     pub tolerance: f64,
+    /// Which side a sample equal to the isovalue counts on ([`Ties::Auto`] by default).
+    pub ties: Ties,
 }
 
 impl Default for VerifyOptions {
@@ -48,9 +50,37 @@ impl Default for VerifyOptions {
             origin: [0.0; 3],
             spacing: [1.0; 3],
             tolerance: 1e-3,
+            ties: Ties::Auto,
         }
     }
 }
+
+/// Which side of the level a sample exactly at the isovalue lies on. Programs differ, and on
+/// integer volumes (medical images) at an integer isovalue such samples are common: a mesh
+/// made under the other rule has vertices on grid points and crossings on edges that this
+/// rule does not cut.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Ties {
+    /// Inside (`value ≥ iso`): the level at the isovalue minus an infinitesimal, as
+    /// geocert's table and VTK's marching cubes have it.
+    Inside,
+    /// Outside (`value > iso` is inside): the level at the isovalue plus an infinitesimal,
+    /// as scikit-image's `marching_cubes` has it. Verified as the volume `−v` at `−iso`
+    /// under [`Ties::Inside`] (the same surface; the sides swap, which no check depends on).
+    Outside,
+    /// [`Ties::Inside`], and where some sample equals the isovalue and that reading fails
+    /// or differs, also [`Ties::Outside`]; the verdict is the reading that fits better (fewer
+    /// open edges, then fewer differing or skipped cells, then the nearer Euler
+    /// characteristic and components; inside on a tie) and says which it is.
+    Auto,
+}
+
+crate::choice::named_enum!(Ties {
+    Inside => "inside",
+    Outside => "outside",
+    Auto => "auto",
+});
 
 /// Why a mesh could not be verified against a volume.
 #[derive(Debug, Error, PartialEq)]
@@ -158,6 +188,8 @@ pub struct CellMismatch {
 /// The verdict on a mesh.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct MeshVerdict {
+    /// The tie rule the mesh was read under ([`Ties::Inside`] or [`Ties::Outside`]).
+    pub ties: Ties,
     /// Distinct vertices after welding.
     pub vertices: usize,
     /// Triangles read; `degenerate` of them collapse after welding and are dropped.
@@ -206,6 +238,19 @@ impl MeshVerdict {
     pub fn mismatching_cells(&self) -> usize {
         self.mismatches.iter().map(|(_, n)| n).sum()
     }
+    /// How badly the mesh fits the truth, for choosing between two readings (smaller is
+    /// better): open or non-manifold edges, cells that differ or could not be compared, the
+    /// difference in Euler characteristic and in components.
+    fn misfit(&self) -> (usize, usize, u64) {
+        (
+            self.open_edges + self.nonmanifold_edges,
+            self.mismatching_cells() + self.cells_skipped + self.unassigned_triangles,
+            self.euler_characteristic
+                .abs_diff(self.truth_euler_characteristic)
+                + self.components.abs_diff(self.truth_components) as u64,
+        )
+    }
+
     /// The mesh has the trilinear surface's topology: watertight, the same characteristic
     /// and components, and no cell differs.
     pub fn agrees(&self) -> bool {
@@ -232,8 +277,44 @@ enum Place {
     Ambiguous([usize; 3]),
 }
 
-/// Verifies `mesh` against the trilinear isosurface of `vol` at `iso`.
+/// Verifies `mesh` against the trilinear isosurface of `vol` at `iso`, with samples equal to
+/// `iso` on the side [`VerifyOptions::ties`] says.
 pub fn verify_mesh(
+    vol: &Volume<f64>,
+    iso: f64,
+    mesh: &Mesh,
+    opts: &VerifyOptions,
+) -> Result<MeshVerdict, VerifyError> {
+    let outside = || {
+        let negated = Volume {
+            dims: vol.dims,
+            values: vol.values.iter().map(|v| -v).collect(),
+        };
+        verify_inside(&negated, -iso, mesh, opts).map(|v| MeshVerdict {
+            ties: Ties::Outside,
+            ..v
+        })
+    };
+    match opts.ties {
+        Ties::Inside => verify_inside(vol, iso, mesh, opts),
+        Ties::Outside => outside(),
+        Ties::Auto => {
+            let inside = verify_inside(vol, iso, mesh, opts);
+            if inside.as_ref().is_ok_and(MeshVerdict::agrees) || !vol.values.contains(&iso) {
+                return inside;
+            }
+            match (inside, outside()) {
+                (Ok(i), Ok(o)) => Ok(if o.misfit() < i.misfit() { o } else { i }),
+                (Ok(i), Err(_)) => Ok(i),
+                (Err(_), Ok(o)) => Ok(o),
+                (Err(e), Err(_)) => Err(e),
+            }
+        }
+    }
+}
+
+/// [`verify_mesh`] with samples equal to `iso` inside.
+fn verify_inside(
     vol: &Volume<f64>,
     iso: f64,
     mesh: &Mesh,
@@ -530,6 +611,7 @@ pub fn verify_mesh(
     mismatches.sort();
     let count_places = |f: fn(&Place) -> bool| places.iter().filter(|p| f(p)).count();
     Ok(MeshVerdict {
+        ties: Ties::Inside,
         vertices: used_count,
         triangles: mesh.triangles.len(),
         degenerate,
@@ -608,10 +690,18 @@ fn place_vertex(
     let mut qualifying = 0;
     let mut first_uncut = None;
     let mut first_off = None;
+    let mut on_level = false;
     for &(axis, lo) in &candidates {
         let mut hi = lo;
         hi[axis] += 1;
         let (a, b) = (*vol.at(lo[0], lo[1], lo[2]), *vol.at(hi[0], hi[1], hi[2]));
+        if a == iso && b == iso {
+            // The whole edge lies on the level (the interpolant is `iso` all along it): a
+            // point of it is a point of the surface, though no crossing (an interior vertex
+            // some programs put at the mean of a cell's crossings can land there).
+            on_level = true;
+            continue;
+        }
         if (a >= iso) == (b >= iso) {
             first_uncut.get_or_insert(VerifyError::UncutEdge {
                 vertex: vi,
@@ -655,6 +745,10 @@ fn place_vertex(
             Ok(Place::Ambiguous(near.map(|n| n.unwrap_or(0))))
         }
         (Some((_, axis, lo)), _, _) => Ok(Place::Edge(axis, lo)),
+        (None, _, _) if on_level => Ok(Place::Free {
+            lo: [0, 1, 2].map(|i| cell_of(g[i] - tol, i)),
+            hi: [0, 1, 2].map(|i| cell_of(g[i] + tol, i)),
+        }),
         (None, Some(e), _) | (None, None, Some(e)) => Err(e),
         (None, None, None) => Err(VerifyError::GridPoint {
             vertex: vi,
@@ -866,6 +960,62 @@ mod tests {
             }
         }
         assert!(tunnels > 0, "noise has tunnels");
+    }
+
+    /// Integer samples at an integer isovalue, as medical images have them: about a fifth of
+    /// the samples equal the isovalue. A mesh made with ties inside (geocert, VTK) and one
+    /// made with ties outside (scikit-image; here the table on `−v` at `−iso`) are each read
+    /// under their own rule by `auto` and verify, up to the table's missing tunnels; a
+    /// vertex on an edge lying wholly on the level is a point of the surface.
+    #[test]
+    fn ties_are_read_under_the_rule_the_mesh_was_made_with() {
+        let mut grid_point_vertices = 0;
+        for seed in 0..4 {
+            let noisy = noise(9, seed);
+            let values = noisy.values.iter().map(|v| (2.0 * v).round()).collect();
+            let vol = Volume::new(noisy.dims, values).unwrap();
+            assert!(vol.values.iter().filter(|&&v| v == 0.0).count() > 100);
+            let negated = Volume::new(vol.dims, vol.values.iter().map(|v| -v).collect()).unwrap();
+            for (mesh, rule) in [
+                (table_mesh(&vol, 0.0), Ties::Inside),
+                (table_mesh(&negated, 0.0), Ties::Outside),
+            ] {
+                let v = verify_mesh(&vol, 0.0, &mesh, &VerifyOptions::default()).unwrap();
+                assert_eq!(v.ties, rule);
+                assert!(v.watertight, "{rule:?}: {v:?}");
+                assert!(
+                    v.mismatches
+                        .iter()
+                        .all(|(k, _)| *k == MismatchKind::MissingTunnel),
+                    "{rule:?}: {v:?}"
+                );
+                let forced = VerifyOptions {
+                    ties: rule,
+                    ..VerifyOptions::default()
+                };
+                assert_eq!(verify_mesh(&vol, 0.0, &mesh, &forced).unwrap(), v);
+                grid_point_vertices += v.ambiguous_vertices;
+            }
+        }
+        assert!(grid_point_vertices > 0);
+        // A vertex in the middle of an edge whose two samples equal the isovalue is on the
+        // surface (placed off the grid lines); on a cut edge crossed at t = 1/4 it is off the
+        // crossing.
+        let opts = VerifyOptions::default();
+        let mut values = vec![1.0; 8];
+        values[0] = 0.0;
+        values[1] = 0.0;
+        let level = Volume::new([2, 2, 2], values).unwrap();
+        let place = place_vertex(&level, 0.0, 0, [0.5, 0.0, 0.0], &opts);
+        assert!(matches!(place, Ok(Place::Free { .. })), "{place:?}");
+        let mut values = vec![3.0; 8];
+        values[0] = -1.0;
+        let crossing = Volume::new([2, 2, 2], values).unwrap();
+        let place = place_vertex(&crossing, 0.0, 0, [0.5, 0.0, 0.0], &opts);
+        assert!(
+            matches!(place, Err(VerifyError::OffCrossing { .. })),
+            "{place:?}"
+        );
     }
 
     #[test]

@@ -948,6 +948,7 @@ fn refine<T: Coefficient>(
     }
     let mut rho = (0.5 * tolerance / width).max(4.0 * f64::EPSILON);
     let mut first = true;
+    let mut polished = false;
     // Interval path: the small box's ends are `f64` numbers in the domain's unit coordinates
     // (inside the certified box), so that the exact finish restricts the equations to short
     // dyadic ends, however long the certified box's own ends have grown; the equations on it
@@ -1004,11 +1005,77 @@ fn refine<T: Coefficient>(
                 }
             }
         }
+        // The smallest box missed: where the equations are flat, `f64` rounding in their
+        // values leaves Newton's point farther off than that box. Newton's method on exact
+        // values then puts it within rounding of the root, and the smallest box is tried
+        // again, exactly.
+        if let Some(ctx) = finish.filter(|_| !T::EXACT && first && !polished) {
+            polished = true;
+            if let Some(better) = polish(ctx, node, &jac, &t)? {
+                t = better;
+                continue;
+            }
+        }
         first = false;
         rho *= 16.0;
     }
     Ok(keep())
 }
+
+/// Newton's method at most [`POLISH_STEPS`] times from `t` (unit coordinates of `node`'s
+/// box) with the equations' values computed exactly at each point (rounded to `f64` only
+/// afterwards) and the Jacobian `jac` in `f64`: `None` when it does not settle inside the box.
+fn polish<T: Coefficient>(
+    ctx: &Context<'_>,
+    node: &Node<T>,
+    jac: &[Vec<Option<Bernstein<f64>>>],
+    t: &[f64],
+) -> Result<Option<Vec<f64>>, SolveError> {
+    let exact = ctx.exact()?;
+    let n = t.len();
+    let mut t = t.to_vec();
+    for _ in 0..POLISH_STEPS {
+        let mut u = Vec::with_capacity(n);
+        for (k, &x) in t.iter().enumerate() {
+            let Ok(x) = rational_from_f64(x, "point") else {
+                return Ok(None);
+            };
+            u.push(crate::num::rational::lerp(&node.lo[k], &node.hi[k], &x));
+        }
+        let values: Vec<f64> = exact
+            .iter()
+            .map(|p| p.eval(&u).map(|v| rational_to_f64(&v)))
+            .collect::<Result<_, _>>()?;
+        let mut m = vec![vec![0.0; n]; n];
+        for (i, row) in jac.iter().enumerate() {
+            for (k, d) in row.iter().enumerate() {
+                if let Some(d) = d {
+                    m[i][k] = d.eval(&t)?;
+                }
+            }
+        }
+        let Some(inv) = invert(m) else {
+            return Ok(None);
+        };
+        let mut moved = 0.0f64;
+        for (x, row) in t.iter_mut().zip(&inv) {
+            let step: f64 = row.iter().zip(&values).map(|(a, b)| a * b).sum();
+            let next = *x - step;
+            if !(0.0..=1.0).contains(&next) {
+                return Ok(None);
+            }
+            moved = moved.max((next - *x).abs());
+            *x = next;
+        }
+        if moved <= f64::EPSILON {
+            break;
+        }
+    }
+    Ok(Some(t))
+}
+
+/// The most exact Newton steps [`polish`] takes.
+const POLISH_STEPS: usize = 6;
 
 /// The axis of the box's widest side (the lowest such axis on ties).
 pub(super) fn widest_axis(lo: &[Rational], hi: &[Rational]) -> usize {

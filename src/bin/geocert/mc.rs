@@ -7,7 +7,7 @@ use geocert::mc::audit::{audit, export, parse_table, Numbering};
 use geocert::mc::fe::{polygonise, CellRule, FeModel, FeOptions, NormalSource};
 use geocert::mc::grid::{extract, extract_fast_parallel, read_raw, ExtractOptions, RawType};
 use geocert::mc::trilinear::polygonise::extract_trilinear_path;
-use geocert::mc::verify::{verify_mesh, MeshVerdict, VerifyOptions};
+use geocert::mc::verify::{verify_mesh, MeshVerdict, Ties, VerifyOptions};
 use geocert::mesh::Format;
 use geocert::num::{parse_rational, Rational};
 use geocert::Path;
@@ -92,6 +92,11 @@ pub(crate) enum Command {
         /// How far (cell units) a vertex may be from a grid line or the crossing.
         #[arg(long, default_value_t = 1e-3)]
         tolerance: f64,
+        /// Which side a sample equal to the isovalue lies on: `inside` (geocert, VTK),
+        /// `outside` (scikit-image), or `auto` (inside, and outside where that fails or
+        /// differs and some sample equals the isovalue).
+        #[arg(long, default_value = "auto", value_parser = choice::<Ties>(Ties::NAMES))]
+        ties: Ties,
         #[arg(long)]
         json: bool,
     },
@@ -227,6 +232,7 @@ pub(crate) fn run(c: Command) -> Result<ExitCode, String> {
             origin,
             spacing,
             tolerance,
+            ties,
             json,
         } => {
             let iso: f64 = iso
@@ -242,6 +248,7 @@ pub(crate) fn run(c: Command) -> Result<ExitCode, String> {
                 origin: three(origin, 0.0, "origin")?,
                 spacing: three(spacing, 1.0, "spacing")?,
                 tolerance,
+                ties,
             };
             let vol = load_volume(&volume, raw.dims, raw.ty)?;
             let m = geocert::mesh::Mesh::read(&mesh, None)
@@ -277,6 +284,7 @@ fn print_verdict(mesh: &std::path::Path, v: &MeshVerdict) {
         v.interior_vertices,
         v.ambiguous_vertices
     );
+    println!("samples equal to the isovalue read as {}", v.ties);
     println!(
         "watertight away from the volume boundary: {} ({} open, {} non-manifold edges)",
         v.watertight, v.open_edges, v.nonmanifold_edges

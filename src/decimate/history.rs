@@ -220,8 +220,8 @@ impl History {
     }
 
     /// Maps every coordinate the history holds (removed nodes, the fit's moves) through `f`:
-    /// how a decimation run in local coordinates returns to the
-    /// original frame. The fingerprints are not touched.
+    /// how a decimation run in local coordinates returns to the original frame. The
+    /// fingerprints are not touched.
     pub(crate) fn map_coordinates(&mut self, f: impl Fn([f64; 3]) -> [f64; 3]) {
         for c in &mut self.coordinates {
             *c = f(*c);

@@ -181,7 +181,9 @@ pub struct CellMismatch {
     /// The corner values (exact as written), corners in Lorensen–Cline order.
     pub values: [f64; 8],
     /// The oracle's corner groups `[positive, negative]` (the witness; re-check with
-    /// [`super::trilinear::verify_cell`]).
+    /// [`super::trilinear::verify_cell`]). Read under [`Ties::Outside`], the groups are
+    /// those of the field above and below the isovalue; the witness re-checks on `−values`
+    /// with the two groups swapped.
     pub groups: [[u8; 8]; 2],
 }
 
@@ -290,9 +292,36 @@ pub fn verify_mesh(
             dims: vol.dims,
             values: vol.values.iter().map(|v| -v).collect(),
         };
-        verify_inside(&negated, -iso, mesh, opts).map(|v| MeshVerdict {
-            ties: Ties::Outside,
-            ..v
+        let verdict = verify_inside(&negated, -iso, mesh, opts).map_err(|e| match e {
+            // In the volume's own values.
+            VerifyError::UncutEdge {
+                vertex,
+                position,
+                axis,
+                lo,
+                a,
+                b,
+            } => VerifyError::UncutEdge {
+                vertex,
+                position,
+                axis,
+                lo,
+                a: -a,
+                b: -b,
+            },
+            e => e,
+        });
+        verdict.map(|mut v| {
+            // The examples in the volume's own values: the corners above the isovalue are
+            // the negated field's below it.
+            for m in &mut v.examples {
+                m.values = m.values.map(|x| -x);
+                m.groups.swap(0, 1);
+            }
+            MeshVerdict {
+                ties: Ties::Outside,
+                ..v
+            }
         })
     };
     match opts.ties {

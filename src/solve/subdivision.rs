@@ -946,7 +946,8 @@ fn refine<T: Coefficient>(
     if t.iter().any(|x| !x.is_finite()) {
         return Ok(keep());
     }
-    let mut rho = (0.5 * tolerance / width).max(4.0 * f64::EPSILON);
+    let rho0 = (0.5 * tolerance / width).max(4.0 * f64::EPSILON);
+    let mut rho = rho0;
     let mut first = true;
     let mut polished = false;
     // Interval path: the small box's ends are `f64` numbers in the domain's unit coordinates
@@ -1005,14 +1006,16 @@ fn refine<T: Coefficient>(
                 }
             }
         }
-        // The smallest box missed: where the equations are flat, `f64` rounding in their
-        // values leaves Newton's point farther off than that box. Newton's method on exact
-        // values then puts it within rounding of the root, and the smallest box is tried
-        // again, exactly.
-        if let Some(ctx) = finish.filter(|_| !T::EXACT && first && !polished) {
+        // Boxes up to `POLISH_AFTER` times the smallest missed: where the equations are flat,
+        // `f64` rounding in their values leaves Newton's point that far off. Newton's method
+        // on exact values then puts it within rounding of the root, and the boxes are tried
+        // again from the smallest, exactly.
+        if let Some(ctx) = finish.filter(|_| !T::EXACT && !polished && rho >= POLISH_AFTER * rho0) {
             polished = true;
             if let Some(better) = polish(ctx, node, &jac, &t)? {
                 t = better;
+                rho = rho0;
+                first = true;
                 continue;
             }
         }
@@ -1031,7 +1034,8 @@ fn polish<T: Coefficient>(
     jac: &[Vec<Option<Bernstein<f64>>>],
     t: &[f64],
 ) -> Result<Option<Vec<f64>>, SolveError> {
-    let exact = ctx.exact()?;
+    // The equations as given (their own degrees: the cheapest exact values).
+    let exact = &ctx.system.equations;
     let n = t.len();
     let mut t = t.to_vec();
     for _ in 0..POLISH_STEPS {
@@ -1076,6 +1080,11 @@ fn polish<T: Coefficient>(
 
 /// The most exact Newton steps [`polish`] takes.
 const POLISH_STEPS: usize = 6;
+
+/// How much wider than the smallest refined box the interval path may go before Newton's
+/// point is polished on exact values ([`polish`]): a root that `f64` locates to within a few
+/// hundred units of rounding keeps the box it certifies there.
+const POLISH_AFTER: f64 = 256.0;
 
 /// The axis of the box's widest side (the lowest such axis on ties).
 pub(super) fn widest_axis(lo: &[Rational], hi: &[Rational]) -> usize {

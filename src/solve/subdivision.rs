@@ -919,20 +919,10 @@ fn refine<T: Coefficient>(
     }
     let mut t = vec![0.5f64; n];
     for _ in 0..40 {
-        let mut m = vec![vec![0.0; n]; n];
-        for (i, row) in jac.iter().enumerate() {
-            for (k, d) in row.iter().enumerate() {
-                if let Some(d) = d {
-                    m[i][k] = d.eval(&t)?;
-                }
-            }
-        }
-        let Some(inv) = invert(m) else { break };
         let fx: Vec<f64> = f.iter().map(|p| p.eval(&t)).collect::<Result<_, _>>()?;
-        let step: Vec<f64> = inv
-            .iter()
-            .map(|row| row.iter().zip(&fx).map(|(a, b)| a * b).sum())
-            .collect();
+        let Some(step) = newton_step(&jac, &t, &fx)? else {
+            break;
+        };
         let mut moved = 0.0f64;
         for (x, s) in t.iter_mut().zip(&step) {
             let next = (*x - s).clamp(0.0, 1.0);
@@ -1050,20 +1040,11 @@ fn polish<T: Coefficient>(
             .iter()
             .map(|p| p.eval(&u).map(|v| rational_to_f64(&v)))
             .collect::<Result<_, _>>()?;
-        let mut m = vec![vec![0.0; n]; n];
-        for (i, row) in jac.iter().enumerate() {
-            for (k, d) in row.iter().enumerate() {
-                if let Some(d) = d {
-                    m[i][k] = d.eval(&t)?;
-                }
-            }
-        }
-        let Some(inv) = invert(m) else {
+        let Some(step) = newton_step(jac, &t, &values)? else {
             return Ok(None);
         };
         let mut moved = 0.0f64;
-        for (x, row) in t.iter_mut().zip(&inv) {
-            let step: f64 = row.iter().zip(&values).map(|(a, b)| a * b).sum();
+        for (x, step) in t.iter_mut().zip(&step) {
             let next = *x - step;
             if !(0.0..=1.0).contains(&next) {
                 return Ok(None);
@@ -1076,6 +1057,29 @@ fn polish<T: Coefficient>(
         }
     }
     Ok(Some(t))
+}
+
+/// Newton's step `J(t)⁻¹ f` at `t` from the Jacobian's entries `jac` (`None` entries are
+/// zero) and the values `f`, in `f64`; `None` when `J(t)` is singular or not finite.
+fn newton_step(
+    jac: &[Vec<Option<Bernstein<f64>>>],
+    t: &[f64],
+    f: &[f64],
+) -> Result<Option<Vec<f64>>, SolveError> {
+    let n = t.len();
+    let mut m = vec![vec![0.0; n]; n];
+    for (i, row) in jac.iter().enumerate() {
+        for (k, d) in row.iter().enumerate() {
+            if let Some(d) = d {
+                m[i][k] = d.eval(t)?;
+            }
+        }
+    }
+    Ok(invert(m).map(|inv| {
+        inv.iter()
+            .map(|row| row.iter().zip(f).map(|(a, b)| a * b).sum())
+            .collect()
+    }))
 }
 
 /// The most exact Newton steps [`polish`] takes.

@@ -13,6 +13,7 @@
 //! checkable certificates, in all three forms.
 
 pub(crate) mod certificate;
+pub(crate) mod content;
 pub(crate) mod fast;
 pub(crate) mod io;
 pub(crate) mod poly;

@@ -189,7 +189,7 @@ impl<T: Field> Bernstein<T> {
         }
     }
 
-    fn check_axis(&self, axis: usize) -> Result<(), BernsteinError> {
+    pub(super) fn check_axis(&self, axis: usize) -> Result<(), BernsteinError> {
         if axis >= self.dim() {
             Err(BernsteinError::Axis {
                 axis,

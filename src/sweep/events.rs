@@ -449,7 +449,12 @@ fn patch_event_systems(
     // Characteristic patch edges (module `edges`): their factors divided out of F̃, and the
     // face curve's surface {G̃(w, t, r) = 0} given its own critical points below.
     let (f_hat, faces) = super::edges::characteristic_faces(&me.f, s, p)?;
-    let (f, g) = (&f_hat, &me.g);
+    // Factors in one parameter without a zero on its interval (a quarter circle's weight
+    // `1 + u²`, a Cayley rotation's `(1 + t²)ᵏ`) change no zero set on the box: divided out,
+    // the equations and their minors are of far lower degrees.
+    let (f_hat, _) = f_hat.without_signed_contents()?;
+    let (g_hat, _) = me.g.without_signed_contents()?;
+    let (f, g) = (&f_hat, &g_hat);
     // A sweep invariant in t: systems with t free have t-segments of roots, whose ends are
     // the roots of the systems on the faces t = a, b (module docs).
     let invariant = me.invariant;

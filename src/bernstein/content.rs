@@ -1,0 +1,387 @@
+//! Univariate contents of tensor Bernstein polynomials over the rationals: the factors that
+//! depend on one variable only.
+//!
+//! In the tensor basis `p = Σ_j c_j(x_k) Π_{a≠k} B_{j_a}(x_a)`, and the products of the other
+//! axes' Bernstein polynomials are linearly independent over `ℚ(x_k)`, so a polynomial
+//! `c(x_k)` divides `p` exactly when it divides every *line* `c_j` along axis `k`. The
+//! content along `k` is therefore the greatest common divisor of the lines (Euclid over `ℚ`,
+//! in the power basis of the unit variable), and `p / c` is taken line by line.
+//!
+//! Rational parametrisations put such factors everywhere: a quarter circle's weight
+//! `1 + u²`, a Cayley rotation's denominator `1 + t²` raised to a power, a patch's weights.
+//! Where such a factor keeps one strict sign on `[0, 1]` it has no zero on the unit box,
+//! and dividing it out changes no zero set there while lowering the degrees.
+
+use super::{
+    binomial, prove_positive_exact, Bernstein, BernsteinError, Limits, PositivityVerdict,
+    ScaledBernstein,
+};
+use crate::num::Rational;
+use num_bigint::BigInt;
+use num_integer::Integer;
+use num_traits::{One, Signed, Zero};
+
+/// Power-basis coefficients `a_0, a_1, …` of a univariate polynomial, lowest first.
+type Power = Vec<Rational>;
+
+fn trim(mut a: Power) -> Power {
+    while a.last().is_some_and(Zero::is_zero) {
+        a.pop();
+    }
+    a
+}
+
+fn monic(a: Power) -> Power {
+    match a.last().cloned() {
+        Some(lead) if !lead.is_zero() => a.into_iter().map(|x| x / &lead).collect(),
+        _ => a,
+    }
+}
+
+/// `a mod b` (`b` trimmed and non-zero).
+fn remainder(mut a: Power, b: &[Rational]) -> Power {
+    let lead = b.last().expect("a non-zero divisor");
+    while a.len() >= b.len() {
+        let Some(top) = a.last().cloned() else { break };
+        if !top.is_zero() {
+            let q = top / lead;
+            let shift = a.len() - b.len();
+            for (i, bi) in b.iter().enumerate() {
+                a[shift + i] -= &q * bi;
+            }
+        }
+        a.pop();
+        a = trim(a);
+    }
+    a
+}
+
+/// The monic greatest common divisor of two polynomials (empty for two zeros).
+fn gcd(a: Power, b: Power) -> Power {
+    let (mut a, mut b) = (trim(a), trim(b));
+    while !b.is_empty() {
+        let r = remainder(a, &b);
+        a = monic(b);
+        b = r;
+    }
+    monic(a)
+}
+
+/// The lines of a coefficient tensor along `axis` (axis 0 fastest): `(start, stride, len)`.
+fn lines(degrees: &[usize], axis: usize) -> impl Iterator<Item = (usize, usize, usize)> {
+    let stride: usize = degrees[..axis].iter().map(|d| d + 1).product();
+    let len = degrees[axis] + 1;
+    let outer: usize = degrees[axis + 1..].iter().map(|d| d + 1).product();
+    (0..outer).flat_map(move |o| (0..stride).map(move |i| (o * stride * len + i, stride, len)))
+}
+
+/// Whether the univariate polynomial (power form in the unit variable) keeps one strict sign
+/// on `[0, 1]`, proved exactly by Bernstein subdivision within small limits (`false` when
+/// not proved).
+fn one_strict_sign(c: &[Rational]) -> Result<bool, BernsteinError> {
+    let b = Bernstein::from_power(vec![c.len() - 1], c.to_vec())?;
+    let limits = Limits::default().with_max_depth(16).with_max_boxes(512);
+    let positive = |p: &Bernstein<Rational>| {
+        matches!(
+            prove_positive_exact(p, limits),
+            PositivityVerdict::Positive { .. }
+        )
+    };
+    Ok(positive(&b) || positive(&b.scale(&-Rational::one())))
+}
+
+/// Bernstein coefficients of one line (degree `d`) to power-basis coefficients, in integers:
+/// `a_j = C(d,j) Σ_{i≤j} (−1)^{j−i} C(j,i) b_i`.
+fn line_to_power(b: &[BigInt]) -> Vec<BigInt> {
+    let d = b.len() - 1;
+    (0..=d)
+        .map(|j| {
+            let mut acc = BigInt::zero();
+            for (i, bi) in b.iter().enumerate().take(j + 1) {
+                let term = bi * binomial(j, i);
+                if (j - i) % 2 == 0 {
+                    acc += term;
+                } else {
+                    acc -= term;
+                }
+            }
+            acc * binomial(d, j)
+        })
+        .collect()
+}
+
+/// Power-basis coefficients of one line (degree `d`) to Bernstein coefficients times
+/// `scale = lcm_j C(d, j)`: `scale·b_i = Σ_{j≤i} C(i,j) (scale / C(d,j)) a_j`.
+fn line_from_power(a: &[BigInt], scale: &BigInt) -> Vec<BigInt> {
+    let d = a.len() - 1;
+    let weights: Vec<BigInt> = (0..=d).map(|j| scale / binomial(d, j)).collect();
+    (0..=d)
+        .map(|i| {
+            (0..=i)
+                .map(|j| &a[j] * &weights[j] * binomial(i, j))
+                .sum::<BigInt>()
+        })
+        .collect()
+}
+
+/// `a / c` for an integer `c` dividing `a` over `ℚ` (`c` primitive, so the quotient is an
+/// integer polynomial by Gauss's lemma); `None` when some step leaves a remainder.
+fn integer_quotient(a: &[BigInt], c: &[BigInt]) -> Option<Vec<BigInt>> {
+    let (n, m) = (a.len(), c.len());
+    if n < m {
+        return None;
+    }
+    let lead = c.last()?;
+    let mut rest = a.to_vec();
+    let mut q = vec![BigInt::zero(); n - m + 1];
+    for k in (0..q.len()).rev() {
+        let top = &rest[k + m - 1];
+        if !top.is_zero() {
+            let (quot, rem) = top.div_rem(lead);
+            if !rem.is_zero() {
+                return None;
+            }
+            for (i, ci) in c.iter().enumerate() {
+                rest[k + i] -= &quot * ci;
+            }
+            q[k] = quot;
+        }
+    }
+    rest.iter().all(Zero::is_zero).then_some(q)
+}
+
+/// The primitive part of an integer polynomial (trimmed; empty for zero).
+fn primitive_part(mut a: Vec<BigInt>) -> Vec<BigInt> {
+    while a.last().is_some_and(Zero::is_zero) {
+        a.pop();
+    }
+    let g = a.iter().fold(BigInt::zero(), |acc, x| acc.gcd(x));
+    if !g.is_zero() && !g.is_one() {
+        a.iter_mut().for_each(|x| *x /= &g);
+    }
+    a
+}
+
+/// A greatest common divisor over `ℚ` of two integer polynomials, as a primitive integer
+/// polynomial: Euclid with pseudo-remainders, each reduced to its primitive part (empty when
+/// both are zero).
+fn integer_gcd(a: Vec<BigInt>, b: Vec<BigInt>) -> Vec<BigInt> {
+    let (mut a, mut b) = (primitive_part(a), primitive_part(b));
+    if a.len() < b.len() {
+        std::mem::swap(&mut a, &mut b);
+    }
+    while !b.is_empty() {
+        // lead(b)^(deg a − deg b + 1)·a mod b, in integers.
+        let lead = b.last().expect("non-empty").clone();
+        let mut r = a;
+        while r.len() >= b.len() {
+            let top = r.pop().expect("non-empty");
+            let shift = r.len() + 1 - b.len();
+            r.iter_mut().for_each(|x| *x *= &lead);
+            for (i, bi) in b[..b.len() - 1].iter().enumerate() {
+                r[shift + i] -= &top * bi;
+            }
+            while r.last().is_some_and(Zero::is_zero) {
+                r.pop();
+            }
+        }
+        (a, b) = (b, primitive_part(r));
+    }
+    a
+}
+
+/// `c` (rational, non-zero) scaled to a primitive integer polynomial with a positive leading
+/// coefficient.
+fn primitive(c: &[Rational]) -> Vec<BigInt> {
+    let den = c.iter().fold(BigInt::one(), |acc, x| acc.lcm(x.denom()));
+    let ints: Vec<BigInt> = c.iter().map(|x| x.numer() * (&den / x.denom())).collect();
+    let g = ints.iter().fold(BigInt::zero(), |acc, x| acc.gcd(x));
+    let sign = if ints.last().is_some_and(|x| x.is_negative()) {
+        -BigInt::one()
+    } else {
+        BigInt::one()
+    };
+    ints.into_iter().map(|x| x / &g * &sign).collect()
+}
+
+/// The content along `axis` of integer Bernstein coefficients (see
+/// [`Bernstein::univariate_content`]), monic, or `None` when constant. With `candidate`, only
+/// two fixed pseudo-random combinations of the lines are taken: their gcd is a multiple of
+/// the content (equal to it but for a coincidence), to be confirmed by dividing every line.
+fn content_along(num: &[BigInt], degrees: &[usize], axis: usize, candidate: bool) -> Option<Power> {
+    let to_rational =
+        |a: Vec<BigInt>| -> Power { a.into_iter().map(Rational::from_integer).collect() };
+    let line = |start: usize, stride: usize, len: usize| -> Vec<BigInt> {
+        (0..len).map(|j| num[start + j * stride].clone()).collect()
+    };
+    if candidate {
+        let len = degrees[axis] + 1;
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut combos = [vec![BigInt::zero(); len], vec![BigInt::zero(); len]];
+        for (start, stride, len) in lines(degrees, axis) {
+            for combo in &mut combos {
+                let w = BigInt::from((crate::num::xorshift(&mut seed) >> 60) as i64 + 1);
+                for (j, x) in combo.iter_mut().enumerate().take(len) {
+                    *x += &num[start + j * stride] * &w;
+                }
+            }
+        }
+        let [a, b] = combos.map(|c| line_to_power(&c));
+        let g = integer_gcd(a, b);
+        return (g.len() >= 2).then(|| monic(to_rational(g)));
+    }
+    let mut g: Option<Power> = None;
+    for (start, stride, len) in lines(degrees, axis) {
+        let p = trim(to_rational(line_to_power(&line(start, stride, len))));
+        if p.is_empty() {
+            continue;
+        }
+        let next = match g {
+            None => monic(p),
+            Some(acc) => gcd(acc, p),
+        };
+        if next.len() < 2 {
+            return None;
+        }
+        g = Some(next);
+    }
+    g.filter(|c| c.len() >= 2)
+}
+
+/// Every line along `axis` divided by `c` (integers, primitive): the numerators along
+/// `axis` of degree `d − deg c`, scaled by `lcm_j C(d − deg c, j)` (returned), or `None`
+/// when some line leaves a remainder.
+fn divide_lines(
+    num: &[BigInt],
+    degrees: &[usize],
+    axis: usize,
+    c: &[BigInt],
+) -> Option<(Vec<usize>, Vec<BigInt>, BigInt)> {
+    let mut out_degrees = degrees.to_vec();
+    out_degrees[axis] = degrees[axis] + 1 - c.len();
+    let d = out_degrees[axis];
+    let scale = (0..=d).fold(BigInt::one(), |acc, j| acc.lcm(&binomial(d, j)));
+    let out_len: usize = out_degrees.iter().map(|d| d + 1).product();
+    let mut out = vec![BigInt::zero(); out_len];
+    for ((start, stride, len), (o_start, o_stride, _)) in
+        lines(degrees, axis).zip(lines(&out_degrees, axis))
+    {
+        let line: Vec<BigInt> = (0..len).map(|j| num[start + j * stride].clone()).collect();
+        let q = integer_quotient(&line_to_power(&line), c)?;
+        for (j, x) in line_from_power(&q, &scale).into_iter().enumerate() {
+            out[o_start + j * o_stride] = x;
+        }
+    }
+    Some((out_degrees, out, scale))
+}
+
+impl Bernstein<Rational> {
+    /// The content along `axis`: the monic greatest common divisor over `ℚ` of the
+    /// polynomial's lines along it, as power-basis coefficients in the unit variable
+    /// (lowest first), or `None` when it is a constant (or the polynomial is zero).
+    pub fn univariate_content(&self, axis: usize) -> Result<Option<Vec<Rational>>, BernsteinError> {
+        self.check_axis(axis)?;
+        if self.degrees()[axis] == 0 {
+            return Ok(None);
+        }
+        let s = ScaledBernstein::from_rational(self);
+        Ok(content_along(s.numerators(), self.degrees(), axis, false))
+    }
+
+    /// The polynomial with its univariate contents of one strict sign on `[0, 1]` divided
+    /// out along every axis (each content whole, when it is proved to keep one strict sign;
+    /// a content with a zero on `[0, 1]` stays), up to a positive constant factor, and the
+    /// factors divided out as `(axis, monic power coefficients)`. The zero set and the signs
+    /// on the unit box are unchanged. (Computed in integers: each axis's content is the gcd
+    /// of two fixed combinations of its lines, confirmed by dividing every line exactly.)
+    pub fn without_signed_contents(
+        &self,
+    ) -> Result<(Self, Vec<(usize, Vec<Rational>)>), BernsteinError> {
+        let s = ScaledBernstein::from_rational(self);
+        let mut degrees = self.degrees().to_vec();
+        let mut num = s.numerators().to_vec();
+        let mut den = s.denominator().clone();
+        let mut divided = Vec::new();
+        for axis in 0..degrees.len() {
+            if degrees[axis] == 0 {
+                continue;
+            }
+            let Some(c) = content_along(&num, &degrees, axis, true) else {
+                continue;
+            };
+            if !one_strict_sign(&c)? {
+                continue;
+            }
+            // A positive primitive multiple: the factor keeps its sign, so the quotient's
+            // signs are the polynomial's times that one sign.
+            let mut ints = primitive(&c);
+            let positive = Bernstein::from_power(vec![c.len() - 1], c.clone())?
+                .coeffs()
+                .first()
+                .is_some_and(|x| x.is_positive());
+            if !positive {
+                ints.iter_mut().for_each(|x| *x = -&*x);
+            }
+            if let Some((d, n, scale)) = divide_lines(&num, &degrees, axis, &ints) {
+                (degrees, num) = (d, n);
+                den *= scale;
+                divided.push((axis, c));
+            }
+        }
+        if divided.is_empty() {
+            return Ok((self.clone(), divided));
+        }
+        Ok((
+            ScaledBernstein::with_denominator(degrees, num, den)?.to_rational(),
+            divided,
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn r(n: i64) -> Rational {
+        Rational::from_integer(n.into())
+    }
+
+    /// A product `(1 + u²)·(2 + t)·q(u, v, t)` loses exactly its two signed univariate
+    /// factors; `u·q` keeps `u` (a zero at `u = 0`), and values agree at sample points.
+    #[test]
+    fn signed_univariate_factors_are_divided_out() {
+        let q = Bernstein::from_power(
+            vec![2, 1, 2],
+            (0..18).map(|k| r((k * 7 % 11) as i64 - 5)).collect(),
+        )
+        .unwrap();
+        let a = Bernstein::from_power(vec![2, 0, 0], vec![r(1), r(0), r(1)]).unwrap();
+        let b = Bernstein::from_power(vec![0, 0, 1], vec![r(2), r(1)]).unwrap();
+        let p = a.product(&b).unwrap().product(&q).unwrap();
+        let (reduced, divided) = p.without_signed_contents().unwrap();
+        assert_eq!(reduced.degrees(), q.degrees());
+        assert_eq!(divided.len(), 2);
+        for point in [[1, 3, 5], [2, 7, 1], [4, 4, 4]] {
+            let x: Vec<Rational> = point
+                .iter()
+                .map(|&k| Rational::new(k.into(), 8.into()))
+                .collect();
+            let (pv, qv, av, bv) = (
+                p.eval(&x).unwrap(),
+                reduced.eval(&x).unwrap(),
+                a.eval(&x).unwrap(),
+                b.eval(&x).unwrap(),
+            );
+            // Monic factors: the reduced polynomial is q up to a constant.
+            assert_eq!(pv, qv * av * bv * r(1));
+        }
+        let u = Bernstein::from_power(vec![1, 0, 0], vec![r(0), r(1)]).unwrap();
+        let (kept, none) = u.product(&q).unwrap().without_signed_contents().unwrap();
+        assert!(none.is_empty());
+        assert_eq!(kept.degrees(), &[3, 1, 2]);
+        assert_eq!(
+            u.product(&q).unwrap().univariate_content(0).unwrap(),
+            Some(vec![r(0), r(1)])
+        );
+    }
+}

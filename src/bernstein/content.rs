@@ -24,6 +24,9 @@ use num_traits::{One, Signed, Zero};
 /// Power-basis coefficients `a_0, a_1, …` of a univariate polynomial, lowest first.
 type Power = Vec<Rational>;
 
+/// A factor divided out: its axis and its monic power-basis coefficients (lowest first).
+pub type UnivariateFactor = (usize, Vec<Rational>);
+
 fn trim(mut a: Power) -> Power {
     while a.last().is_some_and(Zero::is_zero) {
         a.pop();
@@ -294,9 +297,7 @@ impl Bernstein<Rational> {
     /// factors divided out as `(axis, monic power coefficients)`. The zero set and the signs
     /// on the unit box are unchanged. (Computed in integers: each axis's content is the gcd
     /// of two fixed combinations of its lines, confirmed by dividing every line exactly.)
-    pub fn without_signed_contents(
-        &self,
-    ) -> Result<(Self, Vec<(usize, Vec<Rational>)>), BernsteinError> {
+    pub fn without_signed_contents(&self) -> Result<(Self, Vec<UnivariateFactor>), BernsteinError> {
         let s = ScaledBernstein::from_rational(self);
         let mut degrees = self.degrees().to_vec();
         let mut num = s.numerators().to_vec();

@@ -21,6 +21,7 @@ pub(crate) mod positivity;
 pub(crate) mod scaled;
 
 pub use certificate::{box_sign, BoxSign};
+pub use content::UnivariateFactor;
 pub use fast::FastBernstein;
 pub use io::{
     certificate_for, parse_number, poly_from_json, poly_to_json, verify_certificate_file,

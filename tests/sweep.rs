@@ -1049,6 +1049,36 @@ fn a_moving_eye_has_certified_events_and_the_silhouette_reconnects_at_the_interi
     ));
 }
 
+/// The event systems are built from `F` and `G` without their factors in one parameter that
+/// keep one strict sign on the box (the quarter circles' weights, the Cayley rotation's
+/// denominator): none is left in the systems' `F` and `G`, and the turning ellipsoid's
+/// interior systems are of degrees at most `[5, 6, 5, 1]` (`[9, 12, 14, 1]` with them).
+#[test]
+fn event_systems_carry_no_factor_without_a_zero_on_the_box() {
+    use geocert::sweep::{event_systems, EventKind};
+    let scene = scene_from_json(TURN_EYE).unwrap();
+    let systems = event_systems(&scene).unwrap();
+    let mut checked = 0;
+    // (On a face or an edge the restrictions may have such factors of their own.)
+    for es in systems.iter().filter(|es| es.kind == EventKind::Interior) {
+        for eq in es.system.equations.iter().take(2) {
+            let (_, divided) = eq.without_signed_contents().unwrap();
+            assert!(divided.is_empty(), "patch {}: {:?}", es.patch, divided);
+            checked += 1;
+        }
+        for eq in &es.system.equations {
+            assert!(
+                eq.degrees().iter().zip([5, 6, 5, 1]).all(|(d, m)| *d <= m),
+                "patch {}: {:?}",
+                es.patch,
+                eq.degrees()
+            );
+        }
+    }
+    println!("{checked} interior F and G without a signed univariate factor");
+    assert_eq!(checked, 16);
+}
+
 /// Frames of the moving eye: continued between events, traced afresh across the interior
 /// event; a continued frame matches a certified trace at the same eye position.
 #[test]

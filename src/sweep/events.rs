@@ -43,6 +43,15 @@
 //! are the isolated roots of the systems on the faces and edges at `t = a` and `t = b`, which
 //! are.
 //!
+//! **Factors without a zero.** Rational parametrisations give `F̃` and `G̃` factors in one
+//! parameter that keep one strict sign on its interval — a quarter circle's weight `1 + u²`,
+//! a Cayley rotation's denominator `(1 + t²)ᵏ`. They change no zero set on the box and are
+//! divided out before the systems are built
+//! ([`Bernstein::without_signed_contents`](crate::bernstein::Bernstein::without_signed_contents)):
+//! where `F̃ = a·F̂` and `G̃ = b·Ĝ` with `a, b ≠ 0`, the minors of `F̃, G̃` are `a·b` times
+//! those of `F̂, Ĝ` wherever `F̂ = Ĝ = 0`, so every system keeps its roots. The turning
+//! ellipsoid's interior systems drop from degrees `[9, 12, 14, 1]` to `[5, 6, 4, 1]`.
+//!
 //! Faces and edges at `u, v ∈ {0, 1}` are the patch's borders: on a closed surface made of
 //! several patches, events there mark where a component crosses into the neighbouring patch
 //! at a tangency, not a change of the whole silhouette's topology; they are kept and labelled.

@@ -213,14 +213,33 @@ pub(crate) fn motion_forms(
     Ok(MotionForms { m, t, delta })
 }
 
-/// `F̃`, `G̃` and eq. 2 as printed for one patch, the eye at `eye`.
+/// `F̃`, `G̃` and eq. 2 as printed for one patch, the eye at `eye`, each without its factors
+/// in one parameter that keep one strict sign on the box ([`Equations::without_signed_factors`]).
 pub fn equations(
     scene: &Scene,
     patch: &Patch,
     eye: &[Rational; 3],
 ) -> Result<Equations, SweepError> {
     let (a, b) = &scene.t;
-    equations_with(&motion_forms(&scene.motion, a, b)?, patch, eye)
+    equations_with(&motion_forms(&scene.motion, a, b)?, patch, eye)?.without_signed_factors()
+}
+
+impl Equations {
+    /// The same equations with `F̃`, `G̃` and eq. 2 as printed each divided by its factors in
+    /// one parameter that keep one strict sign on the box
+    /// ([`Bernstein::without_signed_contents`](crate::bernstein::Bernstein::without_signed_contents)):
+    /// a quarter circle's weight `1 + u²`, a Cayley rotation's denominator `(1 + t²)ᵏ`. The
+    /// zero sets and the signs on the box are unchanged, the degrees lower (the turning
+    /// ellipsoid's `F̃` goes from `[5, 6, 8]` to `[4, 4, 2]`); where `F̃ = a·F̂` and `G̃ = b·Ĝ`,
+    /// `H` of `F̂, Ĝ` is `H/(a·b)` wherever `F̂ = Ĝ = 0`. The other fields are left as they are.
+    pub fn without_signed_factors(self) -> Result<Self, SweepError> {
+        Ok(Equations {
+            f: self.f.without_signed_contents()?.0,
+            g: self.g.without_signed_contents()?.0,
+            g_printed: self.g_printed.without_signed_contents()?.0,
+            ..self
+        })
+    }
 }
 
 /// [`equations`] with the motion already in Bernstein form and checked (once per scene).

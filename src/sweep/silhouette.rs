@@ -926,7 +926,7 @@ pub fn t_extreme_systems(scene: &Scene) -> Result<Vec<System>, SweepError> {
     let mut out = Vec::new();
     for (s, surface) in scene.surfaces.iter().enumerate() {
         for (p, patch) in surface.patches.iter().enumerate() {
-            let eq = equations_with(&forms, patch, &eye)?;
+            let eq = equations_with(&forms, patch, &eye)?.without_signed_factors()?;
             let (f, _) = characteristic_faces(&eq.f, s, p)?;
             let eq = Equations { f, ..eq };
             out.push(extreme_system(&patch_system(scene, &eq, false)?, 2)?);
@@ -1109,13 +1109,15 @@ pub fn silhouette(scene: &Scene, opts: &SilhouetteOptions) -> Result<Silhouettes
     for (s, surface) in scene.surfaces.iter().enumerate() {
         for (p, patch) in surface.patches.iter().enumerate() {
             patches += 1;
-            let eq = equations_with(&forms, patch, &eye).map_err(|e| match e {
-                SweepError::DegeneratePatch { .. } => SweepError::DegeneratePatch {
-                    surface: s,
-                    patch: p,
-                },
-                other => other,
-            })?;
+            let eq = equations_with(&forms, patch, &eye)
+                .and_then(Equations::without_signed_factors)
+                .map_err(|e| match e {
+                    SweepError::DegeneratePatch { .. } => SweepError::DegeneratePatch {
+                        surface: s,
+                        patch: p,
+                    },
+                    other => other,
+                })?;
             // H = F_u G_v − F_v G_u has at most the sum of F's and G's degrees per variable.
             let h: Vec<usize> =
                 eq.f.degrees()

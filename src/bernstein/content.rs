@@ -13,8 +13,7 @@
 //! and dividing it out changes no zero set there while lowering the degrees.
 
 use super::{
-    binomial, prove_positive_exact, Bernstein, BernsteinError, Limits, PositivityVerdict,
-    ScaledBernstein,
+    prove_positive_exact, Bernstein, BernsteinError, Limits, PositivityVerdict, ScaledBernstein,
 };
 use crate::num::Rational;
 use num_bigint::BigInt;
@@ -111,35 +110,63 @@ fn one_strict_sign(c: &[Rational]) -> Result<bool, BernsteinError> {
     Ok(positive(&b) || positive(&b.scale(&-Rational::one())))
 }
 
+/// Pascal's triangle up to row `n`, as integers.
+struct Binomials(Vec<Vec<BigInt>>);
+
+impl Binomials {
+    fn new(n: usize) -> Self {
+        let mut rows: Vec<Vec<BigInt>> = vec![vec![BigInt::one()]];
+        for k in 1..=n {
+            let prev = &rows[k - 1];
+            let row = (0..=k)
+                .map(
+                    |j| match (j.checked_sub(1).map(|i| &prev[i]), prev.get(j)) {
+                        (Some(a), Some(b)) => a + b,
+                        (Some(a), None) | (None, Some(a)) => a.clone(),
+                        (None, None) => BigInt::zero(),
+                    },
+                )
+                .collect();
+            rows.push(row);
+        }
+        Binomials(rows)
+    }
+
+    /// `C(n, k)` (`k ≤ n` within the table).
+    fn get(&self, n: usize, k: usize) -> &BigInt {
+        &self.0[n][k]
+    }
+}
+
 /// Bernstein coefficients of one line (degree `d`) to power-basis coefficients, in integers:
 /// `a_j = C(d,j) Σ_{i≤j} (−1)^{j−i} C(j,i) b_i`.
-fn line_to_power(b: &[BigInt]) -> Vec<BigInt> {
+fn line_to_power(b: &[BigInt], c: &Binomials) -> Vec<BigInt> {
     let d = b.len() - 1;
     (0..=d)
         .map(|j| {
             let mut acc = BigInt::zero();
             for (i, bi) in b.iter().enumerate().take(j + 1) {
-                let term = bi * binomial(j, i);
+                let term = bi * c.get(j, i);
                 if (j - i) % 2 == 0 {
                     acc += term;
                 } else {
                     acc -= term;
                 }
             }
-            acc * binomial(d, j)
+            acc * c.get(d, j)
         })
         .collect()
 }
 
 /// Power-basis coefficients of one line (degree `d`) to Bernstein coefficients times
-/// `scale = lcm_j C(d, j)`: `scale·b_i = Σ_{j≤i} C(i,j) (scale / C(d,j)) a_j`.
-fn line_from_power(a: &[BigInt], scale: &BigInt) -> Vec<BigInt> {
+/// `scale = lcm_j C(d, j)`: `scale·b_i = Σ_{j≤i} C(i,j) (scale / C(d,j)) a_j`; `weights` are
+/// the `scale / C(d, j)`.
+fn line_from_power(a: &[BigInt], weights: &[BigInt], c: &Binomials) -> Vec<BigInt> {
     let d = a.len() - 1;
-    let weights: Vec<BigInt> = (0..=d).map(|j| scale / binomial(d, j)).collect();
     (0..=d)
         .map(|i| {
             (0..=i)
-                .map(|j| &a[j] * &weights[j] * binomial(i, j))
+                .map(|j| &a[j] * &weights[j] * c.get(i, j))
                 .sum::<BigInt>()
         })
         .collect()
@@ -232,6 +259,7 @@ fn primitive(c: &[Rational]) -> Vec<BigInt> {
 fn content_along(num: &[BigInt], degrees: &[usize], axis: usize, candidate: bool) -> Option<Power> {
     let to_rational =
         |a: Vec<BigInt>| -> Power { a.into_iter().map(Rational::from_integer).collect() };
+    let binomials = Binomials::new(degrees[axis]);
     let line = |start: usize, stride: usize, len: usize| -> Vec<BigInt> {
         (0..len).map(|j| num[start + j * stride].clone()).collect()
     };
@@ -247,13 +275,16 @@ fn content_along(num: &[BigInt], degrees: &[usize], axis: usize, candidate: bool
                 }
             }
         }
-        let [a, b] = combos.map(|c| line_to_power(&c));
+        let [a, b] = combos.map(|c| line_to_power(&c, &binomials));
         let g = integer_gcd(a, b);
         return (g.len() >= 2).then(|| monic(to_rational(g)));
     }
     let mut g: Option<Power> = None;
     for (start, stride, len) in lines(degrees, axis) {
-        let p = trim(to_rational(line_to_power(&line(start, stride, len))));
+        let p = trim(to_rational(line_to_power(
+            &line(start, stride, len),
+            &binomials,
+        )));
         if p.is_empty() {
             continue;
         }
@@ -281,15 +312,20 @@ fn divide_lines(
     let mut out_degrees = degrees.to_vec();
     out_degrees[axis] = degrees[axis] + 1 - c.len();
     let d = out_degrees[axis];
-    let scale = (0..=d).fold(BigInt::one(), |acc, j| acc.lcm(&binomial(d, j)));
+    let binomials = Binomials::new(degrees[axis]);
+    let scale = (0..=d).fold(BigInt::one(), |acc, j| acc.lcm(binomials.get(d, j)));
+    let weights: Vec<BigInt> = (0..=d).map(|j| &scale / binomials.get(d, j)).collect();
     let out_len: usize = out_degrees.iter().map(|d| d + 1).product();
     let mut out = vec![BigInt::zero(); out_len];
     for ((start, stride, len), (o_start, o_stride, _)) in
         lines(degrees, axis).zip(lines(&out_degrees, axis))
     {
         let line: Vec<BigInt> = (0..len).map(|j| num[start + j * stride].clone()).collect();
-        let q = integer_quotient(&line_to_power(&line), c)?;
-        for (j, x) in line_from_power(&q, &scale).into_iter().enumerate() {
+        let q = integer_quotient(&line_to_power(&line, &binomials), c)?;
+        for (j, x) in line_from_power(&q, &weights, &binomials)
+            .into_iter()
+            .enumerate()
+        {
             out[o_start + j * o_stride] = x;
         }
     }

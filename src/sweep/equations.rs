@@ -70,6 +70,17 @@ fn mul(a: &B, b: &B) -> Result<B, SweepError> {
         .to_rational())
 }
 
+/// `p` at its exact degrees ([`Bernstein::at_exact_degrees`]), decided and reduced in
+/// integers over one denominator ([`ScaledBernstein::at_exact_degrees`]): no gcd per step.
+pub(super) fn exact_degrees(p: &B) -> B {
+    let reduced = ScaledBernstein::from_rational(p).at_exact_degrees();
+    if reduced.degrees() == p.degrees() {
+        p.clone()
+    } else {
+        reduced.to_rational()
+    }
+}
+
 fn add(a: &B, b: &B) -> Result<B, SweepError> {
     Ok(a.add_elevated(b)?)
 }
@@ -297,21 +308,21 @@ pub(crate) fn equations_with(
         } else {
             sub(&mul(&dp, &delta)?, &mul(&p, &ddelta)?)?
         };
-        velocity.push(v.at_exact_degrees());
+        velocity.push(exact_degrees(&v));
         image.push(p);
     }
     let weight = mul(&delta, w)?;
     let mut sight: Vec<B> = Vec::with_capacity(3);
     for (i, p) in image.iter().enumerate() {
-        sight.push(sub(p, &weight.scale(&eye[i]))?.at_exact_degrees());
+        sight.push(exact_degrees(&sub(p, &weight.scale(&eye[i]))?));
     }
     let image = [image[0].clone(), image[1].clone(), image[2].clone(), weight];
     let as3 = |v: Vec<B>| -> [B; 3] { v.try_into().expect("three components") };
     let (velocity, sight) = (as3(velocity), as3(sight));
-    let f = dot(&velocity, &cof_n)?.at_exact_degrees();
+    let f = exact_degrees(&dot(&velocity, &cof_n)?);
     let cof_normal = cof_n.clone();
-    let g = dot(&sight, &cof_n)?.at_exact_degrees();
-    let g_printed = dot(&sight, &m_n)?.at_exact_degrees();
+    let g = exact_degrees(&dot(&sight, &cof_n)?);
+    let g_printed = exact_degrees(&dot(&sight, &m_n)?);
     Ok(Equations {
         f,
         g,

@@ -408,7 +408,7 @@ pub(super) fn moving_eye(
         let pi = on_interval(poly, &r.0, &r.1).embed(&[3], 4)?;
         g = sub(&g, &mul(&k, &pi)?)?;
     }
-    let g = g.at_exact_degrees();
+    let g = super::equations::exact_degrees(&g);
     let invariant = t_invariant(&f, &g, &cofactor_scales(forms)?)?;
     Ok(MovingEye {
         eq0,

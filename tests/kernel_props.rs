@@ -129,6 +129,52 @@ proptest! {
         prop_assert_eq!(c.eval(&s).unwrap(), a.eval(&s).unwrap() * b.eval(&s).unwrap());
     }
 
+    /// A univariate factor `c(x_k)` multiplied into a random polynomial: when `c` keeps one
+    /// strict sign on `[0, 1]` (`c = x² + a x + b` with `b > 0`, `1 + a + b > 0` and no root
+    /// between), `without_signed_contents` removes at least its degrees along `k`, the
+    /// reduced polynomial times the factors it reports is the product times one positive
+    /// constant, and nothing signed is left to remove.
+    #[test]
+    fn signed_univariate_factors_divide_out(p in bernstein_poly(vec![2, 1, 2], 10), a in -3i64..4, b in 1i64..5, axis in 0usize..3, s in point(3)) {
+        // x² + a x + b has a root in [0, 1] only when a² ≥ 4b and the vertex −a/2 or an end
+        // value says so: decided exactly by the end values and the minimum inside.
+        let (af, bf) = (a as f64, b as f64);
+        let vertex = -af / 2.0;
+        let min_inside = if (0.0..=1.0).contains(&vertex) { bf - af * af / 4.0 } else { f64::INFINITY };
+        prop_assume!(1.0 + af + bf > 0.0 && min_inside > 0.0);
+        prop_assume!(p.coeffs().iter().any(|c| !c.is_zero()));
+        let mut degrees = vec![0, 0, 0];
+        degrees[axis] = 2;
+        let mut power = vec![Rational::from_integer(BigInt::from(0)); 3];
+        power[0] = Rational::from_integer(BigInt::from(b));
+        power[1] = Rational::from_integer(BigInt::from(a));
+        power[2] = Rational::from_integer(BigInt::from(1));
+        let c = Bernstein::from_power(degrees, power).unwrap();
+        let product = c.product(&p).unwrap();
+        let (reduced, divided) = product.without_signed_contents().unwrap();
+        prop_assert!(reduced.degrees()[axis] + 2 <= product.degrees()[axis]);
+        let mut value = reduced.eval(&s).unwrap();
+        for (k, f) in &divided {
+            value *= f.iter().rev().fold(Rational::from_integer(BigInt::from(0)), |acc, fi| acc * &s[*k] + fi);
+        }
+        let original = product.eval(&s).unwrap();
+        if original.is_zero() {
+            prop_assert!(value.is_zero());
+        } else {
+            // The constant: the same at a second point, and positive.
+            let k = &value / &original;
+            prop_assert!(k.is_positive());
+            let t: Vec<Rational> = s.iter().map(|x| (x + q(1, 3)) / q(2, 1)).collect();
+            let (v2, o2) = (reduced.eval(&t).unwrap(), product.eval(&t).unwrap());
+            let mut v2 = v2;
+            for (kk, f) in &divided {
+                v2 *= f.iter().rev().fold(Rational::from_integer(BigInt::from(0)), |acc, fi| acc * &t[*kk] + fi);
+            }
+            prop_assert_eq!(v2, o2 * k);
+        }
+        prop_assert!(reduced.without_signed_contents().unwrap().1.is_empty());
+    }
+
     #[test]
     fn faces_are_slices(p in bernstein_poly(vec![2, 3], 20), s in point(1), upper in any::<bool>()) {
         let f = p.face(0, upper).unwrap();

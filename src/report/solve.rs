@@ -587,6 +587,11 @@ pub(super) fn run_msolve(bin: &Path, case: &Case, tag: &str) -> Result<(RootBoxe
     if text.trim_start().starts_with("[1,") {
         return Err(POSITIVE_DIMENSIONAL.into());
     }
+    // `[-1]:` is msolve's answer for a system with no solution over ℂⁿ (its man page): no
+    // real root either.
+    if text.trim_start().starts_with("[-1]") {
+        return Ok((Vec::new(), seconds));
+    }
     Ok((parse_msolve(&text, case.domain.len())?, seconds))
 }
 

@@ -238,18 +238,13 @@ fn integer_gcd(a: Vec<BigInt>, b: Vec<BigInt>) -> Vec<BigInt> {
     a
 }
 
-/// `c` (rational, non-zero) scaled to a primitive integer polynomial with a positive leading
-/// coefficient.
+/// `c` (rational, non-zero) times the positive rational that makes it a primitive integer
+/// polynomial.
 fn primitive(c: &[Rational]) -> Vec<BigInt> {
     let den = c.iter().fold(BigInt::one(), |acc, x| acc.lcm(x.denom()));
     let ints: Vec<BigInt> = c.iter().map(|x| x.numer() * (&den / x.denom())).collect();
     let g = ints.iter().fold(BigInt::zero(), |acc, x| acc.gcd(x));
-    let sign = if ints.last().is_some_and(|x| x.is_negative()) {
-        -BigInt::one()
-    } else {
-        BigInt::one()
-    };
-    ints.into_iter().map(|x| x / &g * &sign).collect()
+    ints.into_iter().map(|x| x / &g).collect()
 }
 
 /// The content along `axis` of integer Bernstein coefficients (see
@@ -348,9 +343,10 @@ impl Bernstein<Rational> {
     /// The polynomial with its univariate contents of one strict sign on `[0, 1]` divided
     /// out along every axis (each content without its factors `x` and `x − 1`, when that is
     /// proved to keep one strict sign; one with another zero on `[0, 1]` stays), up to a
-    /// positive constant factor, and the
-    /// factors divided out as `(axis, monic power coefficients)`. The zero set and the signs
-    /// on the unit box are unchanged. (Computed in integers: each axis's content is the gcd
+    /// positive constant factor, and the factors divided out as `(axis, power coefficients)`,
+    /// each monic up to its sign and positive on `[0, 1]`: the product of the result and the
+    /// factors is the polynomial times a positive constant. The zero set and the signs on the
+    /// unit box are unchanged. (Computed in integers: each axis's content is the gcd
     /// of two fixed combinations of its lines, confirmed by dividing every line exactly.)
     pub fn without_signed_contents(&self) -> Result<(Self, Vec<UnivariateFactor>), BernsteinError> {
         let s = ScaledBernstein::from_rational(self);
@@ -370,16 +366,14 @@ impl Bernstein<Rational> {
             if c.len() < 2 || !one_strict_sign(&c)? {
                 continue;
             }
-            // A positive primitive multiple: the factor keeps its sign, so the quotient's
-            // signs are the polynomial's times that one sign.
-            let mut ints = primitive(&c);
-            let positive = Bernstein::from_power(vec![c.len() - 1], c.clone())?
-                .coeffs()
-                .first()
-                .is_some_and(|x| x.is_positive());
-            if !positive {
-                ints.iter_mut().for_each(|x| *x = -&*x);
-            }
+            // Divided as the multiple positive on [0, 1] (`c(0) = a₀` has the sign of all of
+            // it), so the quotient keeps the polynomial's signs.
+            let c: Power = if c[0].is_negative() {
+                c.into_iter().map(|x| -x).collect()
+            } else {
+                c
+            };
+            let ints = primitive(&c);
             if let Some((d, n, scale)) = divide_lines(&num, &degrees, axis, &ints) {
                 (degrees, num) = (d, n);
                 den *= scale;
@@ -444,14 +438,15 @@ mod tests {
     }
 
     /// On 60 random products `a(x_k)·q(u, v, t)`: a factor of one strict sign on `[0, 1]` is
-    /// divided out (and `x(1 + x²)` loses `1 + x²` but keeps `x`), one with a zero inside
-    /// (`(2x − 1)²`) stays; the reduced polynomial times the factors divided is the
+    /// divided out (`x − 2`, negative there, as `2 − x`; and `x(1 + x²)` loses `1 + x²` but
+    /// keeps `x`), one with a zero inside (`(2x − 1)²`) stays; the reduced polynomial times the factors divided is the
     /// original times one positive constant at every sample point.
     #[test]
     fn random_products_lose_exactly_their_signed_factors() {
         // (power coefficients, degree dropped when divided out)
-        let factors: [(&[i64], usize); 5] = [
+        let factors: [(&[i64], usize); 6] = [
             (&[1, 0, 1], 2),
+            (&[-2, 1], 1),
             (&[2, 1], 1),
             (&[3, -1, 1], 2),
             (&[0, 1, 0, 1], 2),

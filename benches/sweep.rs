@@ -9,8 +9,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use geocert::bernstein::Limits;
 use geocert::solve::SolveOptions;
 use geocert::sweep::{
-    builtin_scene, equations, events, frames, silhouette, Eye, SilhouetteOptions,
-    EVENT_TOLERANCE,
+    builtin_scene, equations, events, frames, silhouette, Eye, SilhouetteOptions, EVENT_TOLERANCE,
 };
 use std::hint::black_box;
 

@@ -16,9 +16,8 @@ pub(crate) mod rational;
 pub(crate) mod wide;
 
 /// One step of Marsaglia's xorshift64 (*Xorshift RNGs*, J. Stat. Softw. 8(14), 2003): the
-/// deterministic generator of the tests and of the reports' random campaigns. `state` must
-/// not be zero.
-#[cfg(any(test, feature = "reports"))]
+/// deterministic generator of the tests, of the reports' random campaigns and of the fixed
+/// line combinations of `bernstein::content`. `state` must not be zero.
 pub(crate) fn xorshift(state: &mut u64) -> u64 {
     *state ^= *state << 13;
     *state ^= *state >> 7;

@@ -12,6 +12,8 @@
 //! Where such a factor keeps one strict sign on `[0, 1]` it has no zero on the unit box,
 //! and dividing it out changes no zero set there while lowering the degrees.
 
+use super::poly::map_lines;
+use super::univariate::{div_rem, gcd, monic, trimmed};
 use super::{
     prove_positive_exact, Bernstein, BernsteinError, Limits, PositivityVerdict, ScaledBernstein,
 };
@@ -26,49 +28,6 @@ type Power = Vec<Rational>;
 /// A factor divided out: its axis and its monic power-basis coefficients (lowest first).
 pub type UnivariateFactor = (usize, Vec<Rational>);
 
-fn trim(mut a: Power) -> Power {
-    while a.last().is_some_and(Zero::is_zero) {
-        a.pop();
-    }
-    a
-}
-
-fn monic(a: Power) -> Power {
-    match a.last().cloned() {
-        Some(lead) if !lead.is_zero() => a.into_iter().map(|x| x / &lead).collect(),
-        _ => a,
-    }
-}
-
-/// `a mod b` (`b` trimmed and non-zero).
-fn remainder(mut a: Power, b: &[Rational]) -> Power {
-    let lead = b.last().expect("a non-zero divisor");
-    while a.len() >= b.len() {
-        let Some(top) = a.last().cloned() else { break };
-        if !top.is_zero() {
-            let q = top / lead;
-            let shift = a.len() - b.len();
-            for (i, bi) in b.iter().enumerate() {
-                a[shift + i] -= &q * bi;
-            }
-        }
-        a.pop();
-        a = trim(a);
-    }
-    a
-}
-
-/// The monic greatest common divisor of two polynomials (empty for two zeros).
-fn gcd(a: Power, b: Power) -> Power {
-    let (mut a, mut b) = (trim(a), trim(b));
-    while !b.is_empty() {
-        let r = remainder(a, &b);
-        a = monic(b);
-        b = r;
-    }
-    monic(a)
-}
-
 /// The lines of a coefficient tensor along `axis` (axis 0 fastest): `(start, stride, len)`.
 fn lines(degrees: &[usize], axis: usize) -> impl Iterator<Item = (usize, usize, usize)> {
     let stride: usize = degrees[..axis].iter().map(|d| d + 1).product();
@@ -79,18 +38,13 @@ fn lines(degrees: &[usize], axis: usize) -> impl Iterator<Item = (usize, usize, 
 
 /// `c` with its factors `x` and `x − 1` divided out (as often as they divide).
 fn without_end_roots(mut c: Power) -> Power {
+    let x = [Rational::zero(), Rational::one()];
+    let x_minus_1 = [-Rational::one(), Rational::one()];
     while c.len() >= 2 && c[0].is_zero() {
-        c.remove(0);
+        c = div_rem(&c, &x).0;
     }
-    // `c(1) = 0`: synthetic division by `x − 1`, `q_{k−1} = a_k + q_k`.
     while c.len() >= 2 && c.iter().sum::<Rational>().is_zero() {
-        let mut q = vec![Rational::zero(); c.len() - 1];
-        let mut carry = Rational::zero();
-        for k in (1..c.len()).rev() {
-            carry += &c[k];
-            q[k - 1] = carry.clone();
-        }
-        c = q;
+        c = div_rem(&c, &x_minus_1).0;
     }
     c
 }
@@ -242,9 +196,7 @@ fn integer_gcd(a: Vec<BigInt>, b: Vec<BigInt>) -> Vec<BigInt> {
 /// polynomial.
 fn primitive(c: &[Rational]) -> Vec<BigInt> {
     let den = c.iter().fold(BigInt::one(), |acc, x| acc.lcm(x.denom()));
-    let ints: Vec<BigInt> = c.iter().map(|x| x.numer() * (&den / x.denom())).collect();
-    let g = ints.iter().fold(BigInt::zero(), |acc, x| acc.gcd(x));
-    ints.into_iter().map(|x| x / &g).collect()
+    primitive_part(c.iter().map(|x| x.numer() * (&den / x.denom())).collect())
 }
 
 /// The content along `axis` of integer Bernstein coefficients (see
@@ -276,7 +228,7 @@ fn content_along(num: &[BigInt], degrees: &[usize], axis: usize, candidate: bool
     }
     let mut g: Option<Power> = None;
     for (start, stride, len) in lines(degrees, axis) {
-        let p = trim(to_rational(line_to_power(
+        let p = trimmed(to_rational(line_to_power(
             &line(start, stride, len),
             &binomials,
         )));
@@ -285,7 +237,7 @@ fn content_along(num: &[BigInt], degrees: &[usize], axis: usize, candidate: bool
         }
         let next = match g {
             None => monic(p),
-            Some(acc) => gcd(acc, p),
+            Some(acc) => gcd(&acc, &p),
         };
         if next.len() < 2 {
             return None;
@@ -310,21 +262,20 @@ fn divide_lines(
     let binomials = Binomials::new(degrees[axis]);
     let scale = (0..=d).fold(BigInt::one(), |acc, j| acc.lcm(binomials.get(d, j)));
     let weights: Vec<BigInt> = (0..=d).map(|j| &scale / binomials.get(d, j)).collect();
-    let out_len: usize = out_degrees.iter().map(|d| d + 1).product();
-    let mut out = vec![BigInt::zero(); out_len];
-    for ((start, stride, len), (o_start, o_stride, _)) in
-        lines(degrees, axis).zip(lines(&out_degrees, axis))
-    {
-        let line: Vec<BigInt> = (0..len).map(|j| num[start + j * stride].clone()).collect();
-        let q = integer_quotient(&line_to_power(&line, &binomials), c)?;
-        for (j, x) in line_from_power(&q, &weights, &binomials)
-            .into_iter()
-            .enumerate()
-        {
-            out[o_start + j * o_stride] = x;
-        }
-    }
-    Some((out_degrees, out, scale))
+    let mut exact = true;
+    let out =
+        map_lines(
+            degrees,
+            num,
+            axis,
+            d + 1,
+            &BigInt::zero(),
+            |line, out| match integer_quotient(&line_to_power(line, &binomials), c) {
+                Some(q) => out.clone_from_slice(&line_from_power(&q, &weights, &binomials)),
+                None => exact = false,
+            },
+        );
+    exact.then_some((out_degrees, out, scale))
 }
 
 impl Bernstein<Rational> {

@@ -19,6 +19,7 @@ pub(crate) mod io;
 pub(crate) mod poly;
 pub(crate) mod positivity;
 pub(crate) mod scaled;
+pub(crate) mod univariate;
 
 pub use certificate::{box_sign, BoxSign};
 pub use content::UnivariateFactor;

@@ -27,6 +27,7 @@
 //! certification from the scene.
 
 use super::SweepError;
+use crate::bernstein::univariate::{div_rem, gcd, trimmed};
 use crate::bernstein::Bernstein;
 use crate::num::{Interval, Rational};
 use crate::solve::{solve, CurveEnd, Curves, RationalBox, SolveOptions, System};
@@ -64,46 +65,6 @@ pub struct CornerCrossing {
 /// `(u, v) = corner`, as power-basis coefficients in `s`.
 fn on_corner_line(p: &B, corner: [bool; 2]) -> Result<Vec<Rational>, SweepError> {
     Ok(p.face(0, corner[0])?.face(0, corner[1])?.to_power())
-}
-
-/// `p` without its zero leading coefficients.
-fn trimmed(mut p: Vec<Rational>) -> Vec<Rational> {
-    while p.last().is_some_and(Zero::is_zero) {
-        p.pop();
-    }
-    p
-}
-
-/// Long division of `a` by `b` (`b` trimmed and non-zero): the quotient and the trimmed
-/// remainder.
-fn div_rem(a: &[Rational], b: &[Rational]) -> (Vec<Rational>, Vec<Rational>) {
-    let mut r = trimmed(a.to_vec());
-    let lead = b.last().expect("non-zero divisor");
-    let mut q = vec![Rational::zero(); r.len().saturating_sub(b.len()) + 1];
-    while r.len() >= b.len() {
-        let shift = r.len() - b.len();
-        let c = r.last().expect("non-empty") / lead;
-        for (k, x) in b.iter().enumerate() {
-            r[shift + k] -= &c * x;
-        }
-        q[shift] = c;
-        r.pop();
-        r = trimmed(r);
-    }
-    (q, r)
-}
-
-/// The monic gcd of two univariate polynomials (power basis; not both zero), by Euclid's
-/// algorithm in exact rationals.
-fn gcd(a: &[Rational], b: &[Rational]) -> Vec<Rational> {
-    let (mut a, mut b) = (trimmed(a.to_vec()), trimmed(b.to_vec()));
-    while !b.is_empty() {
-        let r = div_rem(&a, &b).1;
-        a = b;
-        b = r;
-    }
-    let lead = a.last().cloned().unwrap_or_else(Rational::one);
-    a.iter().map(|c| c / &lead).collect()
 }
 
 /// `1` at the upper end of `[0, 1]`, else `0`.

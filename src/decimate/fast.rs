@@ -209,31 +209,42 @@ impl FastEngine {
                 "{t} triangles are too many"
             )));
         }
-        let lists = fan_lists(mesh)?;
-        check_options(mesh, options)?;
+        // The projection decides whether the facing test's original surface is needed; it
+        // reads every triangle, so the indices are checked first (as the fan lists do).
+        mesh.validate()?;
         let global = global_plane(mesh, options.projection, |tri| {
             let p = tri.map(|i| Plane::XY.project(mesh.vertices[i as usize]));
             orient2d(p[0], p[1], p[2]) != Ordering::Greater
-        })?;
-        let criterion = options.criterion.resolve(global.is_some());
-        let quadrics = if criterion == Criterion::Quadric {
-            initial_quadrics(mesh)
-        } else {
-            Vec::new()
-        };
+        });
+        let wants_surface = options.facing && matches!(global, Ok(None));
+        // The original surface's hierarchy is built side by side with the fan lists and
+        // quadrics (its build has long one-core stretches, and so do they); errors are
+        // reported in the order the steps had one after the other.
+        let (original, built) = crate::par::join(
+            || {
+                wants_surface
+                    .then(|| OriginalSurface::new(mesh).map(Arc::new))
+                    .flatten()
+            },
+            || -> Result<_, DecimateError> {
+                let lists = fan_lists(mesh)?;
+                check_options(mesh, options)?;
+                let global = global?;
+                let criterion = options.criterion.resolve(global.is_some());
+                let (quadrics, normals) = if criterion == Criterion::Quadric {
+                    (initial_quadrics(mesh), super::vertex_normals(mesh))
+                } else {
+                    (Vec::new(), Vec::new())
+                };
+                Ok((lists, global, criterion, quadrics, normals))
+            },
+        );
+        let (lists, global, criterion, quadrics, normals) = built?;
         let geo = Geometry {
             pos: huge_copy(&mesh.vertices),
-            normals: if criterion == Criterion::Quadric {
-                super::vertex_normals(mesh)
-            } else {
-                Vec::new()
-            },
+            normals,
             values: mesh.scalars.as_ref().map(|s| s.values.clone()),
-            original: if global.is_none() && options.facing {
-                OriginalSurface::new(mesh).map(Arc::new)
-            } else {
-                None
-            },
+            original,
             global,
             criterion,
             border_policy: options.border.resolve(global.is_some()),

@@ -638,3 +638,47 @@ fn a_mesh_far_from_the_origin_decimates_as_at_the_origin() {
     check::verify(&far, &f.0.history, false, 1).unwrap();
     round_trip(&far, &f.0.mesh, &f.0.history, 7);
 }
+
+/// Vertices no triangle uses (loose points, as OBJ and PLY files from modelling tools carry)
+/// are carried through unchanged: the targets count the surface's nodes only, and neither
+/// the fit nor the surface measures see them.
+#[test]
+fn loose_vertices_are_carried_through_and_not_counted() {
+    let sphere = unit_sphere(4);
+    let n = sphere.vertices.len();
+    let loose: Vec<[f64; 3]> = (0..3 * n).map(|i| [10.0 + i as f64, -7.0, 3.0]).collect();
+    let mut with_loose = sphere.clone();
+    with_loose.vertices.extend(&loose);
+    let opts = Options::new().with_target(Target::Keep(0.1)).with_k(3);
+    let alone = decimate(&sphere, &opts).unwrap();
+    let out = decimate(&with_loose, &opts).unwrap();
+    let s = &out.stats;
+    assert_eq!(s.unused, loose.len());
+    assert_eq!(s.nodes_out - s.unused, (0.1 * n as f64).round() as usize);
+    assert_eq!(alone.stats.nodes_out, s.nodes_out - s.unused);
+    // Carried through at their places, after the surface's nodes.
+    assert_eq!(&out.mesh.vertices[s.nodes_out - loose.len()..], &loose[..]);
+    let (d, d_alone) = (
+        quality::deviation(&with_loose, &out.mesh),
+        quality::deviation(&sphere, &alone.mesh),
+    );
+    println!(
+        "{} loose vertices: {} → {} nodes ({} of the surface); Hausdorff {:.3e} (the sphere alone {:.3e}), {} nodes fitted",
+        loose.len(),
+        s.nodes_in,
+        s.nodes_out,
+        s.nodes_out - s.unused,
+        d.hausdorff,
+        d_alone.hausdorff,
+        s.moved
+    );
+    // A loose point counted would stand ≥ 9 away from the unit sphere.
+    assert!(d.hausdorff < 2.0 * d_alone.hausdorff, "{d:?}");
+    assert!((d.diagonal - d_alone.diagonal).abs() < 1e-12 * d.diagonal);
+    assert_eq!(d.flipped, 0);
+    assert!(s.moved > 0);
+    let exact = decimate(&with_loose, &opts.clone().with_path(Path::Exact)).unwrap();
+    assert_eq!(exact.history, out.history);
+    check::verify(&with_loose, &out.history, false, 1).unwrap();
+    round_trip(&with_loose, &out.mesh, &out.history, 5);
+}

@@ -105,23 +105,27 @@ pub(crate) struct LoopCounts {
 }
 
 /// Runs the loop to the target; the removal sequence is in `history`.
-/// `clock` started with the decimation (for [`LoopCounts::setup_seconds`]).
+/// `clock` started with the decimation (for [`LoopCounts::setup_seconds`]); `unused` of the
+/// nodes are in no triangle (never removed, not counted by the target).
 pub(crate) fn run(
     engine: &mut impl Engine,
     options: &Options,
     history: &mut History,
     clock: std::time::Instant,
+    unused: usize,
 ) -> LoopCounts {
     let n = engine.node_count();
+    let surface = n.saturating_sub(unused);
     let bound = match options.target {
         Target::ErrorBound(e) => Some(e),
         _ => None,
     };
-    let target_nodes = match options.target {
-        Target::Keep(f) => (f * n as f64).round() as usize,
-        Target::Nodes(k) => k,
-        Target::ErrorBound(_) => 0,
-    };
+    let target_nodes = unused
+        + match options.target {
+            Target::Keep(f) => (f * surface as f64).round() as usize,
+            Target::Nodes(k) => k,
+            Target::ErrorBound(_) => 0,
+        };
     let admissible = |ev: f64| bound.is_none_or(|b| ev <= b);
     let initial = engine.evaluate_all(admissible);
     let (lo, hi) = initial
@@ -287,7 +291,8 @@ pub(crate) fn decimate_with<E: Engine>(
         mesh.triangles.len(),
         mesh.scalars.is_some(),
     );
-    let counts = run(&mut engine, options, &mut history, clock);
+    let unused = mesh.used_vertices().iter().filter(|&&u| !u).count();
+    let counts = run(&mut engine, options, &mut history, clock, unused);
     let (mut out, projection_xy) = finish(&engine);
     let original = engine.original_surface();
     drop(engine);
@@ -328,6 +333,7 @@ pub(crate) fn decimate_with<E: Engine>(
         stats: Stats {
             nodes_in: mesh.vertices.len(),
             nodes_out: out.vertices.len(),
+            unused,
             triangles_in: mesh.triangles.len(),
             triangles_out: out.triangles.len(),
             removed: counts.removed,

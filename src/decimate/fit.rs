@@ -5,11 +5,12 @@
 //! the whole result lies on one side of it where the surface curves. Moving the kept nodes
 //! to the least-squares fit of the original vertices lets the result straddle the surface.
 //!
-//! One round: every original vertex `oᵢ` is attached to its closest point on the current
-//! result, with barycentric coordinates `bᵢ` in triangle `tᵢ`; then Gauss–Seidel sweeps over
-//! the kept nodes minimise `Σᵢ |Σₖ bᵢₖ x_{tᵢₖ} − oᵢ|² + Σ_v μ (1 + d_v) |x_v − x_v⁰|²` (the
-//! regulariser holds a node near its start `x_v⁰` along directions its points do not
-//! constrain; `d_v = Σᵢ bᵢᵥ²`). A move is taken only when every triangle around the node
+//! One round: every vertex `oᵢ` of the original surface (one some triangle uses) is
+//! attached to its closest point on the current result, with barycentric coordinates `bᵢ`
+//! in triangle `tᵢ`; then Gauss–Seidel sweeps over the kept nodes minimise
+//! `Σᵢ |Σₖ bᵢₖ x_{tᵢₖ} − oᵢ|² + Σ_v μ (1 + d_v) |x_v − x_v⁰|²` (the regulariser holds a
+//! node near its start `x_v⁰` along directions its points do not constrain;
+//! `d_v = Σᵢ bᵢᵥ²`). A move is taken only when every triangle around the node
 //! keeps a normal within about 72° of its normal before the fit ([`MIN_COS`]) and, if it
 //! faced along its corners' original vertex normals, still does, and (when the decimation
 //! ran the facing test, [`Options::facing`](super::Options::facing)) no triangle around it
@@ -114,9 +115,11 @@ pub(crate) fn fit_in(
             dot(area_vector(a, b, c), corner_normal(*t)) > 0.0
         })
         .collect();
-    // Every original vertex (a strided subset was tried: every 4th cost the dragon scan 0.03
-    // of RMS and 30 more flipped triangles for 0.33 s, and the bunny a quarter of its gain).
+    // Every vertex of the original surface (a strided subset was tried: every 4th cost the
+    // dragon scan 0.03 of RMS and 30 more flipped triangles for 0.33 s, and the bunny a
+    // quarter of its gain); vertices no triangle uses are not on it and pull nothing.
     let samples = &original.vertices;
+    let on_surface = original.used_vertices();
     for _ in 0..rounds {
         let attached = attach(samples, decimated);
         // Per triangle, the original vertex attached nearest its middle (the largest
@@ -125,6 +128,9 @@ pub(crate) fn fit_in(
             vec![(f64::NEG_INFINITY, u32::MAX); decimated.triangles.len()];
         if surface.is_some() {
             for (i, &(t, b)) in attached.iter().enumerate() {
+                if !on_surface[i] {
+                    continue;
+                }
                 let depth = b[0].min(b[1]).min(b[2]);
                 if depth > seeds[t as usize].0 {
                     seeds[t as usize] = (depth, i as u32);
@@ -133,7 +139,7 @@ pub(crate) fn fit_in(
         }
         // Per node, the attached points whose triangle it is a corner of (CSR, in point order).
         let mut first = vec![0u32; n + 1];
-        for &(t, _) in &attached {
+        for (&(t, _), _) in attached.iter().zip(&on_surface).filter(|(_, &u)| u) {
             for &v in &decimated.triangles[t as usize] {
                 first[v as usize + 1] += 1;
             }
@@ -144,6 +150,9 @@ pub(crate) fn fit_in(
         let mut fill = first.clone();
         let mut points = vec![0u32; first[n] as usize];
         for (i, &(t, _)) in attached.iter().enumerate() {
+            if !on_surface[i] {
+                continue;
+            }
             for &v in &decimated.triangles[t as usize] {
                 points[fill[v as usize] as usize] = i as u32;
                 fill[v as usize] += 1;

@@ -372,9 +372,11 @@ pub(crate) fn global_plane(
 /// When the decimation stops.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Target {
-    /// Keep this fraction of the nodes (0 < f ≤ 1), rounded to the nearest count.
+    /// Keep this fraction of the surface's nodes (0 < f ≤ 1), rounded to the nearest count.
+    /// Both targets count only the nodes of some triangle: vertices no triangle uses have
+    /// no fan to remove and are carried through unchanged ([`Stats::unused`]).
     Keep(f64),
-    /// Keep this many nodes.
+    /// Keep this many of the surface's nodes (as [`Target::Keep`] counts them).
     Nodes(usize),
     /// Remove nodes while their evaluation value is at most this bound.
     ErrorBound(f64),
@@ -494,8 +496,11 @@ pub enum DecimateError {
 pub struct Stats {
     /// Nodes of the input.
     pub nodes_in: usize,
-    /// Nodes kept.
+    /// Nodes kept (with the [`unused`](Self::unused) vertices).
     pub nodes_out: usize,
+    /// Vertices of the input that no triangle uses: carried through unchanged and not
+    /// counted by the [`Target`]s.
+    pub unused: usize,
     /// Triangles of the input.
     pub triangles_in: usize,
     /// Triangles of the output.

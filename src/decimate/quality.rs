@@ -1036,20 +1036,23 @@ fn barycentric(q: [f64; 3], a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
     [1.0 - v - w, v, w]
 }
 
-/// Errors of a decimated surface that is not a height field: at every original node, its
-/// distance to the decimated surface (in `max_height`/`rms_height`) and the difference
-/// between its scalar and the decimated field interpolated at its closest point.
+/// Errors of a decimated surface that is not a height field: at every original node of the
+/// surface (vertices no triangle uses are skipped), its distance to the decimated surface
+/// (in `max_height`/`rms_height`) and the difference between its scalar and the decimated
+/// field interpolated at its closest point.
 pub fn surface_errors(original: &Mesh, decimated: &Mesh) -> Errors {
     use crate::par::prelude::*;
     let Some(cp) = ClosestPoints::new(decimated) else {
         return Errors::default();
     };
     let fields = original.scalars.as_ref().zip(decimated.scalars.as_ref());
+    let used = original.used_vertices();
     // On all cores; the tally runs in vertex order (the same sums either way).
     let per_vertex: Vec<(f64, f64)> = original
         .vertices
         .par_iter()
         .enumerate()
+        .filter(|&(i, _)| used[i])
         .map(|(i, &p)| {
             let c = cp.query(p);
             let scalar = fields.map_or(0.0, |(f, g)| {
@@ -1063,13 +1066,14 @@ pub fn surface_errors(original: &Mesh, decimated: &Mesh) -> Errors {
         })
         .collect();
     let mut tally = Tally::default();
+    let nodes = per_vertex.len();
     for (d, e) in per_vertex {
         tally.height(d);
         if fields.is_some() {
             tally.scalar(e);
         }
     }
-    tally.finish(original.vertices.len(), fields.is_some(), 0)
+    tally.finish(nodes, fields.is_some(), 0)
 }
 
 /// How far a simplified surface lies from its original, both ways, and how many of its
@@ -1078,7 +1082,8 @@ pub fn surface_errors(original: &Mesh, decimated: &Mesh) -> Errors {
 pub struct Deviation {
     /// The original's bounding-box diagonal (the unit of the `_percent` figures).
     pub diagonal: f64,
-    /// Largest distance from an original vertex to the simplified surface.
+    /// Largest distance from a vertex of the original surface (one some triangle uses) to
+    /// the simplified surface.
     pub forward_max: f64,
     /// Root mean square of those distances.
     pub forward_rms: f64,
@@ -1145,16 +1150,24 @@ impl OriginalSurface {
     }
 }
 
-/// The length of `mesh`'s bounding-box diagonal (0 without vertices).
+/// The length of the bounding-box diagonal of `mesh`'s surface: the vertices some triangle
+/// uses (0 without any).
 pub fn bounding_diagonal(mesh: &Mesh) -> f64 {
     let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in &mesh.vertices {
+    let mut any = false;
+    for p in mesh
+        .triangles
+        .iter()
+        .flatten()
+        .filter_map(|&i| mesh.vertices.get(i as usize))
+    {
+        any = true;
         for k in 0..3 {
             lo[k] = lo[k].min(p[k]);
             hi[k] = hi[k].max(p[k]);
         }
     }
-    if mesh.vertices.is_empty() {
+    if !any {
         return 0.0;
     }
     (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
@@ -1182,10 +1195,13 @@ pub fn deviation(original: &Mesh, simplified: &Mesh) -> Deviation {
             ..Deviation::default()
         };
     };
+    let used = original.used_vertices();
     let forward: Vec<f64> = original
         .vertices
         .par_iter()
-        .map(|&p| to_simplified.query(p).distance)
+        .enumerate()
+        .filter(|&(i, _)| used[i])
+        .map(|(_, &p)| to_simplified.query(p).distance)
         .collect();
     let normal = |m: &Mesh, t: u32| {
         let [a, b, c] = m.triangles[t as usize].map(|i| m.vertices[i as usize]);

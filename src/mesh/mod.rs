@@ -166,6 +166,19 @@ pub(crate) fn incident_triangles(n: usize, triangles: &[[u32; 3]]) -> (Vec<u32>,
 }
 
 impl Mesh {
+    /// Per vertex, whether some triangle uses it (the surface's vertices; the others are
+    /// loose points that no surface measure or decimation target counts). Indices out of
+    /// range are skipped.
+    pub fn used_vertices(&self) -> Vec<bool> {
+        let mut used = vec![false; self.vertices.len()];
+        for &i in self.triangles.iter().flatten() {
+            if let Some(u) = used.get_mut(i as usize) {
+                *u = true;
+            }
+        }
+        used
+    }
+
     /// Checks coordinates, scalar count and triangle indices.
     pub fn validate(&self) -> Result<(), MeshError> {
         for (i, v) in self.vertices.iter().enumerate() {

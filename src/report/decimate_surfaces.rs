@@ -426,7 +426,7 @@ pub fn markdown(c: &SurfaceCampaign) -> String {
          behaviour (error criterion, border outline kept, no fit, no facing test; the \
          facing test now runs under every criterion on surfaces in 3-D). Peers run at \
          geocert's triangle count on one thread. Every result is measured by geocert's own \
-         `deviation` (the same for all): distances from every original vertex to the result \
+         `deviation` (the same for all): distances from every vertex of the original surface to the result \
          (→) and from 10 barycentric samples per result triangle back to the original (←), \
          in % of the original's bounding-box diagonal; Hausdorff is the larger maximum; \
          flipped counts result triangles whose normal points against the original surface \

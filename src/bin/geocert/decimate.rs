@@ -13,10 +13,11 @@ use std::process::ExitCode;
 #[derive(clap::Args)]
 pub(crate) struct Args {
     input: String,
-    /// Keep this fraction of the nodes (default 0.01 unless --nodes or --max-error).
+    /// Keep this fraction of the surface's nodes (default 0.01 unless --nodes or
+    /// --max-error). Vertices no triangle uses are carried through and not counted.
     #[arg(long, conflicts_with_all = ["nodes", "max_error"])]
     keep: Option<f64>,
-    /// Keep this many nodes.
+    /// Keep this many of the surface's nodes (vertices no triangle uses not counted).
     #[arg(long, conflicts_with = "max_error")]
     nodes: Option<usize>,
     /// Remove nodes while their evaluation value is at most this.
@@ -159,6 +160,7 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
         let v = serde_json::json!({
             "nodes_in": s.nodes_in,
             "nodes_out": s.nodes_out,
+            "unused_vertices": s.unused,
             "triangles_out": s.triangles_out,
             "seconds": s.seconds,
             "measure_seconds": errors.map(|_| measure_seconds),
@@ -196,6 +198,12 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
             s.moved,
             result.history.len()
         );
+        if s.unused > 0 {
+            println!(
+                "{} vertices in no triangle carried through (not counted by --keep or --nodes)",
+                s.unused
+            );
+        }
         let what = if s.projection_xy {
             "height error"
         } else {

@@ -1213,3 +1213,104 @@ fn mc_verify_against_the_trilinear_truth() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("vertex"));
 }
+
+/// Two fans meeting at one vertex (a bow-tie, as in range maps): refused with the way out
+/// named, then decimated with `--split-bowties` and undone exactly to the split mesh; loose
+/// vertices are carried through and counted apart.
+#[test]
+fn bow_ties_are_split_on_request_and_loose_vertices_carried() {
+    let s = |p: &std::path::PathBuf| p.to_str().unwrap().to_string();
+    // Two 5×5 grids of triangles in the plane z = x·y/10 touching at their corner vertex 0,
+    // and two loose vertices.
+    let mut obj = String::new();
+    let side = 5;
+    for sheet in [1.0, -1.0] {
+        for j in 0..side {
+            for i in 0..side {
+                if sheet < 0.0 && i == 0 && j == 0 {
+                    continue;
+                }
+                let (x, y) = (sheet * i as f64, sheet * j as f64);
+                obj += &format!(
+                    "v {x} {y} {}\n",
+                    x * y / 10.0 + 0.01 * ((i * 7 + j * 3) % 5) as f64
+                );
+            }
+        }
+    }
+    obj += "v 50 50 50\nv -50 50 50\n";
+    // Vertex numbers (1-based): sheet A at 1 + i + side·j; sheet B shares A's vertex 1 at
+    // (0, 0) and numbers its others from side² + 1 on.
+    let a = |i: usize, j: usize| 1 + i + side * j;
+    let b = |i: usize, j: usize| {
+        if i == 0 && j == 0 {
+            1
+        } else {
+            side * side + i + side * j
+        }
+    };
+    for j in 0..side - 1 {
+        for i in 0..side - 1 {
+            for v in [&a as &dyn Fn(usize, usize) -> usize, &b] {
+                let (p, q, r, t) = (v(i, j), v(i + 1, j), v(i + 1, j + 1), v(i, j + 1));
+                obj += &format!("f {p} {q} {r}\nf {p} {r} {t}\n");
+            }
+        }
+    }
+    let (input, out, hist, back) = (
+        tmp("bowtie.obj"),
+        tmp("bowtie-out.ply"),
+        tmp("bowtie.bin"),
+        tmp("bowtie-back.ply"),
+    );
+    std::fs::write(&input, obj).unwrap();
+    let decimate = |extra: &[&str]| {
+        geocert()
+            .args(["decimate", &s(&input), "--nodes", "6", "--out", &s(&out)])
+            .args(["--history", &s(&hist)])
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let o = decimate(&[]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("bow-tie") && err.contains("--split-bowties"),
+        "{err}"
+    );
+    assert!(!out.exists() && !hist.exists());
+    let o = decimate(&["--split-bowties", "--json"]);
+    assert_success(&o);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["bowtie_copies"], 1);
+    assert_eq!(v["unused_vertices"], 2);
+    assert_eq!(v["nodes_in"], 2 * side * side + 2);
+    let (kept, target) = (
+        v["nodes_out"].as_u64().unwrap(),
+        v["target_nodes"].as_u64().unwrap(),
+    );
+    assert_eq!(target, 8);
+    assert!(kept >= target, "{v}");
+    let o = geocert()
+        .args([
+            "undecimate",
+            &s(&out),
+            "--history",
+            &s(&hist),
+            "--out",
+            &s(&back),
+        ])
+        .output()
+        .unwrap();
+    assert_success(&o);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("identical to the original"));
+    // In the plane, each sheet's outline is kept: the run stops above its target and says why.
+    let o = decimate(&["--split-bowties", "--projection", "xy"]);
+    assert_success(&o);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("stopped above the target of 8 nodes") && text.contains("on the border"),
+        "{text}"
+    );
+}

@@ -104,6 +104,17 @@ pub(crate) struct LoopCounts {
     pub setup_seconds: f64,
 }
 
+/// The node count `target` asks for on `n` nodes of which `unused` are in no triangle (they
+/// are counted on top); `None` for an error bound.
+pub(crate) fn node_target(target: Target, n: usize, unused: usize) -> Option<usize> {
+    let surface = n.saturating_sub(unused);
+    match target {
+        Target::Keep(f) => Some(unused + (f * surface as f64).round() as usize),
+        Target::Nodes(k) => Some(unused + k),
+        Target::ErrorBound(_) => None,
+    }
+}
+
 /// Runs the loop to the target; the removal sequence is in `history`.
 /// `clock` started with the decimation (for [`LoopCounts::setup_seconds`]); `unused` of the
 /// nodes are in no triangle (never removed, not counted by the target).
@@ -115,17 +126,11 @@ pub(crate) fn run(
     unused: usize,
 ) -> LoopCounts {
     let n = engine.node_count();
-    let surface = n.saturating_sub(unused);
     let bound = match options.target {
         Target::ErrorBound(e) => Some(e),
         _ => None,
     };
-    let target_nodes = unused
-        + match options.target {
-            Target::Keep(f) => (f * surface as f64).round() as usize,
-            Target::Nodes(k) => k,
-            Target::ErrorBound(_) => 0,
-        };
+    let target_nodes = node_target(options.target, n, unused).unwrap_or(0);
     let admissible = |ev: f64| bound.is_none_or(|b| ev <= b);
     let initial = engine.evaluate_all(admissible);
     let (lo, hi) = initial
@@ -334,6 +339,7 @@ pub(crate) fn decimate_with<E: Engine>(
             nodes_in: mesh.vertices.len(),
             nodes_out: out.vertices.len(),
             unused,
+            target_nodes: node_target(options.target, mesh.vertices.len(), unused),
             triangles_in: mesh.triangles.len(),
             triangles_out: out.triangles.len(),
             removed: counts.removed,

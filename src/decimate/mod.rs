@@ -501,6 +501,9 @@ pub struct Stats {
     /// Vertices of the input that no triangle uses: carried through unchanged and not
     /// counted by the [`Target`]s.
     pub unused: usize,
+    /// The node count the [`Target`] asked for (with the unused vertices); `None` for an
+    /// error bound. More nodes are left when no further removal was valid.
+    pub target_nodes: Option<usize>,
     /// Triangles of the input.
     pub triangles_in: usize,
     /// Triangles of the output.

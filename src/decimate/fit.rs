@@ -220,20 +220,7 @@ pub(crate) fn fit_in(
 /// so that the fit does not pull borders in along the surface.
 fn border_normals(mesh: &Mesh) -> Vec<Option<[f64; 3]>> {
     let n = mesh.vertices.len();
-    let mut directed: Vec<(u32, u32)> = Vec::with_capacity(3 * mesh.triangles.len());
-    for t in &mesh.triangles {
-        for e in 0..3 {
-            directed.push((t[e], t[(e + 1) % 3]));
-        }
-    }
-    directed.sort_unstable();
-    let mut on_border = vec![false; n];
-    for &(a, b) in &directed {
-        if directed.binary_search(&(b, a)).is_err() {
-            on_border[a as usize] = true;
-            on_border[b as usize] = true;
-        }
-    }
+    let on_border = mesh.border_vertices();
     let mut sum = vec![[0.0; 3]; n];
     for tri in &mesh.triangles {
         let [a, b, c] = tri.map(|i| mesh.vertices[i as usize]);

@@ -180,6 +180,25 @@ impl Mesh {
         used
     }
 
+    /// Per vertex, whether it lies on a border edge: one that no triangle traverses back.
+    /// Indices must be in range.
+    pub fn border_vertices(&self) -> Vec<bool> {
+        let mut directed: Vec<(u32, u32)> = self
+            .triangles
+            .iter()
+            .flat_map(|t| (0..3).map(move |e| (t[e], t[(e + 1) % 3])))
+            .collect();
+        directed.sort_unstable();
+        let mut on_border = vec![false; self.vertices.len()];
+        for &(a, b) in &directed {
+            if directed.binary_search(&(b, a)).is_err() {
+                on_border[a as usize] = true;
+                on_border[b as usize] = true;
+            }
+        }
+        on_border
+    }
+
     /// Checks coordinates, scalar count and triangle indices.
     pub fn validate(&self) -> Result<(), MeshError> {
         for (i, v) in self.vertices.iter().enumerate() {

@@ -227,7 +227,7 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
             );
         }
         if let Some(t) = s.target_nodes.filter(|&t| s.nodes_out > t) {
-            let border = border_nodes(&result.mesh);
+            let border = result.mesh.border_vertices().iter().filter(|&&b| b).count();
             print!("stopped above the target of {t} nodes: no further removal was valid");
             if s.border == "outline" && border > 0 {
                 print!(
@@ -354,22 +354,4 @@ pub(crate) fn deviation(a: DeviationArgs) -> Result<ExitCode, String> {
         );
     }
     Ok(ExitCode::SUCCESS)
-}
-
-/// How many of `mesh`'s vertices lie on a border edge (one no other triangle traverses back).
-fn border_nodes(mesh: &Mesh) -> usize {
-    let mut directed: Vec<(u32, u32)> = mesh
-        .triangles
-        .iter()
-        .flat_map(|t| (0..3).map(move |e| (t[e], t[(e + 1) % 3])))
-        .collect();
-    directed.sort_unstable();
-    let mut on_border = vec![false; mesh.vertices.len()];
-    for &(a, b) in &directed {
-        if directed.binary_search(&(b, a)).is_err() {
-            on_border[a as usize] = true;
-            on_border[b as usize] = true;
-        }
-    }
-    on_border.iter().filter(|&&b| b).count()
 }

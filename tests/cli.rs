@@ -16,6 +16,26 @@ fn assert_success(out: &std::process::Output) {
     );
 }
 
+/// `geocert undecimate MESH --history HIST --out BACK`.
+fn undecimate(
+    mesh: &std::path::Path,
+    hist: &std::path::Path,
+    back: &std::path::Path,
+) -> std::process::Output {
+    let s = |p: &std::path::Path| p.to_str().unwrap().to_string();
+    geocert()
+        .args([
+            "undecimate",
+            &s(mesh),
+            "--history",
+            &s(hist),
+            "--out",
+            &s(back),
+        ])
+        .output()
+        .unwrap()
+}
+
 fn tmp(name: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!("geocert-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -583,17 +603,7 @@ fn decimate_undecimate_round_trip_and_refusals() {
         .output()
         .unwrap();
     assert!(o.status.success());
-    let o = geocert()
-        .args([
-            "undecimate",
-            &s(&out),
-            "--history",
-            &s(&hist),
-            "--out",
-            &s(&back),
-        ])
-        .output()
-        .unwrap();
+    let o = undecimate(&out, &hist, &back);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(String::from_utf8_lossy(&o.stdout).contains("identical to the original"));
     assert_eq!(std::fs::read(&back).unwrap(), std::fs::read(&full).unwrap());
@@ -1292,17 +1302,7 @@ fn bow_ties_are_split_on_request_and_loose_vertices_carried() {
     );
     assert_eq!(target, 8);
     assert!(kept >= target, "{v}");
-    let o = geocert()
-        .args([
-            "undecimate",
-            &s(&out),
-            "--history",
-            &s(&hist),
-            "--out",
-            &s(&back),
-        ])
-        .output()
-        .unwrap();
+    let o = undecimate(&out, &hist, &back);
     assert_success(&o);
     assert!(String::from_utf8_lossy(&o.stdout).contains("identical to the original"));
     // In the plane, each sheet's outline is kept: the run stops above its target and says why.

@@ -541,7 +541,10 @@ impl ClosestPoints {
     /// of each `seeds` vertex's triangles (any vertices of the mesh) tried first: when one of
     /// them faces along at distance `d`, a seed leaf's clearance or a search for a triangle
     /// facing against within `d − tie`, which skips every box whose normals all face along
-    /// (their cones), usually settles it. The same answer for any seeds.
+    /// (their cones), usually settles it. The leaves are scanned one at a time, and the
+    /// clearances of those scanned are tried after each (a nearer triangle facing along
+    /// found later only shrinks `d`, so what they settle stays settled). The same answer
+    /// for any seeds.
     pub fn faces_against_from(
         &self,
         centroid: [f64; 3],
@@ -623,8 +626,20 @@ impl ClosestPoints {
         // The nearest triangle facing against, when the seeded search found it.
         let mut opposed_known = None;
         let mut seeded = Best::new(centroid);
-        for &leaf in leaves {
+        for (k, &leaf) in leaves.iter().enumerate() {
             self.scan_leaf(centroid, leaf, &mut seeded, &along);
+            // The leaves scanned so far may already settle it (as below, with a nearest
+            // facing along that the later leaves can only bring nearer).
+            if k + 1 < leaves.len() && seeded.found() {
+                let reach = seeded.best2.sqrt() - tie;
+                if reach <= 0.0
+                    || leaves[..=k]
+                        .iter()
+                        .any(|&l| self.clear_within(l, centroid, unit, reach))
+                {
+                    return false;
+                }
+            }
         }
         if seeded.found() {
             let reach = seeded.best2.sqrt() - tie;

@@ -223,3 +223,35 @@ fn legacy_vtk_errors_name_the_line() {
     assert_eq!(m.scalars.unwrap().values, vec![1.0, 2.0, 3.0]);
     assert!(vtk::read(ok, Some("other")).is_err());
 }
+
+/// A CAD export's sliver (two corners welded together) is refused by `stl::read`, naming the
+/// facet, and skipped and counted by `stl::read_dropping_slivers`, which leaves no vertex
+/// that only the sliver used.
+#[test]
+fn stl_slivers_are_refused_or_skipped_and_counted() {
+    let facet = |c: [[f64; 3]; 3]| {
+        let mut s = String::from("facet normal 0 0 1\nouter loop\n");
+        for p in c {
+            s += &format!("vertex {} {} {}\n", p[0], p[1], p[2]);
+        }
+        s + "endloop\nendfacet\n"
+    };
+    let (a, b, c, d) = ([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]);
+    let text = format!(
+        "solid t\n{}{}{}endsolid t\n",
+        facet([a, b, c]),
+        facet([b, [5.0, 5.0, 5.0], b]),
+        facet([b, d, c])
+    );
+    let e = stl::read(text.as_bytes()).unwrap_err();
+    assert!(e.to_string().contains("facet 1") && e.to_string().contains("two equal corners"));
+    let (mesh, dropped) = stl::read_dropping_slivers(text.as_bytes()).unwrap();
+    assert_eq!(dropped, 1);
+    assert_eq!(mesh.triangles.len(), 2);
+    assert_eq!(
+        mesh.vertices.len(),
+        4,
+        "the sliver's own corner is no vertex"
+    );
+    assert!(mesh.used_vertices().iter().all(|&u| u));
+}

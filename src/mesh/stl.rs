@@ -16,12 +16,19 @@ fn err(place: impl Into<String>, why: impl Into<String>) -> MeshError {
 struct Welder {
     mesh: Mesh,
     index: HashMap<[u64; 3], u32>,
+    /// Skip (and count) facets with two equal corners instead of refusing them.
+    drop_slivers: bool,
+    dropped: usize,
+}
+
+/// The welding key of a point: its coordinates' bits, with -0.0 and 0.0 the same.
+fn key(v: [f64; 3]) -> [u64; 3] {
+    v.map(|x| if x == 0.0 { 0 } else { x.to_bits() })
 }
 
 impl Welder {
     fn vertex(&mut self, v: [f64; 3]) -> u32 {
-        // -0.0 and 0.0 are the same point.
-        let key = v.map(|x| if x == 0.0 { 0 } else { x.to_bits() });
+        let key = key(v);
         let n = self.mesh.vertices.len() as u32;
         *self.index.entry(key).or_insert_with(|| {
             self.mesh.vertices.push(v);
@@ -32,20 +39,39 @@ impl Welder {
         if let Some(x) = corners.iter().flatten().find(|x| !x.is_finite()) {
             return Err(err(place, format!("coordinate {x} is not finite")));
         }
-        let tri = corners.map(|c| self.vertex(c));
-        if tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] {
+        let k = corners.map(key);
+        if k[0] == k[1] || k[1] == k[2] || k[0] == k[2] {
+            if self.drop_slivers {
+                self.dropped += 1;
+                return Ok(());
+            }
             return Err(err(place, "a facet with two equal corners"));
         }
+        let tri = corners.map(|c| self.vertex(c));
         self.mesh.triangles.push(tri);
         Ok(())
     }
 }
 
-/// Reads an STL mesh (binary when the size matches the facet count, else ascii).
+/// Reads an STL mesh (binary when the size matches the facet count, else ascii). A facet
+/// with two equal corners is an error naming it.
 pub fn read(bytes: &[u8]) -> Result<Mesh, MeshError> {
+    read_with(bytes, false).map(|(mesh, _)| mesh)
+}
+
+/// [`read`], but facets with two equal corners (slivers without area, as CAD tessellations
+/// rounded to `f32` carry) are skipped and counted rather than refused; none of their
+/// corners becomes a vertex unless another facet uses it.
+pub fn read_dropping_slivers(bytes: &[u8]) -> Result<(Mesh, usize), MeshError> {
+    read_with(bytes, true)
+}
+
+fn read_with(bytes: &[u8], drop_slivers: bool) -> Result<(Mesh, usize), MeshError> {
     let mut w = Welder {
         mesh: Mesh::default(),
         index: HashMap::new(),
+        drop_slivers,
+        dropped: 0,
     };
     let binary_len = bytes
         .get(80..84)
@@ -105,7 +131,7 @@ pub fn read(bytes: &[u8]) -> Result<Mesh, MeshError> {
         }
     }
     w.mesh.validate()?;
-    Ok(w.mesh)
+    Ok((w.mesh, w.dropped))
 }
 
 /// Writes binary STL (coordinates rounded to `f32`, as the format requires; normals from the

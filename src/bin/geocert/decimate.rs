@@ -278,7 +278,18 @@ fn decimation_input(input: &str, scalar: Option<&str>) -> Result<Mesh, String> {
             )),
         };
     }
-    Mesh::read(FsPath::new(input), scalar).map_err(|e| e.to_string())
+    let path = FsPath::new(input);
+    if matches!(Format::from_path(path), Ok(Format::Stl)) {
+        // STL soups from CAD often carry slivers whose corners weld together: skipped, said.
+        let bytes = read_bytes(path)?;
+        let (mesh, dropped) = geocert::mesh::stl::read_dropping_slivers(&bytes)
+            .map_err(|e| format!("{input}: {e}"))?;
+        if dropped > 0 {
+            eprintln!("{input}: skipped {dropped} facets with two equal corners (no area)");
+        }
+        return Ok(mesh);
+    }
+    Mesh::read(path, scalar).map_err(|e| e.to_string())
 }
 
 pub(crate) fn undo(a: UndoArgs) -> Result<ExitCode, String> {

@@ -172,7 +172,7 @@ impl Order {
         for &(a, h) in by_a {
             if !has_b(a) {
                 if first.is_some() {
-                    return Err(MeshError::NonManifold {
+                    return Err(MeshError::PinchedVertex {
                         a: v,
                         b: a,
                         why: format!("vertex {v} has two boundary fans (a bow-tie vertex)"),
@@ -196,7 +196,7 @@ impl Order {
             }
         }
         if self.out.len() != corners.len() {
-            return Err(MeshError::NonManifold {
+            return Err(MeshError::PinchedVertex {
                 a: v,
                 b: a_of(h0),
                 why: format!(
@@ -256,6 +256,7 @@ mod tests {
         );
         let e = Fans::of(&mesh(vec![[0, 1, 2], [0, 3, 4]])).unwrap_err();
         assert!(e.to_string().contains("bow-tie"), "{e}");
+        assert!(matches!(e, MeshError::PinchedVertex { a: 0, .. }), "{e}");
         // Two closed fans at vertex 0 (two tetrahedra sharing a vertex).
         let e = Fans::of(&mesh(vec![
             [0, 1, 2],
@@ -269,6 +270,7 @@ mod tests {
         ]))
         .unwrap_err();
         assert!(e.to_string().contains("pinched"), "{e}");
+        assert!(matches!(e, MeshError::PinchedVertex { a: 0, .. }), "{e}");
         assert!(Fans::of(&mesh(vec![[0, 1, 9]])).is_err());
     }
 }

@@ -90,6 +90,17 @@ pub enum MeshError {
         /// What is wrong.
         why: String,
     },
+    #[error("edge ({a}, {b}): {why}")]
+    /// More than one fan of triangles meets at vertex `a` (a bow-tie or a pinched vertex;
+    /// [`split::split_pinched`] gives each fan its own vertex).
+    PinchedVertex {
+        /// The vertex.
+        a: u32,
+        /// The other end of an edge at it.
+        b: u32,
+        /// What is wrong.
+        why: String,
+    },
     #[error("{0}")]
     /// A format or option this reader does not take.
     Unsupported(String),

@@ -27,8 +27,8 @@ fn key(v: [f64; 3]) -> [u64; 3] {
 }
 
 impl Welder {
-    fn vertex(&mut self, v: [f64; 3]) -> u32 {
-        let key = key(v);
+    /// The vertex at `v` (welding key `key`), added when new.
+    fn vertex(&mut self, v: [f64; 3], key: [u64; 3]) -> u32 {
         let n = self.mesh.vertices.len() as u32;
         *self.index.entry(key).or_insert_with(|| {
             self.mesh.vertices.push(v);
@@ -47,7 +47,7 @@ impl Welder {
             }
             return Err(err(place, "a facet with two equal corners"));
         }
-        let tri = corners.map(|c| self.vertex(c));
+        let tri = [0, 1, 2].map(|c| self.vertex(corners[c], k[c]));
         self.mesh.triangles.push(tri);
         Ok(())
     }

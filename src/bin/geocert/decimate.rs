@@ -144,8 +144,8 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
     }
     let result = geocert::decimate::decimate(&mesh, &options).map_err(|e| {
         let hint = match &e {
-            geocert::decimate::DecimateError::Mesh(MeshError::NonManifold { why, .. })
-                if !a.split_bowties && (why.contains("bow-tie") || why.contains("pinched")) =>
+            geocert::decimate::DecimateError::Mesh(MeshError::PinchedVertex { .. })
+                if !a.split_bowties =>
             {
                 " (--split-bowties splits such vertices into one per fan)"
             }

@@ -727,6 +727,60 @@ fn solve_certifies_roots_and_the_checker_agrees() {
 }
 
 #[test]
+fn solve_certifies_katsura_3_with_a_root_on_the_box_boundary() {
+    // Katsura-3 on [−1, 1]⁴ (msolve: six real roots, all in the box); (1, 0, 0, 0) lies on
+    // the face u₀ = 1 and on three split planes.
+    let system = tmp("katsura3.json");
+    std::fs::write(
+        &system,
+        r#"{"box": [["-1","1"],["-1","1"],["-1","1"],["-1","1"]], "equations": [
+            {"terms": [[[1,0,0,0],1],[[0,1,0,0],2],[[0,0,1,0],2],[[0,0,0,1],2],[[0,0,0,0],-1]]},
+            {"terms": [[[2,0,0,0],1],[[0,2,0,0],2],[[0,0,2,0],2],[[0,0,0,2],2],[[1,0,0,0],-1]]},
+            {"terms": [[[1,1,0,0],2],[[0,1,1,0],2],[[0,0,1,1],2],[[0,1,0,0],-1]]},
+            {"terms": [[[0,2,0,0],1],[[1,0,1,0],2],[[0,1,0,1],2],[[0,0,1,0],-1]]}]}"#,
+    )
+    .unwrap();
+    let cert = tmp("katsura3.cert.json");
+    let out = geocert()
+        .args(["solve", system.to_str().unwrap(), "--json"])
+        .args(["--cert", cert.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_success(&out);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["roots"].as_array().unwrap().len(), 6, "{v}");
+    assert!(v["clusters"].as_array().unwrap().is_empty(), "{v}");
+    let on_face: Vec<_> = v["roots"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|r| r.get("point"))
+        .collect();
+    assert_eq!(on_face, [&serde_json::json!(["1", "0", "0", "0"])]);
+    let out = geocert()
+        .args(["solve", "verify-cert", cert.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_success(&out);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(text.matches(": valid").count(), 6, "{text}");
+    assert_eq!(text.matches("vanishes exactly").count(), 1, "{text}");
+    // The point moved off the root is refused.
+    let tampered = std::fs::read_to_string(&cert).unwrap().replacen(
+        "\"point\": [\n        \"1\"",
+        "\"point\": [\n        \"1/2\"",
+        1,
+    );
+    std::fs::write(&cert, tampered).unwrap();
+    let out = geocert()
+        .args(["solve", "verify-cert", cert.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("invalid: the certificate's point"));
+}
+
+#[test]
 fn solve_reads_b_spline_equations_and_certifies_a_root_on_a_knot() {
     // f1: the piecewise-linear field through (0, −⅓), (⅓, 0), (1, 2) with its kink and root
     // on the knot ⅓; f2: a uniform quadratic B-spline in y (unclamped knots) equal to y − ¼.

@@ -83,6 +83,23 @@ proptest! {
         prop_assert_eq!(sub.eval(&s).unwrap(), p.eval(&x).unwrap());
     }
 
+    /// `on_box` on boxes reaching past the unit box on either side (or lying wholly outside
+    /// it, or ending at 1) is the polynomial there, exactly, and `restrict` inside.
+    #[test]
+    fn on_box_extends_beyond_the_unit_box(p in bernstein_poly(vec![2, 3], 20), a in -13i64..13, w in 1i64..14, c in 0i64..6, s in point(2)) {
+        let b = vec![(q(a, 12), q(a + w, 12)), (q(c, 12), q(12, 12))];
+        let sub = p.on_box(&b).unwrap();
+        let x: Vec<Rational> = s.iter().zip(&b).map(|(t, (lo, hi))| lo + t * (hi - lo)).collect();
+        prop_assert_eq!(sub.eval(&s).unwrap(), p.eval(&x).unwrap());
+        if a >= 0 && a + w <= 12 {
+            prop_assert_eq!(&sub, &p.restrict(&b).unwrap());
+        }
+        let one = vec![(q(1, 1), q(12 + w, 12)), (q(-w, 12), q(0, 1))];
+        let x: Vec<Rational> = s.iter().zip(&one).map(|(t, (lo, hi))| lo + t * (hi - lo)).collect();
+        prop_assert_eq!(p.on_box(&one).unwrap().eval(&s).unwrap(), p.eval(&x).unwrap());
+        prop_assert!(p.on_box(&[(q(1, 2), q(1, 2)), (q(0, 1), q(1, 1))]).is_err());
+    }
+
     #[test]
     fn elevation_preserves(p in bernstein_poly(vec![2, 1], 20), by in 1usize..4, s in point(2)) {
         let e = p.elevate(1, by).unwrap().elevate(0, 1).unwrap();

@@ -2,7 +2,8 @@
 //! in exactly one certified box or in a cluster, every certified box holds exactly one of the
 //! constructed roots and passes the independent checker, the fast path's certified roots
 //! agree with the exact path's, tangential roots come back as clusters, roots on split planes
-//! and close pairs are certified, roots on the domain's boundary are clusters; non-separable
+//! and close pairs are certified, simple roots on the domain's boundary are certified with
+//! their exact point (clusters with that stage off); non-separable
 //! systems in up to 4 unknowns, degrees up to 6 and coefficients up to 10⁸ certify their
 //! constructed root once on every path.
 
@@ -166,6 +167,55 @@ proptest! {
     }
 }
 
+/// Roots on `{0, 1}` or the grid `k/den` per axis (at least one on the boundary).
+fn with_ends(den: i64) -> impl Strategy<Value = Vec<Rational>> {
+    (0usize..3, spread(den, 1, 5)).prop_map(move |(ends, inner)| match ends {
+        0 => vec![q(0, 1), inner[0].clone()],
+        1 => vec![inner[0].clone(), q(1, 1)],
+        _ => vec![q(0, 1), q(1, 1)],
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    /// Grids of roots with some on the domain's faces, edges and corners, mixed as above,
+    /// 1–3 unknowns: the exact and filtered paths certify every one once and leave no
+    /// cluster, each root on the boundary with its exact point; the fast path accounts for
+    /// every root and agrees where it certifies.
+    #[test]
+    fn roots_on_faces_and_corners_are_certified_once(
+        n in 1usize..=3,
+        xs in with_ends(97),
+        ys in with_ends(89),
+        zs in with_ends(83),
+        shear in -3i64..=3,
+    ) {
+        let per_axis = [xs, ys, zs];
+        let system = sheared_grid(n, &per_axis, shear);
+        let mut roots: Vec<Vec<Rational>> = vec![vec![]];
+        for axis in per_axis.iter().take(n) {
+            roots = roots
+                .into_iter()
+                .flat_map(|r| axis.iter().map(move |x| { let mut r = r.clone(); r.push(x.clone()); r }))
+                .collect();
+        }
+        let on_boundary = |r: &[Rational]| r.iter().any(|x| *x == q(0, 1) || *x == q(1, 1));
+        for path in [Path::Exact, Path::Filtered] {
+            let s = solve(&system, &SolveOptions::new().with_path(path)).unwrap();
+            account(&system, &s, &roots).map_err(TestCaseError::fail)?;
+            prop_assert_eq!((s.roots.len(), s.clusters.len()), (roots.len(), 0), "{}", path);
+            for r in &s.roots {
+                let held = roots.iter().find(|p| contains(&r.bounds, p)).unwrap();
+                let expected = on_boundary(held).then(|| held.clone());
+                prop_assert_eq!(&r.certificate.point, &expected);
+            }
+        }
+        let fast = solve(&system, &SolveOptions::new().with_path(Path::Fast)).unwrap();
+        account(&system, &fast, &roots).map_err(TestCaseError::fail)?;
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(32))]
 
@@ -321,10 +371,48 @@ fn two_roots_two_to_the_minus_27_apart_are_separated() {
     assert_eq!(s.roots.len(), 2);
 }
 
+/// A simple root on the domain's boundary is certified by a box reaching across it, with the
+/// root itself in the certificate; the checker refuses the certificate without its point, with
+/// a point that is no zero or lies outside the box. With the boundary stage off it is a
+/// cluster, as before.
 #[test]
-fn a_root_on_the_domain_boundary_is_a_cluster() {
+fn a_root_on_the_domain_boundary_is_certified_with_its_point() {
     let system = unit_system(vec![product_of_roots(1, 0, &[q(0, 1), q(1, 2)])]);
-    let s = solve(&system, &SolveOptions::new().with_path(Path::Exact)).unwrap();
+    for path in [Path::Exact, Path::Filtered] {
+        let s = solve(&system, &SolveOptions::new().with_path(path)).unwrap();
+        account(&system, &s, &[vec![q(0, 1)], vec![q(1, 2)]]).unwrap();
+        assert_eq!((s.roots.len(), s.clusters.len()), (2, 0), "{path}");
+        let r = s
+            .roots
+            .iter()
+            .find(|r| r.certificate.point.is_some())
+            .unwrap();
+        assert_eq!(r.certificate.point, Some(vec![q(0, 1)]));
+        assert!(r.bounds[0].0 < q(0, 1) && r.bounds[0].1 > q(0, 1));
+        assert!(
+            verify_root(&system, &r.bounds, &r.certificate)
+                .unwrap()
+                .on_boundary
+        );
+        let tamper = |point: Option<Vec<Rational>>| {
+            let c = RootCertificate {
+                point,
+                ..r.certificate.clone()
+            };
+            verify_root(&system, &r.bounds, &c).is_err()
+                && verify_root_exactly(&system, &r.bounds, &c).is_err()
+        };
+        assert!(tamper(None), "a box outside the domain needs the point");
+        assert!(tamper(Some(vec![r.bounds[0].1.clone()])), "not a zero");
+        assert!(tamper(Some(vec![q(1, 2)])), "a zero outside the box");
+    }
+    let s = solve(
+        &system,
+        &SolveOptions::new()
+            .with_path(Path::Exact)
+            .with_boundary(false),
+    )
+    .unwrap();
     account(&system, &s, &[vec![q(0, 1)], vec![q(1, 2)]]).unwrap();
     assert_eq!(s.roots.len(), 1);
     assert!(s

@@ -633,7 +633,10 @@ fn bad_scenes_are_refused_with_their_cause() {
     for r in &s.rulings {
         assert!(matches!(
             verify_ruling(&scene, r, false).unwrap(),
-            Ok(RootCheck { unknowns: 2 })
+            Ok(RootCheck {
+                unknowns: 2,
+                on_boundary: false
+            })
         ));
     }
     // From off the tangent plane the same edge carries no silhouette, and nothing is left
@@ -1740,7 +1743,10 @@ fn an_eye_on_the_extension_of_the_envelope_sees_one_tangential_ruling() {
     }
     assert!(matches!(
         verify_ruling(&scene, ruling, false).unwrap(),
-        Ok(RootCheck { unknowns: 2 })
+        Ok(RootCheck {
+            unknowns: 2,
+            on_boundary: false
+        })
     ));
     assert!(!s.clusters.is_empty());
     for (_, _, kind, c) in &s.clusters {

@@ -273,6 +273,41 @@ impl<T: Field> Bernstein<T> {
         Ok(p)
     }
 
+    /// The polynomial on any box `Π [a_k, b_k]` (`a_k < b_k`, inside `[0,1]ⁿ` or not),
+    /// reparametrised to `[0,1]ⁿ`: de Casteljau's recurrence at a point outside `[0, 1]`
+    /// still gives the Bernstein coefficients of the polynomial on `[0, t]` and `[t, 1]` (an
+    /// identity of polynomials), so the pieces extend it beyond the unit box. Exact over
+    /// rationals; [`restrict`](Self::restrict) is the same inside the unit box.
+    pub fn on_box(&self, sub_box: &[(T, T)]) -> Result<Self, BernsteinError> {
+        if sub_box.len() != self.dim() {
+            return Err(BernsteinError::DimensionMismatch {
+                expected: self.dim(),
+                found: sub_box.len(),
+            });
+        }
+        let mut p = self.clone();
+        for (axis, (a, b)) in sub_box.iter().enumerate() {
+            if b.sub(a).sign() != Sign::Positive {
+                return Err(BernsteinError::BadBox { axis });
+            }
+            if T::one().sub(a).sign() != Sign::Zero {
+                // [a, 1], then [0, (b − a)/(1 − a)] of that.
+                if a.sign() != Sign::Zero {
+                    p = p.split(axis, a)?.1;
+                }
+                let s = b.sub(a).div(&T::one().sub(a));
+                if T::one().sub(&s).sign() != Sign::Zero {
+                    p = p.split(axis, &s)?.0;
+                }
+            } else {
+                // a = 1 < b: [0, b], then [1/b, 1] of that.
+                p = p.split(axis, b)?.0;
+                p = p.split(axis, &T::one().div(b))?.1;
+            }
+        }
+        Ok(p)
+    }
+
     /// Degree elevation by `by` along `axis`: the same polynomial with degree `d + by`
     /// (Farin, "degree elevation": `b'_i = Σ_j b_j C(d,j) C(by,i−j) / C(d+by,i)`).
     pub fn elevate(&self, axis: usize, by: usize) -> Result<Self, BernsteinError> {

@@ -418,6 +418,33 @@ pub(crate) fn exact_f64(r: &Rational) -> Option<f64> {
     Some(m * f64::from_bits((1023 - k) << 52))
 }
 
+/// The simplest rational in the closed interval `[lo, hi]` (`lo ≤ hi`): the one with the
+/// least denominator, and among those the least in magnitude (0 when the interval holds it),
+/// by continued fractions (the Stern–Brocot descent): an integer when the interval holds
+/// one, else `n + 1/s` with `n = ⌊lo⌋` and `s` the simplest in `[1/(hi − n), 1/(lo − n)]`.
+/// The descent takes one step per partial quotient of the ends (at most about as many as
+/// their bits).
+pub(crate) fn simplest_between(lo: &Rational, hi: &Rational) -> Rational {
+    if !lo.is_positive() && !hi.is_negative() {
+        return Rational::zero();
+    }
+    if hi.is_negative() {
+        return -simplest_between(&-hi, &-lo);
+    }
+    // 0 < lo ≤ hi.
+    let n = lo.floor();
+    if &n == lo {
+        return n;
+    }
+    let up = &n + Rational::one();
+    if &up <= hi {
+        return up;
+    }
+    // lo, hi in (n, n + 1).
+    let s = simplest_between(&(hi - &n).recip(), &(lo - &n).recip());
+    n + s.recip()
+}
+
 /// `a + (b − a)·t`, through the gcd-free dyadic operations when all three are dyadic.
 pub(crate) fn lerp(a: &Rational, b: &Rational, t: &Rational) -> Rational {
     if t.is_zero() {
@@ -574,6 +601,34 @@ mod tests {
     use super::*;
 
     use crate::num::xorshift;
+
+    /// Around every fraction `p/q` with `q ≤ 40` (and its negative), any interval narrower
+    /// than `1/(2q²)`-ish that holds it gives it back (a closer fraction of denominator ≤ q
+    /// is at least `1/q²` away); an interval holding an integer gives the integer nearest 0.
+    #[test]
+    fn the_simplest_rational_between_is_the_fraction_inside() {
+        let r = |n: i64, d: i64| Rational::new(n.into(), d.into());
+        let mut checked = 0;
+        for q in 1..=40i64 {
+            for p in -3 * q..=3 * q {
+                let x = r(p, q);
+                let eps = r(1, 4 * q * q + 1);
+                for (lo, hi) in [
+                    (&x - &eps, &x + &eps),
+                    (x.clone(), x.clone()),
+                    (x.clone(), &x + &eps),
+                ] {
+                    assert_eq!(simplest_between(&lo, &hi), x, "[{lo}, {hi}]");
+                    checked += 1;
+                }
+            }
+        }
+        assert_eq!(simplest_between(&r(-5, 2), &r(7, 3)), r(0, 1));
+        assert_eq!(simplest_between(&r(3, 2), &r(7, 3)), r(2, 1));
+        assert_eq!(simplest_between(&r(-7, 3), &r(-3, 2)), r(-2, 1));
+        assert_eq!(simplest_between(&r(1, 3), &r(1, 2)), r(1, 2));
+        assert!(checked > 9000, "{checked}");
+    }
 
     /// A cheap exact conversion is the `f64` the rational denotes (and happens on a good part
     /// of small dyadics); the gcd-free lerp equals the rational formula, dyadic or not.

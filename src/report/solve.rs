@@ -280,11 +280,15 @@ pub(super) fn run_phc_within(
 
 /// Roots on a grid per axis, as products of linear factors, mixed by `L·U` (unit triangular
 /// integer factors, so invertible): the roots are the grid's points.
-fn constructed(rng: &mut Rng, n: usize, per_axis: &[usize]) -> Case {
+fn constructed(rng: &mut Rng, n: usize, per_axis: &[usize], ends: bool) -> Case {
     let den = [97i64, 89, 83];
     let mut axes: Vec<Vec<Rational>> = Vec::new();
     for k in 0..n {
         let mut v: Vec<i64> = Vec::new();
+        if ends {
+            // One root per axis on a face of the box: 0 or 1.
+            v.push(if rng.int(0, 1) == 0 { 0 } else { den[k] });
+        }
         while v.len() < per_axis[k] {
             let x = rng.int(3, den[k] - 3);
             if v.iter().all(|y| (x - y).abs() >= 4) {
@@ -649,19 +653,27 @@ pub fn solve_campaign(
     dense_count: usize,
 ) -> SolveCampaign {
     let mut rng = Rng(seed | 1);
-    // (unknowns, roots per axis, written as B-splines with knots through the roots)
-    let shapes: [(usize, &[usize], bool); 6] = [
-        (1, &[4], false),
-        (2, &[3, 2], false),
-        (2, &[4, 3], false),
-        (3, &[2, 2, 2], false),
-        (2, &[3, 2], true),
-        (3, &[2, 2, 2], true),
+    // The families with roots on the box's faces draw from their own generator (the others'
+    // systems, and the dense ones after them, stay as they were).
+    let mut edge_rng = Rng(seed.rotate_left(17) | 1);
+    // (unknowns, roots per axis, written as B-splines with knots through the roots, one root
+    // per axis on a face)
+    let shapes: [(usize, &[usize], bool, bool); 9] = [
+        (1, &[4], false, false),
+        (2, &[3, 2], false, false),
+        (2, &[4, 3], false, false),
+        (3, &[2, 2, 2], false, false),
+        (2, &[3, 2], true, false),
+        (3, &[2, 2, 2], true, false),
+        (1, &[3], false, true),
+        (2, &[3, 2], false, true),
+        (3, &[2, 2, 2], false, true),
     ];
     let mut families = Vec::new();
-    for (n, per_axis, knotted) in shapes {
+    for (n, per_axis, knotted, ends) in shapes {
+        let rng = if ends { &mut edge_rng } else { &mut rng };
         let cases: Vec<Case> = (0..per_family)
-            .map(|_| constructed(&mut rng, n, per_axis))
+            .map(|_| constructed(rng, n, per_axis, ends))
             .collect();
         let mut paths = Vec::new();
         for path in [Arith::Exact, Arith::Fast, Arith::Filtered] {
@@ -716,6 +728,8 @@ pub fn solve_campaign(
                     .join("×"),
                 if knotted {
                     ", B-splines with knots through the roots"
+                } else if ends {
+                    ", one per axis on a face"
                 } else {
                     ""
                 }
@@ -890,6 +904,11 @@ pub fn write_solve_report(
          through every root coordinate and through ½: each root lies on knot planes, where \
          cells meet, and must be found once (certified across the planes, each part of the \
          box checked).\n\n\
+         The families marked *one per axis on a face* put one root coordinate per axis at 0 \
+         or 1, so that a third to seven eighths of the roots lie on the box's faces, edges and \
+         corners: Miranda's test cannot certify a box inside the domain there, and each must \
+         be certified by a box reaching across the boundary with the root's exact point \
+         (`SolveOptions::boundary`; the fast path leaves them as rounding clusters).\n\n\
          The exact path, the slow reference, solves the first {EXACT_SYSTEMS} systems of each \
          family; each solve has a 20 s budget (a box left when it runs out is a `budget` \
          cluster).\n\n\

@@ -26,6 +26,9 @@ pub const CERTIFICATE_KIND: &str = "geocert/solve-roots";
 pub struct RootCheck {
     /// The number of unknowns (and of Miranda sign conditions checked per face pair).
     pub unknowns: usize,
+    /// Whether the box reaches across the domain's boundary and the certificate's point was
+    /// checked to be the root ([`RootCertificate::point`]).
+    pub on_boundary: bool,
 }
 
 impl std::fmt::Display for RootCheck {
@@ -35,7 +38,15 @@ impl std::fmt::Display for RootCheck {
             "exactly one root in the box: A·f changes sign across all {} pairs of opposite faces \
              (Miranda) and its interval Jacobian is diagonally dominant (uniqueness)",
             self.unknowns
-        )
+        )?;
+        if self.on_boundary {
+            write!(
+                f,
+                "; it is the certificate's point, in the domain and the box, where every \
+                 equation vanishes exactly (the box reaches across the domain's boundary)"
+            )?;
+        }
+        Ok(())
     }
 }
 
@@ -48,6 +59,10 @@ pub enum RootRefusal {
         /// The axis.
         axis: usize,
     },
+    /// The certificate's point ([`RootCertificate::point`]) is not in the domain and the
+    /// box, or not an exact zero of every equation.
+    #[error("the certificate's point {0}")]
+    Point(String),
     /// The box or matrix does not have the system's dimension.
     #[error("the box or preconditioner does not have the system's {0} unknowns")]
     Shape(usize),
@@ -85,8 +100,10 @@ pub fn verify_root(
     certificate: &RootCertificate,
 ) -> Result<RootCheck, RootRefusal> {
     let sub = checked_box(system, bounds, certificate)?;
-    if let Some(check) = check_interval(system, &sub, certificate) {
-        return Ok(check);
+    if certificate.point.is_none() {
+        if let Some(check) = check_interval(system, &sub, certificate) {
+            return Ok(check);
+        }
     }
     check_exactly(system, &sub, certificate)
 }
@@ -102,7 +119,9 @@ pub fn verify_root_exactly(
     check_exactly(system, &sub, certificate)
 }
 
-/// The box in the domain's unit coordinates, after checking the shapes.
+/// The box in the domain's unit coordinates, after checking the shapes and, when the
+/// certificate has a point, that the point is an exact zero in the domain and the box (the
+/// box may then reach beyond the domain).
 fn checked_box(
     system: &System,
     bounds: &RationalBox,
@@ -114,7 +133,41 @@ fn checked_box(
         bounds,
         certificate,
     )?;
-    unit_box(&system.domain, bounds)
+    let Some(point) = &certificate.point else {
+        return unit_box(&system.domain, bounds);
+    };
+    let n = system.unknowns();
+    if point.len() != n {
+        return Err(RootRefusal::Shape(n));
+    }
+    let mut u = Vec::with_capacity(n);
+    for (k, x) in point.iter().enumerate() {
+        let (a, b) = &system.domain[k];
+        if x < a || x > b {
+            return Err(RootRefusal::Point(format!(
+                "is outside the domain on axis {k}"
+            )));
+        }
+        if x < &bounds[k].0 || x > &bounds[k].1 {
+            return Err(RootRefusal::Point(format!(
+                "is outside the box on axis {k}"
+            )));
+        }
+        u.push(system.to_unit(k, x));
+    }
+    for (i, e) in system.equations.iter().enumerate() {
+        if !e.eval(&u)?.is_zero() {
+            return Err(RootRefusal::Point(format!("is not a zero of equation {i}")));
+        }
+    }
+    let mut sub = Vec::with_capacity(n);
+    for (axis, (lo, hi)) in bounds.iter().enumerate() {
+        if lo >= hi {
+            return Err(RootRefusal::Bounds { axis });
+        }
+        sub.push((system.to_unit(axis, lo), system.to_unit(axis, hi)));
+    }
+    Ok(sub)
 }
 
 /// The exact check on the box `sub` (unit coordinates of the domain).
@@ -124,10 +177,11 @@ fn check_exactly(
     certificate: &RootCertificate,
 ) -> Result<RootCheck, RootRefusal> {
     let n = system.unknowns();
+    // (`on_box` is `restrict` inside the domain and extends the equations beyond it.)
     let f = system
         .equations
         .iter()
-        .map(|e| e.restrict(sub))
+        .map(|e| e.on_box(sub))
         .collect::<Result<Vec<_>, _>>()?;
     let whole = Part {
         f: common_degrees(f)?,
@@ -135,7 +189,11 @@ fn check_exactly(
         upper: vec![true; n],
         ratio: vec![Rational::one(); n],
     };
-    check_parts(&[whole], certificate)
+    let check = check_parts(&[whole], certificate)?;
+    Ok(RootCheck {
+        on_boundary: certificate.point.is_some(),
+        ..check
+    })
 }
 
 /// [`verify_root`] for a system with B-spline equations. The box is cut by the equations'
@@ -150,6 +208,28 @@ pub fn verify_piecewise_root(
 ) -> Result<RootCheck, RootRefusal> {
     let n = system.unknowns();
     shape(n, system.equations().len(), bounds, certificate)?;
+    if certificate.point.is_some() {
+        // A root on the domain's boundary: polynomial systems only (the B-spline solver
+        // gives none).
+        let polynomials: Option<Vec<Bernstein<Rational>>> = system
+            .equations()
+            .iter()
+            .map(|e| match e {
+                Equation::Polynomial(p) => Some(p.clone()),
+                Equation::Spline(_) => None,
+            })
+            .collect();
+        let Some(equations) = polynomials else {
+            return Err(RootRefusal::Point(
+                "is given for a system with B-spline equations".into(),
+            ));
+        };
+        let system = System {
+            domain: system.domain().to_vec(),
+            equations,
+        };
+        return verify_root(&system, bounds, certificate);
+    }
     unit_box(system.domain(), bounds)?;
     let mut parts = Vec::new();
     for part in knot_parts(system, bounds) {
@@ -392,7 +472,10 @@ fn check_parts(parts: &[Part], certificate: &RootCertificate) -> Result<RootChec
             return Err(RootRefusal::Uniqueness { row: i });
         }
     }
-    Ok(RootCheck { unknowns: n })
+    Ok(RootCheck {
+        unknowns: n,
+        on_boundary: false,
+    })
 }
 
 /// Rigorous `f64` interval enclosures of the Bernstein coefficients of `e` restricted to
@@ -529,7 +612,10 @@ fn check_interval(
             return None;
         }
     }
-    Some(RootCheck { unknowns: n })
+    Some(RootCheck {
+        unknowns: n,
+        on_boundary: false,
+    })
 }
 
 /// The certificate file of a solution: the system (exactly) and each root's box,
@@ -547,13 +633,19 @@ fn certificate_with(system: Value, solution: &Solution) -> Value {
     json!({
         "kind": CERTIFICATE_KIND,
         "system": system,
-        "roots": solution.roots.iter().map(|r| json!({
-            "box": r.bounds.iter()
-                .map(|(a, b)| json!([rational_to_string(a), rational_to_string(b)]))
-                .collect::<Vec<_>>(),
-            "preconditioner": serde_json::to_value(&r.certificate).unwrap_or_default()["preconditioner"],
-            "lower_face_signs": r.certificate.lower_face_signs,
-        })).collect::<Vec<_>>(),
+        "roots": solution.roots.iter().map(|r| {
+            let mut root = json!({
+                "box": r.bounds.iter()
+                    .map(|(a, b)| json!([rational_to_string(a), rational_to_string(b)]))
+                    .collect::<Vec<_>>(),
+                "preconditioner": serde_json::to_value(&r.certificate).unwrap_or_default()["preconditioner"],
+                "lower_face_signs": r.certificate.lower_face_signs,
+            });
+            if let Some(p) = &r.certificate.point {
+                root["point"] = json!(p.iter().map(rational_to_string).collect::<Vec<_>>());
+            }
+            root
+        }).collect::<Vec<_>>(),
     })
 }
 
@@ -639,6 +731,7 @@ mod tests {
                     vec![q(1, 1) / &a, q(-1, 1) / &a],
                 ],
                 lower_face_signs: vec![-1, -1],
+                point: None,
             };
             (bounds, cert)
         };

@@ -611,9 +611,12 @@ impl Tracer<'_> {
             .limits
             .time_limit
             .map(|t| t.saturating_sub(self.clock.elapsed()));
+        // (A crossing on the cross-section's edge is the neighbouring box's: the solver's
+        // boundary stage stays off.)
         let sopts = SolveOptions::new()
             .with_path(self.opts.path)
             .with_tolerance(self.opts.tolerance)
+            .with_boundary(false)
             .with_limits(
                 // A cross-section that needs more than this is not worth certifying: the plane
                 // is moved, or its clusters become blobs the subdivision resolves.
@@ -1348,6 +1351,7 @@ fn extremes(
         &SolveOptions::new()
             .with_path(tracer.opts.path)
             .with_tolerance(tracer.opts.tolerance)
+            .with_boundary(false)
             .with_limits(
                 Limits::new()
                     .with_max_depth(tracer.opts.limits.max_depth.saturating_add(8))

@@ -417,8 +417,20 @@ pub(crate) fn certificate_from_json(v: &Value, n: usize) -> Result<RootCertifica
                 .collect::<Option<Vec<_>>>()
         })
         .ok_or_else(|| field("lower_face_signs", "expected n entries, each 1 or -1"))?;
+    let point = match v.get("point") {
+        None | Some(Value::Null) => None,
+        Some(p) => Some(
+            p.as_array()
+                .filter(|p| p.len() == n)
+                .ok_or_else(|| field("point", "expected n coordinates"))?
+                .iter()
+                .map(|x| parse_number(x).map_err(|e| field("point", &e.to_string())))
+                .collect::<Result<Vec<_>, _>>()?,
+        ),
+    };
     Ok(RootCertificate {
         preconditioner,
         lower_face_signs,
+        point,
     })
 }

@@ -256,6 +256,13 @@ pub struct SolveOptions {
     /// interval rounding does (about `1e-13`); the filtered path decides that last box in
     /// exact integers and reaches `1e-15`.
     pub tolerance: f64,
+    /// Certify simple roots on the domain's boundary (`true` by default): the clusters a
+    /// boundary root leaves are tried once more as one box reaching across the boundary, and
+    /// a root certified there replaces them when it lies inside the domain, or when a
+    /// rational point of the box and the domain is an exact zero of every equation (that
+    /// point is the root, on the boundary: [`RootCertificate::point`]). Otherwise the
+    /// clusters stay.
+    pub boundary: bool,
 }
 
 impl Default for SolveOptions {
@@ -264,6 +271,7 @@ impl Default for SolveOptions {
             path: Path::Filtered,
             limits: Limits::new().with_max_depth(40).with_max_boxes(200_000),
             tolerance: 1e-15,
+            boundary: true,
         }
     }
 }
@@ -272,6 +280,7 @@ crate::choice::setters!(SolveOptions {
     with_path => path: Path,
     with_limits => limits: Limits,
     with_tolerance => tolerance: f64,
+    with_boundary => boundary: bool,
 });
 
 /// A box of the domain with rational bounds.
@@ -286,12 +295,20 @@ pub struct RootCertificate {
     /// Per `i`, the sign of `g_i` on the face `t_i = 0` (`-1` or `1`; the face `t_i = 1` has
     /// the other sign).
     pub lower_face_signs: Vec<i8>,
+    /// For a root on the domain's boundary: the root itself (domain coordinates), a point of
+    /// the domain and of the box where every equation vanishes exactly. The box then reaches
+    /// across the boundary (the equations extend beyond the domain as polynomials), and the
+    /// root it holds is this point, so it lies in the domain. `None` for a box inside it.
+    #[serde(skip)]
+    pub point: Option<Vec<Rational>>,
 }
 
 /// A certified root: exactly one zero of the system lies in `bounds` (in its interior).
+/// A root on the domain's boundary has a box that reaches across it, and its certificate
+/// names the root exactly ([`RootCertificate::point`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Root {
-    /// The box, in domain coordinates.
+    /// The box, in domain coordinates (inside the domain unless the certificate has a point).
     pub bounds: RationalBox,
     /// Its centre, rounded to `f64`.
     pub approx: Vec<f64>,

@@ -1002,6 +1002,7 @@ fn certify_parts<T: Coefficient>(
         Some(RootCertificate {
             preconditioner: a,
             lower_face_signs: signs,
+            point: None,
         }),
         false,
     ))

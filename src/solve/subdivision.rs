@@ -609,6 +609,7 @@ fn certify_with<T: Coefficient>(
             Some(RootCertificate {
                 preconditioner: a,
                 lower_face_signs: signs,
+                point: None,
             }),
         ),
         (_, Decision::No) => (Decision::No, None),
@@ -791,6 +792,7 @@ fn certify_restricted(
     Ok(ScaledDecision::Certified(RootCertificate {
         preconditioner: a,
         lower_face_signs: signs,
+        point: None,
     }))
 }
 
@@ -1847,11 +1849,174 @@ fn certify_across_planes(ctx: &Context<'_>, mut found: Found<()>) -> Result<Foun
     Ok(found)
 }
 
+/// A simple root on the domain's boundary leaves clusters there that no box inside the
+/// domain certifies: Miranda's test needs strict signs on opposite faces, and the root lies
+/// on one. Each group of touching depth-limit and boundary clusters with one on the boundary
+/// ([`ClusterReason::DomainBoundary`]) is tried once more as one box reaching across the
+/// boundary: their hull, mirrored across each boundary face it touches (the root, on the
+/// face, then sits mid-box) and inflated by a quarter of its width on every other side; the
+/// equations extend beyond the domain as polynomials ([`Bernstein::on_box`]). A box
+/// certified exactly and refined replaces the group when it meets no other root's or
+/// cluster's box and its one root is
+/// - inside the domain (the refined box inside it): an ordinary root;
+/// - on the boundary: the point of the refined box with the crossed faces' coordinates and,
+///   on the other axes, the simplest rationals of its sides
+///   ([`simplest_between`](crate::num::rational::simplest_between)) is tried as the root,
+///   and kept ([`RootCertificate::point`]) when every equation vanishes there exactly.
+///
+/// Otherwise (an irrational root on a face, a singular one, or one outside the domain,
+/// which culling nearly always removes first) the group stays.
+fn certify_on_boundary(ctx: &Context<'_>, mut found: Found<()>) -> Result<Found<()>, SolveError> {
+    let (system, opts) = (ctx.system, ctx.opts);
+    let n = system.unknowns();
+    let (zero, one) = (<Rational as Zero>::zero(), <Rational as One>::one());
+    let quarter = Rational::new(1.into(), 4.into());
+    let meets = |alo: &[Rational], ahi: &[Rational], blo: &[Rational], bhi: &[Rational]| {
+        (0..n).all(|k| alo[k] <= bhi[k] && blo[k] <= ahi[k])
+    };
+    let clusters = std::mem::take(&mut found.clusters);
+    let eligible = |c: &ClusterLeaf| {
+        matches!(
+            c.0.reason,
+            ClusterReason::DomainBoundary | ClusterReason::DepthLimit
+        )
+    };
+    let candidates: Vec<usize> = (0..clusters.len())
+        .filter(|&i| eligible(&clusters[i]))
+        .collect();
+    let boxes: Vec<(&[Rational], &[Rational])> = candidates
+        .iter()
+        .map(|&i| (clusters[i].1.as_slice(), clusters[i].2.as_slice()))
+        .collect();
+    let groups: Vec<Vec<usize>> = super::touching_groups(&boxes)
+        .into_iter()
+        .map(|g| g.into_iter().map(|i| candidates[i]).collect())
+        .collect();
+    let mut group_of = vec![usize::MAX; clusters.len()];
+    for (g, members) in groups.iter().enumerate() {
+        for &m in members {
+            group_of[m] = g;
+        }
+    }
+    let mut settled = vec![false; clusters.len()];
+    for (gi, members) in groups.iter().enumerate() {
+        if !members
+            .iter()
+            .any(|&m| clusters[m].0.reason == ClusterReason::DomainBoundary)
+        {
+            continue;
+        }
+        let (mut lo, mut hi) = (
+            clusters[members[0]].1.clone(),
+            clusters[members[0]].2.clone(),
+        );
+        for &m in members {
+            for k in 0..n {
+                if clusters[m].1[k] < lo[k] {
+                    lo[k] = clusters[m].1[k].clone();
+                }
+                if clusters[m].2[k] > hi[k] {
+                    hi[k] = clusters[m].2[k].clone();
+                }
+            }
+        }
+        for k in 0..n {
+            let w = (&hi[k] - &lo[k]) * &quarter;
+            if lo[k] == zero {
+                (lo[k], hi[k]) = (-(&hi[k] + &w), &hi[k] + &w);
+            } else if hi[k] == one {
+                (lo[k], hi[k]) = (&lo[k] - &w, &one + (&one - &lo[k]) + &w);
+            } else {
+                (lo[k], hi[k]) = (&lo[k] - &w, &hi[k] + &w);
+            }
+        }
+        let clear = found
+            .roots
+            .iter()
+            .map(|r| {
+                let ulo: Vec<Rational> =
+                    (0..n).map(|k| system.to_unit(k, &r.bounds[k].0)).collect();
+                let uhi: Vec<Rational> =
+                    (0..n).map(|k| system.to_unit(k, &r.bounds[k].1)).collect();
+                (ulo, uhi)
+            })
+            .chain(
+                clusters
+                    .iter()
+                    .zip(&group_of)
+                    .filter(|(_, &g)| g != gi)
+                    .map(|(c, _)| (c.1.clone(), c.2.clone())),
+            )
+            .all(|(olo, ohi)| !meets(&lo, &hi, &olo, &ohi));
+        if !clear {
+            continue;
+        }
+        let sub: Vec<(Rational, Rational)> = lo.iter().cloned().zip(hi.iter().cloned()).collect();
+        let polys: Vec<Bernstein<Rational>> = ctx
+            .exact()?
+            .iter()
+            .map(|e| e.on_box(&sub))
+            .collect::<Result<_, _>>()?;
+        let (Decision::Yes, Some(c)) = certify(&polys)? else {
+            continue;
+        };
+        let node = Node {
+            lo,
+            hi,
+            polys,
+            depth: 0,
+        };
+        let (rlo, rhi, mut c) = refine(&node, c, opts.tolerance, None)?;
+        if (0..n).any(|k| rhi[k] <= zero || rlo[k] >= one) {
+            // Outside the domain.
+            continue;
+        }
+        if !(0..n).all(|k| rlo[k] >= zero && rhi[k] <= one) {
+            // On the boundary, if anywhere in the domain: try the simplest point there.
+            let bounds = system.domain_box(&rlo, &rhi);
+            let point: Vec<Rational> = (0..n)
+                .map(|k| {
+                    let (a, b) = &system.domain[k];
+                    if rlo[k] < zero {
+                        a.clone()
+                    } else if rhi[k] > one {
+                        b.clone()
+                    } else {
+                        crate::num::rational::simplest_between(&bounds[k].0, &bounds[k].1)
+                    }
+                })
+                .collect();
+            let u: Vec<Rational> = (0..n).map(|k| system.to_unit(k, &point[k])).collect();
+            let vanishes = system
+                .equations
+                .iter()
+                .map(|e| e.eval(&u).map(|v| v.is_zero()))
+                .collect::<Result<Vec<bool>, _>>()?;
+            if !vanishes.iter().all(|&z| z) {
+                continue;
+            }
+            c.point = Some(point);
+        }
+        found.roots.push(root_of(system, &rlo, &rhi, c));
+        for &m in members {
+            settled[m] = true;
+        }
+    }
+    found.clusters = clusters
+        .into_iter()
+        .zip(settled)
+        .filter(|(_, s)| !s)
+        .map(|(c, _)| c)
+        .collect();
+    Ok(found)
+}
+
 /// Solves `system` (as many equations as unknowns) on its domain on the path `opts.path`.
 ///
 /// Every root of the system in the domain lies in exactly one reported root box (which holds
-/// no other root) or in a cluster box; a root on the domain's boundary, a multiple or
-/// tangential root, and roots closer together than the depth limit resolves come back as
+/// no other root) or in a cluster box; a multiple or tangential root, roots closer together
+/// than the depth limit resolves, and a root on the domain's boundary that is not at a
+/// rational point found as the simplest in its box ([`SolveOptions::boundary`]) come back as
 /// clusters.
 pub fn solve(system: &System, opts: &SolveOptions) -> Result<Solution, SolveError> {
     let n = system.unknowns();
@@ -1941,7 +2106,10 @@ pub fn solve(system: &System, opts: &SolveOptions) -> Result<Solution, SolveErro
             fast
         }
     };
-    let found = certify_across_planes(&ctx, found)?;
+    let mut found = certify_across_planes(&ctx, found)?;
+    if opts.boundary {
+        found = certify_on_boundary(&ctx, found)?;
+    }
     Ok(Solution {
         roots: found.roots,
         clusters: found.clusters.into_iter().map(|c| c.0).collect(),

@@ -158,7 +158,11 @@ fn roots_on_unit_box(eqs: Vec<B>) -> Result<Option<usize>, SweepError> {
     let n = eqs.first().map_or(0, B::dim);
     let unit = (Rational::zero(), Rational::one());
     let system = System::new(vec![unit; n], eqs)?;
-    let sol = solve(&system, &SolveOptions::new().with_path(Path::Filtered))?;
+    // (A root on the box's boundary stays a cluster: this counts the roots inside.)
+    let opts = SolveOptions::new()
+        .with_path(Path::Filtered)
+        .with_boundary(false);
+    let sol = solve(&system, &opts)?;
     Ok(sol.clusters.is_empty().then_some(sol.roots.len()))
 }
 
@@ -596,7 +600,10 @@ fn square_free_roots(p: &[Rational], path: Path) -> Result<crate::solve::Solutio
     )?;
     Ok(solve(
         &system,
-        &SolveOptions::new().with_path(path).with_tolerance(1e-12),
+        &SolveOptions::new()
+            .with_path(path)
+            .with_tolerance(1e-12)
+            .with_boundary(false),
     )?)
 }
 

@@ -705,6 +705,9 @@ fn unit_box(system: &System, root: &Root) -> Vec<(Rational, Rational)> {
 /// box meets the path's interval (an event at an end may have a box reaching past it).
 pub fn events(scene: &Scene, opts: &SolveOptions) -> Result<Events, SweepError> {
     use crate::par::prelude::*;
+    // Roots on a patch's border are settled here, across it ([`across_border`]), not by
+    // the solver's own boundary stage ([`SolveOptions::boundary`]).
+    let opts = &opts.with_boundary(false);
     let forms = motion_forms(&scene.motion, &scene.t.0, &scene.t.1)?;
     // Per patch (on all cores): the eye path certified off it, then its systems.
     let patches: Vec<(usize, usize)> = scene

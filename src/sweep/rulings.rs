@@ -200,7 +200,8 @@ pub(super) fn solve_rulings(
 ) -> Result<(Vec<RulingEvidence>, Vec<Cluster>), SweepError> {
     let opts = SolveOptions::new()
         .with_path(path)
-        .with_limits(limits.with_max_depth(RULING_DEPTH));
+        .with_limits(limits.with_max_depth(RULING_DEPTH))
+        .with_boundary(false);
     let found = solve(&sys.points, &opts)?;
     let mut out: Vec<RulingEvidence> = found
         .roots

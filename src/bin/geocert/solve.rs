@@ -103,12 +103,19 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
     }
     if a.json {
         let v = serde_json::json!({
-            "roots": solution.roots.iter().map(|r| serde_json::json!({
-                "box": exact_box(&r.bounds),
-                "approx": r.approx,
-                "error_bound": r.error_bound,
-                "certificate": "miranda+diagonal-dominance",
-            })).collect::<Vec<_>>(),
+            "roots": solution.roots.iter().map(|r| {
+                let mut root = serde_json::json!({
+                    "box": exact_box(&r.bounds),
+                    "approx": r.approx,
+                    "error_bound": r.error_bound,
+                    "certificate": "miranda+diagonal-dominance",
+                });
+                if let Some(p) = &r.certificate.point {
+                    root["point"] = p.iter().map(rational_to_string).collect();
+                    root["certificate"] = "miranda+diagonal-dominance+exact-zero".into();
+                }
+                root
+            }).collect::<Vec<_>>(),
             "clusters": solution.clusters.iter().map(cluster_json).collect::<Vec<_>>(),
             "boxes_visited": solution.boxes_visited,
             "seconds": seconds,
@@ -124,7 +131,16 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
             solution.path
         );
         for r in &solution.roots {
-            println!("  root {:?} ± {:.1e}", r.approx, r.error_bound);
+            match &r.certificate.point {
+                Some(p) => {
+                    let p: Vec<String> = p.iter().map(rational_to_string).collect();
+                    println!(
+                        "  root [{}] exactly, on the domain boundary (its box reaches across it)",
+                        p.join(", ")
+                    );
+                }
+                None => println!("  root {:?} ± {:.1e}", r.approx, r.error_bound),
+            }
         }
         for c in &solution.clusters {
             let why = match c.reason {

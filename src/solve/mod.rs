@@ -38,6 +38,14 @@
 //! * **roots on split planes** — touching depth-limit clusters are tried once more as one
 //!   box (their hull, inflated), certified exactly, and kept only when that box meets no
 //!   other root's or cluster's box.
+//! * **roots on the domain's boundary** ([`SolveOptions::boundary`]) — no box inside the
+//!   domain passes Miranda's test around a root on one of its faces (the signs cannot be
+//!   strict there). The clusters such a root leaves are tried once more as one box reaching
+//!   across the face, the equations extended beyond the domain as the polynomials they are
+//!   ([`Bernstein::on_box`]); once certified and refined, the simplest rational point of the
+//!   refined box on the crossed faces is tried as the root, and when every equation
+//!   vanishes there exactly, it is the box's one root and lies in the domain: the root is
+//!   reported with that point ([`RootCertificate::point`]), which [`verify_root`] re-checks.
 //! * **singular roots in bounded work** — every box is subdivided to 5 levels first; the
 //!   boxes still undecided there are grouped by touching, and each group goes on alone, down
 //!   to the depth limit, within its own budget (2,048 boxes and 512 more per root it

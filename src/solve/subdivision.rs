@@ -1520,10 +1520,13 @@ fn leaf_cluster<T: Coefficient>(
 }
 
 /// The hull of boxes (unit coordinates) and their smallest depth; `None` for no boxes.
-fn hull(members: &[ClusterLeaf]) -> Option<(Vec<Rational>, Vec<Rational>, u32)> {
-    let (first, rest) = members.split_first()?;
+fn hull<'a>(
+    members: impl IntoIterator<Item = &'a ClusterLeaf>,
+) -> Option<(Vec<Rational>, Vec<Rational>, u32)> {
+    let mut members = members.into_iter();
+    let first = members.next()?;
     let (mut lo, mut hi, mut depth) = (first.1.clone(), first.2.clone(), first.3);
-    for (_, mlo, mhi, d) in rest {
+    for (_, mlo, mhi, d) in members {
         for k in 0..lo.len() {
             if mlo[k] < lo[k] {
                 lo[k] = mlo[k].clone();
@@ -1755,69 +1758,24 @@ pub(super) fn root_in(bounds: RationalBox, certificate: RootCertificate) -> Root
 fn certify_across_planes(ctx: &Context<'_>, mut found: Found<()>) -> Result<Found<()>, SolveError> {
     let (system, opts) = (ctx.system, ctx.opts);
     let n = system.unknowns();
-    let meets = |alo: &[Rational], ahi: &[Rational], blo: &[Rational], bhi: &[Rational]| {
-        (0..n).all(|k| alo[k] <= bhi[k] && blo[k] <= ahi[k])
-    };
     let clusters = std::mem::take(&mut found.clusters);
-    let deep: Vec<usize> = (0..clusters.len())
-        .filter(|&i| clusters[i].0.reason == ClusterReason::DepthLimit)
-        .collect();
-    let boxes: Vec<(&[Rational], &[Rational])> = deep
-        .iter()
-        .map(|&i| (clusters[i].1.as_slice(), clusters[i].2.as_slice()))
-        .collect();
-    let groups: Vec<Vec<usize>> = super::touching_groups(&boxes)
-        .into_iter()
-        .map(|g| g.into_iter().map(|i| deep[i]).collect())
-        .collect();
-    let mut group_of = vec![usize::MAX; clusters.len()];
-    for (g, members) in groups.iter().enumerate() {
-        for &m in members {
-            group_of[m] = g;
-        }
-    }
+    let (groups, group_of) =
+        touching_clusters(&clusters, |c| c.0.reason == ClusterReason::DepthLimit);
     let mut replaced = vec![false; clusters.len()];
     let quarter = Rational::new(1.into(), 4.into());
     for (gi, members) in groups.iter().enumerate() {
         if members.len() < 2 {
             continue;
         }
-        let mut lo = clusters[members[0]].1.clone();
-        let mut hi = clusters[members[0]].2.clone();
-        for &m in members {
-            for k in 0..n {
-                if clusters[m].1[k] < lo[k] {
-                    lo[k] = clusters[m].1[k].clone();
-                }
-                if clusters[m].2[k] > hi[k] {
-                    hi[k] = clusters[m].2[k].clone();
-                }
-            }
-        }
+        let Some((mut lo, mut hi, _)) = hull(members.iter().map(|&m| &clusters[m])) else {
+            continue;
+        };
         for k in 0..n {
             let w = (&hi[k] - &lo[k]) * &quarter;
             lo[k] = (&lo[k] - &w).max(<Rational as Zero>::zero());
             hi[k] = (&hi[k] + &w).min(<Rational as One>::one());
         }
-        let clear = found
-            .roots
-            .iter()
-            .map(|r| {
-                let ulo: Vec<Rational> =
-                    (0..n).map(|k| system.to_unit(k, &r.bounds[k].0)).collect();
-                let uhi: Vec<Rational> =
-                    (0..n).map(|k| system.to_unit(k, &r.bounds[k].1)).collect();
-                (ulo, uhi)
-            })
-            .chain(
-                clusters
-                    .iter()
-                    .zip(&group_of)
-                    .filter(|(_, &g)| g != gi)
-                    .map(|(c, _)| (c.1.clone(), c.2.clone())),
-            )
-            .all(|(olo, ohi)| !meets(&lo, &hi, &olo, &ohi));
-        if !clear {
+        if !clear_of_others(system, &found.roots, &clusters, &group_of, gi, &lo, &hi) {
             continue;
         }
         let sub: Vec<(Rational, Rational)> = lo.iter().cloned().zip(hi.iter().cloned()).collect();
@@ -1849,6 +1807,58 @@ fn certify_across_planes(ctx: &Context<'_>, mut found: Found<()>) -> Result<Foun
     Ok(found)
 }
 
+/// Groups of touching clusters among those `eligible` admits (indices into `clusters`), and
+/// each cluster's group (`usize::MAX` for none).
+fn touching_clusters(
+    clusters: &[ClusterLeaf],
+    eligible: impl Fn(&ClusterLeaf) -> bool,
+) -> (Vec<Vec<usize>>, Vec<usize>) {
+    let candidates: Vec<usize> = (0..clusters.len())
+        .filter(|&i| eligible(&clusters[i]))
+        .collect();
+    let boxes: Vec<(&[Rational], &[Rational])> = candidates
+        .iter()
+        .map(|&i| (clusters[i].1.as_slice(), clusters[i].2.as_slice()))
+        .collect();
+    let groups: Vec<Vec<usize>> = super::touching_groups(&boxes)
+        .into_iter()
+        .map(|g| g.into_iter().map(|i| candidates[i]).collect())
+        .collect();
+    let mut group_of = vec![usize::MAX; clusters.len()];
+    for (g, members) in groups.iter().enumerate() {
+        for &m in members {
+            group_of[m] = g;
+        }
+    }
+    (groups, group_of)
+}
+
+/// Whether the box `lo..hi` (unit coordinates) meets no root's box and no cluster outside
+/// group `gi` (so that what it certifies is counted once).
+fn clear_of_others(
+    system: &System,
+    roots: &[Root],
+    clusters: &[ClusterLeaf],
+    group_of: &[usize],
+    gi: usize,
+    lo: &[Rational],
+    hi: &[Rational],
+) -> bool {
+    let n = lo.len();
+    let meets =
+        |olo: &[Rational], ohi: &[Rational]| (0..n).all(|k| lo[k] <= ohi[k] && olo[k] <= hi[k]);
+    let root_met = roots.iter().any(|r| {
+        let ulo: Vec<Rational> = (0..n).map(|k| system.to_unit(k, &r.bounds[k].0)).collect();
+        let uhi: Vec<Rational> = (0..n).map(|k| system.to_unit(k, &r.bounds[k].1)).collect();
+        meets(&ulo, &uhi)
+    });
+    let cluster_met = clusters
+        .iter()
+        .zip(group_of)
+        .any(|(c, &g)| g != gi && meets(&c.1, &c.2));
+    !root_met && !cluster_met
+}
+
 /// A simple root on the domain's boundary leaves clusters there that no box inside the
 /// domain certifies: Miranda's test needs strict signs on opposite faces, and the root lies
 /// on one. Each group of touching depth-limit and boundary clusters with one on the boundary
@@ -1871,33 +1881,13 @@ fn certify_on_boundary(ctx: &Context<'_>, mut found: Found<()>) -> Result<Found<
     let n = system.unknowns();
     let (zero, one) = (<Rational as Zero>::zero(), <Rational as One>::one());
     let quarter = Rational::new(1.into(), 4.into());
-    let meets = |alo: &[Rational], ahi: &[Rational], blo: &[Rational], bhi: &[Rational]| {
-        (0..n).all(|k| alo[k] <= bhi[k] && blo[k] <= ahi[k])
-    };
     let clusters = std::mem::take(&mut found.clusters);
-    let eligible = |c: &ClusterLeaf| {
+    let (groups, group_of) = touching_clusters(&clusters, |c| {
         matches!(
             c.0.reason,
             ClusterReason::DomainBoundary | ClusterReason::DepthLimit
         )
-    };
-    let candidates: Vec<usize> = (0..clusters.len())
-        .filter(|&i| eligible(&clusters[i]))
-        .collect();
-    let boxes: Vec<(&[Rational], &[Rational])> = candidates
-        .iter()
-        .map(|&i| (clusters[i].1.as_slice(), clusters[i].2.as_slice()))
-        .collect();
-    let groups: Vec<Vec<usize>> = super::touching_groups(&boxes)
-        .into_iter()
-        .map(|g| g.into_iter().map(|i| candidates[i]).collect())
-        .collect();
-    let mut group_of = vec![usize::MAX; clusters.len()];
-    for (g, members) in groups.iter().enumerate() {
-        for &m in members {
-            group_of[m] = g;
-        }
-    }
+    });
     let mut settled = vec![false; clusters.len()];
     for (gi, members) in groups.iter().enumerate() {
         if !members
@@ -1906,20 +1896,9 @@ fn certify_on_boundary(ctx: &Context<'_>, mut found: Found<()>) -> Result<Found<
         {
             continue;
         }
-        let (mut lo, mut hi) = (
-            clusters[members[0]].1.clone(),
-            clusters[members[0]].2.clone(),
-        );
-        for &m in members {
-            for k in 0..n {
-                if clusters[m].1[k] < lo[k] {
-                    lo[k] = clusters[m].1[k].clone();
-                }
-                if clusters[m].2[k] > hi[k] {
-                    hi[k] = clusters[m].2[k].clone();
-                }
-            }
-        }
+        let Some((mut lo, mut hi, _)) = hull(members.iter().map(|&m| &clusters[m])) else {
+            continue;
+        };
         for k in 0..n {
             let w = (&hi[k] - &lo[k]) * &quarter;
             if lo[k] == zero {
@@ -1930,25 +1909,7 @@ fn certify_on_boundary(ctx: &Context<'_>, mut found: Found<()>) -> Result<Found<
                 (lo[k], hi[k]) = (&lo[k] - &w, &hi[k] + &w);
             }
         }
-        let clear = found
-            .roots
-            .iter()
-            .map(|r| {
-                let ulo: Vec<Rational> =
-                    (0..n).map(|k| system.to_unit(k, &r.bounds[k].0)).collect();
-                let uhi: Vec<Rational> =
-                    (0..n).map(|k| system.to_unit(k, &r.bounds[k].1)).collect();
-                (ulo, uhi)
-            })
-            .chain(
-                clusters
-                    .iter()
-                    .zip(&group_of)
-                    .filter(|(_, &g)| g != gi)
-                    .map(|(c, _)| (c.1.clone(), c.2.clone())),
-            )
-            .all(|(olo, ohi)| !meets(&lo, &hi, &olo, &ohi));
-        if !clear {
+        if !clear_of_others(system, &found.roots, &clusters, &group_of, gi, &lo, &hi) {
             continue;
         }
         let sub: Vec<(Rational, Rational)> = lo.iter().cloned().zip(hi.iter().cloned()).collect();

@@ -717,13 +717,29 @@ fn solve_certifies_roots_and_the_checker_agrees() {
         tampered
     };
     assert_ne!(tampered, text);
-    std::fs::write(&cert, tampered).unwrap();
+    refused_as(&cert, &tampered, "invalid");
+}
+
+/// `geocert solve verify-cert` on `text` written to `cert` exits with 1, saying `why`.
+fn refused_as(cert: &std::path::Path, text: &str, why: &str) {
+    std::fs::write(cert, text).unwrap();
     let out = geocert()
         .args(["solve", "verify-cert", cert.to_str().unwrap()])
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&out.stdout).contains("invalid"));
+    assert!(String::from_utf8_lossy(&out.stdout).contains(why));
+}
+
+/// `geocert solve SYSTEM --json --cert CERT` (which must succeed): its JSON.
+fn solve_with_cert(system: &std::path::Path, cert: &std::path::Path) -> serde_json::Value {
+    let out = geocert()
+        .args(["solve", system.to_str().unwrap(), "--json"])
+        .args(["--cert", cert.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_success(&out);
+    serde_json::from_slice(&out.stdout).unwrap()
 }
 
 #[test]
@@ -741,13 +757,7 @@ fn solve_certifies_katsura_3_with_a_root_on_the_box_boundary() {
     )
     .unwrap();
     let cert = tmp("katsura3.cert.json");
-    let out = geocert()
-        .args(["solve", system.to_str().unwrap(), "--json"])
-        .args(["--cert", cert.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert_success(&out);
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v = solve_with_cert(&system, &cert);
     assert_eq!(v["roots"].as_array().unwrap().len(), 6, "{v}");
     assert!(v["clusters"].as_array().unwrap().is_empty(), "{v}");
     let on_face: Vec<_> = v["roots"]
@@ -771,13 +781,7 @@ fn solve_certifies_katsura_3_with_a_root_on_the_box_boundary() {
         "\"point\": [\n        \"1/2\"",
         1,
     );
-    std::fs::write(&cert, tampered).unwrap();
-    let out = geocert()
-        .args(["solve", "verify-cert", cert.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&out.stdout).contains("invalid: the certificate's point"));
+    refused_as(&cert, &tampered, "invalid: the certificate's point");
 }
 
 #[test]
@@ -795,13 +799,7 @@ fn solve_reads_b_spline_equations_and_certifies_a_root_on_a_knot() {
     )
     .unwrap();
     let cert = tmp("kink.cert.json");
-    let out = geocert()
-        .args(["solve", system.to_str().unwrap(), "--json"])
-        .args(["--cert", cert.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert_success(&out);
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v = solve_with_cert(&system, &cert);
     let roots = v["roots"].as_array().unwrap();
     assert_eq!(roots.len(), 1, "{v}");
     assert_eq!(v["clusters"].as_array().unwrap().len(), 0, "{v}");

@@ -100,6 +100,24 @@ fn account(system: &System, s: &Solution, roots: &[Vec<Rational>]) -> Result<(),
     Ok(())
 }
 
+/// Every point of the grid `axes[0] × … × axes[n−1]`.
+fn grid_points(axes: &[Vec<Rational>]) -> Vec<Vec<Rational>> {
+    let mut points: Vec<Vec<Rational>> = vec![vec![]];
+    for axis in axes {
+        points = points
+            .into_iter()
+            .flat_map(|r| {
+                axis.iter().map(move |x| {
+                    let mut r = r.clone();
+                    r.push(x.clone());
+                    r
+                })
+            })
+            .collect();
+    }
+    points
+}
+
 /// The grid of roots `per_axis[0] × … × per_axis[n−1]` (a product of linear factors per
 /// unknown), mixed by a unit lower-triangular matrix with `shear` below the diagonal
 /// (invertible: the roots do not change).
@@ -146,13 +164,7 @@ proptest! {
     ) {
         let per_axis = [xs, ys, zs];
         let system = sheared_grid(n, &per_axis, shear);
-        let mut roots: Vec<Vec<Rational>> = vec![vec![]];
-        for axis in per_axis.iter().take(n) {
-            roots = roots
-                .into_iter()
-                .flat_map(|r| axis.iter().map(move |x| { let mut r = r.clone(); r.push(x.clone()); r }))
-                .collect();
-        }
+        let roots = grid_points(&per_axis[..n]);
         let exact = solve(&system, &SolveOptions::new().with_path(Path::Exact)).unwrap();
         account(&system, &exact, &roots).map_err(TestCaseError::fail)?;
         prop_assert_eq!(exact.roots.len(), roots.len(), "simple, separated roots are certified");
@@ -193,13 +205,7 @@ proptest! {
     ) {
         let per_axis = [xs, ys, zs];
         let system = sheared_grid(n, &per_axis, shear);
-        let mut roots: Vec<Vec<Rational>> = vec![vec![]];
-        for axis in per_axis.iter().take(n) {
-            roots = roots
-                .into_iter()
-                .flat_map(|r| axis.iter().map(move |x| { let mut r = r.clone(); r.push(x.clone()); r }))
-                .collect();
-        }
+        let roots = grid_points(&per_axis[..n]);
         let on_boundary = |r: &[Rational]| r.iter().any(|x| *x == q(0, 1) || *x == q(1, 1));
         for path in [Path::Exact, Path::Filtered] {
             let s = solve(&system, &SolveOptions::new().with_path(path)).unwrap();

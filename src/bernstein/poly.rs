@@ -247,12 +247,7 @@ impl<T: Field> Bernstein<T> {
 
     /// The polynomial restricted to the sub-box `Π [a_k, b_k] ⊂ [0,1]ⁿ`, reparametrised to `[0,1]ⁿ`.
     pub fn restrict(&self, sub_box: &[(T, T)]) -> Result<Self, BernsteinError> {
-        if sub_box.len() != self.dim() {
-            return Err(BernsteinError::DimensionMismatch {
-                expected: self.dim(),
-                found: sub_box.len(),
-            });
-        }
+        self.check_box(sub_box)?;
         let mut p = self.clone();
         for (axis, (a, b)) in sub_box.iter().enumerate() {
             let a_ok = a.sign() != Sign::Negative;
@@ -279,12 +274,7 @@ impl<T: Field> Bernstein<T> {
     /// identity of polynomials), so the pieces extend it beyond the unit box. Exact over
     /// rationals; [`restrict`](Self::restrict) is the same inside the unit box.
     pub fn on_box(&self, sub_box: &[(T, T)]) -> Result<Self, BernsteinError> {
-        if sub_box.len() != self.dim() {
-            return Err(BernsteinError::DimensionMismatch {
-                expected: self.dim(),
-                found: sub_box.len(),
-            });
-        }
+        self.check_box(sub_box)?;
         let mut p = self.clone();
         for (axis, (a, b)) in sub_box.iter().enumerate() {
             if b.sub(a).sign() != Sign::Positive {
@@ -306,6 +296,17 @@ impl<T: Field> Bernstein<T> {
             }
         }
         Ok(p)
+    }
+
+    /// A box has one interval per variable.
+    fn check_box(&self, sub_box: &[(T, T)]) -> Result<(), BernsteinError> {
+        if sub_box.len() != self.dim() {
+            return Err(BernsteinError::DimensionMismatch {
+                expected: self.dim(),
+                found: sub_box.len(),
+            });
+        }
+        Ok(())
     }
 
     /// Degree elevation by `by` along `axis`: the same polynomial with degree `d + by`

@@ -1755,26 +1755,53 @@ pub(super) fn root_in(bounds: RationalBox, certificate: RootCertificate) -> Root
 /// their hull, inflated by a quarter of its width on every side (inside the domain), and
 /// certified exactly. A certified box replaces the group only when it meets no other root's
 /// or cluster's box, so nothing is counted twice.
-fn certify_across_planes(ctx: &Context<'_>, mut found: Found<()>) -> Result<Found<()>, SolveError> {
-    let (system, opts) = (ctx.system, ctx.opts);
-    let n = system.unknowns();
-    let clusters = std::mem::take(&mut found.clusters);
-    let (groups, group_of) =
-        touching_clusters(&clusters, |c| c.0.reason == ClusterReason::DepthLimit);
-    let mut replaced = vec![false; clusters.len()];
+fn certify_across_planes(ctx: &Context<'_>, found: Found<()>) -> Result<Found<()>, SolveError> {
     let quarter = Rational::new(1.into(), 4.into());
+    retry_groups(
+        ctx,
+        found,
+        |c| c.0.reason == ClusterReason::DepthLimit,
+        |_, members| members.len() >= 2,
+        |lo, hi| {
+            for k in 0..lo.len() {
+                let w = (&hi[k] - &lo[k]) * &quarter;
+                lo[k] = (&lo[k] - &w).max(<Rational as Zero>::zero());
+                hi[k] = (&hi[k] + &w).min(<Rational as One>::one());
+            }
+        },
+        |_, _, c| Ok(Some(c)),
+    )
+}
+
+/// The retry both [`certify_across_planes`] and [`certify_on_boundary`] make: the clusters
+/// `eligible` admits are grouped by touching; each group `wanted` is tried as one box (its
+/// hull, `widen`ed, in unit coordinates), certified exactly on the equations there
+/// ([`Bernstein::on_box`]) and refined; when the box meets no other root's or cluster's box
+/// and `accept` keeps the refined box and its certificate, the root replaces the group.
+fn retry_groups(
+    ctx: &Context<'_>,
+    mut found: Found<()>,
+    eligible: impl Fn(&ClusterLeaf) -> bool,
+    wanted: impl Fn(&[ClusterLeaf], &[usize]) -> bool,
+    widen: impl Fn(&mut [Rational], &mut [Rational]),
+    accept: impl Fn(
+        &[Rational],
+        &[Rational],
+        RootCertificate,
+    ) -> Result<Option<RootCertificate>, SolveError>,
+) -> Result<Found<()>, SolveError> {
+    let (system, opts) = (ctx.system, ctx.opts);
+    let clusters = std::mem::take(&mut found.clusters);
+    let (groups, group_of) = touching_clusters(&clusters, eligible);
+    let mut replaced = vec![false; clusters.len()];
     for (gi, members) in groups.iter().enumerate() {
-        if members.len() < 2 {
+        if !wanted(&clusters, members) {
             continue;
         }
         let Some((mut lo, mut hi, _)) = hull(members.iter().map(|&m| &clusters[m])) else {
             continue;
         };
-        for k in 0..n {
-            let w = (&hi[k] - &lo[k]) * &quarter;
-            lo[k] = (&lo[k] - &w).max(<Rational as Zero>::zero());
-            hi[k] = (&hi[k] + &w).min(<Rational as One>::one());
-        }
+        widen(&mut lo, &mut hi);
         if !clear_of_others(system, &found.roots, &clusters, &group_of, gi, &lo, &hi) {
             continue;
         }
@@ -1782,20 +1809,24 @@ fn certify_across_planes(ctx: &Context<'_>, mut found: Found<()>) -> Result<Foun
         let polys: Vec<Bernstein<Rational>> = ctx
             .exact()?
             .iter()
-            .map(|e| e.restrict(&sub))
+            .map(|e| e.on_box(&sub))
             .collect::<Result<_, _>>()?;
-        if let (Decision::Yes, Some(c)) = certify(&polys)? {
-            let node = Node {
-                lo,
-                hi,
-                polys,
-                depth: 0,
-            };
-            let (rlo, rhi, c) = refine(&node, c, opts.tolerance, None)?;
-            found.roots.push(root_of(system, &rlo, &rhi, c));
-            for &m in members {
-                replaced[m] = true;
-            }
+        let (Decision::Yes, Some(c)) = certify(&polys)? else {
+            continue;
+        };
+        let node = Node {
+            lo,
+            hi,
+            polys,
+            depth: 0,
+        };
+        let (rlo, rhi, c) = refine(&node, c, opts.tolerance, None)?;
+        let Some(c) = accept(&rlo, &rhi, c)? else {
+            continue;
+        };
+        found.roots.push(root_of(system, &rlo, &rhi, c));
+        for &m in members {
+            replaced[m] = true;
         }
     }
     found.clusters = clusters
@@ -1876,65 +1907,39 @@ fn clear_of_others(
 ///
 /// Otherwise (an irrational root on a face, a singular one, or one outside the domain,
 /// which culling nearly always removes first) the group stays.
-fn certify_on_boundary(ctx: &Context<'_>, mut found: Found<()>) -> Result<Found<()>, SolveError> {
-    let (system, opts) = (ctx.system, ctx.opts);
+fn certify_on_boundary(ctx: &Context<'_>, found: Found<()>) -> Result<Found<()>, SolveError> {
+    let system = ctx.system;
     let n = system.unknowns();
     let (zero, one) = (<Rational as Zero>::zero(), <Rational as One>::one());
     let quarter = Rational::new(1.into(), 4.into());
-    let clusters = std::mem::take(&mut found.clusters);
-    let (groups, group_of) = touching_clusters(&clusters, |c| {
-        matches!(
-            c.0.reason,
-            ClusterReason::DomainBoundary | ClusterReason::DepthLimit
-        )
-    });
-    let mut settled = vec![false; clusters.len()];
-    for (gi, members) in groups.iter().enumerate() {
-        if !members
-            .iter()
-            .any(|&m| clusters[m].0.reason == ClusterReason::DomainBoundary)
-        {
-            continue;
-        }
-        let Some((mut lo, mut hi, _)) = hull(members.iter().map(|&m| &clusters[m])) else {
-            continue;
-        };
-        for k in 0..n {
-            let w = (&hi[k] - &lo[k]) * &quarter;
-            if lo[k] == zero {
-                (lo[k], hi[k]) = (-(&hi[k] + &w), &hi[k] + &w);
-            } else if hi[k] == one {
-                (lo[k], hi[k]) = (&lo[k] - &w, &one + (&one - &lo[k]) + &w);
-            } else {
-                (lo[k], hi[k]) = (&lo[k] - &w, &hi[k] + &w);
+    let on_boundary = |c: &ClusterLeaf| c.0.reason == ClusterReason::DomainBoundary;
+    retry_groups(
+        ctx,
+        found,
+        |c| on_boundary(c) || c.0.reason == ClusterReason::DepthLimit,
+        |clusters, members| members.iter().any(|&m| on_boundary(&clusters[m])),
+        |lo, hi| {
+            for k in 0..n {
+                let w = (&hi[k] - &lo[k]) * &quarter;
+                if lo[k] == zero {
+                    (lo[k], hi[k]) = (-(&hi[k] + &w), &hi[k] + &w);
+                } else if hi[k] == one {
+                    (lo[k], hi[k]) = (&lo[k] - &w, &one + (&one - &lo[k]) + &w);
+                } else {
+                    (lo[k], hi[k]) = (&lo[k] - &w, &hi[k] + &w);
+                }
             }
-        }
-        if !clear_of_others(system, &found.roots, &clusters, &group_of, gi, &lo, &hi) {
-            continue;
-        }
-        let sub: Vec<(Rational, Rational)> = lo.iter().cloned().zip(hi.iter().cloned()).collect();
-        let polys: Vec<Bernstein<Rational>> = ctx
-            .exact()?
-            .iter()
-            .map(|e| e.on_box(&sub))
-            .collect::<Result<_, _>>()?;
-        let (Decision::Yes, Some(c)) = certify(&polys)? else {
-            continue;
-        };
-        let node = Node {
-            lo,
-            hi,
-            polys,
-            depth: 0,
-        };
-        let (rlo, rhi, mut c) = refine(&node, c, opts.tolerance, None)?;
-        if (0..n).any(|k| rhi[k] <= zero || rlo[k] >= one) {
-            // Outside the domain.
-            continue;
-        }
-        if !(0..n).all(|k| rlo[k] >= zero && rhi[k] <= one) {
+        },
+        |rlo, rhi, mut c| {
+            if (0..n).any(|k| rhi[k] <= zero || rlo[k] >= one) {
+                // Outside the domain.
+                return Ok(None);
+            }
+            if (0..n).all(|k| rlo[k] >= zero && rhi[k] <= one) {
+                return Ok(Some(c));
+            }
             // On the boundary, if anywhere in the domain: try the simplest point there.
-            let bounds = system.domain_box(&rlo, &rhi);
+            let bounds = system.domain_box(rlo, rhi);
             let point: Vec<Rational> = (0..n)
                 .map(|k| {
                     let (a, b) = &system.domain[k];
@@ -1948,28 +1953,15 @@ fn certify_on_boundary(ctx: &Context<'_>, mut found: Found<()>) -> Result<Found<
                 })
                 .collect();
             let u: Vec<Rational> = (0..n).map(|k| system.to_unit(k, &point[k])).collect();
-            let vanishes = system
-                .equations
-                .iter()
-                .map(|e| e.eval(&u).map(|v| v.is_zero()))
-                .collect::<Result<Vec<bool>, _>>()?;
-            if !vanishes.iter().all(|&z| z) {
-                continue;
+            for e in &system.equations {
+                if !e.eval(&u)?.is_zero() {
+                    return Ok(None);
+                }
             }
             c.point = Some(point);
-        }
-        found.roots.push(root_of(system, &rlo, &rhi, c));
-        for &m in members {
-            settled[m] = true;
-        }
-    }
-    found.clusters = clusters
-        .into_iter()
-        .zip(settled)
-        .filter(|(_, s)| !s)
-        .map(|(c, _)| c)
-        .collect();
-    Ok(found)
+            Ok(Some(c))
+        },
+    )
 }
 
 /// Solves `system` (as many equations as unknowns) on its domain on the path `opts.path`.

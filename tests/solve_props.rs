@@ -499,6 +499,76 @@ fn the_filtered_path_refines_to_the_requested_width_where_the_fast_one_stops_at_
     }
 }
 
+/// The non-separable system around the root `r` of the proptests below:
+/// `f_i = 10^e (Σ_j a_ij (x_j − r_j) + h_i (x_i − r_i)^{d−1} (x_{i+1} − r_{i+1}))`, with 40
+/// added to the diagonal of `a` (a 4 × 4 row-major table; its first rows and columns used).
+fn around_root(r: &[Rational], a: &[i64], h: &[i64], e: u32, d: usize) -> Vec<Bernstein<Rational>> {
+    let n = r.len();
+    let lin: Vec<_> = (0..n).map(|k| linear(n, k, &r[k])).collect();
+    let scale = q(10i64.pow(e), 1);
+    (0..n)
+        .map(|i| {
+            let mut f = constant(n, q(0, 1));
+            for j in 0..n {
+                let aij = a[4 * i + j] + if i == j { 40 } else { 0 };
+                f = f.add_elevated(&lin[j].scale(&q(aij, 1))).unwrap();
+            }
+            let next = (i + 1) % n;
+            let mut t = lin[next].scale(&q(h[i], 1));
+            for _ in 1..d {
+                t = t.product(&lin[i]).unwrap();
+            }
+            f.add_elevated(&t).unwrap().scale(&scale)
+        })
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(16))]
+
+    /// The systems of `non_separable_systems_around_a_rational_root` with the root on the
+    /// box's boundary: each coordinate of `r` at 0 or 1 where `ends` says so (at least one),
+    /// else `k/61`. The exact and filtered paths certify `r` once, with `r` itself as the
+    /// certificate's point, which the checker accepts; the fast path holds `r` in at most
+    /// one certified box, and every certified box passes the checker.
+    #[test]
+    fn non_separable_systems_around_a_root_on_the_boundary(
+        n in 1usize..=4,
+        r in proptest::collection::vec(1i64..61, 4),
+        ends in proptest::collection::vec(0u8..3, 4),
+        a in proptest::collection::vec(-9i64..=9, 16),
+        h in proptest::collection::vec(-9i64..=9, 4),
+        e in 0u32..=8,
+        d in 2usize..=6,
+    ) {
+        let mut r: Vec<Rational> = (0..n)
+            .map(|k| match ends[k] {
+                0 => q(0, 1),
+                1 => q(1, 1),
+                _ => q(r[k], 61),
+            })
+            .collect();
+        if r.iter().all(|x| *x != q(0, 1) && *x != q(1, 1)) {
+            r[0] = q(1, 1);
+        }
+        let system = unit_system(around_root(&r, &a, &h, e, d));
+        let limits = geocert::bernstein::Limits::new().with_max_depth(30).with_max_boxes(20_000);
+        for path in [Path::Exact, Path::Filtered, Path::Fast] {
+            let s = solve(&system, &SolveOptions::new().with_path(path).with_limits(limits)).unwrap();
+            let holding: Vec<_> = s.roots.iter().filter(|x| contains(&x.bounds, &r)).collect();
+            if path == Path::Fast {
+                prop_assert!(holding.len() <= 1, "fast: r in {} certified boxes", holding.len());
+            } else {
+                prop_assert_eq!(holding.len(), 1, "{}: r in {} certified boxes; clusters {:?}", path, holding.len(), s.clusters);
+                prop_assert_eq!(holding[0].certificate.point.as_ref(), Some(&r));
+            }
+            for x in &s.roots {
+                verify_root(&system, &x.bounds, &x.certificate).map_err(|e| TestCaseError::fail(e.to_string()))?;
+            }
+        }
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(16))]
 
@@ -518,24 +588,7 @@ proptest! {
         d in 2usize..=6,
     ) {
         let r: Vec<Rational> = r.iter().take(n).map(|&k| q(k, 61)).collect();
-        let lin: Vec<_> = (0..n).map(|k| linear(n, k, &r[k])).collect();
-        let scale = q(10i64.pow(e), 1);
-        let equations: Vec<Bernstein<Rational>> = (0..n)
-            .map(|i| {
-                let mut f = constant(n, q(0, 1));
-                for j in 0..n {
-                    let aij = a[4 * i + j] + if i == j { 40 } else { 0 };
-                    f = f.add_elevated(&lin[j].scale(&q(aij, 1))).unwrap();
-                }
-                let next = (i + 1) % n;
-                let mut t = lin[next].scale(&q(h[i], 1));
-                for _ in 1..d {
-                    t = t.product(&lin[i]).unwrap();
-                }
-                f.add_elevated(&t).unwrap().scale(&scale)
-            })
-            .collect();
-        let system = unit_system(equations);
+        let system = unit_system(around_root(&r, &a, &h, e, d));
         let limits = geocert::bernstein::Limits::new().with_max_depth(30).with_max_boxes(20_000);
         let run = |path| solve(&system, &SolveOptions::new().with_path(path).with_limits(limits)).unwrap();
         let exact = run(Path::Exact);

@@ -335,7 +335,8 @@ pub enum ClusterReason {
     /// multiple root, roots closer than the box width, or a root on a box face).
     DepthLimit,
     /// The box touches the domain's boundary and cannot be split further without leaving it
-    /// (a root on the domain's boundary).
+    /// (a root on the domain's boundary that [`SolveOptions::boundary`] did not certify: not
+    /// at a rational point found as the simplest in its box, singular, or the stage off).
     DomainBoundary,
     /// The box or time limit stopped the subdivision here.
     Budget,

@@ -213,32 +213,7 @@ proptest! {
         shear in -2i64..=2,
     ) {
         let root: Vec<Rational> = r.iter().take(n).map(|&k| q(k, 16)).collect();
-        let lines: Vec<Bernstein<Rational>> = (0..n).map(|k| linear(n, k, &root[k])).collect();
-        let m: Vec<Vec<i64>> = (0..n)
-            .map(|i| (0..n).map(|j| if i == j { 1 } else if j + 1 == i { shear } else { 0 }).collect())
-            .collect();
-        let forms = mix(&lines, &m);
-        let mut equations = Vec::new();
-        for (i, l) in forms.iter().enumerate() {
-            // P_i: quadratic per axis, knots at r_k and at a random point.
-            let knots: Vec<Vec<Rational>> = (0..n)
-                .map(|k| {
-                    let mut ks = vec![q(0, 1); 3];
-                    let mut inner = vec![root[k].clone(), q(knot[k], 16)];
-                    inner.sort();
-                    inner.dedup();
-                    ks.extend(inner);
-                    ks.extend(vec![q(1, 1); 3]);
-                    ks
-                })
-                .collect();
-            let count: usize = knots.iter().map(|k| k.len() - 3).product();
-            let c: Vec<Rational> = (0..count).map(|j| q(coeffs[(j + 7 * i) % 64], 1)).collect();
-            let p = TensorSpline::new(vec![2; n], knots, c).unwrap();
-            let l = as_spline(l, &vec![vec![]; n]);
-            equations.push(Equation::Spline(l.product_exact(&p).unwrap()));
-        }
-        let system = PiecewiseSystem::new(unit(n), equations).unwrap();
+        let system = linear_times_positive(&root, &knot, &coeffs, shear, true);
         for path in [Path::Fast, Path::Filtered] {
             let s = solve_piecewise(&system, &SolveOptions::new().with_path(path)).unwrap();
             account(&system, &s, std::slice::from_ref(&root)).map_err(TestCaseError::fail)?;
@@ -251,6 +226,104 @@ proptest! {
                     "fast: {:?}", s.clusters);
             } else {
                 prop_assert_eq!((s.roots.len(), s.clusters.len()), (1, 0), "{}: {:?}", path, s.clusters);
+            }
+        }
+    }
+}
+
+/// `f_i = L_i · P_i` on the unit box with `L = M (x − root)` (`M` unit lower-bidiagonal with
+/// `shear`) and `P_i` quadratic B-splines with positive coefficients from `coeffs`, knots at
+/// `knot[k]/16` and (with `through`) at the root's coordinates inside the box: genuinely
+/// piecewise equations whose only root is `root`.
+fn linear_times_positive(
+    root: &[Rational],
+    knot: &[i64],
+    coeffs: &[i64],
+    shear: i64,
+    through: bool,
+) -> PiecewiseSystem {
+    let n = root.len();
+    let lines: Vec<Bernstein<Rational>> = (0..n).map(|k| linear(n, k, &root[k])).collect();
+    let m: Vec<Vec<i64>> = (0..n)
+        .map(|i| {
+            (0..n)
+                .map(|j| {
+                    if i == j {
+                        1
+                    } else if j + 1 == i {
+                        shear
+                    } else {
+                        0
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let forms = mix(&lines, &m);
+    let mut equations = Vec::new();
+    for (i, l) in forms.iter().enumerate() {
+        let knots: Vec<Vec<Rational>> = (0..n)
+            .map(|k| {
+                let mut ks = vec![q(0, 1); 3];
+                let mut inner: Vec<Rational> = [root[k].clone(), q(knot[k], 16)]
+                    .into_iter()
+                    .skip(usize::from(!through))
+                    .filter(|x| *x != q(0, 1) && *x != q(1, 1))
+                    .collect();
+                inner.sort();
+                inner.dedup();
+                ks.extend(inner);
+                ks.extend(vec![q(1, 1); 3]);
+                ks
+            })
+            .collect();
+        let count: usize = knots.iter().map(|k| k.len() - 3).product();
+        let c: Vec<Rational> = (0..count).map(|j| q(coeffs[(j + 7 * i) % 64], 1)).collect();
+        let p = TensorSpline::new(vec![2; n], knots, c).unwrap();
+        let l = as_spline(l, &vec![vec![]; n]);
+        equations.push(Equation::Spline(l.product_exact(&p).unwrap()));
+    }
+    PiecewiseSystem::new(unit(n), equations).unwrap()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(16))]
+
+    /// The systems of `linear_forms_times_positive_splines_have_one_root` with the root on
+    /// the box's boundary (each coordinate at 0 or 1 where `ends` says so, at least one),
+    /// knots through the root's other coordinates or not (`through`). Where no interior knot
+    /// passes through the root, the exact and filtered paths certify it once, with the root
+    /// itself as the certificate's point, and the piecewise checker accepts it; a root on a
+    /// face and on a knot plane at once is accounted for (certified or in clusters).
+    #[test]
+    fn b_spline_roots_on_the_boundary_are_certified_with_their_point(
+        n in 2usize..=3,
+        r in proptest::collection::vec(1i64..16, 3),
+        ends in proptest::collection::vec(0u8..3, 3),
+        knot in proptest::collection::vec(1i64..16, 3),
+        coeffs in proptest::collection::vec(1i64..9, 64),
+        shear in -2i64..=2,
+        through: bool,
+    ) {
+        let mut root: Vec<Rational> = (0..n)
+            .map(|k| match ends[k] {
+                0 => q(0, 1),
+                1 => q(1, 1),
+                _ => q(r[k], 16),
+            })
+            .collect();
+        if ends.iter().take(n).all(|&e| e == 2) {
+            root[0] = q(1, 1);
+        }
+        let system = linear_times_positive(&root, &knot, &coeffs, shear, through);
+        let inside = |x: &Rational| *x != q(0, 1) && *x != q(1, 1);
+        let on_knot = (0..n).any(|k| inside(&root[k]) && (through || root[k] == q(knot[k], 16)));
+        for path in [Path::Exact, Path::Filtered] {
+            let s = solve_piecewise(&system, &SolveOptions::new().with_path(path)).unwrap();
+            account(&system, &s, std::slice::from_ref(&root)).map_err(TestCaseError::fail)?;
+            if !on_knot {
+                prop_assert_eq!((s.roots.len(), s.clusters.len()), (1, 0), "{}: {:?}", path, s.clusters);
+                prop_assert_eq!(s.roots[0].certificate.point.as_ref(), Some(&root));
             }
         }
     }

@@ -105,7 +105,7 @@ pub fn verify_root(
             return Ok(check);
         }
     }
-    check_exactly(system, &sub, certificate)
+    check_exactly(system, bounds, &sub, certificate)
 }
 
 /// [`verify_root`] in exact rationals only (no interval filter): the equations restricted to
@@ -116,12 +116,11 @@ pub fn verify_root_exactly(
     certificate: &RootCertificate,
 ) -> Result<RootCheck, RootRefusal> {
     let sub = checked_box(system, bounds, certificate)?;
-    check_exactly(system, &sub, certificate)
+    check_exactly(system, bounds, &sub, certificate)
 }
 
-/// The box in the domain's unit coordinates, after checking the shapes and, when the
-/// certificate has a point, that the point is an exact zero in the domain and the box (the
-/// box may then reach beyond the domain).
+/// The box in the domain's unit coordinates, after checking the shapes; inside the domain
+/// unless the certificate has a point (which [`check_exactly`] checks).
 fn checked_box(
     system: &System,
     bounds: &RationalBox,
@@ -133,34 +132,12 @@ fn checked_box(
         bounds,
         certificate,
     )?;
-    let Some(point) = &certificate.point else {
+    if certificate.point.is_none() {
         return unit_box(&system.domain, bounds);
-    };
-    let n = system.unknowns();
-    if point.len() != n {
-        return Err(RootRefusal::Shape(n));
     }
-    let mut u = Vec::with_capacity(n);
-    for (k, x) in point.iter().enumerate() {
-        let (a, b) = &system.domain[k];
-        if x < a || x > b {
-            return Err(RootRefusal::Point(format!(
-                "is outside the domain on axis {k}"
-            )));
-        }
-        if x < &bounds[k].0 || x > &bounds[k].1 {
-            return Err(RootRefusal::Point(format!(
-                "is outside the box on axis {k}"
-            )));
-        }
-        u.push(system.to_unit(k, x));
-    }
-    for (i, e) in system.equations.iter().enumerate() {
-        if !e.eval(&u)?.is_zero() {
-            return Err(RootRefusal::Point(format!("is not a zero of equation {i}")));
-        }
-    }
-    let mut sub = Vec::with_capacity(n);
+    // A root on the boundary: the box may reach beyond the domain (the point is checked with
+    // the equations on it, [`check_exactly`]).
+    let mut sub = Vec::with_capacity(bounds.len());
     for (axis, (lo, hi)) in bounds.iter().enumerate() {
         if lo >= hi {
             return Err(RootRefusal::Bounds { axis });
@@ -170,9 +147,10 @@ fn checked_box(
     Ok(sub)
 }
 
-/// The exact check on the box `sub` (unit coordinates of the domain).
+/// The exact check on the box `bounds` (`sub` in the unit coordinates of the domain).
 fn check_exactly(
     system: &System,
+    bounds: &RationalBox,
     sub: &[(Rational, Rational)],
     certificate: &RootCertificate,
 ) -> Result<RootCheck, RootRefusal> {
@@ -183,6 +161,9 @@ fn check_exactly(
         .iter()
         .map(|e| e.on_box(sub))
         .collect::<Result<Vec<_>, _>>()?;
+    if let Some(point) = &certificate.point {
+        point_is_the_root(&system.domain, &f, bounds, point)?;
+    }
     let whole = Part {
         f: common_degrees(f)?,
         lower: vec![true; n],
@@ -200,7 +181,11 @@ fn check_exactly(
 /// knots strictly inside it into parts; each equation is taken on each part directly (a
 /// B-spline by blossoming, a polynomial by restriction); Miranda's conditions are checked on
 /// every part of every face, and the interval Jacobian over all parts (which is what the mean
-/// value theorem along a segment crossing parts needs; the field is continuous).
+/// value theorem along a segment crossing parts needs; the field is continuous). With a
+/// [`RootCertificate::point`] the box may reach beyond the domain: its part inside must lie
+/// in one knot span of every B-spline, the equations are taken on the whole box as those
+/// spans' polynomials, and the point must be an exact zero of them
+/// in the domain and the box.
 pub fn verify_piecewise_root(
     system: &PiecewiseSystem,
     bounds: &RationalBox,
@@ -208,27 +193,22 @@ pub fn verify_piecewise_root(
 ) -> Result<RootCheck, RootRefusal> {
     let n = system.unknowns();
     shape(n, system.equations().len(), bounds, certificate)?;
-    if certificate.point.is_some() {
-        // A root on the domain's boundary: polynomial systems only (the B-spline solver
-        // gives none).
-        let polynomials: Option<Vec<Bernstein<Rational>>> = system
-            .equations()
-            .iter()
-            .map(|e| match e {
-                Equation::Polynomial(p) => Some(p.clone()),
-                Equation::Spline(_) => None,
-            })
-            .collect();
-        let Some(equations) = polynomials else {
-            return Err(RootRefusal::Point(
-                "is given for a system with B-spline equations".into(),
-            ));
+    if let Some(point) = &certificate.point {
+        // A root on the domain's boundary: the box reaches across it, and the equations are
+        // taken there as the polynomials they are on the box's part inside the domain.
+        let f = extended_equations(system, bounds)?;
+        point_is_the_root(system.domain(), &f, bounds, point)?;
+        let whole = Part {
+            f: common_degrees(f)?,
+            lower: vec![true; n],
+            upper: vec![true; n],
+            ratio: vec![Rational::one(); n],
         };
-        let system = System {
-            domain: system.domain().to_vec(),
-            equations,
-        };
-        return verify_root(&system, bounds, certificate);
+        let check = check_parts(&[whole], certificate)?;
+        return Ok(RootCheck {
+            on_boundary: true,
+            ..check
+        });
     }
     unit_box(system.domain(), bounds)?;
     let mut parts = Vec::new();
@@ -243,6 +223,83 @@ pub fn verify_piecewise_root(
         });
     }
     check_parts(&parts, certificate)
+}
+
+/// The equations of `system` on a box that may reach beyond the domain (Bernstein form on
+/// the box): each one is a polynomial on the box's part inside the domain (a B-spline there
+/// lies in one knot span on every axis), extended beyond it as that polynomial
+/// ([`Bernstein::on_box`]). Refused when the part inside crosses a knot of some B-spline.
+pub(super) fn extended_equations(
+    system: &PiecewiseSystem,
+    bounds: &RationalBox,
+) -> Result<Vec<Bernstein<Rational>>, RootRefusal> {
+    let domain = system.domain();
+    let mut inside = Vec::with_capacity(bounds.len());
+    for (axis, ((lo, hi), (a, b))) in bounds.iter().zip(domain).enumerate() {
+        let (l, h) = (lo.max(a).clone(), hi.min(b).clone());
+        if l >= h {
+            return Err(RootRefusal::Bounds { axis });
+        }
+        inside.push((l, h));
+    }
+    // The box in the unit coordinates of the part inside.
+    let relative: Vec<(Rational, Rational)> = bounds
+        .iter()
+        .zip(&inside)
+        .map(|((lo, hi), (l, h))| {
+            let w = h - l;
+            ((lo - l) / &w, (hi - l) / &w)
+        })
+        .collect();
+    system
+        .equations()
+        .iter()
+        .map(|e| {
+            let on_inside = match e {
+                Equation::Polynomial(p) => p.restrict(&unit_box(domain, &inside)?)?,
+                Equation::Spline(s) => s
+                    .bezier_on_box_exact(&inside)
+                    .map_err(RootRefusal::Spline)?,
+            };
+            Ok(on_inside.on_box(&relative)?)
+        })
+        .collect()
+}
+
+/// Checks that `point` lies in `domain` and in `bounds` and that every equation of `f` (on
+/// `bounds`, [`extended_equations`]) vanishes there exactly.
+pub(super) fn point_is_the_root(
+    domain: &[(Rational, Rational)],
+    f: &[Bernstein<Rational>],
+    bounds: &RationalBox,
+    point: &[Rational],
+) -> Result<(), RootRefusal> {
+    let n = bounds.len();
+    if point.len() != n {
+        return Err(RootRefusal::Shape(n));
+    }
+    let mut u = Vec::with_capacity(n);
+    for (k, x) in point.iter().enumerate() {
+        let (a, b) = &domain[k];
+        if x < a || x > b {
+            return Err(RootRefusal::Point(format!(
+                "is outside the domain on axis {k}"
+            )));
+        }
+        let (lo, hi) = &bounds[k];
+        if x < lo || x > hi || lo >= hi {
+            return Err(RootRefusal::Point(format!(
+                "is outside the box on axis {k}"
+            )));
+        }
+        u.push((x - lo) / (hi - lo));
+    }
+    for (i, e) in f.iter().enumerate() {
+        if !e.eval(&u)?.is_zero() {
+            return Err(RootRefusal::Point(format!("is not a zero of equation {i}")));
+        }
+    }
+    Ok(())
 }
 
 /// The parts the equations' knots strictly inside `bounds` cut it into (every part a box

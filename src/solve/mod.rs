@@ -268,7 +268,9 @@ pub struct SolveOptions {
     /// boundary root leaves are tried once more as one box reaching across the boundary, and
     /// a root certified there replaces them when it lies inside the domain, or when a
     /// rational point of the box and the domain is an exact zero of every equation (that
-    /// point is the root, on the boundary: [`RootCertificate::point`]). Otherwise the
+    /// point is the root, on the boundary: [`RootCertificate::point`]). With B-spline
+    /// equations ([`solve_piecewise`]) the box's part inside the domain must lie in one knot
+    /// span of every B-spline (each is extended as that span's polynomial). Otherwise the
     /// clusters stay.
     pub boundary: bool,
 }
@@ -305,8 +307,10 @@ pub struct RootCertificate {
     pub lower_face_signs: Vec<i8>,
     /// For a root on the domain's boundary: the root itself (domain coordinates), a point of
     /// the domain and of the box where every equation vanishes exactly. The box then reaches
-    /// across the boundary (the equations extend beyond the domain as polynomials), and the
-    /// root it holds is this point, so it lies in the domain. `None` for a box inside it.
+    /// across the boundary (the equations extend beyond the domain as polynomials; a
+    /// B-spline as the polynomial of the one knot span holding the box's part inside the
+    /// domain), and the root it holds is this point, so it lies in the domain. `None` for a
+    /// box inside it.
     #[serde(skip)]
     pub point: Option<Vec<Rational>>,
 }
@@ -336,7 +340,8 @@ pub enum ClusterReason {
     DepthLimit,
     /// The box touches the domain's boundary and cannot be split further without leaving it
     /// (a root on the domain's boundary that [`SolveOptions::boundary`] did not certify: not
-    /// at a rational point found as the simplest in its box, singular, or the stage off).
+    /// at a rational point found as the simplest in its box, singular, also on an interior
+    /// knot plane of a B-spline equation, or the stage off).
     DomainBoundary,
     /// The box or time limit stopped the subdivision here.
     Budget,

@@ -15,9 +15,10 @@
 //! lies in the interval row formed over *all* pieces; a strictly diagonally dominant interval
 //! Jacobian over all pieces makes every such matrix non-singular and rules out a second root.
 
+use super::check::{extended_equations, point_is_the_root};
 use super::subdivision::{
-    max_abs, precondition, root_in, rounded_inverse, solve, strict_sign, Coefficient, Decision,
-    SPLITS,
+    certify_and_refine, elevated, max_abs, precondition, root_in, rounded_inverse, solve,
+    strict_sign, Coefficient, Decision, SPLITS,
 };
 use super::{
     check_domain, check_square, touching_groups, Cluster, ClusterReason, RationalBox, Root,
@@ -404,7 +405,10 @@ pub fn solve_piecewise(
         Path::Fast => subdivide::<Interval>(system, opts, false, clock)?,
         Path::Filtered => subdivide::<Interval>(system, opts, true, clock)?,
     };
-    let found = across_split_planes(system, found, opts.tolerance)?;
+    let mut found = across_split_planes(system, found, opts.tolerance)?;
+    if opts.boundary {
+        found = across_boundary(system, found, opts.tolerance)?;
+    }
     Ok(Solution {
         roots: found.roots,
         clusters: found.clusters,
@@ -487,6 +491,137 @@ fn across_split_planes(
             for &m in &members {
                 replaced[m] = true;
             }
+        }
+    }
+    let clusters = clusters
+        .into_iter()
+        .zip(replaced)
+        .filter(|(_, r)| !r)
+        .map(|(c, _)| c)
+        .collect();
+    Ok(Found {
+        roots,
+        clusters,
+        visited,
+    })
+}
+
+/// Simple roots on the domain's boundary, as the polynomial solver certifies them
+/// ([`SolveOptions::boundary`]): each group of touching depth-limit and boundary clusters
+/// with one on the boundary is tried once more as one box reaching across the faces it
+/// touches (mirrored there, grown by a quarter of its width elsewhere). On it every equation
+/// is the polynomial it is on the box's part inside the domain, extended beyond
+/// ([`extended_equations`]; a B-spline's part must lie in one knot span on every axis, else
+/// the group stays). Certified exactly and refined, its root is kept when the refined box
+/// lies inside the domain, or when the point of the refined box on the crossed faces (the
+/// simplest rationals on the other axes) is an exact zero of every equation: the
+/// certificate's point ([`RootCertificate::point`]).
+fn across_boundary(
+    system: &PiecewiseSystem,
+    found: Found,
+    tolerance: f64,
+) -> Result<Found, SolveError> {
+    let n = system.unknowns();
+    let Found {
+        mut roots,
+        clusters,
+        visited,
+    } = found;
+    let corners: Vec<(Vec<Rational>, Vec<Rational>)> = clusters
+        .iter()
+        .map(|c| c.bounds.iter().cloned().unzip())
+        .collect();
+    let on_boundary = |i: usize| clusters[i].reason == ClusterReason::DomainBoundary;
+    let eligible: Vec<usize> = (0..clusters.len())
+        .filter(|&i| on_boundary(i) || clusters[i].reason == ClusterReason::DepthLimit)
+        .collect();
+    let boxes: Vec<(&[Rational], &[Rational])> = eligible
+        .iter()
+        .map(|&i| (corners[i].0.as_slice(), corners[i].1.as_slice()))
+        .collect();
+    let meets = |alo: &[Rational], ahi: &[Rational], lo: &[Rational], hi: &[Rational]| {
+        (0..n).all(|k| alo[k] <= hi[k] && lo[k] <= ahi[k])
+    };
+    let quarter = Rational::new(1.into(), 4.into());
+    let mut replaced = vec![false; clusters.len()];
+    for group in touching_groups(&boxes) {
+        let members: Vec<usize> = group.into_iter().map(|g| eligible[g]).collect();
+        if !members.iter().any(|&m| on_boundary(m)) {
+            continue;
+        }
+        let (mut lo, mut hi) = corners[members[0]].clone();
+        for &m in &members {
+            for k in 0..n {
+                lo[k] = lo[k].clone().min(corners[m].0[k].clone());
+                hi[k] = hi[k].clone().max(corners[m].1[k].clone());
+            }
+        }
+        for k in 0..n {
+            let (a, b) = &system.domain[k];
+            let w = (&hi[k] - &lo[k]) * &quarter;
+            (lo[k], hi[k]) = if &lo[k] == a {
+                (a - (&hi[k] - a) - &w, &hi[k] + &w)
+            } else if &hi[k] == b {
+                (&lo[k] - &w, b + (b - &lo[k]) + &w)
+            } else {
+                (&lo[k] - &w, &hi[k] + &w)
+            };
+        }
+        let clear = roots.iter().all(|r| {
+            let (rlo, rhi): (Vec<Rational>, Vec<Rational>) = r.bounds.iter().cloned().unzip();
+            !meets(&rlo, &rhi, &lo, &hi)
+        }) && (0..clusters.len())
+            .filter(|i| !members.contains(i))
+            .all(|i| !meets(&corners[i].0, &corners[i].1, &lo, &hi));
+        if !clear {
+            continue;
+        }
+        let bounds: RationalBox = lo.iter().cloned().zip(hi.iter().cloned()).collect();
+        // A part inside that crosses a knot: not one polynomial there.
+        let Ok(f) = extended_equations(system, &bounds) else {
+            continue;
+        };
+        let f = elevated(&f)?;
+        let unit = |x: &[Rational]| -> Vec<Rational> {
+            (0..n)
+                .map(|k| super::unit_coordinate(&system.domain, k, &x[k]))
+                .collect()
+        };
+        let Some((ulo, uhi, mut c)) = certify_and_refine(unit(&lo), unit(&hi), f, tolerance)?
+        else {
+            continue;
+        };
+        let refined = super::domain_bounds(&system.domain, &ulo, &uhi);
+        let within = |k: usize, x: &Rational| &system.domain[k].0 <= x && x <= &system.domain[k].1;
+        if (0..n).any(|k| refined[k].1 <= system.domain[k].0 || refined[k].0 >= system.domain[k].1)
+        {
+            // Outside the domain.
+            continue;
+        }
+        if !(0..n).all(|k| within(k, &refined[k].0) && within(k, &refined[k].1)) {
+            let point: Vec<Rational> = (0..n)
+                .map(|k| {
+                    let ((lo, hi), (a, b)) = (&refined[k], &system.domain[k]);
+                    if lo < a {
+                        a.clone()
+                    } else if hi > b {
+                        b.clone()
+                    } else {
+                        crate::num::rational::simplest_between(lo, hi)
+                    }
+                })
+                .collect();
+            let Ok(f) = extended_equations(system, &refined) else {
+                continue;
+            };
+            if point_is_the_root(&system.domain, &f, &refined, &point).is_err() {
+                continue;
+            }
+            c.point = Some(point);
+        }
+        roots.push(root_in(refined, c));
+        for &m in &members {
+            replaced[m] = true;
         }
     }
     let clusters = clusters

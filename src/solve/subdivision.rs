@@ -1811,16 +1811,9 @@ fn retry_groups(
             .iter()
             .map(|e| e.on_box(&sub))
             .collect::<Result<_, _>>()?;
-        let (Decision::Yes, Some(c)) = certify(&polys)? else {
+        let Some((rlo, rhi, c)) = certify_and_refine(lo, hi, polys, opts.tolerance)? else {
             continue;
         };
-        let node = Node {
-            lo,
-            hi,
-            polys,
-            depth: 0,
-        };
-        let (rlo, rhi, c) = refine(&node, c, opts.tolerance, None)?;
         let Some(c) = accept(&rlo, &rhi, c)? else {
             continue;
         };
@@ -1836,6 +1829,30 @@ fn retry_groups(
         .map(|(c, _)| c)
         .collect();
     Ok(found)
+}
+
+/// A refined root box (lower and upper corners) and its certificate.
+pub(super) type RefinedRoot = (Vec<Rational>, Vec<Rational>, RootCertificate);
+
+/// Certifies exactly that the equations `polys` (Bernstein form on the box `lo..hi`, in unit
+/// coordinates of the domain, common degrees) have exactly one root on it, and refines the
+/// box to `tolerance` ([`refine`]): the refined box and its certificate, or `None`.
+pub(super) fn certify_and_refine(
+    lo: Vec<Rational>,
+    hi: Vec<Rational>,
+    polys: Vec<Bernstein<Rational>>,
+    tolerance: f64,
+) -> Result<Option<RefinedRoot>, SolveError> {
+    let (Decision::Yes, Some(c)) = certify(&polys)? else {
+        return Ok(None);
+    };
+    let node = Node {
+        lo,
+        hi,
+        polys,
+        depth: 0,
+    };
+    refine(&node, c, tolerance, None).map(Some)
 }
 
 /// Groups of touching clusters among those `eligible` admits (indices into `clusters`), and

@@ -154,15 +154,26 @@ fn check_exactly(
     sub: &[(Rational, Rational)],
     certificate: &RootCertificate,
 ) -> Result<RootCheck, RootRefusal> {
-    let n = system.unknowns();
     // (`on_box` is `restrict` inside the domain and extends the equations beyond it.)
     let f = system
         .equations
         .iter()
         .map(|e| e.on_box(sub))
         .collect::<Result<Vec<_>, _>>()?;
+    whole_box(&system.domain, f, bounds, certificate)
+}
+
+/// Miranda and dominance on the whole box with the equations `f` on it ([`check_parts`] on
+/// one part), after checking the certificate's point against them if it has one.
+fn whole_box(
+    domain: &[(Rational, Rational)],
+    f: Vec<Bernstein<Rational>>,
+    bounds: &RationalBox,
+    certificate: &RootCertificate,
+) -> Result<RootCheck, RootRefusal> {
+    let n = bounds.len();
     if let Some(point) = &certificate.point {
-        point_is_the_root(&system.domain, &f, bounds, point)?;
+        point_is_the_root(domain, &f, bounds, point)?;
     }
     let whole = Part {
         f: common_degrees(f)?,
@@ -193,22 +204,11 @@ pub fn verify_piecewise_root(
 ) -> Result<RootCheck, RootRefusal> {
     let n = system.unknowns();
     shape(n, system.equations().len(), bounds, certificate)?;
-    if let Some(point) = &certificate.point {
+    if certificate.point.is_some() {
         // A root on the domain's boundary: the box reaches across it, and the equations are
         // taken there as the polynomials they are on the box's part inside the domain.
         let f = extended_equations(system, bounds)?;
-        point_is_the_root(system.domain(), &f, bounds, point)?;
-        let whole = Part {
-            f: common_degrees(f)?,
-            lower: vec![true; n],
-            upper: vec![true; n],
-            ratio: vec![Rational::one(); n],
-        };
-        let check = check_parts(&[whole], certificate)?;
-        return Ok(RootCheck {
-            on_boundary: true,
-            ..check
-        });
+        return whole_box(system.domain(), f, bounds, certificate);
     }
     unit_box(system.domain(), bounds)?;
     let mut parts = Vec::new();

@@ -432,6 +432,60 @@ pub enum SolveError {
     Bernstein(#[from] BernsteinError),
 }
 
+/// Widens the hull `lo..hi` of clusters at the boundary of the box `bounds` (the same
+/// coordinates) into a box reaching across it: mirrored across each face of `bounds` it
+/// touches (a root on that face then sits mid-box), grown by a quarter of its width on the
+/// other sides.
+pub(crate) fn reach_across(
+    lo: &mut [Rational],
+    hi: &mut [Rational],
+    bounds: &[(Rational, Rational)],
+) {
+    let quarter = Rational::new(1.into(), 4.into());
+    for (k, (a, b)) in bounds.iter().enumerate() {
+        let w = (&hi[k] - &lo[k]) * &quarter;
+        (lo[k], hi[k]) = if &lo[k] == a {
+            (a - (&hi[k] - a) - &w, &hi[k] + &w)
+        } else if &hi[k] == b {
+            (&lo[k] - &w, b + (b - &lo[k]) + &w)
+        } else {
+            (&lo[k] - &w, &hi[k] + &w)
+        };
+    }
+}
+
+/// Where the one root of a certified, refined box near the domain's boundary lies (`refined`
+/// and `domain` in domain coordinates): `None` when the box lies beyond a face (outside the
+/// domain), `Some(None)` when it lies inside the domain, else `Some(Some(point))` with the
+/// candidate for the root, on the boundary: the crossed faces' coordinates and, on the other
+/// axes, the simplest rationals of the box's sides
+/// ([`simplest_between`](crate::num::rational::simplest_between)).
+pub(crate) fn boundary_candidate(
+    domain: &[(Rational, Rational)],
+    refined: &RationalBox,
+) -> Option<Option<Vec<Rational>>> {
+    let pairs = || refined.iter().zip(domain);
+    if pairs().any(|((lo, hi), (a, b))| hi <= a || lo >= b) {
+        return None;
+    }
+    if pairs().all(|((lo, hi), (a, b))| lo >= a && hi <= b) {
+        return Some(None);
+    }
+    Some(Some(
+        pairs()
+            .map(|((lo, hi), (a, b))| {
+                if lo < a {
+                    a.clone()
+                } else if hi > b {
+                    b.clone()
+                } else {
+                    crate::num::rational::simplest_between(lo, hi)
+                }
+            })
+            .collect(),
+    ))
+}
+
 /// Connected groups of touching closed boxes (each `(lo, hi)` per axis), by a sweep along
 /// axis 0 and union–find: `O(m log m)` plus the pairs whose axis-0 extents overlap.
 pub(crate) fn touching_groups(boxes: &[(&[Rational], &[Rational])]) -> Vec<Vec<usize>> {

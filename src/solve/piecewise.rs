@@ -433,6 +433,46 @@ fn across_split_planes(
     found: Found,
     tolerance: f64,
 ) -> Result<Found, SolveError> {
+    let quarter = Rational::new(1.into(), 4.into());
+    retry_groups(
+        system,
+        found,
+        |c| c.reason == ClusterReason::DepthLimit,
+        |members| members.len() >= 2,
+        |lo, hi| {
+            for k in 0..lo.len() {
+                let w = (&hi[k] - &lo[k]) * &quarter;
+                lo[k] = (&lo[k] - &w).max(system.domain[k].0.clone());
+                hi[k] = (&hi[k] + &w).min(system.domain[k].1.clone());
+            }
+        },
+        |lo, hi| {
+            let (Decision::Yes, Some(c), _) = certify_parts(
+                &parts(system, |c| exact_cell(system, c), &lo, &hi)?,
+                &lo,
+                &hi,
+            )?
+            else {
+                return Ok(None);
+            };
+            let (lo, hi, c) = refine_box(system, lo, hi, c, tolerance)?;
+            Ok(Some(root_in(lo.into_iter().zip(hi).collect(), c)))
+        },
+    )
+}
+
+/// The retry both [`across_split_planes`] and [`across_boundary`] make (domain
+/// coordinates): the clusters `eligible` admits are grouped by touching; each group `wanted`
+/// is tried as one box, its hull `widen`ed; when that box meets no other root's or cluster's
+/// box and `attempt` certifies a root on it, the root replaces the group.
+fn retry_groups(
+    system: &PiecewiseSystem,
+    found: Found,
+    eligible: impl Fn(&Cluster) -> bool,
+    wanted: impl Fn(&[usize]) -> bool,
+    widen: impl Fn(&mut [Rational], &mut [Rational]),
+    attempt: impl Fn(Vec<Rational>, Vec<Rational>) -> Result<Option<Root>, SolveError>,
+) -> Result<Found, SolveError> {
     let n = system.unknowns();
     let Found {
         mut roots,
@@ -443,23 +483,22 @@ fn across_split_planes(
         .iter()
         .map(|c| c.bounds.iter().cloned().unzip())
         .collect();
-    let deep: Vec<usize> = (0..clusters.len())
-        .filter(|&i| clusters[i].reason == ClusterReason::DepthLimit)
+    let candidates: Vec<usize> = (0..clusters.len())
+        .filter(|&i| eligible(&clusters[i]))
         .collect();
-    let boxes: Vec<(&[Rational], &[Rational])> = deep
+    let boxes: Vec<(&[Rational], &[Rational])> = candidates
         .iter()
         .map(|&i| (corners[i].0.as_slice(), corners[i].1.as_slice()))
         .collect();
     let meets = |alo: &[Rational], ahi: &[Rational], lo: &[Rational], hi: &[Rational]| {
         (0..n).all(|k| alo[k] <= hi[k] && lo[k] <= ahi[k])
     };
-    let quarter = Rational::new(1.into(), 4.into());
     let mut replaced = vec![false; clusters.len()];
     for group in touching_groups(&boxes) {
-        if group.len() < 2 {
+        let members: Vec<usize> = group.into_iter().map(|g| candidates[g]).collect();
+        if !wanted(&members) {
             continue;
         }
-        let members: Vec<usize> = group.into_iter().map(|g| deep[g]).collect();
         let (mut lo, mut hi) = corners[members[0]].clone();
         for &m in &members {
             for k in 0..n {
@@ -467,11 +506,7 @@ fn across_split_planes(
                 hi[k] = hi[k].clone().max(corners[m].1[k].clone());
             }
         }
-        for k in 0..n {
-            let w = (&hi[k] - &lo[k]) * &quarter;
-            lo[k] = (&lo[k] - &w).max(system.domain[k].0.clone());
-            hi[k] = (&hi[k] + &w).min(system.domain[k].1.clone());
-        }
+        widen(&mut lo, &mut hi);
         let clear = roots.iter().all(|r| {
             let (rlo, rhi): (Vec<Rational>, Vec<Rational>) = r.bounds.iter().cloned().unzip();
             !meets(&rlo, &rhi, &lo, &hi)
@@ -481,13 +516,8 @@ fn across_split_planes(
         if !clear {
             continue;
         }
-        if let (Decision::Yes, Some(c), _) = certify_parts(
-            &parts(system, |c| exact_cell(system, c), &lo, &hi)?,
-            &lo,
-            &hi,
-        )? {
-            let (lo, hi, c) = refine_box(system, lo, hi, c, tolerance)?;
-            roots.push(root_in(lo.into_iter().zip(hi).collect(), c));
+        if let Some(root) = attempt(lo, hi)? {
+            roots.push(root);
             for &m in &members {
                 replaced[m] = true;
             }
@@ -522,119 +552,56 @@ fn across_boundary(
     tolerance: f64,
 ) -> Result<Found, SolveError> {
     let n = system.unknowns();
-    let Found {
-        mut roots,
-        clusters,
-        visited,
-    } = found;
-    let corners: Vec<(Vec<Rational>, Vec<Rational>)> = clusters
-        .iter()
-        .map(|c| c.bounds.iter().cloned().unzip())
-        .collect();
-    let on_boundary = |i: usize| clusters[i].reason == ClusterReason::DomainBoundary;
-    let eligible: Vec<usize> = (0..clusters.len())
-        .filter(|&i| on_boundary(i) || clusters[i].reason == ClusterReason::DepthLimit)
-        .collect();
-    let boxes: Vec<(&[Rational], &[Rational])> = eligible
-        .iter()
-        .map(|&i| (corners[i].0.as_slice(), corners[i].1.as_slice()))
-        .collect();
-    let meets = |alo: &[Rational], ahi: &[Rational], lo: &[Rational], hi: &[Rational]| {
-        (0..n).all(|k| alo[k] <= hi[k] && lo[k] <= ahi[k])
-    };
-    let quarter = Rational::new(1.into(), 4.into());
-    let mut replaced = vec![false; clusters.len()];
-    for group in touching_groups(&boxes) {
-        let members: Vec<usize> = group.into_iter().map(|g| eligible[g]).collect();
-        if !members.iter().any(|&m| on_boundary(m)) {
-            continue;
-        }
-        let (mut lo, mut hi) = corners[members[0]].clone();
-        for &m in &members {
-            for k in 0..n {
-                lo[k] = lo[k].clone().min(corners[m].0[k].clone());
-                hi[k] = hi[k].clone().max(corners[m].1[k].clone());
-            }
-        }
-        for k in 0..n {
-            let (a, b) = &system.domain[k];
-            let w = (&hi[k] - &lo[k]) * &quarter;
-            (lo[k], hi[k]) = if &lo[k] == a {
-                (a - (&hi[k] - a) - &w, &hi[k] + &w)
-            } else if &hi[k] == b {
-                (&lo[k] - &w, b + (b - &lo[k]) + &w)
-            } else {
-                (&lo[k] - &w, &hi[k] + &w)
+    let domain = &system.domain;
+    let reasons: Vec<ClusterReason> = found.clusters.iter().map(|c| c.reason).collect();
+    retry_groups(
+        system,
+        found,
+        |c| {
+            matches!(
+                c.reason,
+                ClusterReason::DomainBoundary | ClusterReason::DepthLimit
+            )
+        },
+        |members| {
+            members
+                .iter()
+                .any(|&m| reasons[m] == ClusterReason::DomainBoundary)
+        },
+        |lo, hi| super::reach_across(lo, hi, domain),
+        |lo, hi| {
+            let bounds: RationalBox = lo.iter().cloned().zip(hi.iter().cloned()).collect();
+            // A part inside that crosses a knot: not one polynomial there.
+            let Ok(f) = extended_equations(system, &bounds) else {
+                return Ok(None);
             };
-        }
-        let clear = roots.iter().all(|r| {
-            let (rlo, rhi): (Vec<Rational>, Vec<Rational>) = r.bounds.iter().cloned().unzip();
-            !meets(&rlo, &rhi, &lo, &hi)
-        }) && (0..clusters.len())
-            .filter(|i| !members.contains(i))
-            .all(|i| !meets(&corners[i].0, &corners[i].1, &lo, &hi));
-        if !clear {
-            continue;
-        }
-        let bounds: RationalBox = lo.iter().cloned().zip(hi.iter().cloned()).collect();
-        // A part inside that crosses a knot: not one polynomial there.
-        let Ok(f) = extended_equations(system, &bounds) else {
-            continue;
-        };
-        let f = elevated(&f)?;
-        let unit = |x: &[Rational]| -> Vec<Rational> {
-            (0..n)
-                .map(|k| super::unit_coordinate(&system.domain, k, &x[k]))
-                .collect()
-        };
-        let Some((ulo, uhi, mut c)) = certify_and_refine(unit(&lo), unit(&hi), f, tolerance)?
-        else {
-            continue;
-        };
-        let refined = super::domain_bounds(&system.domain, &ulo, &uhi);
-        let within = |k: usize, x: &Rational| &system.domain[k].0 <= x && x <= &system.domain[k].1;
-        if (0..n).any(|k| refined[k].1 <= system.domain[k].0 || refined[k].0 >= system.domain[k].1)
-        {
-            // Outside the domain.
-            continue;
-        }
-        if !(0..n).all(|k| within(k, &refined[k].0) && within(k, &refined[k].1)) {
-            let point: Vec<Rational> = (0..n)
-                .map(|k| {
-                    let ((lo, hi), (a, b)) = (&refined[k], &system.domain[k]);
-                    if lo < a {
-                        a.clone()
-                    } else if hi > b {
-                        b.clone()
-                    } else {
-                        crate::num::rational::simplest_between(lo, hi)
-                    }
-                })
-                .collect();
-            let Ok(f) = extended_equations(system, &refined) else {
-                continue;
+            let unit = |x: &[Rational]| -> Vec<Rational> {
+                (0..n)
+                    .map(|k| super::unit_coordinate(domain, k, &x[k]))
+                    .collect()
             };
-            if point_is_the_root(&system.domain, &f, &refined, &point).is_err() {
-                continue;
+            let Some((ulo, uhi, mut c)) =
+                certify_and_refine(unit(&lo), unit(&hi), elevated(&f)?, tolerance)?
+            else {
+                return Ok(None);
+            };
+            let refined = super::domain_bounds(domain, &ulo, &uhi);
+            let Some(candidate) = super::boundary_candidate(domain, &refined) else {
+                // Outside the domain.
+                return Ok(None);
+            };
+            if let Some(point) = candidate {
+                let Ok(f) = extended_equations(system, &refined) else {
+                    return Ok(None);
+                };
+                if point_is_the_root(domain, &f, &refined, &point).is_err() {
+                    return Ok(None);
+                }
+                c.point = Some(point);
             }
-            c.point = Some(point);
-        }
-        roots.push(root_in(refined, c));
-        for &m in &members {
-            replaced[m] = true;
-        }
-    }
-    let clusters = clusters
-        .into_iter()
-        .zip(replaced)
-        .filter(|(_, r)| !r)
-        .map(|(c, _)| c)
-        .collect();
-    Ok(Found {
-        roots,
-        clusters,
-        visited,
-    })
+            Ok(Some(root_in(refined, c)))
+        },
+    )
 }
 
 /// The subdivision of the domain in the coefficient field `T`, its boxes free to cross knot

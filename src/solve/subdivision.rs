@@ -1927,48 +1927,24 @@ fn clear_of_others(
 fn certify_on_boundary(ctx: &Context<'_>, found: Found<()>) -> Result<Found<()>, SolveError> {
     let system = ctx.system;
     let n = system.unknowns();
-    let (zero, one) = (<Rational as Zero>::zero(), <Rational as One>::one());
-    let quarter = Rational::new(1.into(), 4.into());
+    let unit = vec![(<Rational as Zero>::zero(), <Rational as One>::one()); n];
     let on_boundary = |c: &ClusterLeaf| c.0.reason == ClusterReason::DomainBoundary;
     retry_groups(
         ctx,
         found,
         |c| on_boundary(c) || c.0.reason == ClusterReason::DepthLimit,
         |clusters, members| members.iter().any(|&m| on_boundary(&clusters[m])),
-        |lo, hi| {
-            for k in 0..n {
-                let w = (&hi[k] - &lo[k]) * &quarter;
-                if lo[k] == zero {
-                    (lo[k], hi[k]) = (-(&hi[k] + &w), &hi[k] + &w);
-                } else if hi[k] == one {
-                    (lo[k], hi[k]) = (&lo[k] - &w, &one + (&one - &lo[k]) + &w);
-                } else {
-                    (lo[k], hi[k]) = (&lo[k] - &w, &hi[k] + &w);
-                }
-            }
-        },
+        |lo, hi| super::reach_across(lo, hi, &unit),
         |rlo, rhi, mut c| {
-            if (0..n).any(|k| rhi[k] <= zero || rlo[k] >= one) {
+            let refined = system.domain_box(rlo, rhi);
+            let Some(candidate) = super::boundary_candidate(&system.domain, &refined) else {
                 // Outside the domain.
                 return Ok(None);
-            }
-            if (0..n).all(|k| rlo[k] >= zero && rhi[k] <= one) {
+            };
+            let Some(point) = candidate else {
                 return Ok(Some(c));
-            }
-            // On the boundary, if anywhere in the domain: try the simplest point there.
-            let bounds = system.domain_box(rlo, rhi);
-            let point: Vec<Rational> = (0..n)
-                .map(|k| {
-                    let (a, b) = &system.domain[k];
-                    if rlo[k] < zero {
-                        a.clone()
-                    } else if rhi[k] > one {
-                        b.clone()
-                    } else {
-                        crate::num::rational::simplest_between(&bounds[k].0, &bounds[k].1)
-                    }
-                })
-                .collect();
+            };
+            // On the boundary: is the candidate the root?
             let u: Vec<Rational> = (0..n).map(|k| system.to_unit(k, &point[k])).collect();
             for e in &system.equations {
                 if !e.eval(&u)?.is_zero() {

@@ -591,10 +591,8 @@ fn across_boundary(
                 return Ok(None);
             };
             if let Some(point) = candidate {
-                let Ok(f) = extended_equations(system, &refined) else {
-                    return Ok(None);
-                };
-                if point_is_the_root(domain, &f, &refined, &point).is_err() {
+                // The equations on the widened box hold the refined one (and its point).
+                if point_is_the_root(domain, &f, &bounds, &point).is_err() {
                     return Ok(None);
                 }
                 c.point = Some(point);

@@ -18,10 +18,12 @@ if command -v apt-get >/dev/null 2>&1 && [ "$(id -u)" = 0 ]; then
 fi
 /usr/bin/python3 -c "import phcpy" >/dev/null 2>&1 && echo "phcpy available" || echo "phcpy not available (the solve report says so)"
 /usr/bin/python3 -c "import pyopenvdb" >/dev/null 2>&1 && echo "openvdb available" || echo "openvdb not available (the diamond report says so)"
-# Two of pymeshlab's sample meshes for the decimation report: a range map with holes and
-# bow-tie vertices, and a model carrying vertices no triangle uses. Only the wheel is fetched
-# (pymeshlab is not installed) and only these two files are unpacked from it.
-if [ ! -f .peers-data/pymeshlab/face000.ply ] || [ ! -f .peers-data/pymeshlab/airplane.obj ]; then
+# Three of pymeshlab's sample meshes for the decimation report: a range map with holes and
+# bow-tie vertices, a model carrying vertices no triangle uses, and a closed low-poly model
+# (the cow). Only the wheel is fetched (pymeshlab is not installed) and only these files are
+# unpacked from it.
+if [ ! -f .peers-data/pymeshlab/face000.ply ] || [ ! -f .peers-data/pymeshlab/airplane.obj ] \
+  || [ ! -f .peers-data/pymeshlab/cow.obj ]; then
   wheel_dir=$(mktemp -d)
   if .venv-peers/bin/pip download --quiet --no-deps pymeshlab -d "$wheel_dir" >/dev/null 2>&1; then
     mkdir -p .peers-data/pymeshlab
@@ -30,14 +32,36 @@ import glob, os, sys, zipfile
 wheel = glob.glob(os.path.join(sys.argv[1], "pymeshlab-*.whl"))[0]
 with zipfile.ZipFile(wheel) as z:
     for name in z.namelist():
-        if name.endswith(("sample_meshes/rangemaps/face000.ply", "sample_meshes/airplane.obj")):
+        if name.endswith(("sample_meshes/rangemaps/face000.ply", "sample_meshes/airplane.obj",
+                          "sample_meshes/cow.obj")):
             with open(os.path.join(sys.argv[2], os.path.basename(name)), "wb") as f:
                 f.write(z.read(name))
 PY
   else
-    echo "pymeshlab wheel not downloaded: the decimation report's range map and airplane are missing"
+    echo "pymeshlab wheel not downloaded: the decimation report's range map, airplane and cow are missing"
   fi
   rm -rf "$wheel_dir"
+fi
+# Kuen's surface (constant negative curvature, long thin wings) for the decimation report's
+# stress case: VTK's parametric source on a 200 x 200 grid of its default parameter ranges,
+# triangulated, written as binary PLY (one border loop, no seam).
+if [ ! -f .peers-data/kuen.ply ]; then
+  mkdir -p .peers-data
+  .venv-peers/bin/python - .peers-data/kuen.ply <<'PY'
+import sys
+import vtk
+source = vtk.vtkParametricFunctionSource()
+source.SetParametricFunction(vtk.vtkParametricKuen())
+source.SetUResolution(200)
+source.SetVResolution(200)
+triangles = vtk.vtkTriangleFilter()
+triangles.SetInputConnection(source.GetOutputPort())
+writer = vtk.vtkPLYWriter()
+writer.SetFileName(sys.argv[1])
+writer.SetFileTypeToBinary()
+writer.SetInputConnection(triangles.GetOutputPort())
+writer.Write()
+PY
 fi
 # Real surfaces for the decimation report, from npm: the Stanford bunny (JS arrays, written
 # out as OBJ) and the Stanford dragon (the 437,645-vertex vrip reconstruction, gzipped PLY).

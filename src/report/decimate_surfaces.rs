@@ -59,8 +59,9 @@ const RUNS: usize = 3;
 type Surface = (String, String, Mesh, f64, ProjectionChoice);
 
 /// The surfaces: the built-in gyroid isosurface always; the Stanford dragon and bunny from
-/// npm, two of pymeshlab's sample meshes and the MNI152 isosurface when installed by
-/// `benches/peers/setup.sh`.
+/// npm, three of pymeshlab's sample meshes, Kuen's surface and the MNI152 isosurface when
+/// installed by `benches/peers/setup.sh`. The cow and Kuen's surface are stress cases where
+/// geocert stops above its target (its last removals are forced, see the README).
 fn surfaces(root: &FsPath, notes: &mut Vec<String>) -> Vec<Surface> {
     let mut out = Vec::new();
     let data = root.join(".peers-data");
@@ -112,6 +113,20 @@ fn surfaces(root: &FsPath, notes: &mut Vec<String>) -> Vec<Surface> {
         "pymeshlab wheel, tests/sample_meshes/airplane.obj",
         data.join("pymeshlab/airplane.obj"),
         0.05,
+        false,
+    );
+    file(
+        "pymeshlab cow (closed, genus 0, low-poly; geocert stops above 3 %)",
+        "pymeshlab wheel, tests/sample_meshes/cow.obj",
+        data.join("pymeshlab/cow.obj"),
+        0.03,
+        false,
+    );
+    file(
+        "Kuen's surface (VTK parametric, one border loop, long thin wings; geocert stops above 2 %)",
+        "vtkParametricKuen on a 200 × 200 grid (benches/peers/setup.sh)",
+        data.join("kuen.ply"),
+        0.02,
         false,
     );
     match super::diamond::mni_template(root) {

@@ -785,6 +785,51 @@ fn solve_certifies_katsura_3_with_a_root_on_the_box_boundary() {
 }
 
 #[test]
+fn solve_certifies_all_twelve_real_roots_of_katsura_4() {
+    // Katsura-4 on [−1, 1]⁵ (msolve: twelve real roots, all in the box). Four of them lie
+    // within about 0.06 of each other and (1, 0, 0, 0, 0) on a face: with a group budget that
+    // did not grow with the number of unknowns they were left in two singular clusters.
+    let system = tmp("katsura4.json");
+    std::fs::write(
+        &system,
+        r#"{"box": [["-1","1"],["-1","1"],["-1","1"],["-1","1"],["-1","1"]], "equations": [
+            {"terms": [[[1,0,0,0,0],1],[[0,1,0,0,0],2],[[0,0,1,0,0],2],[[0,0,0,1,0],2],[[0,0,0,0,1],2],[[0,0,0,0,0],-1]]},
+            {"terms": [[[2,0,0,0,0],1],[[1,0,0,0,0],-1],[[0,2,0,0,0],2],[[0,0,2,0,0],2],[[0,0,0,2,0],2],[[0,0,0,0,2],2]]},
+            {"terms": [[[1,1,0,0,0],2],[[0,1,1,0,0],2],[[0,1,0,0,0],-1],[[0,0,1,1,0],2],[[0,0,0,1,1],2]]},
+            {"terms": [[[1,0,1,0,0],2],[[0,2,0,0,0],1],[[0,1,0,1,0],2],[[0,0,1,0,1],2],[[0,0,1,0,0],-1]]},
+            {"terms": [[[1,0,0,1,0],2],[[0,1,1,0,0],2],[[0,1,0,0,1],2],[[0,0,0,1,0],-1]]}]}"#,
+    )
+    .unwrap();
+    let cert = tmp("katsura4.cert.json");
+    let v = solve_with_cert(&system, &cert);
+    let roots = v["roots"].as_array().unwrap();
+    assert_eq!(roots.len(), 12, "{v}");
+    assert!(v["clusters"].as_array().unwrap().is_empty(), "{v}");
+    // The four close roots (msolve's, rounded) are among them.
+    for expected in [
+        [0.167675, 0.059631, 0.057356, 0.054242, 0.244933],
+        [0.226541, 0.0, 0.11327, 0.0, 0.273459],
+        [0.280729, 0.053657, -0.05632, 0.060155, 0.302143],
+        [0.333333, 0.0, 0.0, 0.0, 0.333333],
+    ] {
+        let near = roots.iter().any(|r| {
+            let a = r["approx"].as_array().unwrap();
+            a.iter()
+                .zip(expected)
+                .all(|(x, e)| (x.as_f64().unwrap() - e).abs() < 1e-5)
+        });
+        assert!(near, "no root near {expected:?}: {v}");
+    }
+    let out = geocert()
+        .args(["solve", "verify-cert", cert.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_success(&out);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(text.matches(": valid").count(), 12, "{text}");
+}
+
+#[test]
 fn solve_reads_b_spline_equations_and_certifies_a_root_on_a_knot() {
     // f1: the piecewise-linear field through (0, −⅓), (⅓, 0), (1, 2) with its kink and root
     // on the knot ⅓; f2: a uniform quadratic B-spline in y (unclamped knots) equal to y − ¼.

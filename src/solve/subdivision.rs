@@ -1298,11 +1298,21 @@ impl Context<'_> {
 const COARSE_LEVELS: u32 = 5;
 
 /// The boxes one group of touching undecided boxes may visit below the coarse levels before
-/// it is given up as one [`ClusterReason::Singular`] cluster. A root on a split plane or a
-/// domain face needs a few boxes per level (at most `2ⁿ`); around a multiple or tangential
-/// root the undecided boxes multiply at every level (about `2^(k/2)` at level `k` for a
-/// double root) and would otherwise take every box of the solve.
+/// it is given up as one [`ClusterReason::Singular`] cluster, in one or two unknowns; twice
+/// as many with each unknown more ([`group_budget`]). A root on a split plane or a domain
+/// face needs a few boxes per level (at most `2ⁿ`); around a multiple or tangential root the
+/// undecided boxes multiply at every level (about `2^(k/2)` at level `k` for a double root)
+/// and would otherwise take every box of the solve.
 const GROUP_BOXES: usize = 2048;
+
+/// The boxes a group may visit in `n` unknowns ([`GROUP_BOXES`] doubled for each unknown
+/// past two): a point touches up to `2ⁿ` boxes of a level. With 2,048 in five unknowns,
+/// Katsura-4 on `[−1, 1]⁵` left four simple roots about 0.06 apart and the root
+/// `(1, 0, 0, 0, 0)` in two singular clusters; with 16,384 all twelve of msolve's real roots
+/// are certified.
+fn group_budget(n: u32) -> usize {
+    GROUP_BOXES << n.saturating_sub(2).min(16)
+}
 
 /// The boxes the exact redo of a group ([`staged`]'s `filtered`) may visit.
 const GROUP_EXACT_BOXES: usize = 256;
@@ -1624,7 +1634,7 @@ fn leaf_groups<'a>(
 
 /// A solve's subdivision of `nodes` in two stages: every box to [`COARSE_LEVELS`], then each
 /// group of touching boxes still undecided there on its own, down to the depth limit within
-/// [`GROUP_BOXES`]; a group that needs more is one [`ClusterReason::Singular`] cluster: the
+/// [`group_budget`]; a group that needs more is one [`ClusterReason::Singular`] cluster: the
 /// hull of the boxes the pass left (unvisited, clusters and roots), which hold every root of
 /// the group.
 ///
@@ -1660,7 +1670,7 @@ fn staged<T: Coefficient>(
     let groups = leaf_groups(deferred.iter().map(|d| (d.lo.as_slice(), d.hi.as_slice())));
     let mut slots: Vec<Option<Node<T>>> = deferred.into_iter().map(Some).collect();
     let group_pass = Pass {
-        budget: GROUP_BOXES,
+        budget: group_budget(n),
         ..full
     };
     for group in groups {

@@ -688,17 +688,7 @@ fn solve_certifies_roots_and_the_checker_agrees() {
             approx::assert_abs_diff_eq!(x * x + y * y, 1.0, epsilon = 1e-9);
             assert!(r["error_bound"].as_f64().unwrap() < 1e-9, "{path}: {r}");
         }
-        let out = geocert()
-            .args(["solve", "verify-cert", cert.to_str().unwrap()])
-            .output()
-            .unwrap();
-        assert!(out.status.success());
-        assert_eq!(
-            String::from_utf8_lossy(&out.stdout)
-                .matches("valid")
-                .count(),
-            2
-        );
+        assert_eq!(accepted(&cert).matches("valid").count(), 2);
     }
     // A tampered certificate is refused with exit code 1.
     let text = std::fs::read_to_string(&cert).unwrap();
@@ -718,6 +708,17 @@ fn solve_certifies_roots_and_the_checker_agrees() {
     };
     assert_ne!(tampered, text);
     refused_as(&cert, &tampered, "invalid");
+}
+
+/// `geocert solve verify-cert CERT` (which must accept every certificate in it): its output.
+fn accepted(cert: &std::path::Path) -> String {
+    let out = geocert()
+        .args(["solve", "verify-cert", cert.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "{text}");
+    text
 }
 
 /// `geocert solve verify-cert` on `text` written to `cert` exits with 1, saying `why`.
@@ -767,12 +768,7 @@ fn solve_certifies_katsura_3_with_a_root_on_the_box_boundary() {
         .filter_map(|r| r.get("point"))
         .collect();
     assert_eq!(on_face, [&serde_json::json!(["1", "0", "0", "0"])]);
-    let out = geocert()
-        .args(["solve", "verify-cert", cert.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert_success(&out);
-    let text = String::from_utf8_lossy(&out.stdout);
+    let text = accepted(&cert);
     assert_eq!(text.matches(": valid").count(), 6, "{text}");
     assert_eq!(text.matches("vanishes exactly").count(), 1, "{text}");
     // The point moved off the root is refused.
@@ -820,12 +816,7 @@ fn solve_certifies_all_twelve_real_roots_of_katsura_4() {
         });
         assert!(near, "no root near {expected:?}: {v}");
     }
-    let out = geocert()
-        .args(["solve", "verify-cert", cert.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert_success(&out);
-    let text = String::from_utf8_lossy(&out.stdout);
+    let text = accepted(&cert);
     assert_eq!(text.matches(": valid").count(), 12, "{text}");
 }
 
@@ -858,15 +849,7 @@ fn solve_reads_b_spline_equations_and_certifies_a_root_on_a_knot() {
         0.25,
         epsilon = 1e-12
     );
-    let out = geocert()
-        .args(["solve", "verify-cert", cert.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stdout)
-    );
+    accepted(&cert);
     // The curve of a piecewise equation: f = 0 is the line x = 1/3, which lies on the kink
     // (C⁰ knot) itself; it is traced from face y = 0 to face y = 1, and its certificate file
     // re-checks.
@@ -892,15 +875,7 @@ fn solve_reads_b_spline_equations_and_certifies_a_root_on_a_knot() {
     for p in curves[0]["polyline"].as_array().unwrap() {
         approx::assert_abs_diff_eq!(p[0].as_f64().unwrap(), 1.0 / 3.0, epsilon = 1e-12);
     }
-    let out = geocert()
-        .args(["solve", "verify-cert", curve_cert.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stdout)
-    );
+    accepted(&curve_cert);
     // Extreme points of B-spline equations are refused with a clear error, nothing written.
     let refused = tmp("kink-curve-refused.cert.json");
     let out = geocert()
@@ -950,12 +925,7 @@ fn solve_traces_curves_and_the_checker_agrees() {
     // The only extreme in x inside the box is (1/4, 0).
     let extremes = v["extremes"].as_array().unwrap();
     assert_eq!(extremes.len(), 1, "{v}");
-    let out = geocert()
-        .args(["solve", "verify-cert", cert.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(out.status.success());
-    assert!(String::from_utf8_lossy(&out.stdout).contains("curve: valid"));
+    assert!(accepted(&cert).contains("curve: valid"));
     // --curves on a square system, and an extreme axis out of range, are refused (exit 2,
     // nothing written).
     let square = tmp("square-curves.json");
@@ -1410,4 +1380,23 @@ fn bow_ties_are_split_on_request_and_loose_vertices_carried() {
         text.contains("stopped above the target of 8 nodes") && text.contains("on the border"),
         "{text}"
     );
+    // Node by node: the outline keeps the border nodes.
+    assert!(text.contains("kept by the border policy"), "{text}");
+    let o = decimate(&["--split-bowties", "--projection", "xy", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let b = &v["blocked"];
+    let sum: u64 = [
+        "border",
+        "valence",
+        "no_plane",
+        "fold",
+        "topology",
+        "facing",
+        "removable",
+    ]
+    .iter()
+    .map(|k| b[k].as_u64().unwrap())
+    .sum();
+    assert_eq!(sum, v["nodes_out"].as_u64().unwrap() - 2, "{v}");
+    assert!(b["border"].as_u64().unwrap() > 0, "{v}");
 }

@@ -136,12 +136,34 @@ proptest! {
         prop_assert_eq!(v.euler, 2);
         // A closed surface cannot go below a tetrahedron.
         prop_assert!(fast.stats.nodes_out >= 4);
+        blocked_accounts_for_the_nodes_left(&fast)?;
         round_trip(&mesh, &fast.mesh, &fast.history, 5);
         if criterion == Criterion::Angle && mesh.vertices.len() <= 66 {
             let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
             prop_assert_eq!(&exact.history, &fast.history);
         }
     }
+}
+
+/// A run that stopped above its target accounts for every node left in
+/// [`Stats::blocked`](geocert::decimate::Stats::blocked), none of them removable (the queue
+/// ran dry only when no removal was valid); a run that reached it has no account.
+fn blocked_accounts_for_the_nodes_left(
+    out: &geocert::decimate::Outcome,
+) -> Result<(), TestCaseError> {
+    let s = &out.stats;
+    let stopped = s.target_nodes.is_some_and(|t| s.nodes_out > t);
+    match s.blocked {
+        Some(b) => {
+            prop_assert!(stopped, "an account without a stop: {b:?}");
+            let sum =
+                b.border + b.valence + b.no_plane + b.fold + b.topology + b.facing + b.removable;
+            prop_assert_eq!(sum, s.nodes_out - s.unused, "{:?}", b);
+            prop_assert_eq!(b.removable, 0, "{:?}", b);
+        }
+        None => prop_assert!(!stopped, "stopped above the target without an account"),
+    }
+    Ok(())
 }
 
 fn border_policy() -> impl Strategy<Value = BorderPolicy> {
@@ -178,6 +200,7 @@ proptest! {
         let v = check::verify(&mesh, &fast.history, fast.stats.projection_xy, 1)
             .map_err(|e| TestCaseError::fail(e.to_string()))?;
         prop_assert_eq!(v.border_loops, 1);
+        blocked_accounts_for_the_nodes_left(&fast)?;
         if border == BorderPolicy::Simplify {
             prop_assert_eq!(fast.stats.border.as_str(), "simplify");
         }
@@ -199,10 +222,38 @@ proptest! {
         let v = check::verify(&mesh, &fast.history, false, 1).map_err(|e| TestCaseError::fail(e.to_string()))?;
         prop_assert_eq!(v.euler, 2);
         prop_assert_eq!(quality::deviation(&mesh, &fast.mesh).flipped, 0, "no triangle faces against the original");
+        blocked_accounts_for_the_nodes_left(&fast)?;
         let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
         prop_assert_eq!(&exact.history, &fast.history);
         round_trip(&mesh, &fast.mesh, &fast.history, 5);
     }
+}
+
+/// A closed surface decimated to nothing stops at a handful of nodes and says why each one
+/// left cannot go: every count adds up, and on a sphere the last nodes are held by the
+/// mesh's topology (a tetrahedron has no removable node) or their folds, not by a plane.
+#[test]
+fn a_run_that_stops_above_its_target_says_why() {
+    let mesh = unit_sphere(2);
+    let out = decimate(&mesh, &Options::new().with_target(Target::Nodes(0))).unwrap();
+    let b = out.stats.blocked.expect("stopped above the target");
+    blocked_accounts_for_the_nodes_left(&out).unwrap();
+    assert!(
+        out.stats.nodes_out >= 4 && out.stats.nodes_out < 12,
+        "{:?}",
+        out.stats
+    );
+    assert_eq!(
+        b.topology + b.fold + b.facing + b.no_plane,
+        out.stats.nodes_out,
+        "{b:?}"
+    );
+    // An error bound reached is not a stop: no account.
+    let bounded = decimate(&mesh, &Options::new().with_target(Target::ErrorBound(1e-9))).unwrap();
+    assert!(bounded.stats.blocked.is_none());
+    // Nor is a target reached.
+    let reached = decimate(&mesh, &Options::new().with_target(Target::Keep(0.5))).unwrap();
+    assert!(reached.stats.blocked.is_none());
 }
 
 /// A thin spherical shell (an outer sphere and, 2 % of the radius inside it, an inner one

@@ -71,6 +71,11 @@ pub(crate) trait Engine {
     fn remembered(&self) -> usize {
         0
     }
+    /// Why each node left cannot go, when the loop stopped above its target with no valid
+    /// removal left ([`Blocked`](super::Blocked)); `None` when the engine does not tell.
+    fn blocked(&mut self) -> Option<super::Blocked> {
+        None
+    }
     /// A hint that `v` comes soon: start fetching its own data.
     fn prefetch(&self, _v: u32) {}
     /// A hint that `v` comes next, its own data fetched already: start fetching its
@@ -102,6 +107,8 @@ pub(crate) struct LoopCounts {
     pub remembered: usize,
     /// Seconds on `clock` when the first node was taken.
     pub setup_seconds: f64,
+    /// Why the nodes left cannot go, when the queue ran dry above the target.
+    pub blocked: Option<super::Blocked>,
 }
 
 /// The node count `target` asks for on `n` nodes of which `unused` are in no triangle (they
@@ -219,6 +226,9 @@ pub(crate) fn run(
         if let Some(u) = queue.peek().filter(|&u| Some(u) != next) {
             engine.prefetch_ring(u, |w| queue.prefetch(w));
         }
+    }
+    if bound.is_none() && present > target_nodes && queue.is_empty() {
+        counts.blocked = engine.blocked();
     }
     counts.rebuilds = queue.rebuilds();
     counts.evaluated_ahead = engine.evaluated_ahead();
@@ -358,6 +368,7 @@ pub(crate) fn decimate_with<E: Engine>(
             seconds,
             fit_seconds,
             setup_seconds: counts.setup_seconds,
+            blocked: counts.blocked,
         },
         history,
         mesh: out,

@@ -1013,6 +1013,53 @@ impl Engine for FastEngine {
         self.st.geo.original.clone()
     }
 
+    fn blocked(&mut self) -> Option<super::Blocked> {
+        let (st, sc) = (&self.st, &mut self.sc);
+        let geo = &*st.geo;
+        let mut b = super::Blocked::default();
+        for v in 0..geo.pos.len() as u32 {
+            if st.lists.is_empty(v) {
+                continue;
+            }
+            // The checks of an evaluation and a removal, in their order.
+            let border = sc
+                .load_fan(&st.lists, v, usize::MAX)
+                .expect("no valence limit");
+            let count = if sc.ring.len() > geo.max_valence {
+                &mut b.valence
+            } else if sc.admit(geo, v, border).is_none() {
+                &mut b.border
+            } else {
+                match sc.plan(geo, &st.lists, v) {
+                    None => &mut b.no_plane,
+                    Some(plan) => {
+                        let carried = st.carried(v);
+                        if geo.criterion.plans()
+                            && sc.removal_value(geo, v, plan, &carried).is_none()
+                        {
+                            &mut b.fold
+                        } else if !geo.embedded && !sc.topology_ok(st, plan.border) {
+                            &mut b.topology
+                        } else if geo.original.as_deref().is_some_and(|original| {
+                            sc.ring3.clear();
+                            sc.ring3
+                                .extend(sc.ring.iter().map(|&w| geo.pos[w as usize]));
+                            super::quadric::faces_against_original(
+                                original, &sc.ring, &sc.ring3, &sc.tris,
+                            )
+                        }) {
+                            &mut b.facing
+                        } else {
+                            &mut b.removable
+                        }
+                    }
+                }
+            };
+            *count += 1;
+        }
+        Some(b)
+    }
+
     fn try_remove(&mut self, v: u32, history: &mut History) -> bool {
         let (st, sc) = (&mut self.st, &mut self.sc);
         let recalled = self

@@ -545,6 +545,34 @@ pub struct Stats {
     /// Of `seconds`, those before the first removal: the adjacency, the initial evaluation
     /// and the queue fill.
     pub setup_seconds: f64,
+    /// When the decimation stopped above its target because no further removal was valid:
+    /// why each node left cannot go (the fast and filtered paths; `None` otherwise).
+    pub blocked: Option<Blocked>,
+}
+
+/// Why the nodes left by a decimation that stopped above its target cannot go, each counted
+/// once, under the first rule that holds it (in this order). The counts add up to the nodes
+/// left that some triangle uses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Blocked {
+    /// Border nodes the border policy keeps ([`BorderPolicy`]).
+    pub border: usize,
+    /// Nodes over the valence limit ([`Options::max_valence`]).
+    pub valence: usize,
+    /// Nodes whose hole no allowed plane can hold: the fan is a simple star in no axis plane
+    /// (nor, under the quadric criterion, the ring a simple polygon), or the ears cannot be
+    /// cut.
+    pub no_plane: usize,
+    /// Nodes whose new triangles would fold the surface over (the quadric criterion,
+    /// [`folds`]).
+    pub fold: usize,
+    /// Nodes whose new triangles would repeat an edge or a triangle of the mesh.
+    pub topology: usize,
+    /// Nodes whose new triangles would face against the original surface
+    /// ([`faces_against_original`], the facing test).
+    pub facing: usize,
+    /// Nodes that could go (none when the queue ran dry; kept so that the counts add up).
+    pub removable: usize,
 }
 
 /// A finished decimation: its history (from which the decimated mesh and every stage back to

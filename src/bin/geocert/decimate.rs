@@ -196,6 +196,7 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
             "rms_distance_error": errors.filter(|_| !s.projection_xy).map(|e| e.rms_height),
             "removed": s.removed,
             "refused": s.refused,
+            "blocked": s.blocked,
             "intervals": s.intervals,
             "rebuilds": s.rebuilds,
             "evaluations": s.evaluations,
@@ -229,6 +230,9 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
         if let Some(t) = s.target_nodes.filter(|&t| s.nodes_out > t) {
             let border = result.mesh.border_vertices().iter().filter(|&&b| b).count();
             print!("stopped above the target of {t} nodes: no further removal was valid");
+            if let Some(b) = &s.blocked {
+                print!(" ({})", blocked_reasons(b));
+            }
             if s.border == "outline" && border > 0 {
                 print!(
                     "; {border} kept nodes are on the border, whose outline --border outline keeps exactly (--border simplify or --projection per-fan removes border nodes with measured error)"
@@ -365,4 +369,23 @@ pub(crate) fn deviation(a: DeviationArgs) -> Result<ExitCode, String> {
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The nonzero counts of a [`Blocked`](geocert::decimate::Blocked), in words.
+fn blocked_reasons(b: &geocert::decimate::Blocked) -> String {
+    let parts = [
+        (b.no_plane, "no axis plane holds the hole"),
+        (b.fold, "would fold the surface over"),
+        (b.facing, "would face against the original surface"),
+        (b.topology, "would repeat an edge of the mesh"),
+        (b.border, "kept by the border policy"),
+        (b.valence, "over the valence limit"),
+        (b.removable, "removable"),
+    ];
+    let said: Vec<String> = parts
+        .iter()
+        .filter(|(n, _)| *n > 0)
+        .map(|(n, why)| format!("{n} {why}"))
+        .collect();
+    format!("of the nodes left: {}", said.join(", "))
 }

@@ -108,6 +108,7 @@ proptest! {
         let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
         prop_assert_eq!(&exact.history, &fast.history, "same removals, slots and triangles");
         prop_assert_eq!(&exact.mesh, &fast.mesh);
+        prop_assert_eq!(exact.stats.blocked, fast.stats.blocked);
     }
 
     #[test]
@@ -197,6 +198,7 @@ proptest! {
         let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
         prop_assert_eq!(&exact.history, &fast.history, "same removals, slots and triangles");
         prop_assert_eq!(&exact.mesh, &fast.mesh);
+        prop_assert_eq!(exact.stats.blocked, fast.stats.blocked);
         let v = check::verify(&mesh, &fast.history, fast.stats.projection_xy, 1)
             .map_err(|e| TestCaseError::fail(e.to_string()))?;
         prop_assert_eq!(v.border_loops, 1);
@@ -225,6 +227,7 @@ proptest! {
         blocked_accounts_for_the_nodes_left(&fast)?;
         let exact = decimate(&mesh, &opts.clone().with_path(Path::Exact)).unwrap();
         prop_assert_eq!(&exact.history, &fast.history);
+        prop_assert_eq!(exact.stats.blocked, fast.stats.blocked);
         round_trip(&mesh, &fast.mesh, &fast.history, 5);
     }
 }
@@ -247,6 +250,18 @@ fn a_run_that_stops_above_its_target_says_why() {
         b.topology + b.fold + b.facing + b.no_plane,
         out.stats.nodes_out,
         "{b:?}"
+    );
+    let exact = decimate(
+        &mesh,
+        &Options::new()
+            .with_target(Target::Nodes(0))
+            .with_path(Path::Exact),
+    )
+    .unwrap();
+    assert_eq!(
+        exact.stats.blocked,
+        Some(b),
+        "the exact engine gives the same account"
     );
     // An error bound reached is not a stop: no account.
     let bounded = decimate(&mesh, &Options::new().with_target(Target::ErrorBound(1e-9))).unwrap();

@@ -140,13 +140,18 @@ impl ExactEngine {
     /// The fan of `v` from its incident triangles: each `(v, a, b)` links `a` to `b`; a border
     /// fan starts at the neighbour no triangle links to, an interior fan at its lowest id.
     fn fan(&self, v: u32) -> Option<Fan> {
+        self.fan_within(v, self.max_valence)
+    }
+
+    /// [`fan`](Self::fan) with the valence limit `limit`.
+    fn fan_within(&self, v: u32, limit: usize) -> Option<Fan> {
         let mut link: BTreeMap<u32, (u32, u32)> = BTreeMap::new();
         for &s in &self.incident[v as usize] {
             let t = self.slots[s as usize].expect("incident slots are live");
             let k = t.iter().position(|&x| x == v).expect("incident");
             link.insert(t[(k + 1) % 3], (t[(k + 2) % 3], s));
         }
-        if link.is_empty() || link.len() > self.max_valence {
+        if link.is_empty() || link.len() > limit {
             return None;
         }
         let targets: BTreeSet<u32> = link.values().map(|&(b, _)| b).collect();
@@ -171,7 +176,7 @@ impl ExactEngine {
             a = b;
         }
         debug_assert_eq!(fan.slots.len(), link.len());
-        if fan.ring.len() > self.max_valence {
+        if fan.ring.len() > limit {
             return None;
         }
         if !border {
@@ -518,6 +523,50 @@ impl Engine for ExactEngine {
 
     fn original_surface(&self) -> Option<Arc<OriginalSurface>> {
         self.original.clone()
+    }
+
+    fn blocked(&mut self) -> Option<super::Blocked> {
+        let mut b = super::Blocked::default();
+        for v in 0..self.coords.len() as u32 {
+            if self.removed[v as usize] {
+                continue;
+            }
+            let Some(fan) = self.fan_within(v, usize::MAX) else {
+                continue;
+            };
+            // The checks of an evaluation and a removal, in their order.
+            let count = if fan.ring.len() > self.max_valence {
+                &mut b.valence
+            } else if !self.border_allows(v, &fan) {
+                &mut b.border
+            } else {
+                match self.hole(v) {
+                    None => &mut b.no_plane,
+                    Some(hole) => {
+                        if self.criterion == Criterion::Quadric
+                            && self.quadric_cost(v, &hole).is_none()
+                        {
+                            &mut b.fold
+                        } else if !self.topology_ok(&hole) {
+                            &mut b.topology
+                        } else if self.original.as_deref().is_some_and(|original| {
+                            super::quadric::faces_against_original(
+                                original,
+                                &hole.fan.ring,
+                                &self.ring_points(&hole),
+                                &hole.triangles,
+                            )
+                        }) {
+                            &mut b.facing
+                        } else {
+                            &mut b.removable
+                        }
+                    }
+                }
+            };
+            *count += 1;
+        }
+        Some(b)
     }
 
     fn try_remove(&mut self, v: u32, history: &mut History) -> bool {

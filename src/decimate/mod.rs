@@ -546,7 +546,7 @@ pub struct Stats {
     /// and the queue fill.
     pub setup_seconds: f64,
     /// When the decimation stopped above its target because no further removal was valid:
-    /// why each node left cannot go (the fast and filtered paths; `None` otherwise).
+    /// why each node left cannot go (both engines give the same counts; `None` otherwise).
     pub blocked: Option<Blocked>,
 }
 

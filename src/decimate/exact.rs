@@ -53,7 +53,8 @@ pub(crate) struct ExactEngine {
     /// The input coordinates as given (the heuristics read these).
     float: Vec<[f64; 3]>,
     /// The original surface's vertex normals ([`vertex_normals`](super::vertex_normals);
-    /// [`Criterion::Quadric`] only, else empty).
+    /// [`Criterion::Quadric`] without the facing test only, else empty: the fold test's
+    /// corner normals, [`folds`](super::folds)).
     normals: Vec<[f64; 3]>,
     /// The original surface for the facing test at removals
     /// ([`faces_against_original`](super::quadric::faces_against_original);
@@ -99,18 +100,20 @@ impl ExactEngine {
             orient(&p[0], &p[1], &p[2]) != Ordering::Greater
         })?;
         let criterion = options.criterion.resolve(global.is_some());
+        let original = if global.is_none() && options.facing {
+            OriginalSurface::new(mesh).map(Arc::new)
+        } else {
+            None
+        };
         Ok(ExactEngine {
             float: mesh.vertices.clone(),
-            normals: if criterion == Criterion::Quadric {
+            // The corner-normal fold test stands in for the facing test ([`super::folds`]).
+            normals: if criterion == Criterion::Quadric && original.is_none() {
                 super::vertex_normals(mesh)
             } else {
                 Vec::new()
             },
-            original: if global.is_none() && options.facing {
-                OriginalSurface::new(mesh).map(Arc::new)
-            } else {
-                None
-            },
+            original,
             coords,
             values: mesh
                 .scalars
@@ -231,12 +234,15 @@ impl ExactEngine {
     fn quadric_cost(&self, v: u32, hole: &Hole) -> Option<QuadricRemoval> {
         let ring3 = self.ring_points(hole);
         let pts: Vec<[f64; 2]> = ring3.iter().map(|&q| hole.plane.project(q)).collect();
-        let ring_normals: Vec<[f64; 3]> = hole
-            .fan
-            .ring
-            .iter()
-            .map(|&w| self.normals[w as usize])
-            .collect();
+        let ring_normals: Vec<[f64; 3]> = if self.normals.is_empty() {
+            Vec::new()
+        } else {
+            hole.fan
+                .ring
+                .iter()
+                .map(|&w| self.normals[w as usize])
+                .collect()
+        };
         let p = self.float[v as usize];
         let pv = hole.plane.project(p);
         let fan_error = hole

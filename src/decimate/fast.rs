@@ -80,7 +80,8 @@ struct Plan {
 struct Geometry {
     pos: Vec<[f64; 3]>,
     /// The original surface's vertex normals ([`vertex_normals`](super::vertex_normals);
-    /// [`Criterion::Quadric`] only, else empty).
+    /// [`Criterion::Quadric`] without the facing test only, else empty: the fold test's
+    /// corner normals, [`folds`](super::folds)).
     normals: Vec<[f64; 3]>,
     values: Option<Vec<f64>>,
     /// The original surface for the facing test at removals
@@ -231,15 +232,21 @@ impl FastEngine {
                 check_options(mesh, options)?;
                 let global = global?;
                 let criterion = options.criterion.resolve(global.is_some());
-                let (quadrics, normals) = if criterion == Criterion::Quadric {
-                    (initial_quadrics(mesh), super::vertex_normals(mesh))
+                let quadrics = if criterion == Criterion::Quadric {
+                    initial_quadrics(mesh)
                 } else {
-                    (Vec::new(), Vec::new())
+                    Vec::new()
                 };
-                Ok((lists, global, criterion, quadrics, normals))
+                Ok((lists, global, criterion, quadrics))
             },
         );
-        let (lists, global, criterion, quadrics, normals) = built?;
+        let (lists, global, criterion, quadrics) = built?;
+        // The corner-normal fold test stands in for the facing test ([`super::folds`]).
+        let normals = if criterion == Criterion::Quadric && original.is_none() {
+            super::vertex_normals(mesh)
+        } else {
+            Vec::new()
+        };
         let geo = Geometry {
             pos: huge_copy(&mesh.vertices),
             normals,
@@ -634,8 +641,10 @@ impl Scratch {
             self.ring3
                 .extend(self.ring.iter().map(|&w| geo.pos[w as usize]));
             self.ring_normals.clear();
-            self.ring_normals
-                .extend(self.ring.iter().map(|&w| geo.normals[w as usize]));
+            if !geo.normals.is_empty() {
+                self.ring_normals
+                    .extend(self.ring.iter().map(|&w| geo.normals[w as usize]));
+            }
             let p = geo.pos[v as usize];
             let pv = plan.plane.project(p);
             let crossing = match self.crossing {

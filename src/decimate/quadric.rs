@@ -444,6 +444,13 @@ pub fn vertex_normals(mesh: &Mesh) -> Vec<[f64; 3]> {
 /// original normals (`normals`, per ring node, [`vertex_normals`]; empty to skip): the
 /// current fan may already lean away from the original surface somewhere, and a new
 /// triangle that agrees with the fan can still face against the surface its corners sit on.
+///
+/// The corner normals are a cheap stand-in for the facing test
+/// ([`faces_against_original`]), which asks the same question of the original surface
+/// itself: the engines pass them only when that test is off. With both, on strongly curved
+/// coarse meshes the corner normals refused most of what was left (on Kuen's surface at 2 %,
+/// 708 of the 1,397 nodes the run stopped at; on pymeshlab's cow at 3 %, 57 of 88), where
+/// the facing test accepts the removals and no result triangle faces against the original.
 pub fn folds(
     p: [f64; 3],
     ring3: &[[f64; 3]],

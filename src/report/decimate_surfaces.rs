@@ -60,8 +60,9 @@ type Surface = (String, String, Mesh, f64, ProjectionChoice);
 
 /// The surfaces: the built-in gyroid isosurface always; the Stanford dragon and bunny from
 /// npm, three of pymeshlab's sample meshes, Kuen's surface and the MNI152 isosurface when
-/// installed by `benches/peers/setup.sh`. The cow and Kuen's surface are stress cases where
-/// geocert stops above its target (its last removals are forced, see the README).
+/// installed by `benches/peers/setup.sh`. The cow and Kuen's surface are stress cases:
+/// strongly curved where coarse, where geocert used to stop above its target (see the
+/// README).
 fn surfaces(root: &FsPath, notes: &mut Vec<String>) -> Vec<Surface> {
     let mut out = Vec::new();
     let data = root.join(".peers-data");
@@ -116,14 +117,14 @@ fn surfaces(root: &FsPath, notes: &mut Vec<String>) -> Vec<Surface> {
         false,
     );
     file(
-        "pymeshlab cow (closed, genus 0, low-poly; geocert stops above 3 %)",
+        "pymeshlab cow (closed, genus 0, low-poly, thin legs and horns)",
         "pymeshlab wheel, tests/sample_meshes/cow.obj",
         data.join("pymeshlab/cow.obj"),
         0.03,
         false,
     );
     file(
-        "Kuen's surface (VTK parametric, one border loop, long thin wings; geocert stops above 2 %)",
+        "Kuen's surface (VTK parametric, one border loop, long thin wings)",
         "vtkParametricKuen on a 200 × 200 grid (benches/peers/setup.sh)",
         data.join("kuen.ply"),
         0.02,
@@ -463,10 +464,10 @@ pub fn markdown(c: &SurfaceCampaign) -> String {
          original planes it stands for; removing it costs the quadric's RMS distance at the \
          point where it lands on the new triangles, and the quadric passes to that triangle's \
          corners; a removal is refused when a new triangle would face against the removed \
-         fan, against its corners' original vertex normals, or against the original surface \
-         nearest its centroid — the facing test, one closest-point search per new triangle, \
-         the same test the flipped count below makes, so no result triangle counts as \
-         flipped; each ear-cut hole is \
+         fan, or against the original surface nearest its centroid — the facing test, one \
+         closest-point search per new triangle, the same test the flipped count below makes, \
+         so no result triangle counts as flipped; without it, against its corners' original \
+         vertex normals instead; each ear-cut hole is \
          retriangulated towards its fan by diagonal flips, a flip taken when the other \
          diagonal lies closer to the fan and both new triangles stay positive by exact \
          signs), border simplification (border \

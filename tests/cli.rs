@@ -581,12 +581,20 @@ fn decimate_undecimate_round_trip_and_refusals() {
     assert!(v["max_scalar_error"].as_f64().unwrap() > 0.0);
     assert!(v["seconds"].as_f64().unwrap() > 0.0);
     assert!(v["max_distance_error"].is_null());
-    // Per-fan projection: errors against the closest point of the decimated surface (the
-    // plate is flat, so the distance vanishes and the scalar error remains).
-    let v = plate_json(&["--keep", "0.25", "--projection", "per-fan"]);
+    // Per-fan projection: errors against the closest point of the decimated surface. The
+    // plate is flat: without the fit the distance vanishes; the fit moves the hole's border
+    // nodes across it in the plane, so that its chords straddle the circle, and the distance
+    // is then a fraction of a chord's sagitta (the plate's diagonal is 224). The scalar
+    // error remains either way.
+    let v = plate_json(&["--keep", "0.25", "--projection", "per-fan", "--fit", "0"]);
     assert_eq!(v["projection"], "per-fan");
     assert!(v["max_height_error"].is_null());
     assert!(v["max_distance_error"].as_f64().unwrap() < 1e-9);
+    let v = plate_json(&["--keep", "0.25", "--projection", "per-fan"]);
+    assert_eq!(v["fit_rounds"], 2);
+    assert!(v["moved"].as_u64().unwrap() > 0);
+    let d = v["max_distance_error"].as_f64().unwrap();
+    assert!(d > 0.0 && d < 1e-3, "{d}");
     assert!(v["max_scalar_error"].as_f64().unwrap() > 0.0);
     // The original, written the same way, and the undecimated mesh are the same bytes.
     let o = geocert()

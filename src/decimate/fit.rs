@@ -406,7 +406,7 @@ impl BorderArcs {
             into: vec![NONE; n],
             out: vec![NONE; n],
         };
-        let result_edges = border_edges(decimated);
+        let result_edges = decimated.border_edges();
         if result_edges.is_empty() {
             return arcs;
         }
@@ -536,24 +536,8 @@ impl BorderArcs {
     }
 }
 
-/// The border edges of `mesh`, `[a, b]` as a triangle traverses them (no triangle traverses
-/// `b → a`), in triangle order.
-fn border_edges(mesh: &Mesh) -> Vec<[u32; 2]> {
-    let mut directed: Vec<(u32, u32)> = mesh
-        .triangles
-        .iter()
-        .flat_map(|t| (0..3).map(move |e| (t[e], t[(e + 1) % 3])))
-        .collect();
-    directed.sort_unstable();
-    mesh.triangles
-        .iter()
-        .flat_map(|t| (0..3).map(move |e| [t[e], t[(e + 1) % 3]]))
-        .filter(|&[a, b]| directed.binary_search(&(b, a)).is_err())
-        .collect()
-}
-
 /// Per vertex of `mesh`, the end `b` of the one border edge `v → b` leaving it
-/// ([`border_edges`]); `u32::MAX` for a vertex with none or with more than one. Read off the
+/// ([`Mesh::border_edges`]); `u32::MAX` for a vertex with none or with more than one. Read off the
 /// triangles around each vertex (an edge `v → b` is on the border when no triangle around
 /// `v` has `b` just before it).
 fn border_successors(mesh: &Mesh) -> Vec<u32> {
@@ -867,10 +851,25 @@ mod tests {
         m
     }
 
+    /// A disc of `n` border points and its decimation to every `step`-th of them: (original,
+    /// decimated, the decimated vertices' ids in the original).
+    fn decimated_disc(n: usize, step: usize) -> (Mesh, Mesh, Vec<u32>) {
+        let original = disc(n);
+        let kept: Vec<u32> = std::iter::once(0)
+            .chain((0..n / step).map(|k| 1 + (k * step) as u32))
+            .collect();
+        let mut coarse = disc(n / step);
+        coarse.vertices = kept
+            .iter()
+            .map(|&k| original.vertices[k as usize])
+            .collect();
+        (original, coarse, kept)
+    }
+
     /// The largest distance from the original's border vertices to the border of `m` (in
     /// the plane z = 0).
     fn border_gap(original: &Mesh, m: &Mesh) -> f64 {
-        let edges = border_edges(m);
+        let edges = m.border_edges();
         let on = original.border_vertices();
         (0..original.vertices.len())
             .filter(|&i| on[i])
@@ -894,15 +893,7 @@ mod tests {
     #[test]
     fn border_arcs_partition_the_original_border() {
         let (n, step) = (96usize, 8usize);
-        let original = disc(n);
-        let kept: Vec<u32> = std::iter::once(0)
-            .chain((0..n / step).map(|k| 1 + (k * step) as u32))
-            .collect();
-        let mut coarse = disc(n / step);
-        coarse.vertices = kept
-            .iter()
-            .map(|&k| original.vertices[k as usize])
-            .collect();
+        let (original, coarse, kept) = decimated_disc(n, step);
         let arcs = BorderArcs::new(&original, &coarse, &kept);
         assert_eq!(arcs.edges.len(), n / step);
         let mut seen = vec![0; original.vertices.len()];
@@ -929,15 +920,7 @@ mod tests {
         // the border's largest gap falls to about h/2 (ACROSS_SHARE), nothing leaves the
         // plane and no triangle flips.
         let (n, step) = (96usize, 8usize);
-        let original = disc(n);
-        let kept: Vec<u32> = std::iter::once(0)
-            .chain((0..n / step).map(|k| 1 + (k * step) as u32))
-            .collect();
-        let mut coarse = disc(n / step);
-        coarse.vertices = kept
-            .iter()
-            .map(|&k| original.vertices[k as usize])
-            .collect();
+        let (original, mut coarse, kept) = decimated_disc(n, step);
         let before_mesh = coarse.clone();
         let sagitta = 1.0 - (std::f64::consts::PI / (n / step) as f64).cos();
         let before = border_gap(&original, &coarse);
@@ -1058,12 +1041,7 @@ mod tests {
     fn pulls_back_land_on_the_original_and_weigh_half_its_vertices() {
         // A fine disc and its 12-gon: every pull back lands on the fine disc (within it, so
         // at the point itself) and the weights add up to BACK_WEIGHT per original vertex.
-        let original = disc(96);
-        let mut coarse = disc(12);
-        coarse.vertices = std::iter::once(0)
-            .chain((0..12).map(|k| 1 + 8 * k as u32))
-            .map(|k| original.vertices[k as usize])
-            .collect();
+        let (original, mut coarse, _) = decimated_disc(96, 8);
         let closest = ClosestPoints::new(&original).unwrap();
         let back = BackSamples::new(&coarse, &closest, original.vertices.len());
         assert_eq!(back.pulls.len(), BACK_SAMPLES * coarse.triangles.len());

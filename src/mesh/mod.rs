@@ -194,20 +194,25 @@ impl Mesh {
     /// Per vertex, whether it lies on a border edge: one that no triangle traverses back.
     /// Indices must be in range.
     pub fn border_vertices(&self) -> Vec<bool> {
-        let mut directed: Vec<(u32, u32)> = self
-            .triangles
-            .iter()
-            .flat_map(|t| (0..3).map(move |e| (t[e], t[(e + 1) % 3])))
-            .collect();
-        directed.sort_unstable();
         let mut on_border = vec![false; self.vertices.len()];
-        for &(a, b) in &directed {
-            if directed.binary_search(&(b, a)).is_err() {
-                on_border[a as usize] = true;
-                on_border[b as usize] = true;
-            }
+        for [a, b] in self.border_edges() {
+            on_border[a as usize] = true;
+            on_border[b as usize] = true;
         }
         on_border
+    }
+
+    /// The border edges `[a, b]` as a triangle traverses them (no triangle traverses
+    /// `b → a`), in triangle order.
+    pub fn border_edges(&self) -> Vec<[u32; 2]> {
+        let edges = |&t: &[u32; 3]| (0..3).map(move |e| [t[e], t[(e + 1) % 3]]);
+        let mut directed: Vec<[u32; 2]> = self.triangles.iter().flat_map(edges).collect();
+        directed.sort_unstable();
+        self.triangles
+            .iter()
+            .flat_map(edges)
+            .filter(|&[a, b]| directed.binary_search(&[b, a]).is_err())
+            .collect()
     }
 
     /// Checks coordinates, scalar count and triangle indices.

@@ -8,14 +8,14 @@
 //! One round: every vertex `oᵢ` of the original surface (one some triangle uses) is
 //! attached to its closest point on the current result, with barycentric coordinates `bᵢ`
 //! in triangle `tᵢ`, and a few points of every result triangle are attached to their closest
-//! points on the original ([`BackSamples`], weight `wᵢ`; the other direction of the distance,
+//! points on the original (`BackSamples`, weight `wᵢ`; the other direction of the distance,
 //! which decides the Hausdorff distance where a triangle spans a groove or a bump; the
 //! vertices' pulls weigh 1); then Gauss–Seidel sweeps over the kept nodes minimise
 //! `Σᵢ wᵢ |Σₖ bᵢₖ x_{tᵢₖ} − oᵢ|² + Σ_v μ (1 + d_v) |x_v − x_v⁰|²` (the regulariser holds a
 //! node near its start `x_v⁰` along directions its points do not constrain;
 //! `d_v = Σᵢ wᵢ bᵢᵥ²`). A border node moves along its normal only by that fit (the surface's
 //! points would pull it in along the surface) and across the border by the least-squares
-//! fit of the original border arcs its border edges stand for ([`BorderArcs`]; a share
+//! fit of the original border arcs its border edges stand for (`BorderArcs`; a share
 //! [`ACROSS_SHARE`] of it, none at a corner, [`CORNER_COS`]). A move is taken only when
 //! every triangle around the node keeps a normal within about 72° of its normal before the
 //! fit ([`MIN_COS`]) and, if it faced along its corners' original vertex normals, still
@@ -313,7 +313,7 @@ const BACK_POINTS: [[f64; 3]; 4] = [
     [1.0 / 6.0, 1.0 / 6.0, 2.0 / 3.0],
 ];
 
-/// Points per triangle pulled back to the original ([`BackSamples`]).
+/// Points per triangle pulled back to the original (module docs).
 pub const BACK_SAMPLES: usize = BACK_POINTS.len();
 
 /// How much the pulls back weigh against the original vertices' pulls forward, per unit of
@@ -343,7 +343,7 @@ impl BackSamples {
             .triangles
             .par_iter()
             .enumerate()
-            .flat_map_iter(|(t, tri)| {
+            .map(|(t, tri)| {
                 let c = corners(tri);
                 let w = BACK_WEIGHT * density * area(c) / BACK_SAMPLES as f64;
                 BACK_POINTS.map(|b| {
@@ -359,6 +359,7 @@ impl BackSamples {
                     )
                 })
             })
+            .flatten_iter()
             .collect();
         BackSamples { pulls }
     }

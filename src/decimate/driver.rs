@@ -85,6 +85,8 @@ pub(crate) trait Engine {
     /// cannot be re-triangulated validly. Called right after `evaluate(v)`, an engine may
     /// reuse what that evaluation planned.
     fn try_remove(&mut self, v: u32, history: &mut History) -> bool;
+    /// The criterion the engine evaluates nodes by (resolved: never `Auto`).
+    fn criterion(&self) -> super::Criterion;
     /// The original surface the removals were checked against
     /// ([`faces_against_original`](super::quadric::faces_against_original)), when they were:
     /// the fit keeps its moves to the same rule.
@@ -124,13 +126,15 @@ pub(crate) fn node_target(target: Target, n: usize, unused: usize) -> Option<usi
 
 /// Runs the loop to the target; the removal sequence is in `history`.
 /// `clock` started with the decimation (for [`LoopCounts::setup_seconds`]); `unused` of the
-/// nodes are in no triangle (never removed, not counted by the target).
+/// nodes are in no triangle (never removed, not counted by the target); `unit`: the unit the
+/// queue measures values in ([`BucketQueue::in_units`]).
 pub(crate) fn run(
     engine: &mut impl Engine,
     options: &Options,
     history: &mut History,
     clock: std::time::Instant,
     unused: usize,
+    unit: f64,
 ) -> LoopCounts {
     let n = engine.node_count();
     let bound = match options.target {
@@ -146,7 +150,7 @@ pub(crate) fn run(
             (lo.min(ev), hi.max(ev))
         });
     let m = interval_count(n, options.k);
-    let mut queue = BucketQueue::new(n, m, lo, hi);
+    let mut queue = BucketQueue::in_units(n, m, lo, hi, unit);
     if options.rebin {
         queue = queue.rebinning(options.k, REBIN_FRACTION);
     }
@@ -307,7 +311,13 @@ pub(crate) fn decimate_with<E: Engine>(
         mesh.scalars.is_some(),
     );
     let unused = mesh.used_vertices().iter().filter(|&&u| !u).count();
-    let counts = run(&mut engine, options, &mut history, clock, unused);
+    // Lengths in diagonals: the same order for the input in any units.
+    let unit = if engine.criterion().in_diagonals() {
+        super::quality::bounding_diagonal(mesh)
+    } else {
+        1.0
+    };
+    let counts = run(&mut engine, options, &mut history, clock, unused, unit);
     let (mut out, projection_xy) = finish(&engine);
     let original = engine.original_surface();
     drop(engine);

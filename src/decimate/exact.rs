@@ -527,6 +527,10 @@ impl Engine for ExactEngine {
         }
     }
 
+    fn criterion(&self) -> Criterion {
+        self.criterion
+    }
+
     fn original_surface(&self) -> Option<Arc<OriginalSurface>> {
         self.original.clone()
     }

@@ -1018,6 +1018,10 @@ impl Engine for FastEngine {
         });
     }
 
+    fn criterion(&self) -> Criterion {
+        self.st.geo.criterion
+    }
+
     fn original_surface(&self) -> Option<Arc<OriginalSurface>> {
         self.st.geo.original.clone()
     }

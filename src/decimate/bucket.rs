@@ -155,8 +155,9 @@ impl BucketQueue {
         BucketQueue::in_units(nodes, m, ev_min, ev_max, 1.0)
     }
 
-    /// [`new`](Self::new) with the values measured in `unit` (a positive finite number, else
-    /// 1) for eqs. (2)–(3): the intervals of `ev` are those of `ev / unit`. Eq. (2)'s law
+    /// A queue for node ids `0..nodes`, with `m` intervals over `[ev_min, ev_max]` and the
+    /// values measured in `unit` for eqs. (2)–(3): the intervals of `ev` are those of
+    /// `ev / unit` (`unit` is taken as one unless positive and finite). Eq. (2)'s law
     /// depends on the size of `Δ` itself (equal widths when `Δ ≪ 1`, crowded towards
     /// `ev_min` when `Δ ≫ 1`), so values in a unit of their own (a length in diagonals of
     /// the input) give the same order whatever units the input is in.

@@ -809,7 +809,7 @@ fn a_mesh_far_from_the_origin_decimates_as_at_the_origin() {
 /// diagonals it had in metres.
 #[test]
 fn a_surface_in_other_units_decimates_alike() {
-    let jitter: Vec<i32> = (0..3 * 258).map(|i| (i * 7 % 5) as i32 - 2).collect();
+    let jitter: Vec<i32> = (0..3 * 258).map(|i: i32| i * 7 % 5 - 2).collect();
     let base = sphere(3, &jitter);
     let scaled = |s: f64| Mesh {
         vertices: base.vertices.iter().map(|p| p.map(|x| x * s)).collect(),

@@ -557,7 +557,8 @@ pub fn write_decimate_report(
          (Section 2) and undone by restoring the triangle slots.\n\n\
          Two extensions are on by default (`--eager --fixed-intervals` runs the paper's loop as \
          printed; the peers table has both): the queue is re-binned over the queued nodes' \
-         current range once more than half of them were re-filed above it (with fixed \
+         current range once more than half of them were re-filed above it, into at least \
+         1024 intervals (with fixed \
          boundaries, late re-evaluated values all land in the last interval and leave in FIFO \
          order), and a removed node's queued neighbours are marked stale and re-evaluated when \
          they reach the front rather than at once. Both keep every queue operation `O(1)` \

@@ -48,7 +48,29 @@ pub struct SurfaceCase {
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct SurfaceCampaign {
     pub cases: Vec<SurfaceCase>,
+    /// The small cases again in other units ([`UNIT_SCALES`]).
+    pub units: Vec<UnitsCase>,
     pub notes: Vec<String>,
+}
+
+/// The factors the units comparison scales the small surfaces by: a power of two (exact in
+/// `f64`), then two that round every coordinate (a change in the last place).
+pub const UNIT_SCALES: [f64; 4] = [1.0, 1024.0, 1000.0, 0.001];
+
+/// Surfaces with at most this many vertices are run again in other units.
+const UNITS_MAX_VERTICES: usize = 20_000;
+
+/// One surface decimated in the units of [`UNIT_SCALES`] to the same triangle count.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct UnitsCase {
+    pub name: String,
+    pub triangles: usize,
+    /// Per decimator, per scale: (RMS → %, Hausdorff %, triangles), in % of that copy's
+    /// diagonal; `None` where it did not run.
+    pub rows: Vec<(String, Vec<Option<(f64, f64, usize)>>)>,
+    /// Whether geocert's result at the power-of-two scale is its result at 1 scaled, bit for
+    /// bit (triangles and coordinates).
+    pub identical_at_power_of_two: bool,
 }
 
 /// Runs of geocert per case (median).
@@ -379,6 +401,7 @@ fn verify(mesh: &Mesh, options: &Options) -> Result<String, String> {
 pub fn surface_campaign(root: &FsPath) -> SurfaceCampaign {
     let mut notes = Vec::new();
     let mut cases = Vec::new();
+    let mut units = Vec::new();
     for (name, source, mesh, keep, projection) in surfaces(root, &mut notes) {
         let default = Options::new()
             .with_target(Target::Keep(keep))
@@ -414,6 +437,9 @@ pub fn surface_campaign(root: &FsPath) -> SurfaceCampaign {
         let triangles = ours.triangles;
         let mut rows = vec![ours, plain, free, before];
         rows.extend(peer_rows(root, &mesh, triangles, &mut notes));
+        if mesh.vertices.len() <= UNITS_MAX_VERTICES {
+            units.push(units_case(root, &name, &mesh, &default, triangles));
+        }
         cases.push(SurfaceCase {
             name,
             source,
@@ -426,7 +452,81 @@ pub fn surface_campaign(root: &FsPath) -> SurfaceCampaign {
             vtk_check: vtk,
         });
     }
-    SurfaceCampaign { cases, notes }
+    SurfaceCampaign {
+        cases,
+        units,
+        notes,
+    }
+}
+
+/// `mesh` with every coordinate multiplied by `s`.
+fn scaled(mesh: &Mesh, s: f64) -> Mesh {
+    Mesh {
+        vertices: mesh.vertices.iter().map(|p| p.map(|x| x * s)).collect(),
+        ..mesh.clone()
+    }
+}
+
+/// geocert (`options`) and the quadric peers on `mesh` scaled by each of [`UNIT_SCALES`], at
+/// `triangles` triangles (geocert's count at scale 1).
+fn units_case(
+    root: &FsPath,
+    name: &str,
+    mesh: &Mesh,
+    options: &Options,
+    triangles: usize,
+) -> UnitsCase {
+    let mut rows: Vec<(String, Vec<Option<(f64, f64, usize)>>)> = Vec::new();
+    let cell = |d: &quality::Deviation, t: usize| {
+        Some((d.percent(d.forward_rms), d.percent(d.hausdorff), t))
+    };
+    let mut ours = Vec::new();
+    let mut results = Vec::new();
+    for (i, &s) in UNIT_SCALES.iter().enumerate() {
+        let copy = scaled(mesh, s);
+        let result = decimate(&copy, options).ok().map(|o| o.mesh);
+        ours.push(
+            result
+                .as_ref()
+                .and_then(|r| cell(&quality::deviation(&copy, r), r.triangles.len())),
+        );
+        results.push(result);
+        // Peers not available are said in the main table's notes already.
+        for peer in peer_rows(root, &copy, triangles, &mut Vec::new()) {
+            if !(peer.decimator == "fast-simplification"
+                || peer.decimator == "vtkQuadricDecimation")
+            {
+                continue;
+            }
+            let at = match rows.iter().position(|r| r.0 == peer.decimator) {
+                Some(at) => at,
+                None => {
+                    rows.push((peer.decimator.clone(), vec![None; UNIT_SCALES.len()]));
+                    rows.len() - 1
+                }
+            };
+            rows[at].1[i] = peer.deviation.and_then(|d| cell(&d, peer.triangles));
+        }
+    }
+    let power = UNIT_SCALES[1];
+    let identical_at_power_of_two = match (&results[0], &results[1]) {
+        (Some(a), Some(b)) => {
+            a.triangles == b.triangles
+                && a.vertices.len() == b.vertices.len()
+                && a.vertices
+                    .iter()
+                    .zip(&b.vertices)
+                    .all(|(p, q)| p.map(|x| x * power) == *q)
+        }
+        _ => false,
+    };
+    rows.insert(0, ("geocert".to_string(), ours));
+    UnitsCase {
+        name: name.to_string(),
+        triangles,
+        rows,
+        identical_at_power_of_two,
+    }
 }
 
 /// The goals of the issue against the best quadric peer (fast-simplification or
@@ -561,10 +661,76 @@ pub fn markdown(c: &SurfaceCampaign) -> String {
             }
         );
     }
+    s.push_str(&units_markdown(&c.units));
     if !c.notes.is_empty() {
         s.push_str("\nNot available in this run:\n\n");
         for n in &c.notes {
             let _ = writeln!(s, "- {n}");
+        }
+    }
+    s
+}
+
+/// The units comparison's Markdown.
+fn units_markdown(cases: &[UnitsCase]) -> String {
+    let mut s = String::new();
+    if cases.is_empty() {
+        return s;
+    }
+    let scales: Vec<String> = UNIT_SCALES.iter().map(|x| format!("×{x}")).collect();
+    let _ = write!(
+        s,
+        "\n### The same surfaces in other units\n\n\
+         The small surfaces above scaled by {}, decimated by geocert (its default run) and \
+         the quadric peers to geocert's triangle count at scale 1. Each cell is RMS → % / \
+         Hausdorff %, of that copy's own diagonal. Scaling by a power of two is exact in \
+         `f64`; scaling by 1000 or 1/1000 rounds every coordinate, a change in its last \
+         place. geocert's queue measures the quadric criterion's values in diagonals of the \
+         input, so a change of units alone changes nothing (the power-of-two row says \
+         whether its result there is its result at scale 1 scaled, bit for bit); the \
+         rounding of the other two scales does move its result, because a greedy \
+         decimation amplifies the last-place differences into other choices. The spread \
+         is the largest RMS over the smallest across the scales.\n",
+        scales.join(", ")
+    );
+    for case in cases {
+        let _ = write!(
+            s,
+            "\n{} ({} triangles); geocert at ×{} identical to its result at ×1 scaled: {}.\n\n\
+             | decimator | {} | RMS spread |\n|---|{}---:|\n",
+            case.name,
+            case.triangles,
+            UNIT_SCALES[1],
+            if case.identical_at_power_of_two {
+                "yes"
+            } else {
+                "**no**"
+            },
+            scales.join(" | "),
+            "---:|".repeat(UNIT_SCALES.len())
+        );
+        for (decimator, cells) in &case.rows {
+            let shown: Vec<String> = cells
+                .iter()
+                .map(|c| match c {
+                    Some((rms, h, t)) if *t <= case.triangles + case.triangles / 20 => {
+                        format!("{rms:.3} / {h:.3}")
+                    }
+                    Some((rms, h, t)) => format!("{rms:.3} / {h:.3} ({t} triangles)"),
+                    None => "—".into(),
+                })
+                .collect();
+            let rms: Vec<f64> = cells.iter().flatten().map(|c| c.0).collect();
+            let spread = match (
+                rms.iter().cloned().reduce(f64::min),
+                rms.iter().cloned().reduce(f64::max),
+            ) {
+                (Some(lo), Some(hi)) if lo > 0.0 && rms.len() == cells.len() => {
+                    format!("{:.2}×", hi / lo)
+                }
+                _ => "—".into(),
+            };
+            let _ = writeln!(s, "| {decimator} | {} | {spread} |", shown.join(" | "));
         }
     }
     s

@@ -81,10 +81,16 @@ pub(crate) trait Engine {
     /// A hint that `v` comes next, its own data fetched already: start fetching its
     /// neighbours' data, and call `each` on every neighbour.
     fn prefetch_ring(&self, _v: u32, _each: impl FnMut(u32)) {}
-    /// Removes `v` and records the step, or returns false (nothing changed) when its hole
-    /// cannot be re-triangulated validly. Called right after `evaluate(v)`, an engine may
-    /// reuse what that evaluation planned.
-    fn try_remove(&mut self, v: u32, history: &mut History) -> bool;
+    /// Removes `v` and records the step, or refuses (nothing changed) when its hole cannot
+    /// be re-triangulated validly. Called right after `evaluate(v)`, an engine may reuse what
+    /// that evaluation planned. When the planned fill fails a test only a removal makes (the
+    /// facing test) and another fill passes at a higher value, the removal goes ahead if
+    /// `fits` accepts that value (it files where `v` was taken from, or lower), and is
+    /// otherwise deferred ([`Removal::Later`]).
+    fn try_remove(&mut self, v: u32, history: &mut History, fits: &dyn Fn(f64) -> bool) -> Removal;
+    /// How many removals took a fan fill instead of their planned cut
+    /// ([`fan_fills`](super::quadric::fan_fills)).
+    fn fan_filled(&self) -> usize;
     /// The criterion the engine evaluates nodes by (resolved: never `Auto`).
     fn criterion(&self) -> super::Criterion;
     /// The original surface the removals were checked against
@@ -95,11 +101,26 @@ pub(crate) trait Engine {
     }
 }
 
+/// What [`Engine::try_remove`] did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Removal {
+    Removed,
+    /// No valid fill: nothing changed.
+    Refused,
+    /// Only a fill of this value passes, and `fits` did not accept it: nothing changed, and
+    /// the node is filed again at that value.
+    Later(f64),
+}
+
 /// The loop's counts.
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct LoopCounts {
     pub removed: usize,
     pub refused: usize,
+    /// Removals put off to a later interval ([`Removal::Later`]).
+    pub deferred: usize,
+    /// Removals by a fan fill ([`Engine::fan_filled`]).
+    pub filled: usize,
     pub intervals: usize,
     pub rebuilds: usize,
     /// Evaluations after the initial pass.
@@ -203,9 +224,21 @@ pub(crate) fn run(
                 _ => continue,
             }
         }
-        if !engine.try_remove(v, history) {
-            counts.refused += 1;
-            continue;
+        match engine.try_remove(v, history, &|ev| queue.interval(ev) <= j) {
+            Removal::Removed => {}
+            Removal::Refused => {
+                counts.refused += 1;
+                continue;
+            }
+            Removal::Later(ev) => {
+                if admissible(ev) {
+                    counts.deferred += 1;
+                    queue.push(v, ev);
+                } else {
+                    counts.refused += 1;
+                }
+                continue;
+            }
         }
         present -= 1;
         counts.removed += 1;
@@ -237,6 +270,7 @@ pub(crate) fn run(
     counts.rebuilds = queue.rebuilds();
     counts.evaluated_ahead = engine.evaluated_ahead();
     counts.remembered = engine.remembered();
+    counts.filled = engine.fan_filled();
     counts
 }
 
@@ -364,6 +398,8 @@ pub(crate) fn decimate_with<E: Engine>(
             triangles_out: out.triangles.len(),
             removed: counts.removed,
             refused: counts.refused,
+            deferred: counts.deferred,
+            fan_filled: counts.filled,
             intervals: counts.intervals,
             rebuilds: counts.rebuilds,
             evaluations: counts.evaluations,

@@ -2,9 +2,10 @@
 //! incident triangle slots, every sign from an exact rational determinant, the criteria in
 //! exact arithmetic (rounded once to `f64` to file the node in the queue).
 
-use super::driver::{self, Engine};
+use super::driver::{self, Engine, Removal};
 use super::earcut::{ear_order, simple_ccw, EarCutter, Orient};
 use super::history::History;
+use super::quadric::fan_fills;
 use super::quality::OriginalSurface;
 use super::{
     canonical_start, check_options, edge_angle, fallback_planes, fan_normal, flip_toward_fan,
@@ -52,6 +53,8 @@ struct Hole {
 pub(crate) struct ExactEngine {
     /// The input coordinates as given (the heuristics read these).
     float: Vec<[f64; 3]>,
+    /// Removals by a fan fill ([`Engine::fan_filled`]).
+    filled: usize,
     /// The original surface's vertex normals ([`vertex_normals`](super::vertex_normals);
     /// [`Criterion::Quadric`] without the facing test only, else empty: the fold test's
     /// corner normals, [`folds`](super::folds)).
@@ -107,6 +110,7 @@ impl ExactEngine {
         };
         Ok(ExactEngine {
             float: mesh.vertices.clone(),
+            filled: 0,
             // The corner-normal fold test stands in for the facing test ([`super::folds`]).
             normals: if criterion == Criterion::Quadric && original.is_none() {
                 super::vertex_normals(mesh)
@@ -392,13 +396,18 @@ impl ExactEngine {
 
     /// No new edge exists already, and no new triangle repeats one outside the hole.
     fn topology_ok(&self, hole: &Hole) -> bool {
-        let ring = &hole.fan.ring;
+        self.new_edges_ok(&hole.fan, &hole.triangles)
+    }
+
+    /// [`topology_ok`](Self::topology_ok) for the fill `tris` of `fan`'s hole.
+    fn new_edges_ok(&self, fan: &Fan, tris: &[[u8; 3]]) -> bool {
+        let ring = &fan.ring;
         let l = ring.len();
-        for t in &hole.triangles {
+        for t in tris {
             let tri = t.map(|p| ring[p as usize]);
             for e in 0..3 {
                 let (pa, pb) = (t[e] as usize, t[(e + 1) % 3] as usize);
-                let link_edge = pb == (pa + 1) % l && !(hole.fan.border && pa == l - 1);
+                let link_edge = pb == (pa + 1) % l && !(fan.border && pa == l - 1);
                 if !link_edge && self.adjacent(tri[e], tri[(e + 1) % 3]) {
                     return false;
                 }
@@ -415,6 +424,45 @@ impl ExactEngine {
             }
         }
         true
+    }
+
+    /// The cheapest fan fill of `hole` ([`fan_fills`]) that passes the topology and facing
+    /// tests and does not fold (the first on ties), with its value, as the fast engine takes
+    /// it when the planned cut faces against `original`; `None` when no fill passes.
+    fn fan_fill(&self, v: u32, hole: Hole, original: &OriginalSurface) -> Option<(f64, Hole)> {
+        let ring3 = self.ring_points(&hole);
+        let pts: Vec<[f64; 2]> = ring3.iter().map(|&q| hole.plane.project(q)).collect();
+        let p = self.float[v as usize];
+        let fills: Vec<Vec<[u8; 3]>> =
+            fan_fills(hole.fan.ring.len(), &ExactOrient(&hole.projected)).collect();
+        let mut trial = hole;
+        let mut best: Option<(f64, Vec<[u8; 3]>, f64)> = None;
+        for tris in fills {
+            if !self.new_edges_ok(&trial.fan, &tris)
+                || super::quadric::faces_against_original(original, &trial.fan.ring, &ring3, &tris)
+            {
+                continue;
+            }
+            trial.crossing = super::crossing_deviation(
+                p,
+                trial.plane.project(p),
+                &ring3,
+                &pts,
+                &tris,
+                trial.plane.drop,
+                trial.fan.border,
+            );
+            trial.triangles = tris;
+            if let Some(q) = self.quadric_cost(v, &trial) {
+                if best.as_ref().is_none_or(|b| q.value < b.0) {
+                    best = Some((q.value, trial.triangles.clone(), trial.crossing));
+                }
+            }
+        }
+        let (value, triangles, crossing) = best?;
+        trial.triangles = triangles;
+        trial.crossing = crossing;
+        Some((value, trial))
     }
 
     /// The value the criterion reads at `w`: the scalar, or the height along the normal.
@@ -531,6 +579,10 @@ impl Engine for ExactEngine {
         self.criterion
     }
 
+    fn fan_filled(&self) -> usize {
+        self.filled
+    }
+
     fn original_surface(&self) -> Option<Arc<OriginalSurface>> {
         self.original.clone()
     }
@@ -579,12 +631,12 @@ impl Engine for ExactEngine {
         Some(b)
     }
 
-    fn try_remove(&mut self, v: u32, history: &mut History) -> bool {
-        let Some(hole) = self.hole(v) else {
-            return false;
+    fn try_remove(&mut self, v: u32, history: &mut History, fits: &dyn Fn(f64) -> bool) -> Removal {
+        let Some(mut hole) = self.hole(v) else {
+            return Removal::Refused;
         };
         if !self.topology_ok(&hole) {
-            return false;
+            return Removal::Refused;
         }
         if let Some(original) = &self.original {
             let ring3 = self.ring_points(&hole);
@@ -594,14 +646,25 @@ impl Engine for ExactEngine {
                 &ring3,
                 &hole.triangles,
             ) {
-                return false;
+                // Under the quadric criterion, the cheapest fan fill that passes instead.
+                if self.criterion != Criterion::Quadric {
+                    return Removal::Refused;
+                }
+                match self.fan_fill(v, hole, original) {
+                    None => return Removal::Refused,
+                    Some((value, _)) if !fits(value) => return Removal::Later(value),
+                    Some((_, filled)) => {
+                        hole = filled;
+                        self.filled += 1;
+                    }
+                }
             }
         }
         if !self.quadrics.is_empty() {
             // The removed node's quadric passes to the corners of the triangle it lands in;
             // the new triangles (in the fan's first slots) take the removal's bound.
             let Some(QuadricRemoval { bound, corners, .. }) = self.quadric_cost(v, &hole) else {
-                return false;
+                return Removal::Refused;
             };
             let q = self.quadrics[v as usize];
             for k in corners {
@@ -650,7 +713,7 @@ impl Engine for ExactEngine {
         }
         debug_assert!(l >= 3);
         self.removed[v as usize] = true;
-        true
+        Removal::Removed
     }
 }
 

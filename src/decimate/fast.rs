@@ -18,7 +18,7 @@
 
 use super::ahead::{self, Evaluated, Job, Lookahead, Planned};
 use super::bucket::Scale;
-use super::driver::{self, Engine};
+use super::driver::{self, Engine, Removal};
 use super::earcut::{
     ear_order, orient2d, pack_cut, simple_ccw, unpack_cut, EarCutter, RobustOrient,
 };
@@ -181,6 +181,8 @@ pub(crate) struct FastEngine {
     recalled: Option<(u32, Planned)>,
     /// How many taken nodes were removed by a remembered plan.
     remembered: usize,
+    /// Removals by a fan fill ([`Engine::fan_filled`]).
+    filled: usize,
 }
 
 impl FastEngine {
@@ -277,6 +279,7 @@ impl FastEngine {
             memo: Vec::new(),
             recalled: None,
             remembered: 0,
+            filled: 0,
         })
     }
 
@@ -680,6 +683,54 @@ impl Scratch {
         }
     }
 
+    /// Replaces `v`'s planned cut, which faces against `original`, by the cheapest fan fill
+    /// of its hole ([`fan_fills`](super::quadric::fan_fills)) that passes the topology and
+    /// facing tests and does not fold (the first on ties, as the exact engine takes it), and
+    /// returns its value; `None`, with the cut kept, when no fill passes.
+    fn fan_fill(
+        &mut self,
+        st: &State,
+        original: &OriginalSurface,
+        v: u32,
+        plan: Plan,
+    ) -> Option<f64> {
+        self.project_fan(&st.geo, v, plan.plane);
+        let fills: Vec<Vec<[u8; 3]>> =
+            super::quadric::fan_fills(self.ring.len(), &RobustOrient(&self.pts)).collect();
+        let planned = std::mem::take(&mut self.tris);
+        let carried = st.carried(v);
+        let mut best: Option<(f64, usize)> = None;
+        for (k, fill) in fills.iter().enumerate() {
+            self.tris.clone_from(fill);
+            self.crossing = None;
+            if (st.geo.embedded || self.topology_ok(st, plan.border))
+                && !super::quadric::faces_against_original(
+                    original,
+                    &self.ring,
+                    &self.ring3,
+                    &self.tris,
+                )
+            {
+                if let Some(value) = self.removal_value(&st.geo, v, plan, &carried) {
+                    if best.is_none_or(|(b, _)| value < b) {
+                        best = Some((value, k));
+                    }
+                }
+            }
+        }
+        self.valued = None;
+        match best {
+            Some((value, k)) => {
+                self.tris.clone_from(&fills[k]);
+                Some(value)
+            }
+            None => {
+                self.tris = planned;
+                None
+            }
+        }
+    }
+
     /// The error criterion: `|h(v) − h_interp|` over the planned triangles, `h` the scalar or
     /// the height along the projection normal; the triangle is the one whose smallest
     /// barycentric coordinate at `v` is largest.
@@ -1022,6 +1073,10 @@ impl Engine for FastEngine {
         self.st.geo.criterion
     }
 
+    fn fan_filled(&self) -> usize {
+        self.filled
+    }
+
     fn original_surface(&self) -> Option<Arc<OriginalSurface>> {
         self.st.geo.original.clone()
     }
@@ -1073,7 +1128,7 @@ impl Engine for FastEngine {
         Some(b)
     }
 
-    fn try_remove(&mut self, v: u32, history: &mut History) -> bool {
+    fn try_remove(&mut self, v: u32, history: &mut History, fits: &dyn Fn(f64) -> bool) -> Removal {
         let (st, sc) = (&mut self.st, &mut self.sc);
         let recalled = self
             .recalled
@@ -1086,7 +1141,7 @@ impl Engine for FastEngine {
         let from_memo = ready.is_none() && recalled.is_some();
         let plan = match (sc.planned, ready.or(recalled)) {
             (Some((u, plan)), _) if u == v => plan,
-            (_, Some(Planned::Refused)) => return false,
+            (_, Some(Planned::Refused)) => return Removal::Refused,
             (_, Some(Planned::Cut { border, plane, cut })) => {
                 // The list is unchanged since it was handed over (or since the evaluation
                 // remembered): the same fan, and the cut planned from it then.
@@ -1098,26 +1153,40 @@ impl Engine for FastEngine {
             }
             _ => match sc.plan(&st.geo, &st.lists, v) {
                 Some(plan) => plan,
-                None => return false,
+                None => return Removal::Refused,
             },
         };
         if !st.geo.embedded && !sc.topology_ok(st, plan.border) {
-            return false;
+            return Removal::Refused;
         }
+        let mut refilled = false;
         if let Some(original) = &st.geo.original {
             sc.ring3.clear();
             sc.ring3
                 .extend(sc.ring.iter().map(|&w| st.geo.pos[w as usize]));
             if super::quadric::faces_against_original(original, &sc.ring, &sc.ring3, &sc.tris) {
-                return false;
+                // Under the quadric criterion, the cheapest fan fill that passes instead.
+                if st.geo.criterion != Criterion::Quadric {
+                    return Removal::Refused;
+                }
+                match sc.fan_fill(st, original, v, plan) {
+                    None => return Removal::Refused,
+                    Some(value) if !fits(value) => return Removal::Later(value),
+                    Some(_) => {
+                        refilled = true;
+                        self.filled += 1;
+                    }
+                }
             }
         }
         if !st.quadrics.is_empty() {
             // The removed node's quadric passes to the corners of the triangle it lands in.
             // What its evaluation just computed, or what was evaluated ahead with the plan,
-            // holds; a remembered plan is valued again (the same inputs, the same numbers).
-            let fresh = sc.valued == Some(v) && matches!(sc.planned, Some((u, _)) if u == v);
-            if let (false, Some((bound, corners))) = (fresh, landing) {
+            // holds; a remembered plan is valued again (the same inputs, the same numbers),
+            // and so is a fan fill.
+            let fresh =
+                !refilled && sc.valued == Some(v) && matches!(sc.planned, Some((u, _)) if u == v);
+            if let (false, false, Some((bound, corners))) = (refilled, fresh, landing) {
                 // Evaluated ahead from the same list and the same carried values.
                 sc.bound = bound;
                 sc.corners = corners;
@@ -1127,7 +1196,7 @@ impl Engine for FastEngine {
                 }
                 let carried = st.carried(v);
                 if sc.removal_value(&st.geo, v, plan, &carried).is_none() {
-                    return false;
+                    return Removal::Refused;
                 }
             }
             let q = st.quadrics[v as usize];
@@ -1141,7 +1210,7 @@ impl Engine for FastEngine {
             }
         }
         st.apply(sc, v, plan.border, history);
-        true
+        Removal::Removed
     }
 }
 

@@ -525,6 +525,13 @@ pub struct Stats {
     /// Queue pops whose removal was refused (hole not triangulable validly, border not
     /// intact, valence over the limit); such a node re-enters when a neighbour goes.
     pub refused: usize,
+    /// Queue pops whose planned fill faced against the original surface and whose cheapest
+    /// fan fill that does not costs more than the interval they were taken from: filed again
+    /// at that cost rather than removed now.
+    pub deferred: usize,
+    /// Removals whose planned fill faced against the original surface and that took the
+    /// cheapest fan fill that does not instead.
+    pub fan_filled: usize,
     /// Intervals `m` of eq. (1).
     pub intervals: usize,
     /// Times the bucket queue was re-binned ([`Options::rebin`]).

@@ -493,6 +493,29 @@ pub fn faces_against_original(
     })
 }
 
+/// The fan fills of a hole whose planned cut would face against the original surface (both
+/// engines, at removal, under the quadric criterion): the fan triangulation from each ring
+/// position `i = 0, 1, …` in turn (triangles `(i, i+k, i+k+1)`, positions mod `l`), kept
+/// when every triangle turns counter-clockwise by `orient` (exact signs): on the simple hole
+/// polygon their signed areas then add up to its winding number, so they tile it without
+/// overlap. Each comes in ear order ([`ear_order`](super::earcut::ear_order)). The engines
+/// value those that pass their topology and facing tests and take the cheapest (the first
+/// on ties).
+pub fn fan_fills<'a>(
+    l: usize,
+    orient: &'a impl super::earcut::Orient,
+) -> impl Iterator<Item = Vec<[u8; 3]>> + 'a {
+    (0..if l >= 4 { l } else { 0 }).filter_map(move |i| {
+        let mut tris: Vec<[u8; 3]> = (1..l - 1)
+            .map(|k| [i, (i + k) % l, (i + k + 1) % l].map(|x| x as u8))
+            .collect();
+        let turning = tris.iter().all(|t| {
+            orient.orient(t[0] as usize, t[1] as usize, t[2] as usize) == Ordering::Greater
+        });
+        (turning && super::earcut::ear_order(l, &mut tris)).then_some(tris)
+    })
+}
+
 /// Where a removed node lands on its re-triangulated hole (both engines, in `f64`): for an
 /// interior node, in the new triangle whose smallest barycentric coordinate at the node's
 /// projection `pv` is largest (`pts` the ring's projection, `tris` the cut), the 3-D point
@@ -614,6 +637,50 @@ pub fn quadric_removal(
 mod tests {
     use super::*;
     use crate::decimate::earcut::{ear_order, pack_cut, unpack_cut, EarCutter, RobustOrient};
+
+    /// Fan fills tile the hole: on an L-shaped hexagon (one reflex corner, at position 3)
+    /// only the fans from the corners that see the whole polygon come out, each with `l − 2`
+    /// counter-clockwise triangles whose areas add up to the polygon's, every diagonal from
+    /// its apex, in ear order; a square gives a fan from every corner.
+    #[test]
+    fn fan_fills_tile_the_hole_from_the_corners_that_see_it() {
+        let area = |p: &[[f64; 2]], t: [u8; 3]| {
+            let [a, b, c] = t.map(|i| p[i as usize]);
+            0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+        };
+        let ell = [
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 1.0],
+            [1.0, 1.0],
+            [1.0, 2.0],
+            [0.0, 2.0],
+        ];
+        let fills: Vec<Vec<[u8; 3]>> = fan_fills(6, &RobustOrient(&ell)).collect();
+        let apexes: Vec<u8> = fills
+            .iter()
+            .map(|f| {
+                (0..6u8)
+                    .find(|&a| f.iter().all(|t| t.contains(&a)))
+                    .expect("a fan has an apex")
+            })
+            .collect();
+        // From 0 the diagonals 0–2, 0–3, 0–4 stay inside; from 3 (the reflex corner) too;
+        // from 1, 2, 4 and 5 a triangle turns clockwise or degenerates.
+        assert_eq!(apexes, vec![0, 3]);
+        for f in &fills {
+            assert_eq!(f.len(), 4);
+            assert!(f.iter().all(|&t| area(&ell, t) > 0.0));
+            assert_eq!(f.iter().map(|&t| area(&ell, t)).sum::<f64>(), 3.0);
+            let mut again = f.clone();
+            assert!(ear_order(6, &mut again));
+            assert_eq!(&again, f, "already in ear order");
+        }
+        let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        assert_eq!(fan_fills(4, &RobustOrient(&square)).count(), 4);
+        assert_eq!(fan_fills(3, &RobustOrient(&square[..3])).count(), 0);
+        println!("L-shaped hexagon: fan fills from corners {apexes:?}; square: 4");
+    }
 
     /// A square hole around a node on a ridge: the ring's corners 0 and 2 lie on the ridge
     /// (height 1), 1 and 3 below it (height 0), the node near the centre on the ridge. The

@@ -196,6 +196,8 @@ pub(crate) fn run(a: Args) -> Result<ExitCode, String> {
             "rms_distance_error": errors.filter(|_| !s.projection_xy).map(|e| e.rms_height),
             "removed": s.removed,
             "refused": s.refused,
+            "deferred": s.deferred,
+            "fan_filled": s.fan_filled,
             "blocked": s.blocked,
             "intervals": s.intervals,
             "rebuilds": s.rebuilds,

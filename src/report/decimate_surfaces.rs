@@ -60,14 +60,17 @@ pub const UNIT_SCALES: [f64; 4] = [1.0, 1024.0, 1000.0, 0.001];
 /// Surfaces with at most this many vertices are run again in other units.
 const UNITS_MAX_VERTICES: usize = 20_000;
 
+/// One decimator's cells across [`UNIT_SCALES`]: (RMS → %, Hausdorff %, triangles), in % of
+/// each copy's diagonal; `None` where it did not run.
+pub type UnitsCells = Vec<Option<(f64, f64, usize)>>;
+
 /// One surface decimated in the units of [`UNIT_SCALES`] to the same triangle count.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct UnitsCase {
     pub name: String,
     pub triangles: usize,
-    /// Per decimator, per scale: (RMS → %, Hausdorff %, triangles), in % of that copy's
-    /// diagonal; `None` where it did not run.
-    pub rows: Vec<(String, Vec<Option<(f64, f64, usize)>>)>,
+    /// Per decimator, its cells.
+    pub rows: Vec<(String, UnitsCells)>,
     /// Whether geocert's result at the power-of-two scale is its result at 1 scaled, bit for
     /// bit (triangles and coordinates).
     pub identical_at_power_of_two: bool,
@@ -476,7 +479,7 @@ fn units_case(
     options: &Options,
     triangles: usize,
 ) -> UnitsCase {
-    let mut rows: Vec<(String, Vec<Option<(f64, f64, usize)>>)> = Vec::new();
+    let mut rows: Vec<(String, UnitsCells)> = Vec::new();
     let cell = |d: &quality::Deviation, t: usize| {
         Some((d.percent(d.forward_rms), d.percent(d.hausdorff), t))
     };

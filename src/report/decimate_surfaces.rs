@@ -250,10 +250,12 @@ fn geocert_row(mesh: &Mesh, options: &Options, name: &str) -> (SurfaceRow, Optio
             seconds: Some(median(times)),
             deviation: Some(quality::deviation(mesh, &out.mesh)),
             note: format!(
-                "median of {RUNS}; criterion {}, border {}; {} refused; {} nodes fitted in {} rounds ({:.3} s of the time)",
+                "median of {RUNS}; criterion {}, border {}; {} refused, {} fan fills, {} put off; {} nodes fitted in {} rounds ({:.3} s of the time)",
                 out.stats.criterion,
                 out.stats.border,
                 out.stats.refused,
+                out.stats.fan_filled,
+                out.stats.deferred,
                 out.stats.moved,
                 out.stats.fit_rounds,
                 out.stats.fit_seconds
@@ -576,7 +578,10 @@ pub fn markdown(c: &SurfaceCampaign) -> String {
          corners; a removal is refused when a new triangle would face against the removed \
          fan, or against the original surface nearest its centroid — the facing test, one \
          closest-point search per new triangle, the same test the flipped count below makes, \
-         so no result triangle counts as flipped; without it, against its corners' original \
+         so no result triangle counts as flipped; a refused removal takes instead the \
+         cheapest fan fill of its hole that passes, at once when its value files no higher \
+         than where the node was taken from, else the node is filed again at that value; \
+         without the facing test, against its corners' original \
          vertex normals instead; each ear-cut hole is \
          retriangulated towards its fan by diagonal flips, a flip taken when the other \
          diagonal lies closer to the fan and both new triangles stay positive by exact \

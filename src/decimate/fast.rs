@@ -698,6 +698,9 @@ impl Scratch {
         let fills: Vec<Vec<[u8; 3]>> =
             super::quadric::fan_fills(self.ring.len(), &RobustOrient(&self.pts)).collect();
         let planned = std::mem::take(&mut self.tris);
+        // The buffers no longer hold `v`'s planned cut (a removal put off takes `v` again
+        // from its plan, as the exact engine does).
+        self.planned = None;
         let carried = st.carried(v);
         let mut best: Option<(f64, usize)> = None;
         for (k, fill) in fills.iter().enumerate() {
